@@ -1,0 +1,25 @@
+//! Uniform gravity.
+
+/// Adds `g` to the acceleration of every dynamic particle.
+#[inline]
+pub(super) fn accel(dim: usize, g: [f64; 3], inv_mass: &[f64], a: &mut [f64]) {
+    for (ap, &im) in a.chunks_exact_mut(dim).zip(inv_mass) {
+        if im > 0.0 {
+            for (ak, gk) in ap.iter_mut().zip(g) {
+                *ak += gk;
+            }
+        }
+    }
+}
+
+/// `-sum m g . x` over particles of finite mass, J.
+pub(super) fn potential(dim: usize, g: [f64; 3], x: &[f64], mass: &[f64]) -> f64 {
+    let mut u = 0.0;
+    for (xp, &m) in x.chunks_exact(dim).zip(mass) {
+        if m.is_finite() {
+            let gx: f64 = xp.iter().zip(g).map(|(xk, gk)| xk * gk).sum();
+            u -= m * gx;
+        }
+    }
+    u
+}

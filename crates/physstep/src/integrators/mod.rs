@@ -1,0 +1,259 @@
+//! Integrators: one file per method, all behind the [`Method`] trait, chosen by name through
+//! the [`registry`].
+//!
+//! Every method advances a [`State`] by one step of `h` seconds. The state keeps the
+//! derivative at its own time (`f = [v; a]` for a second-order system), so a method that
+//! needs the acceleration at the start of a step reuses it instead of evaluating it again,
+//! and a table row `(t, x, v, a)` is always self-consistent.
+//!
+//! Methods come in two families:
+//! - *flow* methods (explicit Euler, midpoint, Heun, RK4, backward Euler,
+//!   predictor-corrector, implicit midpoint) integrate any first-order flow; a second-order
+//!   system is the flow of `y = [x; v]` (see [`crate::dynamics::Split`]);
+//! - *split* methods (the symplectic Eulers, Verlet, velocity Verlet, leapfrog, Yoshida)
+//!   need positions and velocities apart and integrate second-order systems only.
+
+mod backward_euler;
+mod explicit_euler;
+mod heun;
+mod implicit_midpoint;
+mod leapfrog;
+mod midpoint;
+mod newton;
+mod predictor_corrector;
+pub mod registry;
+mod rk4;
+mod symplectic_euler;
+mod verlet;
+mod yoshida;
+
+pub use backward_euler::BackwardEuler;
+pub use explicit_euler::ExplicitEuler;
+pub use heun::Heun;
+pub use implicit_midpoint::ImplicitMidpoint;
+pub use leapfrog::Leapfrog;
+pub use midpoint::Midpoint;
+pub use newton::ImplicitParams;
+pub use predictor_corrector::PredictorCorrector;
+pub use registry::{Integrator, INFOS};
+pub use rk4::Rk4;
+pub use symplectic_euler::{SymplecticEuler, SymplecticEulerAlternating, SymplecticEulerX};
+pub use verlet::{VelocityVerlet, Verlet};
+pub use yoshida::Yoshida4;
+
+use crate::dynamics::{Flow, SecondOrder, Split};
+use crate::error::{Error, Result};
+
+/// What a method is, read by the registry, the CLI's method list, Python's docs and the
+/// README table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Info {
+    /// Kebab-case registry name (`explicit-euler`, `rk4`, ...).
+    pub name: &'static str,
+    /// Global order of accuracy in position (error ~ dt^order).
+    pub order: u32,
+    /// Whether the method is symplectic (bounded energy error on conservative systems).
+    pub symplectic: bool,
+    /// Whether each step solves an implicit equation (Newton iteration).
+    pub implicit: bool,
+    /// Acceleration (force) evaluations per step for velocity-independent forces with an
+    /// analytic Jacobian; implicit methods: for a linear force (one Newton update plus the
+    /// converged check). The lab measures the real count.
+    pub evals: u32,
+    /// Whether the method needs positions and velocities apart (second-order systems only).
+    pub split: bool,
+    /// One-line description with the update rule.
+    pub doc: &'static str,
+}
+
+/// The intermediate evaluation points of a step, as the notes print them (`half` for
+/// midpoint; `xa`, `xb`, `xc` for RK4).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StageLog {
+    /// Rows in the order they were evaluated.
+    pub rows: Vec<StageRow>,
+}
+
+/// One evaluation point inside a step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageRow {
+    /// Stage name (`half`, `xa`, `xb`, `xc`).
+    pub stage: &'static str,
+    /// Time of the evaluation point, s.
+    pub t: f64,
+    /// The state there (`[x; v]` for a second-order system).
+    pub y: Vec<f64>,
+    /// The derivative there (`[v; a]` for a second-order system).
+    pub f: Vec<f64>,
+}
+
+/// Where a method reports its stages; `None` on the hot path.
+pub type Log<'a> = Option<&'a mut StageLog>;
+
+#[inline]
+pub(crate) fn record(log: &mut Log<'_>, stage: &'static str, t: f64, y: &[f64], f: &[f64]) {
+    if let Some(log) = log.as_deref_mut() {
+        log.rows.push(StageRow { stage, t, y: y.to_vec(), f: f.to_vec() });
+    }
+}
+
+/// One integration method.
+///
+/// `y` is the state at time `t` and `f` the derivative there; the method advances both to
+/// `t + h`. For a second-order system `y = [x; v]` and `f = [v; a]`. Methods keep any state
+/// of their own (Verlet's previous position, leapfrog's half-step velocity) and drop it on
+/// [`Method::reset`].
+pub trait Method {
+    /// What the method is.
+    const INFO: Info;
+
+    /// One step of a second-order system.
+    ///
+    /// # Errors
+    /// [`Error::NotConverged`] when an implicit method's Newton iteration fails.
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        log: Log<'_>,
+    ) -> Result<()>;
+
+    /// One step of a first-order flow.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for split methods; [`Error::NotConverged`] for a failed Newton
+    /// iteration.
+    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], log: Log<'_>)
+        -> Result<()>;
+
+    /// Forgets internal state (after the user moved the system or a rollback); the next
+    /// step starts afresh from `(x, v)`.
+    fn reset(&mut self) {}
+
+    /// The method's internal state as numbers (for snapshots); empty for stateless methods.
+    fn memory(&self) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// Restores what [`Method::memory`] returned; `false` when `m` does not fit.
+    fn recall(&mut self, m: &[f64]) -> bool {
+        m.is_empty()
+    }
+}
+
+/// Memory of a method with a started flag, a step size and one vector.
+pub(crate) fn pack(started: bool, h: f64, v: &[f64]) -> Vec<f64> {
+    let mut m = Vec::with_capacity(v.len() + 2);
+    m.push(if started { 1.0 } else { 0.0 });
+    m.push(h);
+    m.extend_from_slice(v);
+    m
+}
+
+/// Inverse of [`pack`]: `(started, h, vector)`.
+pub(crate) fn unpack(m: &[f64]) -> Option<(bool, f64, &[f64])> {
+    match m {
+        [s, h, rest @ ..] => Some((*s != 0.0, *h, rest)),
+        _ => None,
+    }
+}
+
+/// The answer of a split method asked to integrate a first-order flow.
+pub(crate) fn split_only(info: &Info) -> Error {
+    Error::Unsupported {
+        method: info.name.into(),
+        reason: "needs a second-order system (positions and velocities); use a flow method such as rk4".into(),
+    }
+}
+
+/// Implements [`Method::step_split`] of a flow method by integrating the flow of `[x; v]`.
+macro_rules! flow_method {
+    () => {
+        fn step_split<S: $crate::dynamics::SecondOrder + ?Sized>(
+            &mut self,
+            sys: &mut $crate::dynamics::Split<'_, S>,
+            t: f64,
+            h: f64,
+            y: &mut [f64],
+            f: &mut [f64],
+            log: $crate::integrators::Log<'_>,
+        ) -> $crate::error::Result<()> {
+            self.step_flow(sys, t, h, y, f, log)
+        }
+    };
+}
+pub(crate) use flow_method;
+
+/// Implements [`Method::step_flow`] of a split method: it refuses.
+macro_rules! split_method {
+    () => {
+        fn step_flow<F: $crate::dynamics::Flow>(
+            &mut self,
+            _flow: &mut F,
+            _t: f64,
+            _h: f64,
+            _y: &mut [f64],
+            _f: &mut [f64],
+            _log: $crate::integrators::Log<'_>,
+        ) -> $crate::error::Result<()> {
+            Err($crate::integrators::split_only(&Self::INFO))
+        }
+    };
+}
+pub(crate) use split_method;
+
+/// `y += s * x`, elementwise: the one update every method is made of.
+#[inline]
+pub(crate) fn axpy(y: &mut [f64], s: f64, x: &[f64]) {
+    for (yi, xi) in y.iter_mut().zip(x) {
+        *yi += s * xi;
+    }
+}
+
+/// `out = y + s * x`.
+#[inline]
+pub(crate) fn axpy_to(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
+    for ((oi, yi), xi) in out.iter_mut().zip(y).zip(x) {
+        *oi = yi + s * xi;
+    }
+}
+
+/// Kick: `v += h a`.
+#[inline]
+pub(crate) fn kick(v: &mut [f64], a: &[f64], h: f64) {
+    axpy(v, h, a);
+}
+
+/// Drift: `x += h v`.
+#[inline]
+pub(crate) fn drift(x: &mut [f64], v: &[f64], h: f64) {
+    axpy(x, h, v);
+}
+
+/// A scratch buffer of length `n`, reallocated only when the length changes.
+#[inline]
+pub(crate) fn scratch(buf: &mut Vec<f64>, n: usize) -> &mut [f64] {
+    if buf.len() != n {
+        buf.clear();
+        buf.resize(n, 0.0);
+    }
+    buf.as_mut_slice()
+}
+
+/// Splits `y = [x; v]` and `f = [v; a]` of a second-order system into `(x, v, a)`.
+#[inline]
+pub(crate) fn xva<'a>(y: &'a mut [f64], f: &'a mut [f64]) -> (&'a mut [f64], &'a mut [f64], &'a mut [f64]) {
+    let n = y.len() / 2;
+    let (x, v) = y.split_at_mut(n);
+    (x, v, &mut f[n..])
+}
+
+/// Restores the invariant `f[..n] = v` of a second-order state after a split method moved `v`.
+#[inline]
+pub(crate) fn sync_f(y: &[f64], f: &mut [f64]) {
+    let n = y.len() / 2;
+    f[..n].copy_from_slice(&y[n..]);
+}

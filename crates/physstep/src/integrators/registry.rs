@@ -1,0 +1,305 @@
+//! Names to methods: the one place that lists every integrator.
+
+use super::*;
+use crate::dynamics::{FirstOrder, Plain, SecondOrder, Split};
+use crate::error::{Error, Result};
+
+/// Every method's [`Info`], in registry order (the order of the notes, then the extras).
+pub const INFOS: [Info; 14] = [
+    ExplicitEuler::INFO,
+    SymplecticEuler::INFO,
+    SymplecticEulerX::INFO,
+    SymplecticEulerAlternating::INFO,
+    Verlet::INFO,
+    VelocityVerlet::INFO,
+    Leapfrog::INFO,
+    Midpoint::INFO,
+    Heun::INFO,
+    Rk4::INFO,
+    BackwardEuler::INFO,
+    PredictorCorrector::INFO,
+    ImplicitMidpoint::INFO,
+    Yoshida4::INFO,
+];
+
+/// The registry names, in order.
+pub fn names() -> impl Iterator<Item = &'static str> {
+    INFOS.iter().map(|i| i.name)
+}
+
+/// The [`Info`] of a method by name.
+///
+/// # Errors
+/// [`Error::UnknownName`] listing the valid names.
+pub fn info(name: &str) -> Result<&'static Info> {
+    INFOS.iter().find(|i| i.name == name).ok_or_else(|| Error::unknown("method", name, names()))
+}
+
+/// Any integrator, dispatched by `match` (closed dispatch on the hot path), with the
+/// bookkeeping every method shares: validation of `dt`, rollback of a step that fails or
+/// produces a non-finite value.
+#[derive(Debug, Clone)]
+pub struct Integrator {
+    kind: Kind,
+    backup_y: Vec<f64>,
+    backup_f: Vec<f64>,
+}
+
+#[derive(Debug, Clone)]
+enum Kind {
+    ExplicitEuler(ExplicitEuler),
+    SymplecticEuler(SymplecticEuler),
+    SymplecticEulerX(SymplecticEulerX),
+    SymplecticEulerAlternating(SymplecticEulerAlternating),
+    Verlet(Verlet),
+    VelocityVerlet(VelocityVerlet),
+    Leapfrog(Leapfrog),
+    Midpoint(Midpoint),
+    Heun(Heun),
+    Rk4(Rk4),
+    BackwardEuler(BackwardEuler),
+    PredictorCorrector(PredictorCorrector),
+    ImplicitMidpoint(ImplicitMidpoint),
+    Yoshida4(Yoshida4),
+}
+
+/// Runs `$body` with `$m` bound to the concrete method inside `$kind`.
+macro_rules! dispatch {
+    ($kind:expr, $m:ident => $body:expr) => {
+        match $kind {
+            Kind::ExplicitEuler($m) => $body,
+            Kind::SymplecticEuler($m) => $body,
+            Kind::SymplecticEulerX($m) => $body,
+            Kind::SymplecticEulerAlternating($m) => $body,
+            Kind::Verlet($m) => $body,
+            Kind::VelocityVerlet($m) => $body,
+            Kind::Leapfrog($m) => $body,
+            Kind::Midpoint($m) => $body,
+            Kind::Heun($m) => $body,
+            Kind::Rk4($m) => $body,
+            Kind::BackwardEuler($m) => $body,
+            Kind::PredictorCorrector($m) => $body,
+            Kind::ImplicitMidpoint($m) => $body,
+            Kind::Yoshida4($m) => $body,
+        }
+    };
+}
+
+/// Time and state of an integrated system, advanced by [`Integrator::step`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Time, s.
+    pub t: f64,
+    /// The state vector: `[x; v]` for a second-order system.
+    pub y: Vec<f64>,
+    /// The derivative at `(t, y)`: `[v; a]` for a second-order system.
+    pub f: Vec<f64>,
+    /// Steps taken.
+    pub steps: u64,
+    /// Derivative (force) evaluations made, initial one included.
+    pub evals: u64,
+}
+
+impl State {
+    /// The state of a second-order system at `t` from positions and velocities, evaluating
+    /// the acceleration once.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] when the lengths disagree with the system or a value is not
+    /// finite.
+    pub fn second<S: SecondOrder + ?Sized>(sys: &mut S, t: f64, x: &[f64], v: &[f64]) -> Result<Self> {
+        let n = sys.len();
+        crate::error::finite("t", t)?;
+        if x.len() != n {
+            return Err(Error::invalid("len(x)", x.len(), format!("{n}, the system's coordinate count")));
+        }
+        if v.len() != n {
+            return Err(Error::invalid("len(v)", v.len(), format!("{n}, the system's coordinate count")));
+        }
+        crate::error::all_finite("x", x)?;
+        crate::error::all_finite("v", v)?;
+        let mut y = Vec::with_capacity(2 * n);
+        y.extend_from_slice(x);
+        y.extend_from_slice(v);
+        let mut f = vec![0.0; 2 * n];
+        let mut evals = 0;
+        Split { sys, evals: &mut evals }.deriv(t, &y, &mut f);
+        Ok(Self { t, y, f, steps: 0, evals })
+    }
+
+    /// The state of a first-order flow at `t`, evaluating the derivative once.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] when the length disagrees with the flow or a value is not
+    /// finite.
+    pub fn first<F: FirstOrder + ?Sized>(sys: &mut F, t: f64, y: &[f64]) -> Result<Self> {
+        crate::error::finite("t", t)?;
+        if y.len() != sys.len() {
+            return Err(Error::invalid("len(y)", y.len(), format!("{}, the flow's coordinate count", sys.len())));
+        }
+        crate::error::all_finite("y", y)?;
+        let mut f = vec![0.0; y.len()];
+        let mut evals = 0;
+        Plain { sys, evals: &mut evals }.deriv(t, y, &mut f);
+        Ok(Self { t, y: y.to_vec(), f, steps: 0, evals })
+    }
+
+    /// Positions of a second-order state.
+    #[must_use]
+    pub fn x(&self) -> &[f64] {
+        &self.y[..self.y.len() / 2]
+    }
+
+    /// Velocities of a second-order state.
+    #[must_use]
+    pub fn v(&self) -> &[f64] {
+        &self.y[self.y.len() / 2..]
+    }
+
+    /// Accelerations of a second-order state.
+    #[must_use]
+    pub fn a(&self) -> &[f64] {
+        &self.f[self.f.len() / 2..]
+    }
+}
+
+impl Integrator {
+    /// The integrator registered as `name`, with default settings.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] listing the valid names.
+    pub fn new(name: &str) -> Result<Self> {
+        Self::with_params(name, ImplicitParams::default())
+    }
+
+    /// The integrator registered as `name`; `params` set the implicit methods' Newton
+    /// iteration.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] listing the valid names; [`Error::InvalidValue`] for a bad
+    /// `tol` or `max_iter`.
+    pub fn with_params(name: &str, params: ImplicitParams) -> Result<Self> {
+        crate::error::positive("tol", params.tol)?;
+        if params.max_iter == 0 {
+            return Err(Error::invalid("max_iter", 0, "at least 1"));
+        }
+        let kind = match info(name)?.name {
+            "explicit-euler" => Kind::ExplicitEuler(ExplicitEuler),
+            "symplectic-euler" => Kind::SymplecticEuler(SymplecticEuler),
+            "symplectic-euler-x" => Kind::SymplecticEulerX(SymplecticEulerX),
+            "symplectic-euler-alternating" => Kind::SymplecticEulerAlternating(Default::default()),
+            "verlet" => Kind::Verlet(Verlet::default()),
+            "velocity-verlet" => Kind::VelocityVerlet(VelocityVerlet),
+            "leapfrog" => Kind::Leapfrog(Leapfrog::default()),
+            "midpoint" => Kind::Midpoint(Midpoint::default()),
+            "heun" => Kind::Heun(Heun::default()),
+            "rk4" => Kind::Rk4(Rk4::default()),
+            "backward-euler" => Kind::BackwardEuler(BackwardEuler::with_params(params)),
+            "predictor-corrector" => Kind::PredictorCorrector(PredictorCorrector::default()),
+            "implicit-midpoint" => Kind::ImplicitMidpoint(ImplicitMidpoint::with_params(params)),
+            "yoshida4" => Kind::Yoshida4(Yoshida4::default()),
+            other => unreachable!("method {other} is in INFOS but not constructed"),
+        };
+        Ok(Self { kind, backup_y: Vec::new(), backup_f: Vec::new() })
+    }
+
+    /// What this integrator is.
+    #[must_use]
+    pub fn info(&self) -> &'static Info {
+        fn of<M: Method>(_: &M) -> &'static Info {
+            &M::INFO
+        }
+        dispatch!(&self.kind, m => of(m))
+    }
+
+    /// Forgets internal state (Verlet's previous position, leapfrog's half-step velocity):
+    /// call it after moving the system by hand.
+    pub fn reset(&mut self) {
+        dispatch!(&mut self.kind, m => m.reset());
+    }
+
+    /// The method's internal state (Verlet's previous position, ...) for a snapshot.
+    #[must_use]
+    pub fn memory(&self) -> Vec<f64> {
+        dispatch!(&self.kind, m => m.memory())
+    }
+
+    /// Restores what [`Integrator::memory`] returned.
+    ///
+    /// # Errors
+    /// [`Error::Corrupt`] when `memory` does not fit this method.
+    pub fn recall(&mut self, memory: &[f64]) -> Result<()> {
+        if dispatch!(&mut self.kind, m => m.recall(memory)) {
+            Ok(())
+        } else {
+            Err(Error::Corrupt { reason: format!("integrator memory does not fit method '{}'", self.info().name) })
+        }
+    }
+
+    /// Advances a second-order system's `state` by `dt` seconds.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] for `dt` not finite and > 0; [`Error::Diverged`] when the step
+    /// produced a non-finite value and [`Error::NotConverged`] when an implicit solve failed:
+    /// in both cases `state` is as it was before the step.
+    pub fn step<S: SecondOrder + ?Sized>(&mut self, sys: &mut S, state: &mut State, dt: f64) -> Result<()> {
+        self.step_logged(sys, state, dt, None)
+    }
+
+    /// [`Integrator::step`] that also records the intermediate evaluation points in `log`.
+    ///
+    /// # Errors
+    /// As [`Integrator::step`].
+    pub fn step_logged<S: SecondOrder + ?Sized>(&mut self, sys: &mut S, state: &mut State, dt: f64, log: Log<'_>) -> Result<()> {
+        crate::error::positive("dt", dt)?;
+        self.save(state);
+        let State { t, y, f, evals, .. } = state;
+        let mut split = Split { sys, evals };
+        let r = dispatch!(&mut self.kind, m => m.step_split(&mut split, *t, dt, y, f, log));
+        self.finish(state, dt, r)
+    }
+
+    /// Advances a first-order flow's `state` by `dt` seconds.
+    ///
+    /// # Errors
+    /// As [`Integrator::step`], and [`Error::Unsupported`] for the split methods.
+    pub fn step_flow<F: FirstOrder + ?Sized>(&mut self, sys: &mut F, state: &mut State, dt: f64) -> Result<()> {
+        crate::error::positive("dt", dt)?;
+        self.save(state);
+        let State { t, y, f, evals, .. } = state;
+        let mut plain = Plain { sys, evals };
+        let r = dispatch!(&mut self.kind, m => m.step_flow(&mut plain, *t, dt, y, f, None));
+        self.finish(state, dt, r)
+    }
+
+    fn save(&mut self, state: &State) {
+        scratch(&mut self.backup_y, state.y.len()).copy_from_slice(&state.y);
+        scratch(&mut self.backup_f, state.f.len()).copy_from_slice(&state.f);
+    }
+
+    fn finish(&mut self, state: &mut State, dt: f64, r: Result<()>) -> Result<()> {
+        let r = r.and_then(|()| match state.y.iter().chain(state.f.iter()).position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(Error::Diverged {
+                method: self.info().name.into(),
+                step: state.steps,
+                t: state.t,
+                index: i % state.y.len(),
+            }),
+        });
+        match r {
+            Ok(()) => {
+                state.steps += 1;
+                // t advances by repeated addition; callers wanting t = n dt exactly use steps.
+                state.t += dt;
+                Ok(())
+            }
+            Err(e) => {
+                state.y.copy_from_slice(&self.backup_y);
+                state.f.copy_from_slice(&self.backup_f);
+                self.reset();
+                Err(e)
+            }
+        }
+    }
+}

@@ -1,0 +1,119 @@
+//! Velocityless (Stormer) Verlet and velocity Verlet.
+
+use super::{drift, kick, scratch, split_method, sync_f, xva, Info, Log, Method};
+use crate::dynamics::{SecondOrder, Split};
+use crate::error::Result;
+
+/// Velocityless Verlet: `x[n+1] = 2 x[n] - x[n-1] + a[n] dt^2`, started with
+/// `x[-1] = x0 - v0 dt`; the reported velocity is the backward difference
+/// `(x[n+1] - x[n]) / dt`.
+///
+/// With that start the method is algebraically symplectic Euler (the notes print identical
+/// tables), hence first order. Velocity-dependent forces see the backward-difference
+/// velocity. A change of dt rescales the stored previous position so the velocity estimate
+/// `(x[n] - x[n-1]) / dt` is kept.
+#[derive(Debug, Clone, Default)]
+pub struct Verlet {
+    prev: Vec<f64>,
+    h_prev: f64,
+    started: bool,
+}
+
+impl Method for Verlet {
+    const INFO: Info = Info {
+        name: "verlet",
+        order: 1,
+        symplectic: true,
+        implicit: false,
+        evals: 1,
+        split: true,
+        doc: "velocityless Stormer Verlet x' = 2x - x_prev + a dt^2, x_prev = x0 - v0 dt; v by backward difference",
+    };
+
+    split_method!();
+
+    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+        let (x, v, a) = xva(y, f);
+        let prev = scratch(&mut self.prev, x.len());
+        if !self.started {
+            for ((p, xi), vi) in prev.iter_mut().zip(x.iter()).zip(v.iter()) {
+                *p = xi - vi * h;
+            }
+        } else if h != self.h_prev {
+            let s = h / self.h_prev;
+            for (p, xi) in prev.iter_mut().zip(x.iter()) {
+                *p = xi - (xi - *p) * s;
+            }
+        }
+        let h2 = h * h;
+        let inv_h = 1.0 / h;
+        for (((xi, vi), ai), p) in x.iter_mut().zip(v.iter_mut()).zip(a.iter()).zip(prev.iter_mut()) {
+            let next = 2.0 * *xi - *p + ai * h2;
+            *p = *xi;
+            *vi = (next - *xi) * inv_h;
+            *xi = next;
+        }
+        sys.accel(t + h, x, v, a);
+        sync_f(y, f);
+        self.started = true;
+        self.h_prev = h;
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        self.started = false;
+    }
+
+    fn memory(&self) -> Vec<f64> {
+        super::pack(self.started, self.h_prev, &self.prev)
+    }
+
+    fn recall(&mut self, m: &[f64]) -> bool {
+        let Some((started, h, v)) = super::unpack(m) else { return false };
+        self.started = started;
+        self.h_prev = h;
+        self.prev = v.to_vec();
+        true
+    }
+}
+
+/// Velocity Verlet: `v += a dt/2; x += v dt; a = a(x); v += a dt/2`. Second order,
+/// symplectic, one evaluation per step.
+#[derive(Debug, Clone, Default)]
+pub struct VelocityVerlet;
+
+/// One velocity-Verlet substep of `h` (kick, drift, kick); shared with Yoshida's composition.
+/// Velocity-dependent forces are evaluated at the half-step velocity for the second kick,
+/// then once more at the new state.
+#[inline]
+pub(crate) fn velocity_verlet<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64]) {
+    let again = sys.sys.velocity_dependent();
+    let (x, v, a) = xva(y, f);
+    kick(v, a, 0.5 * h);
+    drift(x, v, h);
+    sys.accel(t + h, x, v, a);
+    kick(v, a, 0.5 * h);
+    if again {
+        sys.accel(t + h, x, v, a);
+    }
+    sync_f(y, f);
+}
+
+impl Method for VelocityVerlet {
+    const INFO: Info = Info {
+        name: "velocity-verlet",
+        order: 2,
+        symplectic: true,
+        implicit: false,
+        evals: 1,
+        split: true,
+        doc: "v += a dt/2; x += v dt; a = a(x); v += a dt/2",
+    };
+
+    split_method!();
+
+    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+        velocity_verlet(sys, t, h, y, f);
+        Ok(())
+    }
+}

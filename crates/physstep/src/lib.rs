@@ -1,0 +1,41 @@
+//! physstep: a game-physics integration engine.
+//!
+//! Every integrator of the game-physics lecture notes (explicit Euler, symplectic Euler in
+//! both orders, Stormer Verlet, velocity Verlet, leapfrog, midpoint, Heun, RK4, backward
+//! Euler, predictor-corrector) and more, behind one interface ([`integrators::Method`],
+//! chosen by name through [`integrators::registry`]); particles with composable forces in a
+//! [`world::World`]; the fixed-timestep game loop ([`clock::Clock`]); built-in
+//! [`scenes`] with energies and exact solutions.
+//!
+//! ```
+//! use physstep::prelude::*;
+//!
+//! // The notes' spring: m = 10, k = 5, x0 = 20, symplectic Euler at dt = 1.
+//! let mut scene = scenes::build("spring", &[], "symplectic-euler", 1.0).unwrap();
+//! scene.world.step(1).unwrap();
+//! assert_eq!(scene.world.positions(), &[10.0]);
+//! assert_eq!(scene.world.velocities(), &[-10.0]);
+//! ```
+#![warn(missing_docs)]
+
+pub mod clock;
+pub mod dynamics;
+pub mod error;
+pub mod integrators;
+pub mod forces;
+pub mod scenes;
+pub mod world;
+
+pub use error::{Error, Result};
+
+/// The names most programs need.
+pub mod prelude {
+    pub use crate::clock::{Clock, ClockParams, LoopMode};
+    pub use crate::dynamics::{FirstOrder, SecondOrder};
+    pub use crate::error::{Error, Result};
+    pub use crate::integrators::registry::State;
+    pub use crate::integrators::{Info, Integrator, INFOS};
+    pub use crate::forces::{Endpoint, Force};
+    pub use crate::scenes::{self, Scene};
+    pub use crate::world::{World, WorldParams};
+}

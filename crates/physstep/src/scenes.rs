@@ -1,0 +1,425 @@
+//! The built-in scenes: the defaults of the command line, the demos, the tests and the
+//! benchmarks, each a [`World`] with named parameters, its energy and, where one is known,
+//! its exact solution.
+
+use crate::error::{Error, Result};
+use crate::forces::{Endpoint, Force};
+use crate::world::{World, WorldParams};
+
+/// What a parameter may be.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// Any finite number.
+    Any,
+    /// A finite number > 0.
+    Positive,
+    /// A finite number >= 0.
+    NonNegative,
+    /// A whole number >= 1.
+    Count,
+    /// A number in [0, 1).
+    Fraction,
+}
+
+/// One named parameter of a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamSpec {
+    /// Name, as given to `--param NAME=VALUE`.
+    pub name: &'static str,
+    /// Default value.
+    pub default: f64,
+    /// What it is, with units.
+    pub doc: &'static str,
+    /// What it may be.
+    pub rule: Rule,
+}
+
+/// A scene in the registry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneSpec {
+    /// Registry name.
+    pub name: &'static str,
+    /// One line on what it is.
+    pub doc: &'static str,
+    /// Spatial dimensions.
+    pub dim: usize,
+    /// Its parameters.
+    pub params: &'static [ParamSpec],
+}
+
+const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> ParamSpec {
+    ParamSpec { name, default, doc, rule }
+}
+
+/// Every built-in scene, in registry order.
+pub const SCENES: [SceneSpec; 8] = [
+    SceneSpec {
+        name: "spring",
+        doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
+        dim: 1,
+        params: &[
+            p("m", 10.0, "mass, kg", Rule::Positive),
+            p("k", 5.0, "stiffness, N/m", Rule::NonNegative),
+            p("c", 0.0, "damping, N s/m", Rule::NonNegative),
+            p("x0", 20.0, "initial position, m", Rule::Any),
+            p("v0", 0.0, "initial velocity, m/s", Rule::Any),
+        ],
+    },
+    SceneSpec {
+        name: "projectile",
+        doc: "2D throw under uniform gravity (the notes' fetch); exact x0 + v0 t + g t^2/2",
+        dim: 2,
+        params: &[
+            p("g", 9.81, "gravity, m/s^2 (pointing down)", Rule::Any),
+            p("vx", 10.0, "initial horizontal velocity, m/s", Rule::Any),
+            p("vy", 10.0, "initial vertical velocity, m/s", Rule::Any),
+            p("x0", 0.0, "initial x, m", Rule::Any),
+            p("y0", 0.0, "initial y, m", Rule::Any),
+            p("m", 1.0, "mass, kg", Rule::Positive),
+        ],
+    },
+    SceneSpec {
+        name: "drag",
+        doc: "1D particle slowed by linear drag F = -c v; exact v = v0 exp(-c t / m)",
+        dim: 1,
+        params: &[
+            p("m", 1.0, "mass, kg", Rule::Positive),
+            p("c", 0.5, "drag coefficient, N s/m", Rule::NonNegative),
+            p("x0", 0.0, "initial position, m", Rule::Any),
+            p("v0", 10.0, "initial velocity, m/s", Rule::Any),
+        ],
+    },
+    SceneSpec {
+        name: "orbit",
+        doc: "2D circular orbit around a fixed centre, GM = 1, r = 1, period 2 pi",
+        dim: 2,
+        params: &[
+            p("gm", 1.0, "gravitational parameter GM, m^3/s^2", Rule::Positive),
+            p("r", 1.0, "orbit radius, m", Rule::Positive),
+        ],
+    },
+    SceneSpec {
+        name: "kepler",
+        doc: "2D Kepler ellipse, GM = 1, a = 1, from the pericentre (1 - e, 0); period 2 pi",
+        dim: 2,
+        params: &[p("e", 0.6, "eccentricity, in [0, 1)", Rule::Fraction)],
+    },
+    SceneSpec {
+        name: "pendulum",
+        doc: "2D particle on a rigid rod to a fixed point (the notes' dog tied to a tree); exact when g = 0",
+        dim: 2,
+        params: &[
+            p("length", 1.0, "rod length, m", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+            p("theta0", 0.5, "initial angle from straight down, rad", Rule::Any),
+            p("omega0", 0.0, "initial angular velocity, rad/s", Rule::Any),
+            p("m", 1.0, "mass, kg", Rule::Positive),
+        ],
+    },
+    SceneSpec {
+        name: "nbody",
+        doc: "2D softened n-body gravity, G = 1, N bodies of total mass 1 in a unit disc (seeded)",
+        dim: 2,
+        params: &[
+            p("n", 16.0, "number of bodies", Rule::Count),
+            p("seed", 1.0, "random seed", Rule::NonNegative),
+            p("softening", 0.05, "softening length, m", Rule::NonNegative),
+        ],
+    },
+    SceneSpec {
+        name: "chain",
+        doc: "2D chain of particles joined by springs, hanging from a fixed point under gravity",
+        dim: 2,
+        params: &[
+            p("n", 10.0, "number of moving particles", Rule::Count),
+            p("k", 500.0, "spring stiffness, N/m", Rule::NonNegative),
+            p("c", 0.0, "spring damping, N s/m", Rule::NonNegative),
+            p("spacing", 0.1, "rest length of each link, m", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+            p("m", 0.1, "mass of each particle, kg", Rule::Positive),
+        ],
+    },
+];
+
+/// The spec of a scene by name.
+///
+/// # Errors
+/// [`Error::UnknownName`] listing the valid scenes.
+pub fn spec(name: &str) -> Result<&'static SceneSpec> {
+    SCENES.iter().find(|s| s.name == name).ok_or_else(|| Error::unknown("scene", name, SCENES.iter().map(|s| s.name)))
+}
+
+/// A built scene: its world, its parameters and its exact solution if known.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// What scene this is.
+    pub spec: &'static SceneSpec,
+    /// Parameter values, in the order of `spec.params`.
+    pub values: Vec<f64>,
+    /// The world, at t = 0.
+    pub world: World,
+    exact: Option<Exact>,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Exact {
+    /// Damped oscillator x'' = -(k/m) x - (c/m) x'.
+    Oscillator { w0: f64, zeta: f64, x0: f64, v0: f64 },
+    /// Constant acceleration.
+    Ballistic { x0: [f64; 2], v0: [f64; 2], a: [f64; 2] },
+    /// Linear drag.
+    Drag { rate: f64, x0: f64, v0: f64 },
+    /// Uniform circular motion: radius, angular velocity, initial phase, centre.
+    Circle { r: f64, w: f64, phase: f64, sign: f64 },
+    /// Kepler ellipse, GM = 1, a = 1.
+    Kepler { e: f64 },
+}
+
+impl Scene {
+    /// A parameter's value by name.
+    #[must_use]
+    pub fn param(&self, name: &str) -> Option<f64> {
+        self.spec.params.iter().position(|p| p.name == name).map(|i| self.values[i])
+    }
+
+    /// Whether an exact solution is known.
+    #[must_use]
+    pub fn has_exact(&self) -> bool {
+        self.exact.is_some()
+    }
+
+    /// The exact positions and velocities at time `t` (flat, like the world's), if known.
+    #[must_use]
+    pub fn exact(&self, t: f64) -> Option<(Vec<f64>, Vec<f64>)> {
+        Some(match self.exact? {
+            Exact::Oscillator { w0, zeta, x0, v0 } => {
+                let (x, v) = oscillator(w0, zeta, x0, v0, t);
+                (vec![x], vec![v])
+            }
+            Exact::Ballistic { x0, v0, a } => {
+                let x = (0..2).map(|k| x0[k] + v0[k] * t + 0.5 * a[k] * t * t).collect();
+                let v = (0..2).map(|k| v0[k] + a[k] * t).collect();
+                (x, v)
+            }
+            Exact::Drag { rate, x0, v0 } => {
+                if rate == 0.0 {
+                    (vec![x0 + v0 * t], vec![v0])
+                } else {
+                    let decay = (-rate * t).exp();
+                    (vec![x0 + v0 / rate * (1.0 - decay)], vec![v0 * decay])
+                }
+            }
+            Exact::Circle { r, w, phase, sign } => {
+                let th = phase + w * t;
+                let (s, c) = th.sin_cos();
+                (vec![r * s, sign * r * c], vec![r * w * c, -sign * r * w * s])
+            }
+            Exact::Kepler { e } => {
+                // Mean anomaly M = t (n = 1); solve M = E - e sin E by Newton.
+                let m = t;
+                let mut big_e = if e < 0.8 { m } else { std::f64::consts::PI };
+                for _ in 0..60 {
+                    let d = (big_e - e * big_e.sin() - m) / (1.0 - e * big_e.cos());
+                    big_e -= d;
+                    if d.abs() < 1e-15 {
+                        break;
+                    }
+                }
+                let (s, c) = big_e.sin_cos();
+                let b = (1.0 - e * e).sqrt();
+                let de = 1.0 / (1.0 - e * c);
+                (vec![c - e, b * s], vec![-s * de, b * c * de])
+            }
+        })
+    }
+}
+
+/// The damped oscillator `x'' + 2 zeta w0 x' + w0^2 x = 0` at time `t`, all three regimes.
+fn oscillator(w0: f64, zeta: f64, x0: f64, v0: f64, t: f64) -> (f64, f64) {
+    if w0 == 0.0 {
+        // k = 0: pure damping x'' = -2 zeta w0 x' degenerates to free motion when c = 0 too;
+        // the caller passes zeta = 0 then.
+        return (x0 + v0 * t, v0);
+    }
+    let s = zeta * w0;
+    if (zeta - 1.0).abs() < 1e-12 {
+        // Critical: x = (A + B t) e^{-s t}
+        let (a, b) = (x0, v0 + s * x0);
+        let e = (-s * t).exp();
+        return ((a + b * t) * e, (b - s * (a + b * t)) * e);
+    }
+    if zeta < 1.0 {
+        let wd = w0 * (1.0 - zeta * zeta).sqrt();
+        let (a, b) = (x0, (v0 + s * x0) / wd);
+        let (sn, cs) = (wd * t).sin_cos();
+        let e = (-s * t).exp();
+        let x = e * (a * cs + b * sn);
+        let v = e * (-s * (a * cs + b * sn) + wd * (-a * sn + b * cs));
+        return (x, v);
+    }
+    // Overdamped: x = A e^{r1 t} + B e^{r2 t}
+    let q = w0 * (zeta * zeta - 1.0).sqrt();
+    let (r1, r2) = (-s + q, -s - q);
+    let b = (v0 - r1 * x0) / (r2 - r1);
+    let a = x0 - b;
+    let (e1, e2) = ((r1 * t).exp(), (r2 * t).exp());
+    (a * e1 + b * e2, a * r1 * e1 + b * r2 * e2)
+}
+
+/// Resolves `overrides` against a scene's defaults, validating each.
+///
+/// # Errors
+/// [`Error::UnknownName`] for a parameter the scene does not have (listing those it has);
+/// [`Error::InvalidValue`] for a value that breaks its rule.
+pub fn resolve(spec: &SceneSpec, overrides: &[(&str, f64)]) -> Result<Vec<f64>> {
+    let mut values: Vec<f64> = spec.params.iter().map(|p| p.default).collect();
+    for (name, value) in overrides {
+        let i = spec
+            .params
+            .iter()
+            .position(|p| p.name == *name)
+            .ok_or_else(|| Error::unknown("param", name, spec.params.iter().map(|p| p.name)))?;
+        let rule = spec.params[i].rule;
+        let ok = value.is_finite()
+            && match rule {
+                Rule::Any => true,
+                Rule::Positive => *value > 0.0,
+                Rule::NonNegative => *value >= 0.0,
+                Rule::Count => *value >= 1.0 && value.fract() == 0.0 && *value <= 1e6,
+                Rule::Fraction => (0.0..1.0).contains(value),
+            };
+        if !ok {
+            let expected = match rule {
+                Rule::Any => "finite",
+                Rule::Positive => "a finite number > 0",
+                Rule::NonNegative => "a finite number >= 0",
+                Rule::Count => "a whole number from 1 to 1000000",
+                Rule::Fraction => "in [0, 1)",
+            };
+            return Err(Error::invalid(*name, value, expected));
+        }
+        values[i] = *value;
+    }
+    Ok(values)
+}
+
+/// Builds scene `name` with parameter `overrides`, integrated by `method` at step `dt`.
+///
+/// # Errors
+/// [`Error::UnknownName`] for an unknown scene, parameter or method;
+/// [`Error::InvalidValue`] for a bad parameter value or `dt`.
+pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Result<Scene> {
+    let spec = spec(name)?;
+    let values = resolve(spec, overrides)?;
+    let world = World::new(WorldParams { dim: spec.dim, method: method.into(), dt, ..WorldParams::default() })?;
+    let v = |n: &str| values[spec.params.iter().position(|p| p.name == n).expect("param in spec")];
+    let mut scene = Scene { spec, values: values.clone(), world, exact: None };
+    let w = &mut scene.world;
+    scene.exact = match spec.name {
+        "spring" => {
+            let (m, k, c, x0, v0) = (v("m"), v("k"), v("c"), v("x0"), v("v0"));
+            w.add_particle(&[x0], &[v0], m, false)?;
+            w.add_force(Force::Spring { i: 0, j: Endpoint::Anchor([0.0; 3]), stiffness: k, rest_length: 0.0, damping: c })?;
+            let w0 = (k / m).sqrt();
+            let zeta = if w0 > 0.0 { c / (2.0 * (k * m).sqrt()) } else { 0.0 };
+            if k == 0.0 && c > 0.0 {
+                Some(Exact::Drag { rate: c / m, x0, v0 })
+            } else {
+                Some(Exact::Oscillator { w0, zeta, x0, v0 })
+            }
+        }
+        "projectile" => {
+            let (x0, v0, a) = ([v("x0"), v("y0")], [v("vx"), v("vy")], [0.0, -v("g")]);
+            w.add_particle(&x0, &v0, v("m"), false)?;
+            w.add_force(Force::Gravity { g: [a[0], a[1], 0.0] })?;
+            Some(Exact::Ballistic { x0, v0, a })
+        }
+        "drag" => {
+            let (m, c, x0, v0) = (v("m"), v("c"), v("x0"), v("v0"));
+            w.add_particle(&[x0], &[v0], m, false)?;
+            w.add_force(Force::Drag { linear: c, quadratic: 0.0 })?;
+            Some(Exact::Drag { rate: c / m, x0, v0 })
+        }
+        "orbit" => {
+            let (gm, r) = (v("gm"), v("r"));
+            let speed = (gm / r).sqrt();
+            w.add_particle(&[r, 0.0], &[0.0, speed], 1.0, false)?;
+            w.add_force(Force::CentralGravity { center: [0.0; 3], gm })?;
+            // x = r cos(wt), y = r sin(wt) = Circle with phase pi/2, sign -1 mapping.
+            Some(Exact::Circle { r, w: speed / r, phase: std::f64::consts::FRAC_PI_2, sign: -1.0 })
+        }
+        "kepler" => {
+            let e = v("e");
+            w.add_particle(&[1.0 - e, 0.0], &[0.0, ((1.0 + e) / (1.0 - e)).sqrt()], 1.0, false)?;
+            w.add_force(Force::CentralGravity { center: [0.0; 3], gm: 1.0 })?;
+            Some(Exact::Kepler { e })
+        }
+        "pendulum" => {
+            let (l, g, th, om) = (v("length"), v("g"), v("theta0"), v("omega0"));
+            let (s, c) = th.sin_cos();
+            w.add_particle(&[l * s, -l * c], &[l * om * c, l * om * s], v("m"), false)?;
+            w.add_force(Force::Rod { i: 0, j: Endpoint::Anchor([0.0; 3]), length: l })?;
+            if g != 0.0 {
+                w.add_force(Force::Gravity { g: [0.0, -g, 0.0] })?;
+                None
+            } else {
+                Some(Exact::Circle { r: l, w: om, phase: th, sign: -1.0 })
+            }
+        }
+        "nbody" => {
+            let n = v("n") as usize;
+            let mut rng = SplitMix(v("seed") as u64);
+            let mut x = Vec::with_capacity(2 * n);
+            let mut vel = Vec::with_capacity(2 * n);
+            for _ in 0..n {
+                // Uniform in the unit disc, on a slow rotation so the cluster does not just fall in.
+                let (r, th) = (rng.unit().sqrt(), std::f64::consts::TAU * rng.unit());
+                let (s, c) = th.sin_cos();
+                x.extend([r * c, r * s]);
+                let speed = 0.5 * r;
+                vel.extend([-speed * s + 0.05 * (rng.unit() - 0.5), speed * c + 0.05 * (rng.unit() - 0.5)]);
+            }
+            // Zero total momentum (equal masses): subtract the mean velocity.
+            for k in 0..2 {
+                let mean = vel.iter().skip(k).step_by(2).sum::<f64>() / n as f64;
+                vel.iter_mut().skip(k).step_by(2).for_each(|u| *u -= mean);
+            }
+            w.add_particles(&x, Some(&vel), Some(&vec![1.0 / n as f64; n]), false)?;
+            w.add_force(Force::NBody { g: 1.0, softening: v("softening") })?;
+            None
+        }
+        "chain" => {
+            let n = v("n") as usize;
+            let (k, c, sp, g, m) = (v("k"), v("c"), v("spacing"), v("g"), v("m"));
+            // Starts horizontal so it swings: particle i at ((i+1) spacing, 0).
+            let x: Vec<f64> = (0..n).flat_map(|i| [(i + 1) as f64 * sp, 0.0]).collect();
+            w.add_particles(&x, None, Some(&vec![m; n]), false)?;
+            w.add_force(Force::Spring { i: 0, j: Endpoint::Anchor([0.0; 3]), stiffness: k, rest_length: sp, damping: c })?;
+            for i in 1..n {
+                w.add_force(Force::Spring { i, j: Endpoint::Particle(i - 1), stiffness: k, rest_length: sp, damping: c })?;
+            }
+            w.add_force(Force::Gravity { g: [0.0, -g, 0.0] })?;
+            None
+        }
+        other => unreachable!("scene {other} is in SCENES but not built"),
+    };
+    Ok(scene)
+}
+
+/// SplitMix64: a tiny seeded generator so scenes are the same on every machine.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

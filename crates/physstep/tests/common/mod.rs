@@ -1,0 +1,57 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use physstep::prelude::*;
+
+/// `value` rounded to `places` decimals, half away from zero, on the exact double (the
+/// notes' tables are printed this way).
+pub fn round_half_away(value: f64, places: usize) -> String {
+    // 80 fractional digits print every double in the tables' range exactly.
+    let s = format!("{:.80}", value.abs());
+    let (int, frac) = s.split_once('.').unwrap();
+    let mut digits: Vec<u8> = int.bytes().chain(frac.bytes().take(places)).map(|b| b - b'0').collect();
+    if frac.as_bytes()[places] >= b'5' {
+        let mut i = digits.len();
+        loop {
+            if i == 0 {
+                digits.insert(0, 1);
+                break;
+            }
+            i -= 1;
+            if digits[i] == 9 {
+                digits[i] = 0;
+            } else {
+                digits[i] += 1;
+                break;
+            }
+        }
+    }
+    let split = digits.len() - places;
+    let text: String = digits.iter().map(|d| char::from(b'0' + d)).collect();
+    let out = if places == 0 { text } else { format!("{}.{}", &text[..split], &text[split..]) };
+    let zero = digits.iter().all(|d| *d == 0);
+    if value.is_sign_negative() && !zero {
+        format!("-{out}")
+    } else {
+        out
+    }
+}
+
+/// The spring scene with `overrides`, stepped by `method` at `dt` for `steps` steps; returns
+/// the world.
+pub fn spring(method: &str, dt: f64, steps: u64, overrides: &[(&str, f64)]) -> World {
+    let mut scene = scenes::build("spring", overrides, method, dt).unwrap();
+    scene.world.step(steps).unwrap();
+    scene.world
+}
+
+/// Least-squares slope of log(error) against log(dt): the observed order.
+pub fn slope(dts: &[f64], errors: &[f64]) -> f64 {
+    let xs: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
+    let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
