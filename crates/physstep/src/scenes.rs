@@ -45,6 +45,10 @@ pub struct SceneSpec {
     pub dim: usize,
     /// Its parameters.
     pub params: &'static [ParamSpec],
+    /// A step that shows the scene well, s (the command line's default).
+    pub dt: f64,
+    /// A run length that shows the scene well, s (the command line's default).
+    pub until: f64,
 }
 
 const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> ParamSpec {
@@ -64,6 +68,8 @@ pub const SCENES: [SceneSpec; 8] = [
             p("x0", 20.0, "initial position, m", Rule::Any),
             p("v0", 0.0, "initial velocity, m/s", Rule::Any),
         ],
+        dt: 0.1,
+        until: 20.0,
     },
     SceneSpec {
         name: "projectile",
@@ -77,6 +83,8 @@ pub const SCENES: [SceneSpec; 8] = [
             p("y0", 0.0, "initial y, m", Rule::Any),
             p("m", 1.0, "mass, kg", Rule::Positive),
         ],
+        dt: 0.01,
+        until: 2.0,
     },
     SceneSpec {
         name: "drag",
@@ -88,6 +96,8 @@ pub const SCENES: [SceneSpec; 8] = [
             p("x0", 0.0, "initial position, m", Rule::Any),
             p("v0", 10.0, "initial velocity, m/s", Rule::Any),
         ],
+        dt: 0.01,
+        until: 5.0,
     },
     SceneSpec {
         name: "orbit",
@@ -97,12 +107,16 @@ pub const SCENES: [SceneSpec; 8] = [
             p("gm", 1.0, "gravitational parameter GM, m^3/s^2", Rule::Positive),
             p("r", 1.0, "orbit radius, m", Rule::Positive),
         ],
+        dt: 0.01,
+        until: 2.0 * std::f64::consts::TAU,
     },
     SceneSpec {
         name: "kepler",
         doc: "2D Kepler ellipse, GM = 1, a = 1, from the pericentre (1 - e, 0); period 2 pi",
         dim: 2,
         params: &[p("e", 0.6, "eccentricity, in [0, 1)", Rule::Fraction)],
+        dt: 0.01,
+        until: std::f64::consts::TAU,
     },
     SceneSpec {
         name: "pendulum",
@@ -115,6 +129,8 @@ pub const SCENES: [SceneSpec; 8] = [
             p("omega0", 0.0, "initial angular velocity, rad/s", Rule::Any),
             p("m", 1.0, "mass, kg", Rule::Positive),
         ],
+        dt: 0.01,
+        until: 5.0,
     },
     SceneSpec {
         name: "nbody",
@@ -125,6 +141,8 @@ pub const SCENES: [SceneSpec; 8] = [
             p("seed", 1.0, "random seed", Rule::NonNegative),
             p("softening", 0.05, "softening length, m", Rule::NonNegative),
         ],
+        dt: 0.001,
+        until: 1.0,
     },
     SceneSpec {
         name: "chain",
@@ -138,6 +156,8 @@ pub const SCENES: [SceneSpec; 8] = [
             p("g", 9.81, "gravity, m/s^2", Rule::Any),
             p("m", 0.1, "mass of each particle, kg", Rule::Positive),
         ],
+        dt: 0.001,
+        until: 2.0,
     },
 ];
 

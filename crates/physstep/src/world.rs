@@ -220,6 +220,10 @@ impl World {
                 }
             }
         }
+        // Forces that need finite masses (n-body) must accept the new particles too.
+        let mut all_mass = self.model.mass.clone();
+        all_mass.extend((0..k).map(|p| masses.map_or(1.0, |m| m[p])));
+        self.model.forces.validate_masses(&all_mass)?;
         let first = self.len();
         let n_old = self.model.len();
         let (x_old, v_old) = self.state.y.split_at(n_old);
@@ -495,7 +499,10 @@ impl World {
         }
         out.extend_from_slice(name);
         let [hi, lo] = self.clock.balance();
-        for v in [self.state.t, hi, lo, memory.len() as f64].iter().chain(&self.state.y).chain(&memory).chain(&self.prev_x) {
+        // Before the first step (or after particles were added) there are no previous
+        // positions of this particle count; the current ones interpolate the same way.
+        let prev_x = if self.prev_x.len() == self.model.len() { &self.prev_x[..] } else { self.positions() };
+        for v in [self.state.t, hi, lo, memory.len() as f64].iter().chain(&self.state.y).chain(&memory).chain(prev_x) {
             out.extend_from_slice(&v.to_le_bytes());
         }
         out
@@ -539,10 +546,13 @@ impl World {
         let ny = 2 * self.model.len();
         let nx = self.model.len();
         let [t, hi, lo, nm, data @ ..] = floats.as_slice() else { return Err(corrupt("truncated data")) };
-        let nm = *nm as usize;
-        if data.len() != ny + nm + nx {
-            return Err(corrupt("data length does not match the world"));
-        }
+        // The memory length is what is left after the state and the previous positions; the
+        // stored length must agree (a damaged one, huge or NaN, must not overflow a sum).
+        let nm = data
+            .len()
+            .checked_sub(ny + nx)
+            .filter(|m| *m as f64 == *nm)
+            .ok_or_else(|| corrupt("data length does not match the world"))?;
         let mut integrator = self.integrator.clone();
         integrator.recall(&data[ny..ny + nm])?;
         self.integrator = integrator;
@@ -554,6 +564,7 @@ impl World {
         self.clock.restore_balance([*hi, *lo]);
         // The derivative is a function of the state: recompute it without counting it, so
         // the evaluation count matches an uninterrupted run.
+        self.stale = true;
         self.refresh();
         self.state.evals = evals;
         Ok(())

@@ -1,6 +1,6 @@
 //! Symplectic (semi-implicit) Euler in both orders, and the two alternated.
 
-use super::{drift, kick, split_method, sync_f, xva, Info, Log, Method};
+use super::{axpy_to, drift, kick, split_method, sync_f, xva, Info, Log, Method};
 use crate::dynamics::{SecondOrder, Split};
 use crate::error::Result;
 
@@ -31,14 +31,27 @@ fn velocity_first<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f6
 }
 
 /// Position-first step; with velocity-dependent forces the kick uses `a(x[n+1], v[n])` and
-/// the acceleration is evaluated once more at the new state.
+/// the acceleration is evaluated once more at the new state. With `predict` (the alternating
+/// method, whose odd step is the closing kick of a velocity-Verlet step of `2 dt`), the kick
+/// instead uses the acceleration at the predicted `v[n] + a(x[n+1], v[n]) dt`, as velocity
+/// Verlet does, which keeps the pair second order.
 #[inline]
-fn position_first<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64]) {
+fn position_first<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], predict: bool) {
     let again = sys.sys.velocity_dependent();
-    let (x, v, a) = xva(y, f);
+    let n = y.len() / 2;
+    let (x, v) = y.split_at_mut(n);
+    // f[..n] (the dx part) is free until sync_f: it holds v[n] meanwhile.
+    let (v_old, a) = f.split_at_mut(n);
     drift(x, v, h);
     sys.accel(t + h, x, v, a);
-    kick(v, a, h);
+    if again && predict {
+        v_old.copy_from_slice(v);
+        kick(v, a, h);
+        sys.accel(t + h, x, v, a);
+        axpy_to(v, v_old, h, a);
+    } else {
+        kick(v, a, h);
+    }
     if again {
         sys.accel(t + h, x, v, a);
     }
@@ -78,7 +91,7 @@ impl Method for SymplecticEulerX {
     split_method!();
 
     fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
-        position_first(sys, t, h, y, f);
+        position_first(sys, t, h, y, f, false);
         Ok(())
     }
 }
@@ -98,7 +111,7 @@ impl Method for SymplecticEulerAlternating {
 
     fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
         if self.odd {
-            position_first(sys, t, h, y, f);
+            position_first(sys, t, h, y, f, true);
         } else {
             velocity_first(sys, t, h, y, f);
         }

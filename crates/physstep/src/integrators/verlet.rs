@@ -1,6 +1,6 @@
 //! Velocityless (Stormer) Verlet and velocity Verlet.
 
-use super::{drift, kick, scratch, split_method, sync_f, xva, Info, Log, Method};
+use super::{axpy_to, drift, kick, scratch, split_method, sync_f, xva, Info, Log, Method};
 use crate::dynamics::{SecondOrder, Split};
 use crate::error::Result;
 
@@ -83,18 +83,42 @@ impl Method for Verlet {
 pub struct VelocityVerlet;
 
 /// One velocity-Verlet substep of `h` (kick, drift, kick); shared with Yoshida's composition.
-/// Velocity-dependent forces are evaluated at the half-step velocity for the second kick,
-/// then once more at the new state.
+///
+/// Velocity-dependent forces: the second kick needs `a(x[n+1], v[n+1])`, an implicit
+/// equation in `v[n+1]` (which keeps the step symmetric). It is solved by `corrections`
+/// fixed-point passes from `v[n+1/2]`: each evaluates the acceleration at the latest
+/// prediction `v[n+1/2] + a dt/2`, and each gains one power of `dt` in the kick. One pass is
+/// enough for velocity Verlet's second order (kicking with `a(x[n+1], v[n+1/2])` alone
+/// would make it first order); Yoshida's composition needs the step symmetric to
+/// `O(dt^5)`, three passes. The acceleration is then evaluated once more at the new state.
+/// Velocity-independent forces take one evaluation whatever `corrections` is.
 #[inline]
-pub(crate) fn velocity_verlet<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64]) {
+pub(crate) fn velocity_verlet<S: SecondOrder + ?Sized>(
+    sys: &mut Split<'_, S>,
+    t: f64,
+    h: f64,
+    y: &mut [f64],
+    f: &mut [f64],
+    corrections: u32,
+) {
     let again = sys.sys.velocity_dependent();
-    let (x, v, a) = xva(y, f);
+    let n = y.len() / 2;
+    let (x, v) = y.split_at_mut(n);
+    // f[..n] (the dx part) is free until sync_f: it holds v[n+1/2] meanwhile.
+    let (v_half, a) = f.split_at_mut(n);
     kick(v, a, 0.5 * h);
     drift(x, v, h);
     sys.accel(t + h, x, v, a);
-    kick(v, a, 0.5 * h);
     if again {
+        v_half.copy_from_slice(v);
+        for _ in 0..corrections {
+            axpy_to(v, v_half, 0.5 * h, a);
+            sys.accel(t + h, x, v, a);
+        }
+        axpy_to(v, v_half, 0.5 * h, a);
         sys.accel(t + h, x, v, a);
+    } else {
+        kick(v, a, 0.5 * h);
     }
     sync_f(y, f);
 }
@@ -113,7 +137,7 @@ impl Method for VelocityVerlet {
     split_method!();
 
     fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
-        velocity_verlet(sys, t, h, y, f);
+        velocity_verlet(sys, t, h, y, f, 1);
         Ok(())
     }
 }

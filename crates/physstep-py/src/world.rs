@@ -1,0 +1,348 @@
+//! `physstep.World`: the engine's world with the names the Python API promises.
+
+use crate::{flat, matrix, py_err};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use physstep::clock::LoopMode;
+use physstep::forces::{Endpoint, Force};
+use physstep::world::{World as Engine, WorldParams};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+/// Particles, forces, an integrator and a fixed-timestep game loop.
+#[pyclass(module = "physstep._core")]
+pub struct World {
+    inner: Engine,
+}
+
+/// A vector argument of `dim` components, named `field` in errors.
+fn vector(field: &str, v: Vec<f64>, dim: usize) -> PyResult<[f64; 3]> {
+    if v.len() != dim {
+        return Err(PyValueError::new_err(format!("invalid {field} = {v:?}: must have {dim} components (dim = {dim})")));
+    }
+    let mut out = [0.0; 3];
+    out[..dim].copy_from_slice(&v);
+    Ok(out)
+}
+
+/// `other` as a particle index or an anchor point.
+fn endpoint(field: &str, other: &Bound<'_, PyAny>, dim: usize) -> PyResult<Endpoint> {
+    if let Ok(j) = other.extract::<i64>() {
+        let j = usize::try_from(j)
+            .map_err(|_| PyValueError::new_err(format!("invalid {field} = {j}: must be a particle index >= 0")))?;
+        return Ok(Endpoint::Particle(j));
+    }
+    let v: Vec<f64> = other.extract().map_err(|_| {
+        PyValueError::new_err(format!("invalid {field} = {other}: must be a particle index or an anchor point"))
+    })?;
+    Ok(Endpoint::Anchor(vector(field, v, dim)?))
+}
+
+fn loop_mode(name: &str, substeps: u32) -> PyResult<LoopMode> {
+    Ok(match name {
+        "accumulator" => LoopMode::Accumulator,
+        "step-per-frame" => LoopMode::StepPerFrame,
+        "steps-per-frame" => LoopMode::StepsPerFrame(substeps),
+        "frame-time" => LoopMode::FrameTime,
+        "consume-frame" => LoopMode::ConsumeFrame,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown loop '{other}'; valid loops: accumulator, step-per-frame, steps-per-frame, frame-time, consume-frame"
+            )))
+        }
+    })
+}
+
+impl World {
+    fn distance(&self, i: usize, j: Endpoint) -> PyResult<f64> {
+        let d = self.inner.dim();
+        let x = self.inner.positions();
+        if i >= self.inner.len() {
+            return Err(PyValueError::new_err(format!(
+                "invalid i = {i}: must be a particle index < {}",
+                self.inner.len()
+            )));
+        }
+        let other: Vec<f64> = match j {
+            Endpoint::Particle(j) if j < self.inner.len() => x[j * d..(j + 1) * d].to_vec(),
+            Endpoint::Particle(j) => {
+                return Err(PyValueError::new_err(format!(
+                    "invalid j = {j}: must be a particle index < {}",
+                    self.inner.len()
+                )))
+            }
+            Endpoint::Anchor(p) => p[..d].to_vec(),
+        };
+        Ok(x[i * d..(i + 1) * d].iter().zip(&other).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt())
+    }
+}
+
+#[pymethods]
+impl World {
+    #[new]
+    #[pyo3(signature = (dim, method="symplectic-euler", dt=1.0/120.0, max_steps_per_frame=8, max_frame_time=0.1, r#loop="accumulator", substeps=1))]
+    fn new(
+        dim: i64,
+        method: &str,
+        dt: f64,
+        max_steps_per_frame: i64,
+        max_frame_time: f64,
+        r#loop: &str,
+        substeps: i64,
+    ) -> PyResult<Self> {
+        let dim = usize::try_from(dim).map_err(|_| PyValueError::new_err(format!("invalid dim = {dim}: must be 1, 2 or 3")))?;
+        let max_steps = u32::try_from(max_steps_per_frame).map_err(|_| {
+            PyValueError::new_err(format!("invalid max_steps_per_frame = {max_steps_per_frame}: must be at least 1"))
+        })?;
+        let substeps = u32::try_from(substeps)
+            .map_err(|_| PyValueError::new_err(format!("invalid substeps = {substeps}: must be at least 1")))?;
+        let params = WorldParams {
+            dim,
+            method: method.into(),
+            dt,
+            mode: loop_mode(r#loop, substeps)?,
+            max_steps_per_frame: max_steps,
+            max_frame_time,
+            ..WorldParams::default()
+        };
+        Ok(Self { inner: Engine::new(params).map_err(py_err)? })
+    }
+
+    /// A world built from a built-in scene.
+    #[staticmethod]
+    #[pyo3(signature = (name, method="symplectic-euler", dt=1.0/120.0, params=None))]
+    fn from_scene(name: &str, method: &str, dt: f64, params: Option<Vec<(String, f64)>>) -> PyResult<Self> {
+        let params = params.unwrap_or_default();
+        let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let scene = physstep::scenes::build(name, &overrides, method, dt).map_err(py_err)?;
+        Ok(Self { inner: scene.world })
+    }
+
+    /// Spatial dimensions.
+    #[getter]
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "World(dim={}, particles={}, method='{}', dt={}, time={})",
+            self.inner.dim(),
+            self.inner.len(),
+            self.inner.integrator().info().name,
+            self.inner.dt(),
+            self.inner.time()
+        )
+    }
+
+    /// The integrator's registry name; assign a name to switch.
+    #[getter]
+    fn method(&self) -> &'static str {
+        self.inner.integrator().info().name
+    }
+
+    #[setter]
+    fn set_method(&mut self, name: &str) -> PyResult<()> {
+        self.inner.set_method(name).map_err(py_err)
+    }
+
+    /// The fixed step, s; assign to change it.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.inner.dt()
+    }
+
+    #[setter]
+    fn set_dt(&mut self, dt: f64) -> PyResult<()> {
+        self.inner.set_dt(dt).map_err(py_err)
+    }
+
+    #[pyo3(signature = (position, velocity=None, mass=1.0, r#static=false))]
+    fn add_particle(&mut self, position: Vec<f64>, velocity: Option<Vec<f64>>, mass: f64, r#static: bool) -> PyResult<usize> {
+        let d = self.inner.dim();
+        let position = vector("position", position, d)?;
+        let velocity = vector("velocity", velocity.unwrap_or_else(|| vec![0.0; d]), d)?;
+        self.inner.add_particle(&position[..d], &velocity[..d], mass, r#static).map_err(py_err)
+    }
+
+    #[pyo3(signature = (positions, velocities=None, masses=None, r#static=false))]
+    fn add_particles<'py>(
+        &mut self,
+        py: Python<'py>,
+        positions: PyReadonlyArray2<'py, f64>,
+        velocities: Option<PyReadonlyArray2<'py, f64>>,
+        masses: Option<PyReadonlyArray1<'py, f64>>,
+        r#static: bool,
+    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let d = self.inner.dim();
+        let (x, cols) = flat(&positions);
+        if cols != d {
+            return Err(PyValueError::new_err(format!("invalid positions shape (_, {cols}): must be (n, {d})")));
+        }
+        let k = x.len() / d;
+        let v = match &velocities {
+            Some(v) => {
+                let (v, vc) = flat(v);
+                if vc != d || v.len() != x.len() {
+                    return Err(PyValueError::new_err(format!(
+                        "invalid velocities shape ({}, {vc}): must be ({k}, {d})",
+                        v.len() / vc.max(1)
+                    )));
+                }
+                Some(v)
+            }
+            None => None,
+        };
+        let m = masses.as_ref().map(|m| m.as_array().iter().copied().collect::<Vec<f64>>());
+        let first = self.inner.add_particles(&x, v.as_deref(), m.as_deref(), r#static).map_err(py_err)?;
+        Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
+    }
+
+    fn add_gravity(&mut self, g: Vec<f64>) -> PyResult<()> {
+        let g = vector("g", g, self.inner.dim())?;
+        self.inner.add_force(Force::Gravity { g }).map_err(py_err)
+    }
+
+    #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=0.0))]
+    fn add_spring(&mut self, i: usize, j_or_anchor: &Bound<'_, PyAny>, stiffness: f64, rest_length: Option<f64>, damping: f64) -> PyResult<()> {
+        let j = endpoint("j_or_anchor", j_or_anchor, self.inner.dim())?;
+        let rest_length = match rest_length {
+            Some(r) => r,
+            None => self.distance(i, j)?,
+        };
+        self.inner.add_force(Force::Spring { i, j, stiffness, rest_length, damping }).map_err(py_err)
+    }
+
+    #[pyo3(signature = (linear=0.0, quadratic=0.0))]
+    fn add_drag(&mut self, linear: f64, quadratic: f64) -> PyResult<()> {
+        self.inner.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
+    }
+
+    fn add_central_gravity(&mut self, center: Vec<f64>, gm: f64) -> PyResult<()> {
+        let center = vector("center", center, self.inner.dim())?;
+        self.inner.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
+    }
+
+    #[pyo3(signature = (g=1.0, softening=0.0))]
+    fn add_nbody_gravity(&mut self, g: f64, softening: f64) -> PyResult<()> {
+        self.inner.add_force(Force::NBody { g, softening }).map_err(py_err)
+    }
+
+    fn add_rod(&mut self, i: usize, anchor_or_j: &Bound<'_, PyAny>, length: f64) -> PyResult<()> {
+        let j = endpoint("anchor_or_j", anchor_or_j, self.inner.dim())?;
+        if !(length.is_finite() && length > 0.0) {
+            return Err(PyValueError::new_err(format!("invalid length = {length}: must be a finite number > 0")));
+        }
+        let r = self.distance(i, j)?;
+        if (r - length).abs() > 1e-9 * length {
+            return Err(PyValueError::new_err(format!(
+                "invalid length = {length}: must equal the current distance {r} between the rod's ends (move the particle first)"
+            )));
+        }
+        self.inner.add_force(Force::Rod { i, j, length }).map_err(py_err)
+    }
+
+    /// Takes n fixed steps. Raises DivergedError/ConvergenceError if a step fails (that step
+    /// is rolled back).
+    #[pyo3(signature = (n=1))]
+    fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
+        let n = u64::try_from(n).map_err(|_| PyValueError::new_err(format!("invalid n = {n}: must be >= 0")))?;
+        let inner = &mut self.inner;
+        py.detach(|| inner.step(n)).map_err(py_err)
+    }
+
+    /// Runs one frame of the game loop; returns the number of fixed steps taken.
+    fn advance(&mut self, frame_time: f64) -> PyResult<u32> {
+        Ok(self.inner.advance(frame_time).map_err(py_err)?.plan.steps)
+    }
+
+    /// Render interpolation factor in [0, 1).
+    #[getter]
+    fn alpha(&self) -> f64 {
+        self.inner.alpha()
+    }
+
+    /// Totals of the game loop: frames, steps, clamped and dropped time (s).
+    #[getter]
+    fn clock_stats(&self) -> (u64, u64, f64, f64) {
+        let s = self.inner.clock().stats();
+        (s.frames, s.steps, s.clamped, s.dropped)
+    }
+
+    fn interpolated_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        matrix(py, self.inner.interpolated_positions(), self.inner.dim())
+    }
+
+    /// Positions (n, dim), m: a copy; assign an array to move the particles.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        matrix(py, self.inner.positions().to_vec(), self.inner.dim())
+    }
+
+    #[setter(positions)]
+    fn set_positions(&mut self, x: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
+        let (x, _) = flat(&x);
+        self.inner.set_positions(&x).map_err(py_err)
+    }
+
+    /// Velocities (n, dim), m/s: a copy; assign an array to change them.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        matrix(py, self.inner.velocities().to_vec(), self.inner.dim())
+    }
+
+    #[setter(velocities)]
+    fn set_velocities(&mut self, v: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
+        let (v, _) = flat(&v);
+        self.inner.set_velocities(&v).map_err(py_err)
+    }
+
+    /// Accelerations at the current state (n, dim), m/s^2.
+    #[getter]
+    fn accelerations<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let dim = self.inner.dim();
+        matrix(py, self.inner.accelerations().to_vec(), dim)
+    }
+
+    /// Physics time, s.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    /// Steps taken.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+
+    /// Force evaluations made.
+    #[getter]
+    fn evals(&self) -> u64 {
+        self.inner.evals()
+    }
+
+    fn energy(&self) -> f64 {
+        self.inner.energy()
+    }
+
+    fn momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_vec(py, self.inner.momentum())
+    }
+
+    fn snapshot<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, &self.inner.snapshot())
+    }
+
+    fn restore(&mut self, data: &[u8]) -> PyResult<()> {
+        self.inner.restore(data).map_err(py_err)
+    }
+
+    fn state_hash(&self) -> u64 {
+        self.inner.state_hash()
+    }
+}

@@ -1,0 +1,201 @@
+"""physstep: a game-physics integration engine.
+
+Every integrator of the game-physics lecture notes behind one interface, particles with
+composable forces, the fixed-timestep game loop, and a lab that measures how each method
+behaves on your system. The engine is Rust (``physstep._core``); this package is the
+Python face.
+
+>>> import physstep
+>>> traj = physstep.simulate("spring", "symplectic-euler", dt=1.0, until=2.0)
+>>> traj.x[:, 0].tolist()
+[20.0, 10.0, -5.0]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from physstep import _core
+from physstep._core import ConvergenceError, DivergedError, StepError, World
+
+__all__ = [
+    "ConvergenceError",
+    "DivergedError",
+    "MethodInfo",
+    "StepError",
+    "Trajectory",
+    "World",
+    "method",
+    "methods",
+    "scene",
+    "scenes",
+    "simulate",
+    "summarize",
+]
+
+__version__ = "0.1.0"
+
+
+@dataclass(frozen=True)
+class MethodInfo:
+    """What an integrator is: its registry name, order, properties and one-line doc."""
+
+    name: str
+    order: int
+    symplectic: bool
+    implicit: bool
+    evals: int
+    split: bool
+    doc: str
+
+
+def methods() -> list[MethodInfo]:
+    """Every integrator in the registry, in order."""
+    return [MethodInfo(**m) for m in _core.methods()]
+
+
+def method(name: str) -> MethodInfo:
+    """The integrator registered as ``name``; ValueError listing the valid names otherwise."""
+    return MethodInfo(**_core.method_info(name))
+
+
+def scenes() -> list[dict[str, Any]]:
+    """Every built-in scene: name, doc, dim, default dt and until, and parameters."""
+    return list(_core.scenes())
+
+
+def scene(name: str) -> dict[str, Any]:
+    """One built-in scene's description; ValueError listing the valid names otherwise."""
+    for s in _core.scenes():
+        if s["name"] == name:
+            return dict(s)
+    valid = ", ".join(s["name"] for s in _core.scenes())
+    raise ValueError(f"unknown scene '{name}'; valid scenes: {valid}")
+
+
+@dataclass
+class Trajectory:
+    """A recorded run: rows of time, positions, velocities, accelerations and energy.
+
+    ``x``, ``v`` and ``a`` have shape (rows, coordinates): coordinate ``p * dim + k`` is axis
+    ``k`` of particle ``p``. ``exact_x``/``exact_v`` hold the exact solution at the same
+    times where the scene has one.
+    """
+
+    scene: str
+    method: str
+    dt: float
+    dim: int
+    steps: int
+    evals: int
+    elapsed_ns: int
+    params: dict[str, float]
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    energy: np.ndarray
+    exact_x: np.ndarray | None = None
+    exact_v: np.ndarray | None = None
+    stages: list[tuple[int, str, float, list[float], list[float], list[float]]] | None = None
+    diverged: str | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def ns_per_step(self) -> float:
+        """Wall time of the stepping loop per step (recording included), ns."""
+        return self.elapsed_ns / max(self.steps, 1)
+
+    @property
+    def energy_error(self) -> np.ndarray:
+        """Relative energy error (E - E0) / |E0| of every row (absolute when E0 = 0)."""
+        e0 = self.energy[0]
+        return (self.energy - e0) / (abs(e0) if e0 != 0 else 1.0)
+
+    @property
+    def position_error(self) -> np.ndarray | None:
+        """Distance from the exact positions of every row (max over coordinates), or None."""
+        if self.exact_x is None:
+            return None
+        return np.abs(self.x - self.exact_x).max(axis=1)
+
+
+def simulate(
+    scene: str,
+    method: str = "symplectic-euler",
+    dt: float | None = None,
+    until: float | None = None,
+    params: dict[str, float] | None = None,
+    *,
+    x0: Any = None,
+    v0: Any = None,
+    stages: bool = False,
+    every: int = 1,
+    stop_on_diverge: bool = False,
+) -> Trajectory:
+    """Runs a built-in scene with an integrator and records it.
+
+    ``dt`` and ``until`` default to the scene's own (see :func:`scenes`); ``params``
+    override the scene's parameters; ``x0``/``v0`` (flat or (n, dim)) replace its initial
+    state. ``every`` records one row in ``every`` steps (the last is always recorded).
+    ``stages`` records the intermediate evaluation points (midpoint's ``half``, RK4's
+    ``xa``, ``xb``, ``xc``). A step that diverges raises :class:`DivergedError`, or with
+    ``stop_on_diverge`` ends the run there and is reported in ``Trajectory.diverged``.
+
+    Raises ValueError naming the bad field and value for any bad input.
+    """
+    spec = _scene_spec(scene)
+    dt = float(spec["dt"] if dt is None else dt)
+    until = float(spec["until"] if until is None else until)
+    plist = [(str(k), float(v)) for k, v in (params or {}).items()]
+    flat = lambda a: None if a is None else [float(c) for c in np.asarray(a, dtype=float).ravel()]  # noqa: E731
+    raw = _core.simulate(
+        scene,
+        method,
+        dt,
+        until,
+        plist,
+        x0=flat(x0),
+        v0=flat(v0),
+        stages=stages,
+        every=int(every),
+        stop_on_diverge=stop_on_diverge,
+    )
+    return Trajectory(**raw)
+
+
+def _scene_spec(name: str) -> dict[str, Any]:
+    return scene(name)
+
+
+def summarize(traj: Trajectory) -> dict[str, Any]:
+    """The summary of a run, as ``physstep run --format json`` prints it."""
+    e = traj.energy
+    e0 = float(e[0])
+    scale = abs(e0) if e0 != 0 else 1.0
+    out: dict[str, Any] = {
+        "scene": traj.scene,
+        "method": traj.method,
+        "dt": traj.dt,
+        "params": dict(traj.params),
+        "steps": int(traj.steps),
+        "t": float(traj.t[-1]),
+        "final": {"x": traj.x[-1].tolist(), "v": traj.v[-1].tolist()},
+        "energy": {
+            "initial": e0,
+            "final": float(e[-1]),
+            "max_rel_error": float(np.max(np.abs(e - e0)) / scale),
+        },
+        "evals": int(traj.evals),
+        "ns_per_step": traj.ns_per_step,
+    }
+    if traj.exact_x is not None:
+        err = traj.position_error
+        assert err is not None
+        out["error"] = {"final_position": float(err[-1]), "max_position": float(err.max())}
+    if traj.diverged:
+        out["diverged"] = traj.diverged
+    return out
