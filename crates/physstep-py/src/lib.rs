@@ -19,7 +19,12 @@ mod world;
 
 create_exception!(_core, StepError, PyRuntimeError, "A step failed; the state was rolled back.");
 create_exception!(_core, DivergedError, StepError, "A step produced a non-finite value; it was rolled back.");
-create_exception!(_core, ConvergenceError, StepError, "An implicit method's Newton iteration did not converge.");
+create_exception!(
+    _core,
+    ConvergenceError,
+    StepError,
+    "An implicit method's Newton iteration did not converge."
+);
 
 /// The engine's error as the matching Python exception.
 pub(crate) fn py_err(e: Error) -> PyErr {
@@ -137,15 +142,23 @@ fn simulate<'py>(
     }
     // until / dt rounded down, forgiving the rounding of a quotient that should be whole.
     let ratio = until / dt;
-    let steps = if (ratio - ratio.round()).abs() <= 1e-9 * ratio.max(1.0) { ratio.round() } else { ratio.floor() };
+    let steps =
+        if (ratio - ratio.round()).abs() <= 1e-9 * ratio.max(1.0) { ratio.round() } else { ratio.floor() };
     if steps > 1e9 {
-        return Err(PyValueError::new_err(format!("invalid until = {until}: more than 1e9 steps of dt = {dt}")));
+        return Err(PyValueError::new_err(format!(
+            "invalid until = {until}: more than 1e9 steps of dt = {dt}"
+        )));
     }
     let steps = steps as u64;
     let n = w.positions().len();
     let cap = (steps / every + 2) as usize;
-    let (mut ts, mut xs, mut vs, mut accs, mut es) =
-        (Vec::with_capacity(cap), Vec::with_capacity(cap * n), Vec::with_capacity(cap * n), Vec::with_capacity(cap * n), Vec::with_capacity(cap));
+    let (mut ts, mut xs, mut vs, mut accs, mut es) = (
+        Vec::with_capacity(cap),
+        Vec::with_capacity(cap * n),
+        Vec::with_capacity(cap * n),
+        Vec::with_capacity(cap * n),
+        Vec::with_capacity(cap),
+    );
     let mut log = StageLog::default();
     let mut stage_rows: Vec<(u64, &'static str, f64, Vec<f64>, Vec<f64>, Vec<f64>)> = Vec::new();
     let mut diverged: Option<String> = None;

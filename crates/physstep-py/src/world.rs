@@ -18,7 +18,9 @@ pub struct World {
 /// A vector argument of `dim` components, named `field` in errors.
 fn vector(field: &str, v: Vec<f64>, dim: usize) -> PyResult<[f64; 3]> {
     if v.len() != dim {
-        return Err(PyValueError::new_err(format!("invalid {field} = {v:?}: must have {dim} components (dim = {dim})")));
+        return Err(PyValueError::new_err(format!(
+            "invalid {field} = {v:?}: must have {dim} components (dim = {dim})"
+        )));
     }
     let mut out = [0.0; 3];
     out[..dim].copy_from_slice(&v);
@@ -28,12 +30,15 @@ fn vector(field: &str, v: Vec<f64>, dim: usize) -> PyResult<[f64; 3]> {
 /// `other` as a particle index or an anchor point.
 fn endpoint(field: &str, other: &Bound<'_, PyAny>, dim: usize) -> PyResult<Endpoint> {
     if let Ok(j) = other.extract::<i64>() {
-        let j = usize::try_from(j)
-            .map_err(|_| PyValueError::new_err(format!("invalid {field} = {j}: must be a particle index >= 0")))?;
+        let j = usize::try_from(j).map_err(|_| {
+            PyValueError::new_err(format!("invalid {field} = {j}: must be a particle index >= 0"))
+        })?;
         return Ok(Endpoint::Particle(j));
     }
     let v: Vec<f64> = other.extract().map_err(|_| {
-        PyValueError::new_err(format!("invalid {field} = {other}: must be a particle index or an anchor point"))
+        PyValueError::new_err(format!(
+            "invalid {field} = {other}: must be a particle index or an anchor point"
+        ))
     })?;
     Ok(Endpoint::Anchor(vector(field, v, dim)?))
 }
@@ -90,12 +95,16 @@ impl World {
         r#loop: &str,
         substeps: i64,
     ) -> PyResult<Self> {
-        let dim = usize::try_from(dim).map_err(|_| PyValueError::new_err(format!("invalid dim = {dim}: must be 1, 2 or 3")))?;
+        let dim = usize::try_from(dim)
+            .map_err(|_| PyValueError::new_err(format!("invalid dim = {dim}: must be 1, 2 or 3")))?;
         let max_steps = u32::try_from(max_steps_per_frame).map_err(|_| {
-            PyValueError::new_err(format!("invalid max_steps_per_frame = {max_steps_per_frame}: must be at least 1"))
+            PyValueError::new_err(format!(
+                "invalid max_steps_per_frame = {max_steps_per_frame}: must be at least 1"
+            ))
         })?;
-        let substeps = u32::try_from(substeps)
-            .map_err(|_| PyValueError::new_err(format!("invalid substeps = {substeps}: must be at least 1")))?;
+        let substeps = u32::try_from(substeps).map_err(|_| {
+            PyValueError::new_err(format!("invalid substeps = {substeps}: must be at least 1"))
+        })?;
         let params = WorldParams {
             dim,
             method: method.into(),
@@ -162,7 +171,13 @@ impl World {
     }
 
     #[pyo3(signature = (position, velocity=None, mass=1.0, r#static=false))]
-    fn add_particle(&mut self, position: Vec<f64>, velocity: Option<Vec<f64>>, mass: f64, r#static: bool) -> PyResult<usize> {
+    fn add_particle(
+        &mut self,
+        position: Vec<f64>,
+        velocity: Option<Vec<f64>>,
+        mass: f64,
+        r#static: bool,
+    ) -> PyResult<usize> {
         let d = self.inner.dim();
         let position = vector("position", position, d)?;
         let velocity = vector("velocity", velocity.unwrap_or_else(|| vec![0.0; d]), d)?;
@@ -181,7 +196,9 @@ impl World {
         let d = self.inner.dim();
         let (x, cols) = flat(&positions);
         if cols != d {
-            return Err(PyValueError::new_err(format!("invalid positions shape (_, {cols}): must be (n, {d})")));
+            return Err(PyValueError::new_err(format!(
+                "invalid positions shape (_, {cols}): must be (n, {d})"
+            )));
         }
         let k = x.len() / d;
         let v = match &velocities {
@@ -208,7 +225,14 @@ impl World {
     }
 
     #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=0.0))]
-    fn add_spring(&mut self, i: usize, j_or_anchor: &Bound<'_, PyAny>, stiffness: f64, rest_length: Option<f64>, damping: f64) -> PyResult<()> {
+    fn add_spring(
+        &mut self,
+        i: usize,
+        j_or_anchor: &Bound<'_, PyAny>,
+        stiffness: f64,
+        rest_length: Option<f64>,
+        damping: f64,
+    ) -> PyResult<()> {
         let j = endpoint("j_or_anchor", j_or_anchor, self.inner.dim())?;
         let rest_length = match rest_length {
             Some(r) => r,
@@ -235,7 +259,9 @@ impl World {
     fn add_rod(&mut self, i: usize, anchor_or_j: &Bound<'_, PyAny>, length: f64) -> PyResult<()> {
         let j = endpoint("anchor_or_j", anchor_or_j, self.inner.dim())?;
         if !(length.is_finite() && length > 0.0) {
-            return Err(PyValueError::new_err(format!("invalid length = {length}: must be a finite number > 0")));
+            return Err(PyValueError::new_err(format!(
+                "invalid length = {length}: must be a finite number > 0"
+            )));
         }
         let r = self.distance(i, j)?;
         if (r - length).abs() > 1e-9 * length {
@@ -250,7 +276,8 @@ impl World {
     /// is rolled back).
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
-        let n = u64::try_from(n).map_err(|_| PyValueError::new_err(format!("invalid n = {n}: must be >= 0")))?;
+        let n =
+            u64::try_from(n).map_err(|_| PyValueError::new_err(format!("invalid n = {n}: must be >= 0")))?;
         let inner = &mut self.inner;
         py.detach(|| inner.step(n)).map_err(py_err)
     }

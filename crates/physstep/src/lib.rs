@@ -21,8 +21,8 @@
 pub mod clock;
 pub mod dynamics;
 pub mod error;
-pub mod integrators;
 pub mod forces;
+pub mod integrators;
 pub mod scenes;
 pub mod world;
 
@@ -33,9 +33,9 @@ pub mod prelude {
     pub use crate::clock::{Clock, ClockParams, LoopMode};
     pub use crate::dynamics::{FirstOrder, SecondOrder};
     pub use crate::error::{Error, Result};
+    pub use crate::forces::{Endpoint, Force};
     pub use crate::integrators::registry::State;
     pub use crate::integrators::{Info, Integrator, INFOS};
-    pub use crate::forces::{Endpoint, Force};
     pub use crate::scenes::{self, Scene};
     pub use crate::world::{World, WorldParams};
 }

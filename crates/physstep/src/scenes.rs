@@ -166,7 +166,10 @@ pub const SCENES: [SceneSpec; 8] = [
 /// # Errors
 /// [`Error::UnknownName`] listing the valid scenes.
 pub fn spec(name: &str) -> Result<&'static SceneSpec> {
-    SCENES.iter().find(|s| s.name == name).ok_or_else(|| Error::unknown("scene", name, SCENES.iter().map(|s| s.name)))
+    SCENES
+        .iter()
+        .find(|s| s.name == name)
+        .ok_or_else(|| Error::unknown("scene", name, SCENES.iter().map(|s| s.name)))
 }
 
 /// A built scene: its world, its parameters and its exact solution if known.
@@ -331,7 +334,8 @@ pub fn resolve(spec: &SceneSpec, overrides: &[(&str, f64)]) -> Result<Vec<f64>> 
 pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Result<Scene> {
     let spec = spec(name)?;
     let values = resolve(spec, overrides)?;
-    let world = World::new(WorldParams { dim: spec.dim, method: method.into(), dt, ..WorldParams::default() })?;
+    let world =
+        World::new(WorldParams { dim: spec.dim, method: method.into(), dt, ..WorldParams::default() })?;
     let v = |n: &str| values[spec.params.iter().position(|p| p.name == n).expect("param in spec")];
     let mut scene = Scene { spec, values: values.clone(), world, exact: None };
     let w = &mut scene.world;
@@ -339,7 +343,13 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
         "spring" => {
             let (m, k, c, x0, v0) = (v("m"), v("k"), v("c"), v("x0"), v("v0"));
             w.add_particle(&[x0], &[v0], m, false)?;
-            w.add_force(Force::Spring { i: 0, j: Endpoint::Anchor([0.0; 3]), stiffness: k, rest_length: 0.0, damping: c })?;
+            w.add_force(Force::Spring {
+                i: 0,
+                j: Endpoint::Anchor([0.0; 3]),
+                stiffness: k,
+                rest_length: 0.0,
+                damping: c,
+            })?;
             let w0 = (k / m).sqrt();
             let zeta = if w0 > 0.0 { c / (2.0 * (k * m).sqrt()) } else { 0.0 };
             if k == 0.0 && c > 0.0 {
@@ -414,9 +424,21 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
             // Starts horizontal so it swings: particle i at ((i+1) spacing, 0).
             let x: Vec<f64> = (0..n).flat_map(|i| [(i + 1) as f64 * sp, 0.0]).collect();
             w.add_particles(&x, None, Some(&vec![m; n]), false)?;
-            w.add_force(Force::Spring { i: 0, j: Endpoint::Anchor([0.0; 3]), stiffness: k, rest_length: sp, damping: c })?;
+            w.add_force(Force::Spring {
+                i: 0,
+                j: Endpoint::Anchor([0.0; 3]),
+                stiffness: k,
+                rest_length: sp,
+                damping: c,
+            })?;
             for i in 1..n {
-                w.add_force(Force::Spring { i, j: Endpoint::Particle(i - 1), stiffness: k, rest_length: sp, damping: c })?;
+                w.add_force(Force::Spring {
+                    i,
+                    j: Endpoint::Particle(i - 1),
+                    stiffness: k,
+                    rest_length: sp,
+                    damping: c,
+                })?;
             }
             w.add_force(Force::Gravity { g: [0.0, -g, 0.0] })?;
             None

@@ -184,7 +184,13 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `position`, `velocity` or `mass` (> 0 unless static,
     /// NaN never); the world is unchanged.
-    pub fn add_particle(&mut self, position: &[f64], velocity: &[f64], mass: f64, is_static: bool) -> Result<usize> {
+    pub fn add_particle(
+        &mut self,
+        position: &[f64],
+        velocity: &[f64],
+        mass: f64,
+        is_static: bool,
+    ) -> Result<usize> {
         let i = self.len();
         self.add_particles(position, Some(velocity), Some(&[mass]), is_static)?;
         Ok(i)
@@ -196,16 +202,30 @@ impl World {
     /// # Errors
     /// As [`World::add_particle`], naming the first bad entry (`positions[5]`); the world is
     /// unchanged.
-    pub fn add_particles(&mut self, positions: &[f64], velocities: Option<&[f64]>, masses: Option<&[f64]>, is_static: bool) -> Result<usize> {
+    pub fn add_particles(
+        &mut self,
+        positions: &[f64],
+        velocities: Option<&[f64]>,
+        masses: Option<&[f64]>,
+        is_static: bool,
+    ) -> Result<usize> {
         let d = self.dim();
         if positions.len() % d != 0 {
-            return Err(Error::invalid("len(positions)", positions.len(), format!("a multiple of dim = {d}")));
+            return Err(Error::invalid(
+                "len(positions)",
+                positions.len(),
+                format!("a multiple of dim = {d}"),
+            ));
         }
         let k = positions.len() / d;
         all_finite("position", positions)?;
         if let Some(v) = velocities {
             if v.len() != positions.len() {
-                return Err(Error::invalid("len(velocity)", v.len(), format!("{}, like the positions", positions.len())));
+                return Err(Error::invalid(
+                    "len(velocity)",
+                    v.len(),
+                    format!("{}, like the positions", positions.len()),
+                ));
             }
             all_finite("velocity", v)?;
         }
@@ -494,7 +514,9 @@ impl World {
         let mut out = Vec::with_capacity(64 + 8 * (self.state.y.len() + memory.len()));
         out.extend_from_slice(MAGIC);
         let name = self.integrator.info().name.as_bytes();
-        for word in [self.dim() as u64, self.len() as u64, name.len() as u64, self.state.steps, self.state.evals] {
+        for word in
+            [self.dim() as u64, self.len() as u64, name.len() as u64, self.state.steps, self.state.evals]
+        {
             out.extend_from_slice(&word.to_le_bytes());
         }
         out.extend_from_slice(name);
@@ -502,7 +524,12 @@ impl World {
         // Before the first step (or after particles were added) there are no previous
         // positions of this particle count; the current ones interpolate the same way.
         let prev_x = if self.prev_x.len() == self.model.len() { &self.prev_x[..] } else { self.positions() };
-        for v in [self.state.t, hi, lo, memory.len() as f64].iter().chain(&self.state.y).chain(&memory).chain(prev_x) {
+        for v in [self.state.t, hi, lo, memory.len() as f64]
+            .iter()
+            .chain(&self.state.y)
+            .chain(&memory)
+            .chain(prev_x)
+        {
             out.extend_from_slice(&v.to_le_bytes());
         }
         out

@@ -49,9 +49,13 @@ fn check_spring_orders(overrides: &[(&str, f64)]) {
         let errors = spring_errors(info.name, overrides);
         assert!(errors.iter().all(|e| e.is_finite() && *e > 0.0), "{}: errors {errors:?}", info.name);
         let p = slope(&dts(), &errors);
-        eprintln!("ORD {overrides:?} {} {p:.3} {}", info.name, sci(&errors));
         if (p - f64::from(info.order)).abs() > TOL {
-            failures.push(format!("{}: observed order {p:.3}, INFO.order {} (errors {})", info.name, info.order, sci(&errors)));
+            failures.push(format!(
+                "{}: observed order {p:.3}, INFO.order {} (errors {})",
+                info.name,
+                info.order,
+                sci(&errors)
+            ));
         }
     }
     assert!(failures.is_empty(), "spring {overrides:?}:\n{}", failures.join("\n"));
@@ -125,7 +129,12 @@ fn run_flow<F: FirstOrder>(name: &str, sys: &mut F, y0: &[f64], dt: f64) -> Stat
     state
 }
 
-fn flow_order<F: FirstOrder>(name: &str, mut make: impl FnMut() -> F, y0: &[f64], exact: fn(f64) -> Vec<f64>) -> (f64, Vec<f64>) {
+fn flow_order<F: FirstOrder>(
+    name: &str,
+    mut make: impl FnMut() -> F,
+    y0: &[f64],
+    exact: fn(f64) -> Vec<f64>,
+) -> (f64, Vec<f64>) {
     let want = exact(T_END);
     let errors: Vec<f64> = dts()
         .iter()
@@ -146,7 +155,12 @@ fn flow_methods_have_their_order_on_first_order_flows() {
             ("rotation", flow_order(info.name, || Rotation, &[1.0, 0.0], rotation_exact)),
         ] {
             if !(p - f64::from(info.order)).abs().le(&TOL) {
-                failures.push(format!("{} on {flow}: observed {p:.3}, INFO.order {} ({})", info.name, info.order, sci(&errors)));
+                failures.push(format!(
+                    "{} on {flow}: observed {p:.3}, INFO.order {} ({})",
+                    info.name,
+                    info.order,
+                    sci(&errors)
+                ));
             }
         }
     }
@@ -197,7 +211,11 @@ fn flow_methods_reject_bad_dt_on_flows() {
         let mut state = State::first(&mut sys, 0.0, &[1.0]).unwrap();
         for dt in [0.0, -0.1, f64::NAN, f64::INFINITY] {
             let err = integ.step_flow(&mut sys, &mut state, dt).unwrap_err();
-            assert!(matches!(&err, Error::InvalidValue { field, .. } if field == "dt"), "{}: {err:?}", info.name);
+            assert!(
+                matches!(&err, Error::InvalidValue { field, .. } if field == "dt"),
+                "{}: {err:?}",
+                info.name
+            );
         }
         assert_eq!(state.steps, 0);
     }

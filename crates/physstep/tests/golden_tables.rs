@@ -7,7 +7,8 @@ use common::round_half_away;
 use physstep::prelude::*;
 
 fn check(file: &str, method: &str, dt: f64) {
-    let text = std::fs::read_to_string(format!("{}/tests/golden/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let text =
+        std::fs::read_to_string(format!("{}/tests/golden/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
     let mut scene = scenes::build("spring", &[], method, dt).unwrap();
     let w = &mut scene.world;
     let mut rows = 0;

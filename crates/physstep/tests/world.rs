@@ -110,10 +110,9 @@ fn check_between(prev: &[f64], cur: &[f64], interp: &[f64]) {
 
 #[test]
 fn interpolated_positions_lie_between_previous_and_current() {
-    for (name, mut w) in [
-        ("chain", scenes::build("chain", &[], "velocity-verlet", DT).unwrap().world),
-        ("3d", world3d("rk4")),
-    ] {
+    for (name, mut w) in
+        [("chain", scenes::build("chain", &[], "velocity-verlet", DT).unwrap().world), ("3d", world3d("rk4"))]
+    {
         // No step yet: the current positions.
         assert_eq!(w.interpolated_positions(), w.positions());
         for f in jittered(5, 1.0) {
@@ -195,7 +194,11 @@ fn spiral_of_death_caps_steps_and_reports_dropped_time() {
         assert_eq!(w2.steps() - s0, 4, "frame {i}: never more than max_steps_per_frame");
         assert_eq!(frame.plan.clamped, 0.0);
         assert!(frame.plan.dropped > 0.0);
-        assert!((frame.plan.dropped - 36.0 * dt).abs() < 1.5 * dt, "frame {i}: dropped {}", frame.plan.dropped);
+        assert!(
+            (frame.plan.dropped - 36.0 * dt).abs() < 1.5 * dt,
+            "frame {i}: dropped {}",
+            frame.plan.dropped
+        );
         assert!((0.0..1.0).contains(&frame.alpha));
         dropped += frame.plan.dropped;
     }
@@ -234,11 +237,15 @@ fn snapshot_restore_continue_is_bitwise_for_every_method() {
         let snap = w.snapshot();
         let at_snap = (w.state_hash(), bits(w.positions()), bits(w.velocities()), w.steps(), w.evals());
         w.step(50).unwrap();
-        let want = (w.state_hash(), bits(w.positions()), bits(w.velocities()), w.steps(), w.evals(), w.time());
+        let want =
+            (w.state_hash(), bits(w.positions()), bits(w.velocities()), w.steps(), w.evals(), w.time());
 
         // Restore into the same world after it moved on.
         w.restore(&snap).unwrap();
-        assert_eq!((w.state_hash(), bits(w.positions()), bits(w.velocities()), w.steps(), w.evals()), at_snap);
+        assert_eq!(
+            (w.state_hash(), bits(w.positions()), bits(w.velocities()), w.steps(), w.evals()),
+            at_snap
+        );
         w.step(50).unwrap();
         let got = (w.state_hash(), bits(w.positions()), bits(w.velocities()), w.steps(), w.evals(), w.time());
         assert_eq!(got, want, "{}: restored run differs", info.name);
@@ -248,7 +255,12 @@ fn snapshot_restore_continue_is_bitwise_for_every_method() {
         fresh.restore(&snap).unwrap();
         fresh.step(50).unwrap();
         let got = (fresh.state_hash(), bits(fresh.positions()), bits(fresh.velocities()), fresh.steps());
-        assert_eq!(got, (want.0, want.1.clone(), want.2.clone(), want.3), "{}: fresh world differs", info.name);
+        assert_eq!(
+            got,
+            (want.0, want.1.clone(), want.2.clone(), want.3),
+            "{}: fresh world differs",
+            info.name
+        );
     }
 }
 
@@ -345,7 +357,8 @@ fn restore_rejects_other_worlds_and_garbage() {
         assert!(msg.contains("leapfrog") && msg.contains(method), "{msg}");
     }
     // Another dimension, same particle count.
-    let mut w3 = World::new(WorldParams { dim: 3, method: "leapfrog".into(), ..WorldParams::default() }).unwrap();
+    let mut w3 =
+        World::new(WorldParams { dim: 3, method: "leapfrog".into(), ..WorldParams::default() }).unwrap();
     w3.add_particles(&[0.0; 12], None, None, false).unwrap();
     check_unchanged(&mut w3, &snap, "3D");
 
@@ -468,13 +481,21 @@ fn bad_input_names_field_and_value_and_changes_nothing() {
         msg(w.add_particle(&[0.0; 3], &[0.0, 0.0, f64::INFINITY], 1.0, false)),
         "invalid velocity[2] = inf: must be finite"
     );
-    assert!(msg(w.add_particle(&[0.0; 3], &[0.0; 3], -2.0, false)).starts_with("invalid mass = -2: must be > 0"));
-    assert!(msg(w.add_particle(&[0.0; 3], &[0.0; 3], 0.0, false)).starts_with("invalid mass = 0: must be > 0"));
+    assert!(
+        msg(w.add_particle(&[0.0; 3], &[0.0; 3], -2.0, false)).starts_with("invalid mass = -2: must be > 0")
+    );
+    assert!(
+        msg(w.add_particle(&[0.0; 3], &[0.0; 3], 0.0, false)).starts_with("invalid mass = 0: must be > 0")
+    );
     assert!(msg(w.add_particle(&[0.0; 3], &[0.0; 3], f64::NAN, false)).starts_with("invalid mass = NaN"));
-    assert!(msg(w.add_particle(&[0.0; 3], &[0.0; 3], f64::NEG_INFINITY, false)).starts_with("invalid mass = -inf"));
-    assert!(msg(w.add_particles(&[0.0; 6], None, Some(&[1.0, -1.0]), false)).starts_with("invalid mass[1] = -1"));
+    assert!(msg(w.add_particle(&[0.0; 3], &[0.0; 3], f64::NEG_INFINITY, false))
+        .starts_with("invalid mass = -inf"));
+    assert!(
+        msg(w.add_particles(&[0.0; 6], None, Some(&[1.0, -1.0]), false)).starts_with("invalid mass[1] = -1")
+    );
     assert!(msg(w.add_particles(&[0.0; 5], None, None, false)).starts_with("invalid len(positions) = 5"));
-    assert!(msg(w.add_particles(&[0.0; 6], Some(&[0.0; 3]), None, false)).starts_with("invalid len(velocity) = 3"));
+    assert!(msg(w.add_particles(&[0.0; 6], Some(&[0.0; 3]), None, false))
+        .starts_with("invalid len(velocity) = 3"));
     assert!(msg(w.add_particles(&[0.0; 6], None, Some(&[1.0]), false)).starts_with("invalid len(mass) = 1"));
 
     let n = w.len();
@@ -525,7 +546,8 @@ fn bad_input_names_field_and_value_and_changes_nothing() {
 #[test]
 fn infinite_mass_is_static() {
     for method in ["explicit-euler", "velocity-verlet", "rk4", "backward-euler", "verlet", "leapfrog"] {
-        let mut w = World::new(WorldParams { dim: 2, method: method.into(), ..WorldParams::default() }).unwrap();
+        let mut w =
+            World::new(WorldParams { dim: 2, method: method.into(), ..WorldParams::default() }).unwrap();
         // Not flagged static, but infinite mass: accepted as static, its velocity dropped.
         let i = w.add_particle(&[1.0, 2.0], &[3.0, 4.0], f64::INFINITY, false).unwrap();
         let j = w.add_particle(&[0.0, 0.0], &[0.0, 0.0], 1.0, false).unwrap();
@@ -570,7 +592,8 @@ fn force_order_does_not_matter() {
     for method in ["velocity-verlet", "rk4", "backward-euler", "leapfrog", "implicit-midpoint"] {
         let forces = forces3d();
         let mut a = world3d(method);
-        let mut b = World::new(WorldParams { dim: 3, method: method.into(), ..WorldParams::default() }).unwrap();
+        let mut b =
+            World::new(WorldParams { dim: 3, method: method.into(), ..WorldParams::default() }).unwrap();
         b.add_particle(&[0.0, 0.0, 2.0], &[0.0; 3], f64::INFINITY, false).unwrap();
         b.add_particle(&[1.0, 0.5, 2.0], &[0.0; 3], 3.0, true).unwrap();
         b.add_particles(&a.positions()[6..], Some(&a.velocities()[6..]), Some(&a.model().mass()[2..]), false)
@@ -586,7 +609,8 @@ fn force_order_does_not_matter() {
             b.add_force(f).unwrap();
         }
         // And the same forces rotated on a third world.
-        let mut c = World::new(WorldParams { dim: 3, method: method.into(), ..WorldParams::default() }).unwrap();
+        let mut c =
+            World::new(WorldParams { dim: 3, method: method.into(), ..WorldParams::default() }).unwrap();
         c.add_particle(&[0.0, 0.0, 2.0], &[0.0; 3], f64::INFINITY, false).unwrap();
         c.add_particle(&[1.0, 0.5, 2.0], &[0.0; 3], 3.0, true).unwrap();
         c.add_particles(&a.positions()[6..], Some(&a.velocities()[6..]), Some(&a.model().mass()[2..]), false)
@@ -630,7 +654,12 @@ fn nbody_conserves_momentum_and_bounds_energy() {
         let p = w.momentum();
         let s = scale(w);
         for (k, pk) in p.iter().enumerate() {
-            assert!((pk - p0[k]).abs() <= 1e-12 * s.max(s0), "t {}: momentum {k} {pk} vs {}", w.time(), p0[k]);
+            assert!(
+                (pk - p0[k]).abs() <= 1e-12 * s.max(s0),
+                "t {}: momentum {k} {pk} vs {}",
+                w.time(),
+                p0[k]
+            );
         }
         max_de = max_de.max(((w.energy() - e0) / e0).abs());
     }

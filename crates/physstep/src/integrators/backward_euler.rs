@@ -35,7 +35,15 @@ impl Method for BackwardEuler {
 
     flow_method!();
 
-    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_flow<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         self.newton.solve(flow, Self::INFO.name, t + h, h, y, f)?;
         y.copy_from_slice(&self.newton.z);
         f.copy_from_slice(&self.newton.fz);

@@ -23,7 +23,15 @@ impl Method for ExplicitEuler {
 
     flow_method!();
 
-    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_flow<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         axpy(y, h, f);
         flow.deriv(t + h, y, f);
         Ok(())

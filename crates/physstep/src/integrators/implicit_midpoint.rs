@@ -35,7 +35,15 @@ impl Method for ImplicitMidpoint {
 
     flow_method!();
 
-    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_flow<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         self.newton.solve(flow, Self::INFO.name, t + 0.5 * h, 0.5 * h, y, f)?;
         for (yi, m) in y.iter_mut().zip(self.newton.z.iter()) {
             *yi = 2.0 * m - *yi;

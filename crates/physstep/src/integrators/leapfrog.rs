@@ -32,7 +32,15 @@ impl Method for Leapfrog {
 
     split_method!();
 
-    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         let again = sys.sys.velocity_dependent();
         let (x, v, a) = xva(y, f);
         let half = scratch(&mut self.half, x.len());

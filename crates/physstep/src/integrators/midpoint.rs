@@ -25,7 +25,15 @@ impl Method for Midpoint {
 
     flow_method!();
 
-    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], mut log: Log<'_>) -> Result<()> {
+    fn step_flow<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        mut log: Log<'_>,
+    ) -> Result<()> {
         let y_half = scratch(&mut self.y_half, y.len());
         let f_half = scratch(&mut self.f_half, y.len());
         axpy_to(y_half, y, 0.5 * h, f);

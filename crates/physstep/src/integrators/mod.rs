@@ -126,8 +126,15 @@ pub trait Method {
     /// # Errors
     /// [`Error::Unsupported`] for split methods; [`Error::NotConverged`] for a failed Newton
     /// iteration.
-    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], log: Log<'_>)
-        -> Result<()>;
+    fn step_flow<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        log: Log<'_>,
+    ) -> Result<()>;
 
     /// Forgets internal state (after the user moved the system or a rollback); the next
     /// step starts afresh from `(x, v)`.
@@ -165,7 +172,8 @@ pub(crate) fn unpack(m: &[f64]) -> Option<(bool, f64, &[f64])> {
 pub(crate) fn split_only(info: &Info) -> Error {
     Error::Unsupported {
         method: info.name.into(),
-        reason: "needs a second-order system (positions and velocities); use a flow method such as rk4".into(),
+        reason: "needs a second-order system (positions and velocities); use a flow method such as rk4"
+            .into(),
     }
 }
 

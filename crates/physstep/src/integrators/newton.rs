@@ -44,7 +44,15 @@ impl Newton {
     }
 
     /// Solves `z = y0 + c f(tau, z)` from the explicit guess `y0 + c f0`.
-    pub fn solve<F: Flow>(&mut self, flow: &mut F, method: &str, tau: f64, c: f64, y0: &[f64], f0: &[f64]) -> Result<()> {
+    pub fn solve<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        method: &str,
+        tau: f64,
+        c: f64,
+        y0: &[f64],
+        f0: &[f64],
+    ) -> Result<()> {
         let n = y0.len();
         let z = scratch(&mut self.z, n);
         let fz = scratch(&mut self.fz, n);

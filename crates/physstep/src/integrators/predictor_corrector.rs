@@ -28,7 +28,15 @@ impl Method for PredictorCorrector {
 
     flow_method!();
 
-    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], mut log: Log<'_>) -> Result<()> {
+    fn step_flow<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        mut log: Log<'_>,
+    ) -> Result<()> {
         let y_p = scratch(&mut self.y_p, y.len());
         let f_p = scratch(&mut self.f_p, y.len());
         axpy_to(y_p, y, h, f);

@@ -135,7 +135,11 @@ impl State {
     pub fn first<F: FirstOrder + ?Sized>(sys: &mut F, t: f64, y: &[f64]) -> Result<Self> {
         crate::error::finite("t", t)?;
         if y.len() != sys.len() {
-            return Err(Error::invalid("len(y)", y.len(), format!("{}, the flow's coordinate count", sys.len())));
+            return Err(Error::invalid(
+                "len(y)",
+                y.len(),
+                format!("{}, the flow's coordinate count", sys.len()),
+            ));
         }
         crate::error::all_finite("y", y)?;
         let mut f = vec![0.0; y.len()];
@@ -232,7 +236,9 @@ impl Integrator {
         if dispatch!(&mut self.kind, m => m.recall(memory)) {
             Ok(())
         } else {
-            Err(Error::Corrupt { reason: format!("integrator memory does not fit method '{}'", self.info().name) })
+            Err(Error::Corrupt {
+                reason: format!("integrator memory does not fit method '{}'", self.info().name),
+            })
         }
     }
 
@@ -250,7 +256,13 @@ impl Integrator {
     ///
     /// # Errors
     /// As [`Integrator::step`].
-    pub fn step_logged<S: SecondOrder + ?Sized>(&mut self, sys: &mut S, state: &mut State, dt: f64, log: Log<'_>) -> Result<()> {
+    pub fn step_logged<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        state: &mut State,
+        dt: f64,
+        log: Log<'_>,
+    ) -> Result<()> {
         crate::error::positive("dt", dt)?;
         self.save(state);
         let State { t, y, f, evals, .. } = state;
@@ -263,7 +275,12 @@ impl Integrator {
     ///
     /// # Errors
     /// As [`Integrator::step`], and [`Error::Unsupported`] for the split methods.
-    pub fn step_flow<F: FirstOrder + ?Sized>(&mut self, sys: &mut F, state: &mut State, dt: f64) -> Result<()> {
+    pub fn step_flow<F: FirstOrder + ?Sized>(
+        &mut self,
+        sys: &mut F,
+        state: &mut State,
+        dt: f64,
+    ) -> Result<()> {
         crate::error::positive("dt", dt)?;
         self.save(state);
         let State { t, y, f, evals, .. } = state;

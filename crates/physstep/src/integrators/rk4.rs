@@ -29,7 +29,15 @@ impl Method for Rk4 {
 
     flow_method!();
 
-    fn step_flow<F: Flow>(&mut self, flow: &mut F, t: f64, h: f64, y: &mut [f64], f: &mut [f64], mut log: Log<'_>) -> Result<()> {
+    fn step_flow<F: Flow>(
+        &mut self,
+        flow: &mut F,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        mut log: Log<'_>,
+    ) -> Result<()> {
         let n = y.len();
         let stage = scratch(&mut self.stage, n);
         let ka = scratch(&mut self.ka, n);

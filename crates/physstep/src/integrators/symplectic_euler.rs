@@ -22,7 +22,13 @@ pub struct SymplecticEulerAlternating {
 
 /// Velocity-first step on `(x, v, a)`, leaving `a` at the new state.
 #[inline]
-fn velocity_first<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64]) {
+fn velocity_first<S: SecondOrder + ?Sized>(
+    sys: &mut Split<'_, S>,
+    t: f64,
+    h: f64,
+    y: &mut [f64],
+    f: &mut [f64],
+) {
     let (x, v, a) = xva(y, f);
     kick(v, a, h);
     drift(x, v, h);
@@ -36,7 +42,14 @@ fn velocity_first<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f6
 /// instead uses the acceleration at the predicted `v[n] + a(x[n+1], v[n]) dt`, as velocity
 /// Verlet does, which keeps the pair second order.
 #[inline]
-fn position_first<S: SecondOrder + ?Sized>(sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], predict: bool) {
+fn position_first<S: SecondOrder + ?Sized>(
+    sys: &mut Split<'_, S>,
+    t: f64,
+    h: f64,
+    y: &mut [f64],
+    f: &mut [f64],
+    predict: bool,
+) {
     let again = sys.sys.velocity_dependent();
     let n = y.len() / 2;
     let (x, v) = y.split_at_mut(n);
@@ -71,7 +84,15 @@ impl Method for SymplecticEuler {
 
     split_method!();
 
-    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         velocity_first(sys, t, h, y, f);
         Ok(())
     }
@@ -90,7 +111,15 @@ impl Method for SymplecticEulerX {
 
     split_method!();
 
-    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         position_first(sys, t, h, y, f, false);
         Ok(())
     }
@@ -109,7 +138,15 @@ impl Method for SymplecticEulerAlternating {
 
     split_method!();
 
-    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         if self.odd {
             position_first(sys, t, h, y, f, true);
         } else {

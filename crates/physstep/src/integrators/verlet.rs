@@ -32,7 +32,15 @@ impl Method for Verlet {
 
     split_method!();
 
-    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         let (x, v, a) = xva(y, f);
         let prev = scratch(&mut self.prev, x.len());
         if !self.started {
@@ -136,7 +144,15 @@ impl Method for VelocityVerlet {
 
     split_method!();
 
-    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         velocity_verlet(sys, t, h, y, f, 1);
         Ok(())
     }

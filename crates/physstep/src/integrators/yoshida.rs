@@ -32,12 +32,21 @@ impl Method for Yoshida4 {
         implicit: false,
         evals: 3,
         split: true,
-        doc: "velocity Verlet composed over w1 dt, w0 dt, w1 dt (Yoshida / Forest-Ruth), 4th order symplectic",
+        doc:
+            "velocity Verlet composed over w1 dt, w0 dt, w1 dt (Yoshida / Forest-Ruth), 4th order symplectic",
     };
 
     split_method!();
 
-    fn step_split<S: SecondOrder + ?Sized>(&mut self, sys: &mut Split<'_, S>, t: f64, h: f64, y: &mut [f64], f: &mut [f64], _log: Log<'_>) -> Result<()> {
+    fn step_split<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut Split<'_, S>,
+        t: f64,
+        h: f64,
+        y: &mut [f64],
+        f: &mut [f64],
+        _log: Log<'_>,
+    ) -> Result<()> {
         let mut ts = t;
         for w in self.w {
             velocity_verlet(sys, ts, w * h, y, f, 3);

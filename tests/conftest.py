@@ -1,0 +1,25 @@
+"""Shared pytest helpers: run the command line as a user would."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+GOLDEN = ROOT / "crates" / "physstep" / "tests" / "golden"
+
+
+def run_cli(*args: str) -> subprocess.CompletedProcess[str]:
+    env = dict(os.environ, MPLBACKEND="Agg", COLUMNS="200")
+    return subprocess.run(
+        [sys.executable, "-m", "physstep", *args], capture_output=True, text=True, env=env, timeout=300
+    )
+
+
+@pytest.fixture
+def cli():
+    return run_cli

@@ -1,0 +1,135 @@
+"""The Python API over the engine: registries, simulate, errors, World."""
+
+from __future__ import annotations
+
+import doctest
+
+import numpy as np
+import pytest
+
+import physstep
+
+
+def test_docstring_examples_run() -> None:
+    failures, tried = doctest.testmod(physstep, verbose=False)
+    assert tried > 0 and failures == 0
+
+
+def test_methods_carry_their_info() -> None:
+    ms = {m.name: m for m in physstep.methods()}
+    assert ms["rk4"].order == 4 and ms["rk4"].evals == 4 and not ms["rk4"].symplectic
+    assert ms["backward-euler"].implicit and ms["symplectic-euler"].symplectic
+    assert physstep.method("leapfrog").order == 2
+    with pytest.raises(ValueError, match="unknown method 'x'; valid methods: explicit-euler"):
+        physstep.method("x")
+
+
+def test_simulate_returns_arrays_consistent_with_the_notes() -> None:
+    traj = physstep.simulate("spring", "explicit-euler", dt=1.0, until=3.0)
+    assert traj.t.tolist() == [0.0, 1.0, 2.0, 3.0]
+    assert traj.x[:, 0].tolist() == [20.0, 20.0, 10.0, -10.0]
+    assert traj.v[:, 0].tolist() == [0.0, -10.0, -20.0, -25.0]
+    assert np.array_equal(traj.a[:, 0], -traj.x[:, 0] / 2)
+    assert traj.energy[0] == pytest.approx(1000.0)
+    assert traj.exact_x is not None and traj.exact_x[0, 0] == 20.0
+    assert traj.evals == 3
+
+
+def test_simulate_rejects_bad_input_with_the_field_named() -> None:
+    with pytest.raises(ValueError, match=r"invalid dt = 0"):
+        physstep.simulate("spring", "rk4", dt=0.0, until=1.0)
+    with pytest.raises(ValueError, match=r"invalid dt = NaN"):
+        physstep.simulate("spring", "rk4", dt=float("nan"), until=1.0)
+    with pytest.raises(ValueError, match=r"invalid m = -1"):
+        physstep.simulate("spring", "rk4", dt=0.1, until=1.0, params={"m": -1})
+    with pytest.raises(ValueError, match=r"unknown scene 'x'"):
+        physstep.simulate("x", "rk4", dt=0.1, until=1.0)
+    with pytest.raises(ValueError, match=r"invalid position\[0\] = NaN"):
+        physstep.simulate("spring", "rk4", dt=0.1, until=1.0, x0=[float("nan")])
+
+
+def test_divergence_is_reported_not_returned() -> None:
+    with pytest.raises(physstep.DivergedError, match="explicit-euler.*diverged"):
+        physstep.simulate("spring", "explicit-euler", dt=1.0, until=100000.0, every=1000)
+    traj = physstep.simulate("spring", "explicit-euler", dt=1.0, until=100000.0, every=1000, stop_on_diverge=True)
+    assert traj.diverged is not None and "diverged" in traj.diverged
+    assert np.isfinite(traj.x).all()
+
+
+def test_world_api_names() -> None:
+    w = physstep.World(2, method="velocity-verlet", dt=0.01)
+    i = w.add_particle([0.0, 1.0], velocity=[1.0, 0.0], mass=2.0)
+    idx = w.add_particles(np.zeros((3, 2)) + [[2.0, 0.0]], masses=np.ones(3))
+    assert i == 0 and idx.tolist() == [1, 2, 3]
+    w.add_gravity([0.0, -9.81])
+    w.add_spring(0, 1, stiffness=10.0)
+    w.add_spring(2, [5.0, 5.0], 1.0, rest_length=0.5, damping=0.1)
+    w.add_drag(linear=0.01, quadratic=0.001)
+    w.add_central_gravity([0.0, 0.0], 0.1)
+    w.add_nbody_gravity(g=1.0, softening=0.1)
+    w.add_rod(3, [2.0, 1.0], 1.0)
+    e0 = w.energy()
+    w.step(10)
+    assert w.time == pytest.approx(0.1)
+    assert w.positions.shape == (4, 2) and w.velocities.shape == (4, 2)
+    assert np.isfinite(w.energy()) and w.energy() != e0
+    assert w.momentum().shape == (2,)
+    snap = w.snapshot()
+    h = w.state_hash()
+    w.step(5)
+    assert w.state_hash() != h
+    w.restore(snap)
+    assert w.state_hash() == h
+    steps = w.advance(1 / 30)
+    assert steps == 3 and 0.0 <= w.alpha < 1.0
+    assert w.interpolated_positions().shape == (4, 2)
+
+
+def test_world_bad_input_leaves_it_unchanged() -> None:
+    w = physstep.World(3)
+    w.add_particle([0.0, 0.0, 0.0])
+    h = w.state_hash()
+    with pytest.raises(ValueError, match=r"invalid position\[1\] = NaN"):
+        w.add_particle([0.0, float("nan"), 0.0])
+    with pytest.raises(ValueError, match=r"invalid mass = 0"):
+        w.add_particle([1.0, 0.0, 0.0], mass=0.0)
+    with pytest.raises(ValueError, match=r"invalid mass = -2"):
+        w.add_particle([1.0, 0.0, 0.0], mass=-2.0)
+    with pytest.raises(ValueError, match=r"invalid j = 5"):
+        w.add_spring(0, 5, 1.0)
+    with pytest.raises(ValueError, match=r"invalid length = 0"):
+        w.add_rod(0, [1.0, 0.0, 0.0], 0.0)
+    with pytest.raises(ValueError, match=r"invalid position = \[1.0\]"):
+        w.add_particle([1.0])
+    assert len(w) == 1 and w.state_hash() == h
+    for dim in (0, 4, -1):
+        with pytest.raises(ValueError, match=rf"invalid dim = {dim}"):
+            physstep.World(dim)
+    with pytest.raises(ValueError, match="unknown method"):
+        physstep.World(2, method="eulr")
+    with pytest.raises(ValueError, match="invalid frame_time = -1"):
+        w.advance(-1.0)
+    with pytest.raises(ValueError, match="corrupt snapshot"):
+        w.restore(b"garbage")
+
+
+def test_static_particles_do_not_move() -> None:
+    w = physstep.World(2, dt=0.01)
+    w.add_particle([0.0, 0.0], mass=float("inf"))
+    w.add_particle([1.0, 0.0], static=True, velocity=[3.0, 0.0])
+    w.add_particle([2.0, 0.0])
+    w.add_gravity([0.0, -9.81])
+    w.step(100)
+    assert w.positions[:2].tolist() == [[0.0, 0.0], [1.0, 0.0]]
+    assert w.positions[2, 1] < -4.0
+
+
+def test_bulk_add_is_vectorised() -> None:
+    n = 200_000
+    w = physstep.World(3, method="symplectic-euler", dt=0.01)
+    rng = np.random.default_rng(1)
+    idx = w.add_particles(rng.random((n, 3)), rng.random((n, 3)), np.full(n, 2.0))
+    assert idx[-1] == n - 1 and len(w) == n
+    w.add_gravity([0.0, 0.0, -9.81])
+    w.step(2)
+    assert w.positions.shape == (n, 3)

@@ -1,0 +1,136 @@
+"""The command line: the notes' tables, summaries, method listing and error contracts."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+
+import pytest
+from conftest import GOLDEN, run_cli
+
+import physstep
+
+GOLDEN_RUNS = [
+    ("spring_euler_dt1.csv", "explicit-euler", "1"),
+    ("spring_euler_dt0.5.csv", "explicit-euler", "0.5"),
+    ("spring_euler_dt0.25.csv", "explicit-euler", "0.25"),
+    ("spring_symplectic_dt1.csv", "symplectic-euler", "1"),
+    ("spring_verlet_dt1.csv", "verlet", "1"),
+]
+
+
+def _norm(s: str) -> str:
+    return "0.0" if s == "-0.0" else s
+
+
+@pytest.mark.parametrize(("file", "method", "dt"), GOLDEN_RUNS)
+def test_table_reproduces_the_notes_row_for_row(file: str, method: str, dt: str) -> None:
+    want = list(csv.reader((GOLDEN / file).read_text().splitlines()))
+    until = want[-1][0]
+    res = run_cli("table", "spring", "--method", method, "--dt", dt, "--until", until)
+    assert res.returncode == 0, res.stderr
+    got = [line.split() for line in res.stdout.splitlines()]
+    assert got[0] == ["t", "x", "v", "a"]
+    assert len(got) == len(want)
+    for g, w in zip(got[1:], want[1:], strict=True):
+        assert float(g[0]) == float(w[0])
+        assert [_norm(c) for c in g[1:]] == [_norm(c) for c in w[1:]], f"{file} at t = {w[0]}"
+
+
+def test_table_csv_has_full_precision_and_json_has_rows() -> None:
+    res = run_cli("table", "spring", "--method", "explicit-euler", "--dt", "0.25", "--until", "1", "--format", "csv")
+    rows = list(csv.reader(io.StringIO(res.stdout)))
+    assert rows[0] == ["t", "x", "v", "a"]
+    assert rows[2] == ["0.25", "20.0", "-2.5", "-10.0"]
+    assert rows[3][1] == "19.375"  # printed 19.4 in the notes
+    res = run_cli("table", "spring", "--method", "rk4", "--dt", "1", "--until", "1", "--format", "json")
+    data = json.loads(res.stdout)
+    assert data["columns"] == ["t", "x", "v", "a"]
+    assert len(data["rows"]) == 2
+
+
+def test_table_stages_follow_the_notes_layout() -> None:
+    res = run_cli("table", "spring", "--method", "midpoint", "--dt", "1", "--until", "2", "--stages", "--format", "csv")
+    rows = list(csv.reader(io.StringIO(res.stdout)))
+    assert rows[0] == ["t", "x", "v", "a", "stage"]
+    assert [r[-1] for r in rows[1:]] == ["state", "half", "state", "half", "state"]
+    # half row of the first step: x + v dt/2, v + a dt/2, a there
+    assert rows[2][:4] == ["0.5", "20.0", "-5.0", "-10.0"]
+    res = run_cli("table", "spring", "--method", "rk4", "--dt", "1", "--until", "1", "--stages", "--format", "csv")
+    rows = list(csv.reader(io.StringIO(res.stdout)))
+    assert [r[-1] for r in rows[1:]] == ["state", "xa", "xb", "xc", "state"]
+    # The first step's evaluation points are those of the notes' RK4 table.
+    assert rows[2][:4] == ["0.5", "20.0", "-5.0", "-10.0"]
+    assert rows[3][:4] == ["0.5", "17.5", "-5.0", "-8.75"]
+    assert rows[4][:4] == ["1.0", "15.0", "-8.75", "-7.5"]
+
+
+def test_run_json_summary() -> None:
+    res = run_cli("run", "spring", "--method", "velocity-verlet", "--dt", "0.1", "--until", "10", "--format", "json")
+    assert res.returncode == 0, res.stderr
+    s = json.loads(res.stdout)
+    for key in ("scene", "method", "dt", "steps", "t", "final", "energy", "error"):
+        assert key in s
+    assert s["steps"] == 100
+    assert set(s["energy"]) >= {"initial", "final", "max_rel_error"}
+    assert s["energy"]["initial"] == 1000.0
+    assert 0 < s["energy"]["max_rel_error"] < 0.01
+    assert 0 < s["error"]["final_position"] < 0.1
+
+
+def test_run_writes_the_trajectory(tmp_path) -> None:
+    out = tmp_path / "traj.csv"
+    res = run_cli("run", "orbit", "--method", "rk4", "--dt", "0.1", "--until", "1", "--out", str(out))
+    assert res.returncode == 0, res.stderr
+    rows = list(csv.reader(out.read_text().splitlines()))
+    assert rows[0][:3] == ["t", "x0", "x1"]
+    assert len(rows) == 12
+
+
+def test_methods_lists_every_registered_method() -> None:
+    res = run_cli("methods", "--format", "json")
+    listed = [m["name"] for m in json.loads(res.stdout)]
+    assert listed == [m.name for m in physstep.methods()]
+    assert len(listed) == 14
+    text = run_cli("methods").stdout
+    for m in physstep.methods():
+        assert m.name in text
+        assert m.doc, f"{m.name} has no doc"
+
+
+@pytest.mark.parametrize("method", [m.name for m in physstep.methods()])
+def test_every_method_is_reachable_from_python_and_the_cli(method: str) -> None:
+    traj = physstep.simulate("spring", method, dt=0.5, until=2.0)
+    assert traj.steps == 4 and traj.method == method
+    res = run_cli("run", "spring", "--method", method, "--dt", "0.5", "--until", "2", "--format", "json")
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout)["final"]["x"] == traj.x[-1].tolist()
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["table", "spring", "--dt", "0", "--until", "2"], "invalid dt = 0"),
+        (["table", "spring", "--dt", "-1", "--until", "2"], "invalid dt = -1"),
+        (["table", "spring", "--dt", "nan", "--until", "2"], "invalid dt = NaN"),
+        (["run", "spring", "--dt", "0.1", "--until", "inf"], "invalid until = inf"),
+        (["run", "spring", "--param", "m=0"], "invalid m = 0"),
+        (["run", "spring", "--param", "m=-3"], "invalid m = -3"),
+        (["run", "spring", "--param", "x0=nan"], "invalid x0 = NaN"),
+        (["run", "spring", "--method", "nope"], "unknown method 'nope'; valid methods: explicit-euler"),
+        (["run", "nowhere"], "unknown scene 'nowhere'; valid scenes: spring"),
+        (["run", "spring", "--param", "q=1"], "unknown param 'q'; valid params: m, k, c, x0, v0"),
+        (["run", "spring", "--param", "k"], "invalid --param 'k': must be NAME=VALUE"),
+        (["run", "spring", "--param", "k=abc"], "invalid --param 'k=abc'"),
+        (["run", "spring", "--dt", "abc"], "invalid float value: 'abc'"),
+    ],
+)
+def test_bad_input_is_one_line_and_status_2(args: list[str], needle: str) -> None:
+    res = run_cli(*args)
+    assert res.returncode == 2
+    assert res.stdout == ""
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1, res.stderr
+    assert needle in lines[0]
+    assert "Traceback" not in res.stderr
