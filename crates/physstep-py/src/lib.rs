@@ -38,7 +38,7 @@ pub(crate) fn py_err(e: Error) -> PyErr {
 
 /// `rows x cols` numpy array from a flat row-major vector.
 pub(crate) fn matrix(py: Python<'_>, data: Vec<f64>, cols: usize) -> PyResult<Bound<'_, PyArray2<f64>>> {
-    let rows = if cols == 0 { 0 } else { data.len() / cols };
+    let rows = data.len().checked_div(cols).unwrap_or(0);
     let arr = Array2::from_shape_vec((rows, cols), data).map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(arr.into_pyarray(py))
 }
@@ -48,6 +48,9 @@ pub(crate) fn flat(a: &PyReadonlyArray2<'_, f64>) -> (Vec<f64>, usize) {
     let view = a.as_array();
     (view.iter().copied().collect(), view.ncols())
 }
+
+/// One recorded evaluation point: step index, stage name, t, x, v, a.
+type StageRow = (u64, &'static str, f64, Vec<f64>, Vec<f64>, Vec<f64>);
 
 /// Every integrator's metadata, in registry order.
 #[pyfunction]
@@ -160,7 +163,7 @@ fn simulate<'py>(
         Vec::with_capacity(cap),
     );
     let mut log = StageLog::default();
-    let mut stage_rows: Vec<(u64, &'static str, f64, Vec<f64>, Vec<f64>, Vec<f64>)> = Vec::new();
+    let mut stage_rows: Vec<StageRow> = Vec::new();
     let mut diverged: Option<String> = None;
     let evals0;
     let start = std::time::Instant::now();

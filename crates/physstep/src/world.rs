@@ -134,6 +134,16 @@ pub struct World {
     prev_x: Vec<f64>,
     /// Whether `state.f` must be re-evaluated (after particles, forces or state changed).
     stale: bool,
+    /// Time and step count at the latest change of dt.
+    epoch: Epoch,
+}
+
+/// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Epoch {
+    t: f64,
+    steps: u64,
+    dt: f64,
 }
 
 const MAGIC: &[u8; 8] = b"PHSTEP01";
@@ -157,7 +167,15 @@ impl World {
         })?;
         let model = Model { dim: params.dim, ..Model::default() };
         let state = State { t: 0.0, y: Vec::new(), f: Vec::new(), steps: 0, evals: 0 };
-        Ok(Self { model, integrator, state, clock, prev_x: Vec::new(), stale: false })
+        Ok(Self {
+            model,
+            integrator,
+            state,
+            clock,
+            prev_x: Vec::new(),
+            stale: false,
+            epoch: Epoch::default(),
+        })
     }
 
     /// Spatial dimensions.
@@ -354,19 +372,7 @@ impl World {
     /// # Errors
     /// As [`World::step`], and [`Error::InvalidValue`] for a bad `dt`.
     pub fn step_by(&mut self, dt: f64) -> Result<()> {
-        positive("dt", dt)?;
-        self.refresh();
-        let n = self.model.len();
-        if self.prev_x.len() != n {
-            self.prev_x.resize(n, 0.0);
-        }
-        let saved = std::mem::take(&mut self.prev_x);
-        self.prev_x.extend_from_slice(&self.state.y[..n]);
-        let r = self.integrator.step(&mut self.model, &mut self.state, dt);
-        if r.is_err() {
-            self.prev_x = saved;
-        }
-        r
+        self.step_inner(dt, None)
     }
 
     /// [`World::step_by`] that records the intermediate evaluation points (midpoint's half
@@ -375,9 +381,29 @@ impl World {
     /// # Errors
     /// As [`World::step_by`].
     pub fn step_logged(&mut self, dt: f64, log: &mut crate::integrators::StageLog) -> Result<()> {
+        self.step_inner(dt, Some(log))
+    }
+
+    fn step_inner(&mut self, dt: f64, log: crate::integrators::Log<'_>) -> Result<()> {
         positive("dt", dt)?;
         self.refresh();
-        self.integrator.step_logged(&mut self.model, &mut self.state, dt, Some(log))
+        let n = self.model.len();
+        if self.prev_x.len() != n {
+            self.prev_x.resize(n, 0.0);
+        }
+        let saved = std::mem::take(&mut self.prev_x);
+        self.prev_x.extend_from_slice(&self.state.y[..n]);
+        if dt != self.epoch.dt {
+            self.epoch = Epoch { t: self.state.t, steps: self.state.steps, dt };
+        }
+        let r = self.integrator.step_logged(&mut self.model, &mut self.state, dt, log);
+        match r {
+            // Time as t0 + k dt since the last change of dt: no drift from repeated addition,
+            // so t = 10 after 100 steps of 0.1.
+            Ok(()) => self.state.t = self.epoch.t + (self.state.steps - self.epoch.steps) as f64 * dt,
+            Err(_) => self.prev_x = saved,
+        }
+        r
     }
 
     /// Runs one frame of the game loop: `frame_time` seconds of wall time become fixed steps
@@ -524,7 +550,8 @@ impl World {
         // Before the first step (or after particles were added) there are no previous
         // positions of this particle count; the current ones interpolate the same way.
         let prev_x = if self.prev_x.len() == self.model.len() { &self.prev_x[..] } else { self.positions() };
-        for v in [self.state.t, hi, lo, memory.len() as f64]
+        let e = self.epoch;
+        for v in [self.state.t, hi, lo, e.t, e.steps as f64, e.dt, memory.len() as f64]
             .iter()
             .chain(&self.state.y)
             .chain(&memory)
@@ -572,7 +599,9 @@ impl World {
             .collect::<Result<_>>()?;
         let ny = 2 * self.model.len();
         let nx = self.model.len();
-        let [t, hi, lo, nm, data @ ..] = floats.as_slice() else { return Err(corrupt("truncated data")) };
+        let [t, hi, lo, et, es, edt, nm, data @ ..] = floats.as_slice() else {
+            return Err(corrupt("truncated data"));
+        };
         // The memory length is what is left after the state and the previous positions; the
         // stored length must agree (a damaged one, huge or NaN, must not overflow a sum).
         let nm = data
@@ -584,6 +613,7 @@ impl World {
         integrator.recall(&data[ny..ny + nm])?;
         self.integrator = integrator;
         self.state.t = *t;
+        self.epoch = Epoch { t: *et, steps: *es as u64, dt: *edt };
         self.state.steps = steps;
         self.state.evals = evals;
         self.state.y.copy_from_slice(&data[..ny]);

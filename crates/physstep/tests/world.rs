@@ -380,9 +380,10 @@ fn restore_rejects_other_worlds_and_garbage() {
     bad_magic[0] ^= 1;
     check_unchanged(&mut w, &bad_magic, "bad magic");
 
-    // A well-formed header with a damaged memory length (the float after t, hi, lo).
+    // A well-formed header with a damaged memory length (the float after t, hi, lo and the
+    // time epoch t0, steps0, dt).
     let name_len = "leapfrog".len();
-    let nm_at = 8 + 40 + name_len + 3 * 8;
+    let nm_at = 8 + 40 + name_len + 6 * 8;
     for nm in [1e300, f64::INFINITY, -5.0, 1e6, f64::NAN, 1.0] {
         let mut bad = snap.clone();
         bad[nm_at..nm_at + 8].copy_from_slice(&nm.to_le_bytes());
@@ -453,7 +454,7 @@ fn state_hash_tracks_every_change() {
     let mut l1 = world3d("leapfrog");
     l1.step(5).unwrap();
     let mut l2 = l1.clone();
-    l2.set_positions(&l1.positions().to_vec()).unwrap(); // resets the integrator's memory
+    l2.set_positions(l1.positions()).unwrap(); // resets the integrator's memory
     assert_eq!(bits(l1.positions()), bits(l2.positions()));
     assert_ne!(l1.state_hash(), l2.state_hash(), "leapfrog memory is part of the state");
 }

@@ -68,6 +68,11 @@ impl Newton {
                 residual = residual.max(g[i].abs());
                 scale = scale.max(z[i].abs());
             }
+            // f64::max skips NaN: a NaN in f(z) would otherwise pass for a zero residual and
+            // be accepted as converged.
+            if g.iter().any(|gi| gi.is_nan()) {
+                residual = f64::NAN;
+            }
             if !residual.is_finite() {
                 break;
             }

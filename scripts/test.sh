@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Sets up a virtual environment and runs every test: cargo (engine) and pytest (Python face),
+# plus the lint and stub checks that keep the tree clean. Usage: bash scripts/test.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+VENV=${PHYSSTEP_VENV:-.venv}
+[ -x "$VENV/bin/python" ] || python3 -m venv "$VENV"
+"$VENV/bin/python" -m pip install -q --upgrade pip
+"$VENV/bin/python" -m pip install -q -e ".[test]"
+cargo fmt --all --check
+cargo clippy --workspace --all-targets -- -D warnings
+cargo test --workspace --exclude physstep-py
+"$VENV/bin/ruff" check python tests scripts bench
+"$VENV/bin/ruff" format --check python tests scripts bench
+"$VENV/bin/python" -m mypy.stubtest physstep._core
+MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q
