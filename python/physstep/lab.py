@@ -220,6 +220,11 @@ def compare(
 # --------------------------------------------------------------------------------------
 # order
 
+#: The default run length of :func:`order`, in natural time scales (a third of a period:
+#: errors build up, phase errors do not wrap, and it is no multiple of a quarter period,
+#: where symplectic Euler's oscillating error cancels to second order).
+UNTIL_SCALES = 0.3
+
 
 def _slope(dts: Sequence[float], errs: Sequence[float]) -> float:
     return float(np.polyfit(np.log(dts), np.log(errs), 1)[0])
@@ -238,9 +243,8 @@ def order(
 
     Runs ``levels`` step sizes dt, dt/2, dt/4, ... up to ``until`` (dt is adjusted so that
     ``until`` is a whole, even number of steps: symplectic-euler-alternating is second order
-    at even step counts only). Defaults: ``until`` = min(scene's until, 5 s), which is not a
-    multiple of the spring's quarter period (where phase errors cancel to second order), and
-    dt = until / 32. The error is the final position error (max over coordinates) against the
+    at even step counts only). Defaults: ``until`` = 0.3 natural time scales
+    (:func:`time_scale`: a third of the spring's or the orbit's period) and dt = until / 32. The error is the final position error (max over coordinates) against the
     exact solution, or against RK4 at a sixteenth of the finest dt. When the finest errors
     reach roundoff (below 1e-10 of the position scale) the window slides to coarser dt; when
     the coarsest are not yet asymptotic (error above 10 % of the position scale, or diverged)
@@ -256,7 +260,7 @@ def order(
     _check_method(method)
     if levels < 2:
         raise ValueError(f"invalid levels = {levels}: must be >= 2")
-    until = float(min(spec["until"], 5.0) if until is None else until)
+    until = float(UNTIL_SCALES * time_scale(scene, params) if until is None else until)
     if not (until > 0 and math.isfinite(until)):
         raise ValueError(f"invalid until = {until}: must be a finite number > 0")
     n0 = 32 if dt is None else max(1, round(until / float(dt)))
@@ -290,12 +294,14 @@ def order(
             errs.append(math.inf if traj is None else _final_error(traj, ref))
         return errs, ref_dt
 
-    probe = run(0)
-    xs = probe.x if probe is not None else physstep.simulate(scene, "rk4", until / n0, until, params).x
+    # the position scale: from the exact solution, else from a fine RK4 run
+    fine = physstep.simulate(scene, "rk4", until / (n0 * 16), until, params, stop_on_diverge=True)
+    xs = fine.exact_x if fine.exact_x is not None else fine.x
     scale = float(np.abs(xs).max()) or 1.0
     floor, ceiling = 1e-10 * scale, 0.1 * scale
-    # the smallest k allowed keeps n >= 2 and even
+    # the smallest k allowed keeps n >= 2 and even; the largest keeps n <= 2**17
     kmin = -int(math.log2(n0 // 2)) if n0 >= 4 and (n0 & (n0 - 1)) == 0 else 0
+    kmax = max(0, int(math.log2(2**17 / n0)) - levels + 1)
     lo = 0
     note = ""
     for _ in range(24):
@@ -306,7 +312,7 @@ def order(
         if errs[-1] < floor and lo > kmin:
             lo -= 1
             continue
-        if (errs[0] > ceiling or not math.isfinite(errs[0])) and errs[-1] >= floor and lo < 8:
+        if (errs[0] > ceiling or not math.isfinite(errs[0])) and errs[-1] >= floor and lo < kmax:
             lo += 1
             continue
         break
@@ -319,7 +325,7 @@ def order(
             pair = math.log(prev[1] / e) / math.log(prev[0] / d)
         out_runs.append({"dt": d, "steps": _steps(d, until), "error": e, "order": pair})
         prev = (d, e)
-    usable = [(d, e) for d, e in good if floor < e < math.inf]
+    usable = [(d, e) for d, e in good if floor < e <= ceiling]
     fit = usable[-3:]
     if len(usable) >= 2:
         observed: float | None = _slope([d for d, _ in fit], [e for _, e in fit])

@@ -41,8 +41,11 @@ pub enum Error {
         step: u64,
         /// Simulation time at the start of the failed step, s.
         t: f64,
-        /// Index of the first non-finite coordinate.
+        /// Index of the first non-finite entry of the state vector (`[x; v]` for a
+        /// second-order system).
         index: usize,
+        /// The particle that entry belongs to, where the system is a world of particles.
+        particle: Option<usize>,
     },
     /// An implicit method's Newton iteration did not converge; the state was rolled back.
     NotConverged {
@@ -88,10 +91,13 @@ impl fmt::Display for Error {
                 write!(f, "unknown {kind} '{name}'; valid {kind}s: {}", valid.join(", "))
             }
             Self::Unsupported { method, reason } => write!(f, "method '{method}' {reason}"),
-            Self::Diverged { method, step, t, index } => write!(
-                f,
-                "method '{method}' diverged at step {step} (t = {t}): coordinate {index} became non-finite; state rolled back"
-            ),
+            Self::Diverged { method, step, t, index, particle } => {
+                write!(f, "method '{method}' diverged at step {step} (t = {t}): ")?;
+                match particle {
+                    Some(p) => write!(f, "particle {p} became non-finite; state rolled back"),
+                    None => write!(f, "coordinate {index} became non-finite; state rolled back"),
+                }
+            }
             Self::NotConverged { method, iterations, residual } => write!(
                 f,
                 "method '{method}': Newton iteration did not converge in {iterations} iterations (residual {residual:e}); state rolled back"

@@ -400,10 +400,18 @@ impl World {
         match r {
             // Time as t0 + k dt since the last change of dt: no drift from repeated addition,
             // so t = 10 after 100 steps of 0.1.
-            Ok(()) => self.state.t = self.epoch.t + (self.state.steps - self.epoch.steps) as f64 * dt,
-            Err(_) => self.prev_x = saved,
+            Ok(()) => {
+                self.state.t = self.epoch.t + (self.state.steps - self.epoch.steps) as f64 * dt;
+                Ok(())
+            }
+            Err(mut e) => {
+                self.prev_x = saved;
+                if let Error::Diverged { index, particle, .. } = &mut e {
+                    *particle = Some((*index % n.max(1)) / self.dim());
+                }
+                Err(e)
+            }
         }
-        r
     }
 
     /// Runs one frame of the game loop: `frame_time` seconds of wall time become fixed steps

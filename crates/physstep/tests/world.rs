@@ -667,3 +667,49 @@ fn nbody_conserves_momentum_and_bounds_energy() {
     assert!(max_de < 1e-3, "relative energy error {max_de}");
     eprintln!("nbody velocity-verlet dt 1e-3, 2 s: max |dE/E| = {max_de:e}");
 }
+
+#[test]
+fn divergence_names_the_particle_and_rolls_back() {
+    // Particle 2 sits on a spring far too stiff for explicit Euler at this dt: it blows up
+    // first while particles 0 and 1 stay tame.
+    let mut w =
+        World::new(WorldParams { dim: 2, method: "explicit-euler".into(), dt: 0.5, ..Default::default() })
+            .unwrap();
+    for x in [0.0, 1.0, 2.0] {
+        w.add_particle(&[x, 0.0], &[0.0, 0.0], 1.0, false).unwrap();
+    }
+    w.add_force(Force::Spring {
+        i: 2,
+        j: Endpoint::Anchor([3.0, 1.0, 0.0]),
+        stiffness: 1e6,
+        rest_length: 0.0,
+        damping: 0.0,
+    })
+    .unwrap();
+    let err = loop {
+        let before = (w.state_hash(), w.steps());
+        match w.step(1) {
+            Ok(()) => continue,
+            Err(e) => {
+                assert_eq!((w.state_hash(), w.steps()), before, "rolled back");
+                break e;
+            }
+        }
+    };
+    assert!(matches!(err, Error::Diverged { particle: Some(2), .. }), "{err:?}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("explicit-euler") && msg.contains("particle 2") && msg.contains("rolled back"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn time_is_steps_times_dt_without_drift() {
+    let mut scene = physstep::scenes::build("spring", &[], "rk4", 0.1).unwrap();
+    scene.world.step(100).unwrap();
+    assert_eq!(scene.world.time(), 10.0);
+    scene.world.set_dt(0.01).unwrap();
+    scene.world.step(1000).unwrap();
+    assert_eq!(scene.world.time(), 20.0);
+}

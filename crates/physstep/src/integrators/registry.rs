@@ -302,6 +302,7 @@ impl Integrator {
                 step: state.steps,
                 t: state.t,
                 index: i % state.y.len(),
+                particle: None,
             }),
         });
         match r {
