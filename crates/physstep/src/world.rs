@@ -388,15 +388,13 @@ impl World {
         positive("dt", dt)?;
         self.refresh();
         let n = self.model.len();
-        if self.prev_x.len() != n {
-            self.prev_x.resize(n, 0.0);
-        }
-        let saved = std::mem::take(&mut self.prev_x);
-        self.prev_x.extend_from_slice(&self.state.y[..n]);
         if dt != self.epoch.dt {
             self.epoch = Epoch { t: self.state.t, steps: self.state.steps, dt };
         }
         let r = self.integrator.step_logged(&mut self.model, &mut self.state, dt, log);
+        // Interpolation is between the last two states of a frame of `advance`; outside it
+        // the current positions are drawn as they are.
+        self.prev_x.clear();
         match r {
             // Time as t0 + k dt since the last change of dt: no drift from repeated addition,
             // so t = 10 after 100 steps of 0.1.
@@ -405,7 +403,6 @@ impl World {
                 Ok(())
             }
             Err(mut e) => {
-                self.prev_x = saved;
                 if let Error::Diverged { index, particle, .. } = &mut e {
                     *particle = Some((*index % n.max(1)) / self.dim());
                 }
@@ -421,8 +418,18 @@ impl World {
     /// [`Error::InvalidValue`] for a bad `frame_time`; a failing step as [`World::step`].
     pub fn advance(&mut self, frame_time: f64) -> Result<Frame> {
         let plan = self.clock.frame(frame_time)?;
-        for _ in 0..plan.steps {
-            self.step_by(plan.dt)?;
+        for k in 0..plan.steps {
+            if k + 1 < plan.steps {
+                self.step_inner(plan.dt, None)?;
+                continue;
+            }
+            // The state before the frame's last step, for render interpolation; the buffer
+            // is reused from frame to frame.
+            let mut prev = std::mem::take(&mut self.prev_x);
+            prev.clear();
+            prev.extend_from_slice(self.positions());
+            self.step_inner(plan.dt, None)?;
+            self.prev_x = prev;
         }
         Ok(Frame { plan, alpha: self.clock.alpha() })
     }

@@ -3,10 +3,20 @@
 /// Adds `g` to the acceleration of every dynamic particle.
 #[inline]
 pub(super) fn accel(dim: usize, g: [f64; 3], inv_mass: &[f64], a: &mut [f64]) {
-    for (ap, &im) in a.chunks_exact_mut(dim).zip(inv_mass) {
+    match dim {
+        1 => add::<1>(g, inv_mass, a),
+        2 => add::<2>(g, inv_mass, a),
+        _ => add::<3>(g, inv_mass, a),
+    }
+}
+
+/// [`accel`] with the dimension known at compile time, so the loop vectorises.
+#[inline]
+fn add<const D: usize>(g: [f64; 3], inv_mass: &[f64], a: &mut [f64]) {
+    for (ap, &im) in a.chunks_exact_mut(D).zip(inv_mass) {
         if im > 0.0 {
-            for (ak, gk) in ap.iter_mut().zip(g) {
-                *ak += gk;
+            for k in 0..D {
+                ap[k] += g[k];
             }
         }
     }

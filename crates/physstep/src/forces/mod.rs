@@ -335,21 +335,25 @@ impl ForceSet {
         debug_assert!(x.len() == len && v.len() == len && f.len() == len && a.len() == len);
         debug_assert_eq!(mass.len(), inv_mass.len());
 
-        f.fill(0.0);
-        for force in &self.forces {
-            match *force {
-                Force::Spring { i, j, stiffness, rest_length, damping } => {
-                    spring::force(dim, x, v, i, j, [stiffness, rest_length, damping], f);
+        if self.forces.iter().any(|f| matches!(f, Force::Spring { .. } | Force::Drag { .. })) {
+            f.fill(0.0);
+            for force in &self.forces {
+                match *force {
+                    Force::Spring { i, j, stiffness, rest_length, damping } => {
+                        spring::force(dim, x, v, i, j, [stiffness, rest_length, damping], f);
+                    }
+                    Force::Drag { linear, quadratic } => drag::force(dim, v, linear, quadratic, f),
+                    _ => {}
                 }
-                Force::Drag { linear, quadratic } => drag::force(dim, v, linear, quadratic, f),
-                _ => {}
             }
-        }
-
-        for ((ap, fp), &im) in a.chunks_exact_mut(dim).zip(f.chunks_exact(dim)).zip(inv_mass) {
-            for (ak, fk) in ap.iter_mut().zip(fp) {
-                *ak = fk * im;
+            for ((ap, fp), &im) in a.chunks_exact_mut(dim).zip(f.chunks_exact(dim)).zip(inv_mass) {
+                for (ak, fk) in ap.iter_mut().zip(fp) {
+                    *ak = fk * im;
+                }
             }
+        } else {
+            // No forces, only accelerations: 0 * inv_mass is 0 for every particle.
+            a.fill(0.0);
         }
 
         for force in &self.forces {

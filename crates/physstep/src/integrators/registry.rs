@@ -167,6 +167,22 @@ impl State {
     }
 }
 
+/// Index of the first NaN or infinity in `v`. The scan is branch-free per block of values
+/// (an exponent with all bits set marks a non-finite double), so it runs at memory speed;
+/// only a block that holds one is searched element by element.
+fn first_non_finite(v: &[f64]) -> Option<usize> {
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    const BLOCK: usize = 256;
+    v.chunks(BLOCK).enumerate().find_map(|(b, chunk)| {
+        let bad = chunk.iter().fold(false, |acc, x| acc | (x.to_bits() & EXP == EXP));
+        if bad {
+            chunk.iter().position(|x| !x.is_finite()).map(|i| b * BLOCK + i)
+        } else {
+            None
+        }
+    })
+}
+
 impl Integrator {
     /// The integrator registered as `name`, with default settings.
     ///
@@ -264,11 +280,14 @@ impl Integrator {
         log: Log<'_>,
     ) -> Result<()> {
         crate::error::positive("dt", dt)?;
-        self.save(state);
+        // f = [v; a] and v is part of y: keeping and checking y and a covers everything.
+        let n = state.y.len() / 2;
+        self.save(state, n);
         let State { t, y, f, evals, .. } = state;
         let mut split = Split { sys, evals };
         let r = dispatch!(&mut self.kind, m => m.step_split(&mut split, *t, dt, y, f, log));
-        self.finish(state, dt, r)
+        let r = self.check(state, r, n);
+        self.finish(state, dt, r, n)
     }
 
     /// Advances a first-order flow's `state` by `dt` seconds.
@@ -282,20 +301,26 @@ impl Integrator {
         dt: f64,
     ) -> Result<()> {
         crate::error::positive("dt", dt)?;
-        self.save(state);
+        self.save(state, 0);
         let State { t, y, f, evals, .. } = state;
         let mut plain = Plain { sys, evals };
         let r = dispatch!(&mut self.kind, m => m.step_flow(&mut plain, *t, dt, y, f, None));
-        self.finish(state, dt, r)
+        let r = self.check(state, r, 0);
+        self.finish(state, dt, r, 0)
     }
 
-    fn save(&mut self, state: &State) {
+    /// Keeps the state before a step, for a rollback: `y` and `f[skip..]` (for a
+    /// second-order system `f[..n]` is `v`, already in `y`, so only `a` is kept).
+    fn save(&mut self, state: &State, skip: usize) {
         scratch(&mut self.backup_y, state.y.len()).copy_from_slice(&state.y);
-        scratch(&mut self.backup_f, state.f.len()).copy_from_slice(&state.f);
+        scratch(&mut self.backup_f, state.f.len() - skip).copy_from_slice(&state.f[skip..]);
     }
 
-    fn finish(&mut self, state: &mut State, dt: f64, r: Result<()>) -> Result<()> {
-        let r = r.and_then(|()| match state.y.iter().chain(state.f.iter()).position(|v| !v.is_finite()) {
+    /// Turns a step's non-finite output into [`Error::Diverged`]; `f[..skip]` is known to be
+    /// a copy of part of `y`.
+    fn check(&self, state: &State, r: Result<()>, skip: usize) -> Result<()> {
+        r?;
+        match first_non_finite(&state.y).or_else(|| first_non_finite(&state.f[skip..]).map(|i| i + skip)) {
             None => Ok(()),
             Some(i) => Err(Error::Diverged {
                 method: self.info().name.into(),
@@ -304,17 +329,24 @@ impl Integrator {
                 index: i % state.y.len(),
                 particle: None,
             }),
-        });
+        }
+    }
+
+    /// Counts a good step, or rolls a failed one back (state from the backup, the method's
+    /// own memory by a reset).
+    fn finish(&mut self, state: &mut State, dt: f64, r: Result<()>, skip: usize) -> Result<()> {
         match r {
             Ok(()) => {
                 state.steps += 1;
-                // t advances by repeated addition; callers wanting t = n dt exactly use steps.
+                // t advances by repeated addition here; the World keeps t = t0 + k dt.
                 state.t += dt;
                 Ok(())
             }
             Err(e) => {
                 state.y.copy_from_slice(&self.backup_y);
-                state.f.copy_from_slice(&self.backup_f);
+                state.f[skip..].copy_from_slice(&self.backup_f);
+                let n = state.y.len() - skip;
+                state.f[..skip].copy_from_slice(&state.y[n..]);
                 self.reset();
                 Err(e)
             }

@@ -1,0 +1,266 @@
+"""The lab's commands: ``compare``, ``order``, ``stability`` and ``sweep``.
+
+:func:`register` adds them to the ``physstep`` command line (see :mod:`physstep.cli`). Each
+handler returns the exit status; a ValueError it raises becomes status 2 with one line on
+stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from physstep import lab
+
+_SCENE_HELP = "built-in scene (physstep scenes lists them)"
+
+
+def _params(args: argparse.Namespace) -> dict[str, float] | None:
+    from physstep.cli import parse_params
+
+    return parse_params(args.param) or None
+
+
+def _methods(text: str) -> list[str]:
+    names = [m.strip() for m in text.split(",") if m.strip()]
+    if not names:
+        raise ValueError(f"invalid --methods '{text}': give a comma-separated list of methods")
+    return names
+
+
+def _floats(text: str, flag: str) -> list[float]:
+    out = []
+    for item in text.split(","):
+        item = item.strip()
+        if not item:
+            continue
+        try:
+            out.append(float(item))
+        except ValueError:
+            raise ValueError(f"invalid {flag} '{text}': '{item}' is not a number") from None
+    if not out:
+        raise ValueError(f"invalid {flag} '{text}': give a comma-separated list of numbers")
+    return out
+
+
+def _plot_path(path: str | None) -> None:
+    if path is not None and Path(path).suffix.lower() not in (".png", ".svg"):
+        raise ValueError(f"invalid --plot '{path}': the file must end in .png or .svg")
+
+
+def _dump(obj: Any) -> None:
+    print(json.dumps(obj, indent=2, allow_nan=True))
+
+
+def _g(x: float | None, spec: str = ".3g") -> str:
+    if x is None:
+        return "-"
+    if isinstance(x, float) and not math.isfinite(x):
+        return str(x)
+    return format(x, spec)
+
+
+def _console() -> Any:
+    from rich.console import Console
+
+    return Console(width=max(120, Console().width))
+
+
+def _add_param(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a scene parameter")
+
+
+# --------------------------------------------------------------------------------------
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    _plot_path(args.plot)
+    methods = _methods(args.methods)
+    params = _params(args)
+    res = lab.compare(args.scene, methods, args.dt, args.until, params)
+    if args.plot:
+        _compare_plot(args.scene, methods, res, params, args.plot)
+        res["plot"] = args.plot
+    if args.format == "json":
+        _dump(res)
+        return 0
+    from rich.table import Table
+
+    table = Table(
+        title=f"{res['scene']}: dt = {res['dt']:g} s, until = {res['until']:g} s",
+        caption=f"final error against the {res['error_against']}; drift = least-squares slope "
+        "of the relative energy error, per second",
+    )
+    for col in ("method", "order", "evals/step", "max |dE/E0|", "drift (1/s)", "final error (m)", "ns/step"):
+        table.add_column(col, justify="left" if col == "method" else "right")
+    for r in res["rows"]:
+        table.add_row(
+            r["method"] + (" [red](diverged)[/red]" if r["diverged"] else ""),
+            str(r["order"]),
+            _g(r["evals_per_step"], ".2f"),
+            _g(r["energy_max_rel_error"], ".3e"),
+            _g(r["energy_drift"], ".2e"),
+            _g(r["final_error"], ".3e"),
+            _g(r["ns_per_step"], ".0f"),
+        )
+    con = _console()
+    con.print(table)
+    if args.plot:
+        con.print(f"plot: {args.plot}")
+    return 0
+
+
+def _compare_plot(
+    scene: str, methods: list[str], res: dict[str, Any], params: dict[str, float] | None, path: str
+) -> None:
+    import physstep
+    from physstep import plot
+
+    runs = [
+        physstep.simulate(scene, m, res["dt"], res["until"], params, stop_on_diverge=True) for m in methods
+    ]
+    dim = runs[0].dim
+    fig = plot.orbit(runs) if dim >= 2 and scene in ("orbit", "kepler") else plot.trajectory(runs)
+    plot.save(fig, path)
+
+
+def _cmd_order(args: argparse.Namespace) -> int:
+    res = lab.order(args.scene, args.method, args.dt, args.until, _params(args), levels=args.levels)
+    if args.format == "json":
+        _dump(res)
+        return 0
+    from rich.table import Table
+
+    obs = "-" if res["order"] is None else f"{res['order']:.3f}"
+    table = Table(title=f"{res['scene']} / {res['method']}")
+    for col in ("dt (s)", "steps", "error (m)", "order"):
+        table.add_column(col, justify="right")
+    for r in res["runs"]:
+        table.add_row(_g(r["dt"], ".6g"), str(r["steps"]), _g(r["error"], ".3e"), _g(r["order"], ".3f"))
+    con = _console()
+    con.print(table)
+    con.print(f"observed order [bold]{obs}[/bold] (registry: {res['info_order']}), fit over the finest runs")
+    con.print(f"error: final position error at t = {res['until']:g} s against the {res['error_against']}")
+    if res["note"]:
+        con.print(f"note: {res['note']}")
+    return 0
+
+
+def _cmd_stability(args: argparse.Namespace) -> int:
+    res = lab.stability(args.scene, args.method, _params(args), cap=args.cap)
+    if args.format == "json":
+        _dump(res)
+        return 0
+    d = res["dt_max"]
+    if d is None:
+        verdict = f"no limit found below the cap {res['cap']:.6g} s (stable at every dt tried)"
+    elif d == 0:
+        verdict = "0: unstable at every dt"
+    else:
+        verdict = f"{d:.10g} s"
+    con = _console()
+    con.print(f"[bold]{res['scene']} / {res['method']}[/bold]: largest stable dt = [bold]{verdict}[/bold]")
+    con.print(f"criterion: {res['criterion']}")
+    con.print(
+        f"search: log grid {res['grid'][0]:.3g} ... {res['grid'][1]:.6g} s "
+        f"({res['grid'][2]} per decade), then bisection; natural time scale {res['time_scale']:.6g} s"
+    )
+    con.print(res["note"])
+    return 0
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    _plot_path(args.plot)
+    methods = _methods(args.methods)
+    dts = _floats(args.dts, "--dts")
+    params = _params(args)
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    err_console = Console(stderr=True)
+    with Progress(
+        TextColumn("[progress.description]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=err_console,
+        disable=not sys.stderr.isatty(),
+        transient=True,
+    ) as bar:
+        task = bar.add_task("sweep", total=len(methods) * len(dts))
+
+        def progress(done: int, total: int, label: str) -> None:
+            bar.update(task, completed=done, description=label)
+
+        res = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress)
+    if args.plot:
+        from physstep import plot
+
+        plot.save(plot.work_precision(res, against="both"), args.plot)
+        res["plot"] = args.plot
+    if args.format == "json":
+        text = json.dumps(res, indent=2, allow_nan=True) + "\n"
+    else:
+        buf = io.StringIO()
+        cols = ["method", "dt", "steps", "evals", "time_s", "ns_per_step", "error", "max_error"]
+        cols.append("energy_max_rel_error")
+        w = csv.writer(buf, lineterminator="\n")
+        w.writerow(cols + ["diverged"])
+        for r in res["rows"]:
+            w.writerow(["" if r[c] is None else r[c] for c in cols] + [r["diverged"] or ""])
+        text = buf.getvalue()
+    if args.out:
+        Path(args.out).write_text(text)
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+def register(subparsers: Any) -> None:
+    """Adds ``compare``, ``order``, ``stability`` and ``sweep`` to an argparse subparsers object."""
+    c = subparsers.add_parser("compare", help="compare methods on a scene: order, cost, energy, error")
+    c.add_argument("scene", help=_SCENE_HELP)
+    c.add_argument("--methods", required=True, help="comma-separated integrators, e.g. euler,rk4")
+    c.add_argument("--dt", type=float, default=None, help="step, s (default: the scene's)")
+    c.add_argument("--until", type=float, default=None, help="end time, s (default: the scene's)")
+    c.add_argument("--plot", metavar="FILE.png", help="also plot the runs (.png or .svg)")
+    _add_param(c)
+    c.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    c.set_defaults(func=_cmd_compare)
+
+    o = subparsers.add_parser("order", help="observed convergence order from halvings of dt")
+    o.add_argument("scene", help=_SCENE_HELP)
+    o.add_argument("--method", required=True, help="integrator (physstep methods lists them)")
+    o.add_argument("--dt", type=float, default=None, help="coarsest step, s (default: until/32)")
+    o.add_argument("--until", type=float, default=None, help="end time, s (default: 0.3 time scales)")
+    o.add_argument("--levels", type=int, default=5, help="number of step sizes (default 5)")
+    _add_param(o)
+    o.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    o.set_defaults(func=_cmd_order)
+
+    s = subparsers.add_parser("stability", help="largest stable dt of a method on a scene")
+    s.add_argument("scene", help=_SCENE_HELP)
+    s.add_argument("--method", required=True, help="integrator (physstep methods lists them)")
+    s.add_argument(
+        "--cap", type=float, default=None, help="largest dt searched, s (default: 1000 time scales)"
+    )
+    _add_param(s)
+    s.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    s.set_defaults(func=_cmd_stability)
+
+    w = subparsers.add_parser("sweep", help="work-precision data: error against work over methods and dts")
+    w.add_argument("scene", help=_SCENE_HELP)
+    w.add_argument("--methods", required=True, help="comma-separated integrators")
+    w.add_argument("--dts", required=True, help="comma-separated steps, s, e.g. 0.1,0.05,0.025")
+    w.add_argument("--until", type=float, default=None, help="end time, s (default: the scene's)")
+    w.add_argument("--out", metavar="FILE", help="write the data here instead of stdout")
+    w.add_argument("--plot", metavar="FILE.png", help="also plot work-precision (.png or .svg)")
+    _add_param(w)
+    w.add_argument("--format", choices=("csv", "json"), default="csv", help="output format (default csv)")
+    w.set_defaults(func=_cmd_sweep)

@@ -1,0 +1,109 @@
+"""Plots: golden-image-free checks of the files, their size and the data behind each line."""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib.image as mpimg
+import numpy as np
+import physstep
+import pytest
+from physstep import lab, plot
+
+ORBIT_METHODS = ["explicit-euler", "backward-euler", "symplectic-euler", "rk4"]
+
+
+@pytest.fixture(scope="module")
+def orbit_runs() -> list[physstep.Trajectory]:
+    # the notes' picture: three periods at dt = 0.1 (backward Euler's Newton solve gives up near
+    # the centre, so its run stops early: stop_on_diverge)
+    return [physstep.simulate("orbit", m, 0.1, 6 * math.pi, stop_on_diverge=True) for m in ORBIT_METHODS]
+
+
+def _labels(fig) -> list[str]:
+    return [t.get_text() for t in fig.axes[-1].get_legend().get_texts()]
+
+
+def test_orbit_png_size_lines_and_legend(tmp_path, orbit_runs) -> None:
+    fig = plot.orbit(orbit_runs)
+    path = plot.save(fig, tmp_path / "orbit.png")
+    img = mpimg.imread(path)
+    w, h = fig.get_size_inches() * fig.dpi
+    assert img.shape[:2] == (round(h), round(w))
+    ax = fig.axes[0]
+    labels = _labels(fig)
+    assert [lbl.split(" (")[0] for lbl in labels[: len(ORBIT_METHODS)]] == ORBIT_METHODS
+    assert "exact" in labels
+    assert ax.get_xlabel() == "x (m)" and ax.get_ylabel() == "y (m)"
+    assert "orbit" in ax.get_title() and "dt = 0.1 s" in ax.get_title()
+    named = [line for line in ax.get_lines() if not line.get_label().startswith("_")]
+    for run, line in zip(orbit_runs, named, strict=False):
+        np.testing.assert_array_equal(line.get_xdata(), run.x[:, 0])
+        np.testing.assert_array_equal(line.get_ydata(), run.x[:, 1])
+
+
+def test_orbit_picture_properties(orbit_runs) -> None:
+    r = {run.method: np.hypot(run.x[:, 0], run.x[:, 1]) for run in orbit_runs}
+    first, last = slice(0, 63), slice(-63, None)  # first and last period (63 steps of 0.1)
+    # explicit Euler spirals out: the radius of its last period exceeds that of its first
+    assert r["explicit-euler"].max() > 1.5
+    assert r["explicit-euler"][last].max() > r["explicit-euler"][first].max()
+    # backward Euler spirals in
+    assert r["backward-euler"].max() <= 1.0 + 1e-12 and r["backward-euler"][-1] < 0.8
+    # symplectic Euler stays on a closed curve: in a band around r = 1 for all three periods
+    assert np.abs(r["symplectic-euler"] - 1).max() < 0.1
+    # RK4 stays near the circle
+    assert np.abs(r["rk4"] - 1).max() < 1e-3
+
+
+def test_trajectory_plot_lines_match_the_runs(tmp_path) -> None:
+    runs = [physstep.simulate("spring", m, 0.1, 10.0) for m in ("explicit-euler", "rk4")]
+    fig = plot.trajectory(runs)
+    lines = fig.axes[0].get_lines()
+    for run, line in zip(runs, lines, strict=False):
+        np.testing.assert_array_equal(line.get_xdata(), run.t)
+        np.testing.assert_array_equal(line.get_ydata(), run.x[:, 0])
+    np.testing.assert_array_equal(lines[2].get_ydata(), runs[0].exact_x[:, 0])
+    assert _labels(fig) == ["explicit-euler", "rk4", "exact"]
+    assert fig.axes[0].get_xlabel() == "t (s)" and fig.axes[0].get_ylabel() == "x (m)"
+    path = plot.save(fig, tmp_path / "traj.svg")
+    assert path.read_text().lstrip().startswith("<?xml")
+
+
+def test_phase_and_energy_plots(tmp_path) -> None:
+    runs = [physstep.simulate("spring", m, 0.25, 10.0) for m in ("explicit-euler", "symplectic-euler")]
+    fig = plot.phase(runs)
+    line = fig.axes[0].get_lines()[1]
+    np.testing.assert_array_equal(line.get_xdata(), runs[1].x[:, 0])
+    np.testing.assert_array_equal(line.get_ydata(), runs[1].v[:, 0])
+    assert fig.axes[0].get_ylabel() == "v (m/s)"
+    fig = plot.energy(runs)
+    np.testing.assert_array_equal(fig.axes[0].get_lines()[0].get_ydata(), runs[0].energy)
+    assert _labels(fig)[:2] == ["explicit-euler", "symplectic-euler"]
+    assert fig.axes[0].get_ylabel() == "E (J)"
+    img = mpimg.imread(plot.save(fig, tmp_path / "energy.png"))
+    assert img.shape[:2] == (500, 800)
+    fig = plot.energy(runs, relative=True)
+    np.testing.assert_allclose(fig.axes[0].get_lines()[1].get_ydata(), runs[1].energy_error)
+
+
+def test_work_precision_plot_is_log_log(tmp_path) -> None:
+    data = lab.sweep("spring", ["explicit-euler", "rk4"], [0.2, 0.1, 0.05], 5.0)
+    fig = plot.work_precision(data, against="both")
+    assert len(fig.axes) == 2
+    for ax in fig.axes:
+        assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
+    rk4 = [r for r in data["rows"] if r["method"] == "rk4"]
+    line = fig.axes[0].get_lines()[1]
+    np.testing.assert_array_equal(line.get_xdata(), sorted(r["evals"] for r in rk4))
+    assert _labels(fig) == ["explicit-euler", "rk4"]
+    img = mpimg.imread(plot.save(fig, tmp_path / "wp.png"))
+    w, h = fig.get_size_inches() * fig.dpi
+    assert img.shape[:2] == (round(h), round(w))
+
+
+def test_bad_plot_input() -> None:
+    with pytest.raises(ValueError, match="extension"):
+        plot.save(plot.trajectory(physstep.simulate("spring", "rk4", 0.1, 1.0)), "x.jpg")
+    with pytest.raises(ValueError, match="2D"):
+        plot.orbit(physstep.simulate("spring", "rk4", 0.1, 1.0))
