@@ -5,9 +5,8 @@ from __future__ import annotations
 import doctest
 
 import numpy as np
-import pytest
-
 import physstep
+import pytest
 
 
 def test_docstring_examples_run() -> None:
@@ -51,7 +50,9 @@ def test_simulate_rejects_bad_input_with_the_field_named() -> None:
 def test_divergence_is_reported_not_returned() -> None:
     with pytest.raises(physstep.DivergedError, match="explicit-euler.*diverged"):
         physstep.simulate("spring", "explicit-euler", dt=1.0, until=100000.0, every=1000)
-    traj = physstep.simulate("spring", "explicit-euler", dt=1.0, until=100000.0, every=1000, stop_on_diverge=True)
+    traj = physstep.simulate(
+        "spring", "explicit-euler", dt=1.0, until=100000.0, every=1000, stop_on_diverge=True
+    )
     assert traj.diverged is not None and "diverged" in traj.diverged
     assert np.isfinite(traj.x).all()
 

@@ -6,10 +6,9 @@ import csv
 import io
 import json
 
+import physstep
 import pytest
 from conftest import GOLDEN, run_cli
-
-import physstep
 
 GOLDEN_RUNS = [
     ("spring_euler_dt1.csv", "explicit-euler", "1"),
@@ -39,7 +38,9 @@ def test_table_reproduces_the_notes_row_for_row(file: str, method: str, dt: str)
 
 
 def test_table_csv_has_full_precision_and_json_has_rows() -> None:
-    res = run_cli("table", "spring", "--method", "explicit-euler", "--dt", "0.25", "--until", "1", "--format", "csv")
+    res = run_cli(
+        "table", "spring", "--method", "explicit-euler", "--dt", "0.25", "--until", "1", "--format", "csv"
+    )
     rows = list(csv.reader(io.StringIO(res.stdout)))
     assert rows[0] == ["t", "x", "v", "a"]
     assert rows[2] == ["0.25", "20.0", "-2.5", "-10.0"]
@@ -51,13 +52,17 @@ def test_table_csv_has_full_precision_and_json_has_rows() -> None:
 
 
 def test_table_stages_follow_the_notes_layout() -> None:
-    res = run_cli("table", "spring", "--method", "midpoint", "--dt", "1", "--until", "2", "--stages", "--format", "csv")
+    res = run_cli(
+        "table", "spring", "--method", "midpoint", "--dt", "1", "--until", "2", "--stages", "--format", "csv"
+    )
     rows = list(csv.reader(io.StringIO(res.stdout)))
     assert rows[0] == ["t", "x", "v", "a", "stage"]
     assert [r[-1] for r in rows[1:]] == ["state", "half", "state", "half", "state"]
     # half row of the first step: x + v dt/2, v + a dt/2, a there
     assert rows[2][:4] == ["0.5", "20.0", "-5.0", "-10.0"]
-    res = run_cli("table", "spring", "--method", "rk4", "--dt", "1", "--until", "1", "--stages", "--format", "csv")
+    res = run_cli(
+        "table", "spring", "--method", "rk4", "--dt", "1", "--until", "1", "--stages", "--format", "csv"
+    )
     rows = list(csv.reader(io.StringIO(res.stdout)))
     assert [r[-1] for r in rows[1:]] == ["state", "xa", "xb", "xc", "state"]
     # The first step's evaluation points are those of the notes' RK4 table.
@@ -67,7 +72,9 @@ def test_table_stages_follow_the_notes_layout() -> None:
 
 
 def test_run_json_summary() -> None:
-    res = run_cli("run", "spring", "--method", "velocity-verlet", "--dt", "0.1", "--until", "10", "--format", "json")
+    res = run_cli(
+        "run", "spring", "--method", "velocity-verlet", "--dt", "0.1", "--until", "10", "--format", "json"
+    )
     assert res.returncode == 0, res.stderr
     s = json.loads(res.stdout)
     for key in ("scene", "method", "dt", "steps", "t", "final", "energy", "error"):

@@ -119,7 +119,11 @@ def _cmd_table(args: argparse.Namespace) -> int:
     header = ["t", *_columns(n)] + (["stage"] if args.stages else [])
     rows = _table_rows(traj, args.stages)
     if args.format == "json":
-        print(_dump({"scene": traj.scene, "method": traj.method, "dt": traj.dt, "columns": header, "rows": rows}))
+        print(
+            _dump(
+                {"scene": traj.scene, "method": traj.method, "dt": traj.dt, "columns": header, "rows": rows}
+            )
+        )
     elif args.format == "csv":
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
@@ -154,10 +158,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
             w.writerow(header)
             for k in range(len(traj.t)):
                 w.writerow(
-                    [
-                        repr(float(c))
-                        for c in [traj.t[k], *traj.x[k], *traj.v[k], *traj.a[k], traj.energy[k]]
-                    ]
+                    [repr(float(c)) for c in [traj.t[k], *traj.x[k], *traj.v[k], *traj.a[k], traj.energy[k]]]
                 )
         summary["out"] = args.out
     if args.format == "json":
@@ -174,7 +175,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     table.add_row("final x", ", ".join(f"{c:.6g}" for c in summary["final"]["x"]))
     table.add_row("final v", ", ".join(f"{c:.6g}" for c in summary["final"]["v"]))
     en = summary["energy"]
-    table.add_row("energy", f"{en['initial']:.6g} -> {en['final']:.6g} J (max rel. error {en['max_rel_error']:.3g})")
+    table.add_row(
+        "energy", f"{en['initial']:.6g} -> {en['final']:.6g} J (max rel. error {en['max_rel_error']:.3g})"
+    )
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
     table.add_row("cost", f"{summary['evals']} force evaluations, {summary['ns_per_step']:.0f} ns/step")
@@ -222,12 +225,9 @@ def parser() -> argparse.ArgumentParser:
     _add_common(r)
     r.set_defaults(func=_cmd_run)
 
-    try:
-        from physstep import lab_cli
-    except ImportError:  # pragma: no cover - the lab ships with the package
-        pass
-    else:
-        lab_cli.register(sub)
+    from physstep import lab_cli
+
+    lab_cli.register(sub)
     return p
 
 
