@@ -134,3 +134,40 @@ def test_bulk_add_is_vectorised() -> None:
     w.add_gravity([0.0, 0.0, -9.81])
     w.step(2)
     assert w.positions.shape == (n, 3)
+
+
+def _chain_world() -> physstep.World:
+    return physstep.World.from_scene("chain", "velocity-verlet", 1 / 240, [("n", 6.0)])
+
+
+@pytest.mark.parametrize("fps", [30, 60, 144])
+def test_frame_rate_independence_through_python(fps: int) -> None:
+    reference = _chain_world()
+    reference.step(480)
+    w = _chain_world()
+    for _ in range(2 * fps):  # two seconds of frames
+        w.advance(1 / fps)
+    # Frame times never add up to exactly 2 s in binary; step the remainder by hand.
+    w.step(480 - w.steps)
+    assert w.state_hash() == reference.state_hash()
+    assert np.array_equal(w.positions, reference.positions)
+
+
+def test_interpolation_lies_between_states_and_overload_is_capped() -> None:
+    w = physstep.World(1, method="symplectic-euler", dt=0.01, max_steps_per_frame=4)
+    w.add_particle([0.0], velocity=[1.0])
+    before = w.positions[0, 0]
+    assert w.advance(0.025) == 2
+    after = w.positions[0, 0]
+    alpha = w.alpha
+    assert alpha == pytest.approx(0.5)
+    x = w.interpolated_positions()[0, 0]
+    assert before < x < after
+    assert x == pytest.approx(after - 0.5 * 0.01)
+    # Frames 10 times longer than the physics can keep up with: at most 4 steps each.
+    for _ in range(5):
+        assert w.advance(0.1) <= 4
+    frames, steps, clamped, dropped = w.clock_stats
+    assert frames == 6 and steps == 2 + 20 and dropped > 0
+    assert w.advance(5.0) == 4
+    assert w.clock_stats[2] == pytest.approx(4.9)

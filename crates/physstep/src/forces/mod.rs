@@ -254,6 +254,40 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ForceSet {
     forces: Vec<Force>,
+    /// What the list holds, kept on `add` so the hot path does not scan for it.
+    kinds: Kinds,
+}
+
+/// Which phases of [`ForceSet::accel`] have work, and whether any force reads velocity.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct Kinds {
+    forces: bool,
+    rods: bool,
+    velocity: bool,
+}
+
+impl Kinds {
+    fn of(forces: &[Force]) -> Self {
+        let mut k = Self::default();
+        for f in forces {
+            match *f {
+                Force::Spring { damping, .. } => {
+                    k.forces = true;
+                    k.velocity |= damping != 0.0;
+                }
+                Force::Drag { linear, quadratic } => {
+                    k.forces = true;
+                    k.velocity |= linear != 0.0 || quadratic != 0.0;
+                }
+                Force::Rod { .. } => {
+                    k.rods = true;
+                    k.velocity = true;
+                }
+                Force::Gravity { .. } | Force::CentralGravity { .. } | Force::NBody { .. } => {}
+            }
+        }
+        k
+    }
 }
 
 impl ForceSet {
@@ -277,6 +311,7 @@ impl ForceSet {
         let key = force.key();
         let at = self.forces.partition_point(|f| f.key() <= key);
         self.forces.insert(at, force);
+        self.kinds = Kinds::of(&self.forces);
         Ok(())
     }
 
@@ -335,7 +370,7 @@ impl ForceSet {
         debug_assert!(x.len() == len && v.len() == len && f.len() == len && a.len() == len);
         debug_assert_eq!(mass.len(), inv_mass.len());
 
-        if self.forces.iter().any(|f| matches!(f, Force::Spring { .. } | Force::Drag { .. })) {
+        if self.kinds.forces {
             f.fill(0.0);
             for force in &self.forces {
                 match *force {
@@ -365,9 +400,11 @@ impl ForceSet {
             }
         }
 
-        for force in &self.forces {
-            if let Force::Rod { i, j, .. } = *force {
-                rod::apply(dim, i, j, x, v, inv_mass, a);
+        if self.kinds.rods {
+            for force in &self.forces {
+                if let Force::Rod { i, j, .. } = *force {
+                    rod::apply(dim, i, j, x, v, inv_mass, a);
+                }
             }
         }
     }
@@ -396,12 +433,7 @@ impl ForceSet {
     /// Whether any force depends on velocity (drag, damped spring, rod).
     #[must_use]
     pub fn velocity_dependent(&self) -> bool {
-        self.forces.iter().any(|f| match *f {
-            Force::Drag { linear, quadratic } => linear != 0.0 || quadratic != 0.0,
-            Force::Spring { damping, .. } => damping != 0.0,
-            Force::Rod { .. } => true,
-            _ => false,
-        })
+        self.kinds.velocity
     }
 
     /// Adds the analytic Jacobians `da/dx` (1/s^2) and `da/dv` (1/s), row-major

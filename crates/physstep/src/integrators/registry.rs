@@ -173,6 +173,9 @@ impl State {
 fn first_non_finite(v: &[f64]) -> Option<usize> {
     const EXP: u64 = 0x7ff0_0000_0000_0000;
     const BLOCK: usize = 256;
+    if v.len() <= 16 {
+        return v.iter().position(|x| !x.is_finite());
+    }
     v.chunks(BLOCK).enumerate().find_map(|(b, chunk)| {
         let bad = chunk.iter().fold(false, |acc, x| acc | (x.to_bits() & EXP == EXP));
         if bad {
