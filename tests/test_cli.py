@@ -131,6 +131,8 @@ def test_every_method_is_reachable_from_python_and_the_cli(method: str) -> None:
         (["run", "spring", "--param", "k"], "invalid --param 'k': must be NAME=VALUE"),
         (["run", "spring", "--param", "k=abc"], "invalid --param 'k=abc'"),
         (["run", "spring", "--dt", "abc"], "invalid float value: 'abc'"),
+        (["run", "nbody", "--until", "1e5"], "invalid every = 1: 100000002 rows"),
+        (["run", "spring", "--every", "0"], "invalid --every = 0"),
     ],
 )
 def test_bad_input_is_one_line_and_status_2(args: list[str], needle: str) -> None:
@@ -141,3 +143,20 @@ def test_bad_input_is_one_line_and_status_2(args: list[str], needle: str) -> Non
     assert len(lines) == 1, res.stderr
     assert needle in lines[0]
     assert "Traceback" not in res.stderr
+
+
+def test_readme_method_table_is_generated_from_the_registry() -> None:
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    res = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "readme_methods.py"), "--check", str(ROOT / "README.md")],
+        capture_output=True,
+        text=True,
+    )
+    assert res.returncode == 0, res.stdout
+    readme = (ROOT / "README.md").read_text()
+    for m in physstep.methods():
+        assert f"| `{m.name}` | {m.order} |" in readme

@@ -149,7 +149,11 @@ def _cmd_table(args: argparse.Namespace) -> int:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    traj = physstep.simulate(args.scene, args.method, args.dt, args.until, parse_params(args.param))
+    if args.every < 1:
+        raise UsageError(f"invalid --every = {args.every}: must be at least 1")
+    traj = physstep.simulate(
+        args.scene, args.method, args.dt, args.until, parse_params(args.param), every=args.every
+    )
     summary = physstep.summarize(traj)
     if args.out:
         header = ["t", *_columns(traj.x.shape[1]), "energy"]
@@ -222,6 +226,9 @@ def parser() -> argparse.ArgumentParser:
     r = sub.add_parser("run", help="run a scene and summarise energy and error")
     _add_run_args(r)
     r.add_argument("--out", metavar="FILE.csv", help="write the trajectory as CSV")
+    r.add_argument(
+        "--every", type=int, default=1, metavar="N", help="record every N-th step (energy error over those)"
+    )
     _add_common(r)
     r.set_defaults(func=_cmd_run)
 

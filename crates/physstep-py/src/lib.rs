@@ -8,7 +8,7 @@
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
 use physstep::error::Error;
-use physstep::integrators::{registry, StageLog, INFOS};
+use physstep::integrators::{registry, Info, StageLog, INFOS};
 use physstep::scenes::SCENES;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -52,20 +52,25 @@ pub(crate) fn flat(a: &PyReadonlyArray2<'_, f64>) -> (Vec<f64>, usize) {
 /// One recorded evaluation point: step index, stage name, t, x, v, a.
 type StageRow = (u64, &'static str, f64, Vec<f64>, Vec<f64>, Vec<f64>);
 
+/// One integrator's metadata as a dict (the keys of `physstep.MethodInfo`).
+fn info_dict<'py>(py: Python<'py>, i: &Info) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", i.name)?;
+    d.set_item("order", i.order)?;
+    d.set_item("symplectic", i.symplectic)?;
+    d.set_item("implicit", i.implicit)?;
+    d.set_item("evals", i.evals)?;
+    d.set_item("split", i.split)?;
+    d.set_item("doc", i.doc)?;
+    Ok(d)
+}
+
 /// Every integrator's metadata, in registry order.
 #[pyfunction]
 fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let list = PyList::empty(py);
     for i in &INFOS {
-        let d = PyDict::new(py);
-        d.set_item("name", i.name)?;
-        d.set_item("order", i.order)?;
-        d.set_item("symplectic", i.symplectic)?;
-        d.set_item("implicit", i.implicit)?;
-        d.set_item("evals", i.evals)?;
-        d.set_item("split", i.split)?;
-        d.set_item("doc", i.doc)?;
-        list.append(d)?;
+        list.append(info_dict(py, i)?)?;
     }
     Ok(list)
 }
@@ -98,16 +103,7 @@ fn scenes(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 /// Checks a method name, raising ValueError with the valid names.
 #[pyfunction]
 fn method_info<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyDict>> {
-    let i = registry::info(name).map_err(py_err)?;
-    let d = PyDict::new(py);
-    d.set_item("name", i.name)?;
-    d.set_item("order", i.order)?;
-    d.set_item("symplectic", i.symplectic)?;
-    d.set_item("implicit", i.implicit)?;
-    d.set_item("evals", i.evals)?;
-    d.set_item("split", i.split)?;
-    d.set_item("doc", i.doc)?;
-    Ok(d)
+    info_dict(py, registry::info(name).map_err(py_err)?)
 }
 
 /// Runs a scene and returns its recorded trajectory as a dict of numpy arrays.
@@ -154,7 +150,17 @@ fn simulate<'py>(
     }
     let steps = steps as u64;
     let n = w.positions().len();
-    let cap = (steps / every + 2) as usize;
+    let rows = steps / every + 2;
+    // t, x, v, a and energy of every recorded row: refuse what would not fit in memory
+    // rather than abort on a failed allocation.
+    let values = rows.saturating_mul(3 * n as u64 + 2);
+    if values > MAX_RECORDED {
+        return Err(PyValueError::new_err(format!(
+            "invalid every = {every}: {rows} rows of {n} coordinates would record {values} values \
+             (more than {MAX_RECORDED}); record fewer rows with a larger every"
+        )));
+    }
+    let cap = rows as usize;
     let (mut ts, mut xs, mut vs, mut accs, mut es) = (
         Vec::with_capacity(cap),
         Vec::with_capacity(cap * n),
@@ -248,6 +254,9 @@ fn simulate<'py>(
     }
     Ok(d)
 }
+
+/// Most values `simulate` records (4 GB of f64).
+const MAX_RECORDED: u64 = 500_000_000;
 
 /// The native module `physstep._core`.
 #[pymodule]
