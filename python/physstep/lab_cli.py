@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import physstep
 from physstep import lab
 
 _SCENE_HELP = "built-in scene (physstep scenes lists them)"
@@ -28,6 +29,8 @@ def _params(args: argparse.Namespace) -> dict[str, float] | None:
 
 
 def _methods(text: str) -> list[str]:
+    if text.strip() == "all":
+        return [m.name for m in physstep.methods()]
     names = [m.strip() for m in text.split(",") if m.strip()]
     if not names:
         raise ValueError(f"invalid --methods '{text}': give a comma-separated list of methods")
@@ -226,7 +229,11 @@ def register(subparsers: Any) -> None:
     """Adds ``compare``, ``order``, ``stability`` and ``sweep`` to an argparse subparsers object."""
     c = subparsers.add_parser("compare", help="compare methods on a scene: order, cost, energy, error")
     c.add_argument("scene", help=_SCENE_HELP)
-    c.add_argument("--methods", required=True, help="comma-separated integrators, e.g. euler,rk4")
+    c.add_argument(
+        "--methods",
+        default="all",
+        help="comma-separated integrators, e.g. explicit-euler,rk4, or all (the default)",
+    )
     c.add_argument("--dt", type=float, default=None, help="step, s (default: the scene's)")
     c.add_argument("--until", type=float, default=None, help="end time, s (default: the scene's)")
     c.add_argument("--plot", metavar="FILE.png", help="also plot the runs (.png or .svg)")
@@ -256,7 +263,7 @@ def register(subparsers: Any) -> None:
 
     w = subparsers.add_parser("sweep", help="work-precision data: error against work over methods and dts")
     w.add_argument("scene", help=_SCENE_HELP)
-    w.add_argument("--methods", required=True, help="comma-separated integrators")
+    w.add_argument("--methods", default="all", help="comma-separated integrators, or all (the default)")
     w.add_argument("--dts", required=True, help="comma-separated steps, s, e.g. 0.1,0.05,0.025")
     w.add_argument("--until", type=float, default=None, help="end time, s (default: the scene's)")
     w.add_argument("--out", metavar="FILE", help="write the data here instead of stdout")
