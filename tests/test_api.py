@@ -43,8 +43,12 @@ def test_simulate_rejects_bad_input_with_the_field_named() -> None:
         physstep.simulate("spring", "rk4", dt=0.1, until=1.0, params={"m": -1})
     with pytest.raises(ValueError, match=r"unknown scene 'x'"):
         physstep.simulate("x", "rk4", dt=0.1, until=1.0)
-    with pytest.raises(ValueError, match=r"invalid position\[0\] = NaN"):
+    with pytest.raises(ValueError, match=r"invalid x0\[0\] = NaN"):
         physstep.simulate("spring", "rk4", dt=0.1, until=1.0, x0=[float("nan")])
+    with pytest.raises(ValueError, match=r"invalid len\(v0\) = 2: must be 1"):
+        physstep.simulate("spring", "rk4", dt=0.1, until=1.0, v0=[1.0, 2.0])
+    with pytest.raises(ValueError, match=r"invalid params\['m'\] = 'x': must be a number"):
+        physstep.simulate("spring", "rk4", dt=0.1, until=1.0, params={"m": "x"})
 
 
 def test_divergence_is_reported_not_returned() -> None:
@@ -102,6 +106,16 @@ def test_world_bad_input_leaves_it_unchanged() -> None:
         w.add_rod(0, [1.0, 0.0, 0.0], 0.0)
     with pytest.raises(ValueError, match=r"invalid position = \[1.0\]"):
         w.add_particle([1.0])
+    with pytest.raises(ValueError, match=r"invalid positions shape \(4,\): must be \(n, 3\)"):
+        w.add_particles(np.zeros(4))
+    with pytest.raises(ValueError, match=r"invalid velocities shape \(2, 3\): must be \(1, 3\)"):
+        w.add_particles([[1.0, 2.0, 3.0]], velocities=np.zeros((2, 3)))
+    with pytest.raises(ValueError, match=r"invalid masses shape \(2,\): must be \(1,\)"):
+        w.add_particles([[1.0, 2.0, 3.0]], masses=[1.0, 2.0])
+    with pytest.raises(ValueError, match=r"invalid positions shape \(3, 1\): must be \(1, 3\)"):
+        w.positions = np.zeros((3, 1))
+    with pytest.raises(ValueError, match=r"invalid i = -1: must be a particle index >= 0"):
+        w.add_spring(-1, 0, 1.0)
     assert len(w) == 1 and w.state_hash() == h
     for dim in (0, 4, -1):
         with pytest.raises(ValueError, match=rf"invalid dim = {dim}"):

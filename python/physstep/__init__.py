@@ -150,7 +150,7 @@ def simulate(
     spec = _scene_spec(scene)
     dt = float(spec["dt"] if dt is None else dt)
     until = float(spec["until"] if until is None else until)
-    plist = [(str(k), float(v)) for k, v in (params or {}).items()]
+    plist = [(str(k), _number(f"params['{k}']", v)) for k, v in (params or {}).items()]
     flat = lambda a: None if a is None else [float(c) for c in np.asarray(a, dtype=float).ravel()]  # noqa: E731
     raw = _core.simulate(
         scene,
@@ -165,6 +165,13 @@ def simulate(
         stop_on_diverge=stop_on_diverge,
     )
     return Trajectory(**raw)
+
+
+def _number(field: str, value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"invalid {field} = {value!r}: must be a number") from None
 
 
 def _scene_spec(name: str) -> dict[str, Any]:

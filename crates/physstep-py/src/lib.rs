@@ -6,7 +6,7 @@
 //! boundary: every engine call returns a `Result`.
 
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use physstep::error::Error;
 use physstep::integrators::{registry, Info, StageLog, INFOS};
 use physstep::scenes::SCENES;
@@ -41,12 +41,6 @@ pub(crate) fn matrix(py: Python<'_>, data: Vec<f64>, cols: usize) -> PyResult<Bo
     let rows = data.len().checked_div(cols).unwrap_or(0);
     let arr = Array2::from_shape_vec((rows, cols), data).map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(arr.into_pyarray(py))
-}
-
-/// A 2-D float array as a flat row-major vector with its column count.
-pub(crate) fn flat(a: &PyReadonlyArray2<'_, f64>) -> (Vec<f64>, usize) {
-    let view = a.as_array();
-    (view.iter().copied().collect(), view.ncols())
 }
 
 /// One recorded evaluation point: step index, stage name, t, x, v, a.
@@ -133,6 +127,23 @@ fn simulate<'py>(
         return Err(PyValueError::new_err("invalid every = 0: must be at least 1"));
     }
     let w = &mut built.world;
+    for (field, values) in [("x0", &x0), ("v0", &v0)] {
+        if let Some(values) = values {
+            let n = w.positions().len();
+            if values.len() != n {
+                return Err(PyValueError::new_err(format!(
+                    "invalid len({field}) = {}: must be {n}, the scene's coordinate count",
+                    values.len()
+                )));
+            }
+            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                return Err(PyValueError::new_err(format!(
+                    "invalid {field}[{i}] = {}: must be finite",
+                    values[i]
+                )));
+            }
+        }
+    }
     if let Some(x0) = x0 {
         w.set_positions(&x0).map_err(py_err)?;
     }

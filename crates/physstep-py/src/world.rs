@@ -1,13 +1,13 @@
 //! `physstep.World`: the engine's world with the names the Python API promises.
 
-use crate::{flat, matrix, py_err};
+use crate::{matrix, py_err};
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use physstep::clock::LoopMode;
 use physstep::forces::{Endpoint, Force};
 use physstep::world::{World as Engine, WorldParams};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
+use pyo3::types::{PyBytes, PyDict};
 
 /// Particles, forces, an integrator and a fixed-timestep game loop.
 #[pyclass(module = "physstep._core")]
@@ -25,6 +25,59 @@ fn vector(field: &str, v: Vec<f64>, dim: usize) -> PyResult<[f64; 3]> {
     let mut out = [0.0; 3];
     out[..dim].copy_from_slice(&v);
     Ok(out)
+}
+
+/// A shape as Python prints it: `(4,)`, `(3, 2)`.
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!("({})", shape.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ")),
+    }
+}
+
+/// Any array-like (numpy array, nested lists) as float64 numpy data of the wanted shape:
+/// `cols = Some(dim)` for an `(n, dim)` matrix, `None` for a vector; `rows` fixes `n`.
+fn array_arg(
+    obj: &Bound<'_, PyAny>,
+    field: &str,
+    rows: Option<usize>,
+    cols: Option<usize>,
+) -> PyResult<Vec<f64>> {
+    let py = obj.py();
+    let want = match (rows, cols) {
+        (Some(r), Some(c)) => format!("({r}, {c})"),
+        (None, Some(c)) => format!("(n, {c})"),
+        (Some(r), None) => format!("({r},)"),
+        (None, None) => "(n,)".into(),
+    };
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", "float64")?;
+    let arr = py.import("numpy")?.call_method("ascontiguousarray", (obj,), Some(&kwargs)).map_err(|_| {
+        PyValueError::new_err(format!("invalid {field}: must be an array of numbers of shape {want}"))
+    })?;
+    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+    let ok = match cols {
+        Some(c) => shape.len() == 2 && shape[1] == c,
+        None => shape.len() == 1,
+    } && rows.is_none_or(|r| shape[0] == r);
+    if !ok {
+        return Err(PyValueError::new_err(format!(
+            "invalid {field} shape {}: must be {want}",
+            shape_text(&shape)
+        )));
+    }
+    let data = if cols.is_some() {
+        arr.extract::<PyReadonlyArray2<'_, f64>>()?.as_array().iter().copied().collect()
+    } else {
+        arr.extract::<PyReadonlyArray1<'_, f64>>()?.as_array().iter().copied().collect()
+    };
+    Ok(data)
+}
+
+/// A particle index argument, named `field` in errors.
+fn index(field: &str, i: i64) -> PyResult<usize> {
+    usize::try_from(i)
+        .map_err(|_| PyValueError::new_err(format!("invalid {field} = {i}: must be a particle index >= 0")))
 }
 
 /// `other` as a particle index or an anchor point.
@@ -188,33 +241,16 @@ impl World {
     fn add_particles<'py>(
         &mut self,
         py: Python<'py>,
-        positions: PyReadonlyArray2<'py, f64>,
-        velocities: Option<PyReadonlyArray2<'py, f64>>,
-        masses: Option<PyReadonlyArray1<'py, f64>>,
+        positions: &Bound<'py, PyAny>,
+        velocities: Option<&Bound<'py, PyAny>>,
+        masses: Option<&Bound<'py, PyAny>>,
         r#static: bool,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let d = self.inner.dim();
-        let (x, cols) = flat(&positions);
-        if cols != d {
-            return Err(PyValueError::new_err(format!(
-                "invalid positions shape (_, {cols}): must be (n, {d})"
-            )));
-        }
+        let x = array_arg(positions, "positions", None, Some(d))?;
         let k = x.len() / d;
-        let v = match &velocities {
-            Some(v) => {
-                let (v, vc) = flat(v);
-                if vc != d || v.len() != x.len() {
-                    return Err(PyValueError::new_err(format!(
-                        "invalid velocities shape ({}, {vc}): must be ({k}, {d})",
-                        v.len() / vc.max(1)
-                    )));
-                }
-                Some(v)
-            }
-            None => None,
-        };
-        let m = masses.as_ref().map(|m| m.as_array().iter().copied().collect::<Vec<f64>>());
+        let v = velocities.map(|v| array_arg(v, "velocities", Some(k), Some(d))).transpose()?;
+        let m = masses.map(|m| array_arg(m, "masses", Some(k), None)).transpose()?;
         let first = self.inner.add_particles(&x, v.as_deref(), m.as_deref(), r#static).map_err(py_err)?;
         Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
     }
@@ -227,12 +263,13 @@ impl World {
     #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=0.0))]
     fn add_spring(
         &mut self,
-        i: usize,
+        i: i64,
         j_or_anchor: &Bound<'_, PyAny>,
         stiffness: f64,
         rest_length: Option<f64>,
         damping: f64,
     ) -> PyResult<()> {
+        let i = index("i", i)?;
         let j = endpoint("j_or_anchor", j_or_anchor, self.inner.dim())?;
         let rest_length = match rest_length {
             Some(r) => r,
@@ -256,7 +293,8 @@ impl World {
         self.inner.add_force(Force::NBody { g, softening }).map_err(py_err)
     }
 
-    fn add_rod(&mut self, i: usize, anchor_or_j: &Bound<'_, PyAny>, length: f64) -> PyResult<()> {
+    fn add_rod(&mut self, i: i64, anchor_or_j: &Bound<'_, PyAny>, length: f64) -> PyResult<()> {
+        let i = index("i", i)?;
         let j = endpoint("anchor_or_j", anchor_or_j, self.inner.dim())?;
         if !(length.is_finite() && length > 0.0) {
             return Err(PyValueError::new_err(format!(
@@ -311,8 +349,8 @@ impl World {
     }
 
     #[setter(positions)]
-    fn set_positions(&mut self, x: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
-        let (x, _) = flat(&x);
+    fn set_positions(&mut self, x: &Bound<'_, PyAny>) -> PyResult<()> {
+        let x = array_arg(x, "positions", Some(self.inner.len()), Some(self.inner.dim()))?;
         self.inner.set_positions(&x).map_err(py_err)
     }
 
@@ -323,8 +361,8 @@ impl World {
     }
 
     #[setter(velocities)]
-    fn set_velocities(&mut self, v: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
-        let (v, _) = flat(&v);
+    fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
+        let v = array_arg(v, "velocities", Some(self.inner.len()), Some(self.inner.dim()))?;
         self.inner.set_velocities(&v).map_err(py_err)
     }
 
