@@ -216,14 +216,44 @@ pub(crate) use split_method;
 /// `y += s * x`, elementwise: the one update every method is made of.
 #[inline]
 pub(crate) fn axpy(y: &mut [f64], s: f64, x: &[f64]) {
+    if y.len() >= PAR_MIN {
+        use rayon::prelude::*;
+        y.par_chunks_mut(PAR_CHUNK).zip(x.par_chunks(PAR_CHUNK)).for_each(|(y, x)| axpy_serial(y, s, x));
+    } else {
+        axpy_serial(y, s, x);
+    }
+}
+
+#[inline]
+fn axpy_serial(y: &mut [f64], s: f64, x: &[f64]) {
     for (yi, xi) in y.iter_mut().zip(x) {
         *yi += s * xi;
     }
 }
 
+/// Arrays at least this long are updated in parallel, in chunks of [`PAR_CHUNK`]. Every
+/// element is computed by the same expression whichever thread runs it, so the result is
+/// bitwise the same for any thread count.
+pub(crate) const PAR_MIN: usize = 1 << 16;
+/// Elements per parallel task (256 KiB of f64).
+pub(crate) const PAR_CHUNK: usize = 1 << 15;
+
 /// `out = y + s * x`.
 #[inline]
 pub(crate) fn axpy_to(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
+    if out.len() >= PAR_MIN {
+        use rayon::prelude::*;
+        out.par_chunks_mut(PAR_CHUNK)
+            .zip(y.par_chunks(PAR_CHUNK))
+            .zip(x.par_chunks(PAR_CHUNK))
+            .for_each(|((o, y), x)| axpy_to_serial(o, y, s, x));
+    } else {
+        axpy_to_serial(out, y, s, x);
+    }
+}
+
+#[inline]
+fn axpy_to_serial(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
     for ((oi, yi), xi) in out.iter_mut().zip(y).zip(x) {
         *oi = yi + s * xi;
     }
