@@ -713,3 +713,25 @@ fn time_is_steps_times_dt_without_drift() {
     scene.world.step(1000).unwrap();
     assert_eq!(scene.world.time(), 20.0);
 }
+
+#[test]
+fn large_worlds_are_bitwise_the_same_on_one_or_two_threads() {
+    // 40,000 particles in 3D: 120,000 coordinates, above the size where the kernels run
+    // in parallel chunks.
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| {
+            let mut w =
+                World::new(WorldParams { dim: 3, method: "rk4".into(), dt: 0.01, ..Default::default() })
+                    .unwrap();
+            let x: Vec<f64> = (0..120_000u64).map(|i| ((i * 7919) % 1000) as f64 * 1e-3).collect();
+            let v: Vec<f64> = (0..120_000u64).map(|i| ((i * 104_729) % 1000) as f64 * 1e-3 - 0.5).collect();
+            w.add_particles(&x, Some(&v), None, false).unwrap();
+            w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+            w.add_force(Force::Drag { linear: 0.1, quadratic: 0.01 }).unwrap();
+            w.add_force(Force::CentralGravity { center: [0.5, 0.5, 0.5], gm: 0.1 }).unwrap();
+            w.step(5).unwrap();
+            (w.state_hash(), bits(w.positions()))
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
