@@ -212,6 +212,7 @@ def compare(
                 "final_error": final,
                 "ns_per_step": traj.ns_per_step,
                 "steps": int(traj.steps),
+                "t_end": float(traj.t[-1]),
                 "diverged": traj.diverged,
             }
         )

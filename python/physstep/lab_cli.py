@@ -104,7 +104,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
         table.add_column(col, justify="left" if col == "method" else "right")
     for r in res["rows"]:
         table.add_row(
-            r["method"] + (" [red](diverged)[/red]" if r["diverged"] else ""),
+            r["method"] + (f" [red](failed at t = {r['t_end']:g} s)[/red]" if r["diverged"] else ""),
             str(r["order"]),
             _g(r["evals_per_step"], ".2f"),
             _g(r["energy_max_rel_error"], ".3e"),
@@ -114,6 +114,9 @@ def _cmd_compare(args: argparse.Namespace) -> int:
         )
     con = _console()
     con.print(table)
+    for r in res["rows"]:
+        if r["diverged"]:
+            con.print(f"{r['method']}: {r['diverged']}; its row covers the run up to there", markup=False)
     if args.plot:
         con.print(f"plot: {args.plot}")
     return 0
