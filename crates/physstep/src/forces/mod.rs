@@ -386,12 +386,22 @@ impl ForceSet {
                     *ak = fk * im;
                 }
             }
-        } else {
-            // No forces, only accelerations: 0 * inv_mass is 0 for every particle.
-            a.fill(0.0);
+        }
+        let mut accels = &self.forces[..];
+        if !self.kinds.forces {
+            // No forces, only accelerations: 0 * inv_mass is 0 for every particle. Gravity
+            // sorts first; when present it writes 0 + g in the same pass instead of adding
+            // to zeros in a second one.
+            match self.forces.split_first() {
+                Some((Force::Gravity { g }, rest)) => {
+                    gravity::set(dim, *g, inv_mass, a);
+                    accels = rest;
+                }
+                _ => a.fill(0.0),
+            }
         }
 
-        for force in &self.forces {
+        for force in accels {
             match *force {
                 Force::Gravity { g } => gravity::accel(dim, g, inv_mass, a),
                 Force::CentralGravity { center, gm } => central::accel(dim, center, gm, x, inv_mass, a),

@@ -1,6 +1,6 @@
 //! Symplectic (semi-implicit) Euler in both orders, and the two alternated.
 
-use super::{axpy_to, drift, kick, split_method, sync_f, xva, Info, Log, Method};
+use super::{axpy_to, drift, kick, kick_drift, split_method, sync_f, Info, Log, Method};
 use crate::dynamics::{SecondOrder, Split};
 use crate::error::Result;
 
@@ -29,11 +29,11 @@ fn velocity_first<S: SecondOrder + ?Sized>(
     y: &mut [f64],
     f: &mut [f64],
 ) {
-    let (x, v, a) = xva(y, f);
-    kick(v, a, h);
-    drift(x, v, h);
+    let n = y.len() / 2;
+    let (x, v) = y.split_at_mut(n);
+    let (dx, a) = f.split_at_mut(n);
+    kick_drift(x, v, dx, a, h);
     sys.accel(t + h, x, v, a);
-    sync_f(y, f);
 }
 
 /// Position-first step; with velocity-dependent forces the kick uses `a(x[n+1], v[n])` and
