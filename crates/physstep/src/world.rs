@@ -8,7 +8,7 @@
 
 use crate::clock::{Clock, ClockParams, FramePlan, LoopMode};
 use crate::dynamics::SecondOrder;
-use crate::error::{all_finite, finite, positive, Error, Result};
+use crate::error::{all_finite, positive, Error, Result};
 use crate::forces::{Force, ForceSet};
 use crate::integrators::registry::State;
 use crate::integrators::{ImplicitParams, Integrator};
@@ -658,13 +658,5 @@ impl World {
         self.state.y.iter().for_each(|v| eat(*v));
         self.integrator.memory().iter().for_each(|v| eat(*v));
         h
-    }
-
-    /// Checks a value for the Python face's scalar setters.
-    ///
-    /// # Errors
-    /// [`Error::InvalidValue`] when `value` is not finite.
-    pub fn check(field: &str, value: f64) -> Result<f64> {
-        finite(field, value)
     }
 }
