@@ -253,7 +253,7 @@ impl World {
             }
             for (i, &mi) in m.iter().enumerate() {
                 let field = if k == 1 { "mass".to_string() } else { format!("mass[{i}]") };
-                if mi.is_nan() || mi <= 0.0 || (mi.is_infinite() && !is_static && mi < 0.0) {
+                if mi.is_nan() || mi <= 0.0 {
                     return Err(Error::invalid(field, mi, "> 0 (inf for a static particle)"));
                 }
             }
