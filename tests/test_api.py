@@ -185,3 +185,35 @@ def test_interpolation_lies_between_states_and_overload_is_capped() -> None:
     assert frames == 6 and steps == 2 + 20 and dropped > 0
     assert w.advance(5.0) == 4
     assert w.clock_stats[2] == pytest.approx(4.9)
+
+
+def test_particles_added_one_by_one_match_a_bulk_add() -> None:
+    rng = np.random.default_rng(7)
+    x, v, m = rng.random((500, 2)), rng.random((500, 2)), 1.0 + rng.random(500)
+    one = physstep.World(2, method="leapfrog", dt=0.01)
+    ids = [one.add_particle(x[i], velocity=v[i], mass=m[i], static=(i % 97 == 0)) for i in range(500)]
+    assert ids == list(range(500)) and len(one) == 500
+    bulk = physstep.World(2, method="leapfrog", dt=0.01)
+    for start in range(0, 500, 97):
+        bulk.add_particles(x[start : start + 1], v[start : start + 1], m[start : start + 1], static=True)
+        bulk.add_particles(x[start + 1 : start + 97], v[start + 1 : start + 97], m[start + 1 : start + 97])
+    for w in (one, bulk):
+        w.add_gravity([0.0, -1.0])
+        w.add_spring(1, 2, 10.0)
+        w.step(20)
+    assert one.state_hash() == bulk.state_hash()
+    assert one.positions[0].tolist() == x[0].tolist()  # static: never moves
+
+
+def test_add_particle_checks_at_once_and_mixes_with_bulk_adds() -> None:
+    w = physstep.World(2)
+    assert w.add_particle([0.0, 0.0]) == 0
+    with pytest.raises(ValueError, match=r"invalid mass = -1"):
+        w.add_particle([1.0, 0.0], mass=-1.0)
+    assert w.add_particles(np.ones((2, 2))).tolist() == [1, 2]
+    assert w.add_particle([3.0, 0.0]) == 3
+    w.add_nbody_gravity()
+    assert w.add_particle([4.0, 0.0]) == 4
+    with pytest.raises(ValueError, match=r"invalid mass\[5\] = inf: must be finite when n-body"):
+        w.add_particle([5.0, 0.0], mass=float("inf"))
+    assert len(w) == 5 and w.positions[:, 0].tolist() == [0.0, 1.0, 1.0, 3.0, 4.0]

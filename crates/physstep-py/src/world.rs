@@ -13,6 +13,20 @@ use pyo3::types::{PyBytes, PyDict};
 #[pyclass(module = "physstep._core")]
 pub struct World {
     inner: Engine,
+    /// Particles from `add_particle`, validated and waiting to be added in one batch:
+    /// growing the engine's `[x; v]` state one particle at a time moves the velocity half
+    /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
+    /// state flushes them first.
+    pending: Pending,
+}
+
+/// Validated particles not yet in the engine.
+#[derive(Default)]
+struct Pending {
+    x: Vec<f64>,
+    v: Vec<f64>,
+    mass: Vec<f64>,
+    fixed: Vec<bool>,
 }
 
 /// A vector argument of `dim` components, named `field` in errors.
@@ -112,6 +126,29 @@ fn loop_mode(name: &str, substeps: u32) -> PyResult<LoopMode> {
 }
 
 impl World {
+    /// Adds the pending particles to the engine, in runs of equal `static` flag.
+    fn flush(&mut self) -> PyResult<()> {
+        if self.pending.mass.is_empty() {
+            return Ok(());
+        }
+        let p = std::mem::take(&mut self.pending);
+        let d = self.inner.dim();
+        let mut start = 0;
+        while start < p.mass.len() {
+            let flag = p.fixed[start];
+            let end = (start..p.mass.len()).find(|&i| p.fixed[i] != flag).unwrap_or(p.mass.len());
+            let (xs, vs) = (&p.x[start * d..end * d], &p.v[start * d..end * d]);
+            self.inner.add_particles(xs, Some(vs), Some(&p.mass[start..end]), flag).map_err(py_err)?;
+            start = end;
+        }
+        Ok(())
+    }
+
+    /// Particles in the world, pending ones included.
+    fn count(&self) -> usize {
+        self.inner.len() + self.pending.mass.len()
+    }
+
     fn distance(&self, i: usize, j: Endpoint) -> PyResult<f64> {
         let d = self.inner.dim();
         let x = self.inner.positions();
@@ -167,7 +204,7 @@ impl World {
             max_frame_time,
             ..WorldParams::default()
         };
-        Ok(Self { inner: Engine::new(params).map_err(py_err)? })
+        Ok(Self { inner: Engine::new(params).map_err(py_err)?, pending: Pending::default() })
     }
 
     /// A world built from a built-in scene.
@@ -177,7 +214,7 @@ impl World {
         let params = params.unwrap_or_default();
         let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         let scene = physstep::scenes::build(name, &overrides, method, dt).map_err(py_err)?;
-        Ok(Self { inner: scene.world })
+        Ok(Self { inner: scene.world, pending: Pending::default() })
     }
 
     /// Spatial dimensions.
@@ -187,14 +224,14 @@ impl World {
     }
 
     fn __len__(&self) -> usize {
-        self.inner.len()
+        self.count()
     }
 
     fn __repr__(&self) -> String {
         format!(
             "World(dim={}, particles={}, method='{}', dt={}, time={})",
             self.inner.dim(),
-            self.inner.len(),
+            self.count(),
             self.inner.integrator().info().name,
             self.inner.dt(),
             self.inner.time()
@@ -234,7 +271,18 @@ impl World {
         let d = self.inner.dim();
         let position = vector("position", position, d)?;
         let velocity = vector("velocity", velocity.unwrap_or_else(|| vec![0.0; d]), d)?;
-        self.inner.add_particle(&position[..d], &velocity[..d], mass, r#static).map_err(py_err)
+        if !mass.is_finite() {
+            // An infinite mass may clash with n-body gravity, whose error names the index
+            // the particle would get: count the pending ones in first.
+            self.flush()?;
+        }
+        self.inner.check_particles(&position[..d], Some(&velocity[..d]), Some(&[mass])).map_err(py_err)?;
+        let i = self.count();
+        self.pending.x.extend_from_slice(&position[..d]);
+        self.pending.v.extend_from_slice(&velocity[..d]);
+        self.pending.mass.push(mass);
+        self.pending.fixed.push(r#static);
+        Ok(i)
     }
 
     #[pyo3(signature = (positions, velocities=None, masses=None, r#static=false))]
@@ -246,6 +294,7 @@ impl World {
         masses: Option<&Bound<'py, PyAny>>,
         r#static: bool,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        self.flush()?;
         let d = self.inner.dim();
         let x = array_arg(positions, "positions", None, Some(d))?;
         let k = x.len() / d;
@@ -256,6 +305,7 @@ impl World {
     }
 
     fn add_gravity(&mut self, g: Vec<f64>) -> PyResult<()> {
+        self.flush()?;
         let g = vector("g", g, self.inner.dim())?;
         self.inner.add_force(Force::Gravity { g }).map_err(py_err)
     }
@@ -269,6 +319,7 @@ impl World {
         rest_length: Option<f64>,
         damping: f64,
     ) -> PyResult<()> {
+        self.flush()?;
         let i = index("i", i)?;
         let j = endpoint("j_or_anchor", j_or_anchor, self.inner.dim())?;
         let rest_length = match rest_length {
@@ -280,20 +331,24 @@ impl World {
 
     #[pyo3(signature = (linear=0.0, quadratic=0.0))]
     fn add_drag(&mut self, linear: f64, quadratic: f64) -> PyResult<()> {
+        self.flush()?;
         self.inner.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
     }
 
     fn add_central_gravity(&mut self, center: Vec<f64>, gm: f64) -> PyResult<()> {
+        self.flush()?;
         let center = vector("center", center, self.inner.dim())?;
         self.inner.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
     }
 
     #[pyo3(signature = (g=1.0, softening=0.0))]
     fn add_nbody_gravity(&mut self, g: f64, softening: f64) -> PyResult<()> {
+        self.flush()?;
         self.inner.add_force(Force::NBody { g, softening }).map_err(py_err)
     }
 
     fn add_rod(&mut self, i: i64, anchor_or_j: &Bound<'_, PyAny>, length: f64) -> PyResult<()> {
+        self.flush()?;
         let i = index("i", i)?;
         let j = endpoint("anchor_or_j", anchor_or_j, self.inner.dim())?;
         if !(length.is_finite() && length > 0.0) {
@@ -314,6 +369,7 @@ impl World {
     /// is rolled back).
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
+        self.flush()?;
         let n =
             u64::try_from(n).map_err(|_| PyValueError::new_err(format!("invalid n = {n}: must be >= 0")))?;
         let inner = &mut self.inner;
@@ -322,6 +378,7 @@ impl World {
 
     /// Runs one frame of the game loop; returns the number of fixed steps taken.
     fn advance(&mut self, frame_time: f64) -> PyResult<u32> {
+        self.flush()?;
         Ok(self.inner.advance(frame_time).map_err(py_err)?.plan.steps)
     }
 
@@ -338,30 +395,35 @@ impl World {
         (s.frames, s.steps, s.clamped, s.dropped)
     }
 
-    fn interpolated_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn interpolated_positions<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.flush()?;
         matrix(py, self.inner.interpolated_positions(), self.inner.dim())
     }
 
     /// Positions (n, dim), m: a copy; assign an array to move the particles.
     #[getter]
-    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn positions<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.flush()?;
         matrix(py, self.inner.positions().to_vec(), self.inner.dim())
     }
 
     #[setter(positions)]
     fn set_positions(&mut self, x: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.flush()?;
         let x = array_arg(x, "positions", Some(self.inner.len()), Some(self.inner.dim()))?;
         self.inner.set_positions(&x).map_err(py_err)
     }
 
     /// Velocities (n, dim), m/s: a copy; assign an array to change them.
     #[getter]
-    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn velocities<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.flush()?;
         matrix(py, self.inner.velocities().to_vec(), self.inner.dim())
     }
 
     #[setter(velocities)]
     fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.flush()?;
         let v = array_arg(v, "velocities", Some(self.inner.len()), Some(self.inner.dim()))?;
         self.inner.set_velocities(&v).map_err(py_err)
     }
@@ -369,6 +431,7 @@ impl World {
     /// Accelerations at the current state (n, dim), m/s^2.
     #[getter]
     fn accelerations<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.flush()?;
         let dim = self.inner.dim();
         matrix(py, self.inner.accelerations().to_vec(), dim)
     }
@@ -391,23 +454,28 @@ impl World {
         self.inner.evals()
     }
 
-    fn energy(&self) -> f64 {
-        self.inner.energy()
+    fn energy(&mut self) -> PyResult<f64> {
+        self.flush()?;
+        Ok(self.inner.energy())
     }
 
-    fn momentum<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_vec(py, self.inner.momentum())
+    fn momentum<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.flush()?;
+        Ok(PyArray1::from_vec(py, self.inner.momentum()))
     }
 
-    fn snapshot<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        PyBytes::new(py, &self.inner.snapshot())
+    fn snapshot<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        self.flush()?;
+        Ok(PyBytes::new(py, &self.inner.snapshot()))
     }
 
     fn restore(&mut self, data: &[u8]) -> PyResult<()> {
+        self.flush()?;
         self.inner.restore(data).map_err(py_err)
     }
 
-    fn state_hash(&self) -> u64 {
-        self.inner.state_hash()
+    fn state_hash(&mut self) -> PyResult<u64> {
+        self.flush()?;
+        Ok(self.inner.state_hash())
     }
 }

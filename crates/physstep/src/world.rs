@@ -197,7 +197,9 @@ impl World {
     }
 
     /// Adds one particle; `mass = inf` or `is_static` makes it immovable (inverse mass 0,
-    /// velocity held at 0). Returns its index.
+    /// velocity held at 0). Returns its index. Each call moves the velocity half of the state
+    /// (O(n)); add many particles with [`World::add_particles`] (the Python face batches
+    /// `add_particle` calls itself).
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming `position`, `velocity` or `mass` (> 0 unless static,
@@ -227,6 +229,41 @@ impl World {
         masses: Option<&[f64]>,
         is_static: bool,
     ) -> Result<usize> {
+        self.check_particles(positions, velocities, masses)?;
+        let d = self.dim();
+        let k = positions.len() / d;
+        let first = self.len();
+        let n_old = self.model.len();
+        // y = [x; v] and f = [v; a] grow in place: the new positions go between the old
+        // positions and the velocities, so only the velocity half moves.
+        self.state.y.splice(n_old..n_old, positions.iter().copied());
+        for p in 0..k {
+            let m = masses.map_or(1.0, |m| m[p]);
+            let fixed = is_static || m.is_infinite();
+            match velocities {
+                Some(v) if !fixed => self.state.y.extend_from_slice(&v[p * d..(p + 1) * d]),
+                _ => self.state.y.extend(std::iter::repeat_n(0.0, d)),
+            }
+            self.model.mass.push(m);
+            self.model.inv_mass.push(if fixed { 0.0 } else { 1.0 / m });
+        }
+        self.state.f.resize(self.state.y.len(), 0.0);
+        self.touch();
+        Ok(first)
+    }
+
+    /// Checks particles as [`World::add_particles`] would, without adding them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the first bad entry: `position[i]`, `velocity[i]`
+    /// (flat indices into the given arrays), `mass` / `mass[i]` (> 0, NaN never; finite when
+    /// n-body gravity is on), or a length that does not fit `dim`.
+    pub fn check_particles(
+        &self,
+        positions: &[f64],
+        velocities: Option<&[f64]>,
+        masses: Option<&[f64]>,
+    ) -> Result<()> {
         let d = self.dim();
         if positions.len() % d != 0 {
             return Err(Error::invalid(
@@ -257,32 +294,19 @@ impl World {
                     return Err(Error::invalid(field, mi, "> 0 (inf for a static particle)"));
                 }
             }
-        }
-        // Forces that need finite masses (n-body) must accept the new particles too.
-        let mut all_mass = self.model.mass.clone();
-        all_mass.extend((0..k).map(|p| masses.map_or(1.0, |m| m[p])));
-        self.model.forces.validate_masses(&all_mass)?;
-        let first = self.len();
-        let n_old = self.model.len();
-        let (x_old, v_old) = self.state.y.split_at(n_old);
-        let mut y = Vec::with_capacity(2 * (n_old + positions.len()));
-        y.extend_from_slice(x_old);
-        y.extend_from_slice(positions);
-        y.extend_from_slice(v_old);
-        for p in 0..k {
-            let m = masses.map_or(1.0, |m| m[p]);
-            let fixed = is_static || m.is_infinite();
-            match velocities {
-                Some(v) if !fixed => y.extend_from_slice(&v[p * d..(p + 1) * d]),
-                _ => y.extend(std::iter::repeat(0.0).take(d)),
+            // Forces that need finite masses (n-body) must accept the new particles too;
+            // named by the index they would get in the world.
+            if self.model.forces.needs_finite_masses() {
+                if let Some(i) = m.iter().position(|mi| !mi.is_finite()) {
+                    return Err(Error::invalid(
+                        format!("mass[{}]", self.len() + i),
+                        m[i],
+                        "finite when n-body gravity is on",
+                    ));
+                }
             }
-            self.model.mass.push(m);
-            self.model.inv_mass.push(if fixed { 0.0 } else { 1.0 / m });
         }
-        self.state.f = vec![0.0; y.len()];
-        self.state.y = y;
-        self.touch();
-        Ok(first)
+        Ok(())
     }
 
     /// Adds a force generator.

@@ -338,7 +338,7 @@ impl ForceSet {
     /// # Errors
     /// [`Error::InvalidValue`] naming `mass[i]` of the first offending particle.
     pub fn validate_masses(&self, mass: &[f64]) -> Result<()> {
-        if self.forces.iter().any(|f| matches!(f, Force::NBody { .. })) {
+        if self.needs_finite_masses() {
             if let Some(i) = mass.iter().position(|m| !m.is_finite()) {
                 return Err(Error::invalid(
                     format!("mass[{i}]"),
@@ -348,6 +348,12 @@ impl ForceSet {
             }
         }
         Ok(())
+    }
+
+    /// Whether every particle's mass must be finite (n-body gravity pulls with each mass).
+    #[must_use]
+    pub fn needs_finite_masses(&self) -> bool {
+        self.forces.iter().any(|f| matches!(f, Force::NBody { .. }))
     }
 
     /// Fills `a` (length `n * dim`, m/s^2) with the total acceleration at time `t` (s),
