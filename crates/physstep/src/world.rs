@@ -297,13 +297,7 @@ impl World {
             // Forces that need finite masses (n-body) must accept the new particles too;
             // named by the index they would get in the world.
             if self.model.forces.needs_finite_masses() {
-                if let Some(i) = m.iter().position(|mi| !mi.is_finite()) {
-                    return Err(Error::invalid(
-                        format!("mass[{}]", self.len() + i),
-                        m[i],
-                        "finite when n-body gravity is on",
-                    ));
-                }
+                crate::forces::finite_masses(m, self.len())?;
             }
         }
         Ok(())
@@ -315,10 +309,12 @@ impl World {
     /// [`Error::InvalidValue`] naming the bad field (a missing particle index, a negative
     /// stiffness, a zero rod length, ...); the world is unchanged.
     pub fn add_force(&mut self, force: Force) -> Result<()> {
-        let mut forces = self.model.forces.clone();
-        forces.add(force, self.len(), self.dim())?;
-        forces.validate_masses(&self.model.mass)?;
-        self.model.forces = forces;
+        if matches!(force, Force::NBody { .. }) {
+            // n-body gravity pulls with every mass: none may be infinite.
+            crate::forces::finite_masses(&self.model.mass, 0)?;
+        }
+        // `add` validates before it inserts, so a rejected force leaves the set as it was.
+        self.model.forces.add(force, self.len(), self.dim())?;
         self.touch();
         Ok(())
     }

@@ -250,6 +250,20 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// Checks that every mass (kg) is finite, as n-body gravity needs; `first` is the world index
+/// of `mass[0]`, so the error names the particle as the world knows it.
+///
+/// # Errors
+/// [`Error::InvalidValue`] naming `mass[i]` of the first infinite (or NaN) mass.
+pub fn finite_masses(mass: &[f64], first: usize) -> Result<()> {
+    match mass.iter().position(|m| !m.is_finite()) {
+        None => Ok(()),
+        Some(i) => {
+            Err(Error::invalid(format!("mass[{}]", first + i), mass[i], "finite when n-body gravity is on"))
+        }
+    }
+}
+
 /// The forces of a world, kept in canonical order.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ForceSet {
@@ -264,27 +278,28 @@ struct Kinds {
     forces: bool,
     rods: bool,
     velocity: bool,
+    nbody: bool,
 }
 
 impl Kinds {
-    fn of(forces: &[Force]) -> Self {
-        let mut k = Self::default();
-        for f in forces {
-            match *f {
-                Force::Spring { damping, .. } => {
-                    k.forces = true;
-                    k.velocity |= damping != 0.0;
-                }
-                Force::Drag { linear, quadratic } => {
-                    k.forces = true;
-                    k.velocity |= linear != 0.0 || quadratic != 0.0;
-                }
-                Force::Rod { .. } => {
-                    k.rods = true;
-                    k.velocity = true;
-                }
-                Force::Gravity { .. } | Force::CentralGravity { .. } | Force::NBody { .. } => {}
+    /// These kinds and those of `f`.
+    fn with(self, f: &Force) -> Self {
+        let mut k = self;
+        match *f {
+            Force::Spring { damping, .. } => {
+                k.forces = true;
+                k.velocity |= damping != 0.0;
             }
+            Force::Drag { linear, quadratic } => {
+                k.forces = true;
+                k.velocity |= linear != 0.0 || quadratic != 0.0;
+            }
+            Force::Rod { .. } => {
+                k.rods = true;
+                k.velocity = true;
+            }
+            Force::NBody { .. } => k.nbody = true,
+            Force::Gravity { .. } | Force::CentralGravity { .. } => {}
         }
         k
     }
@@ -311,7 +326,7 @@ impl ForceSet {
         let key = force.key();
         let at = self.forces.partition_point(|f| f.key() <= key);
         self.forces.insert(at, force);
-        self.kinds = Kinds::of(&self.forces);
+        self.kinds = self.kinds.with(&force);
         Ok(())
     }
 
@@ -339,13 +354,7 @@ impl ForceSet {
     /// [`Error::InvalidValue`] naming `mass[i]` of the first offending particle.
     pub fn validate_masses(&self, mass: &[f64]) -> Result<()> {
         if self.needs_finite_masses() {
-            if let Some(i) = mass.iter().position(|m| !m.is_finite()) {
-                return Err(Error::invalid(
-                    format!("mass[{i}]"),
-                    mass[i],
-                    "finite when n-body gravity is on",
-                ));
-            }
+            finite_masses(mass, 0)?;
         }
         Ok(())
     }
@@ -353,7 +362,7 @@ impl ForceSet {
     /// Whether every particle's mass must be finite (n-body gravity pulls with each mass).
     #[must_use]
     pub fn needs_finite_masses(&self) -> bool {
-        self.forces.iter().any(|f| matches!(f, Force::NBody { .. }))
+        self.kinds.nbody
     }
 
     /// Fills `a` (length `n * dim`, m/s^2) with the total acceleration at time `t` (s),
