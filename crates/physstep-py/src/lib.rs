@@ -182,43 +182,53 @@ fn simulate<'py>(
     let mut log = StageLog::default();
     let mut stage_rows: Vec<StageRow> = Vec::new();
     let mut diverged: Option<String> = None;
-    let evals0;
     let start = std::time::Instant::now();
-    {
-        let mut record = |w: &mut physstep::world::World| {
-            ts.push(w.time());
-            xs.extend_from_slice(w.positions());
-            vs.extend_from_slice(w.velocities());
-            accs.extend_from_slice(w.accelerations());
-            es.push(w.energy());
-        };
-        record(w);
-        evals0 = w.evals();
-        for k in 1..=steps {
-            let r = if stages {
-                log.rows.clear();
-                let r = w.step_logged(dt, &mut log);
-                for row in &log.rows {
-                    let (x, v) = row.y.split_at(n);
-                    stage_rows.push((k - 1, row.stage, row.t, x.to_vec(), v.to_vec(), row.f[n..].to_vec()));
-                }
-                r
-            } else {
-                w.step_by(dt)
+    // The loop touches no Python object: other Python threads run meanwhile.
+    let evals0 = py
+        .detach(|| -> Result<u64, Error> {
+            let mut record = |w: &mut physstep::world::World| {
+                ts.push(w.time());
+                xs.extend_from_slice(w.positions());
+                vs.extend_from_slice(w.velocities());
+                accs.extend_from_slice(w.accelerations());
+                es.push(w.energy());
             };
-            if let Err(e) = r {
-                if stop_on_diverge && matches!(e, Error::Diverged { .. } | Error::NotConverged { .. }) {
-                    diverged = Some(e.to_string());
-                    record(w);
-                    break;
+            record(w);
+            let evals0 = w.evals();
+            for k in 1..=steps {
+                let r = if stages {
+                    log.rows.clear();
+                    let r = w.step_logged(dt, &mut log);
+                    for row in &log.rows {
+                        let (x, v) = row.y.split_at(n);
+                        stage_rows.push((
+                            k - 1,
+                            row.stage,
+                            row.t,
+                            x.to_vec(),
+                            v.to_vec(),
+                            row.f[n..].to_vec(),
+                        ));
+                    }
+                    r
+                } else {
+                    w.step_by(dt)
+                };
+                if let Err(e) = r {
+                    if stop_on_diverge && matches!(e, Error::Diverged { .. } | Error::NotConverged { .. }) {
+                        diverged = Some(e.to_string());
+                        record(w);
+                        break;
+                    }
+                    return Err(e);
                 }
-                return Err(py_err(e));
+                if k % every == 0 || k == steps {
+                    record(w);
+                }
             }
-            if k % every == 0 || k == steps {
-                record(w);
-            }
-        }
-    }
+            Ok(evals0)
+        })
+        .map_err(py_err)?;
     let elapsed = start.elapsed().as_nanos() as u64;
     let taken = w.steps();
     let evals = w.evals() - evals0;
