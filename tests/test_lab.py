@@ -217,3 +217,18 @@ def test_cli_bad_method_exits_2_with_one_line(args: tuple[str, ...]) -> None:
     assert res.returncode == 2
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("physstep: error:") and "bogus" in lines[0]
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("order", "spring", "--method", "rk4", "--dt", "0"), "invalid dt = 0.0"),
+        (("stability", "spring", "--method", "rk4", "--cap", "-1"), "invalid cap = -1.0"),
+        (("sweep", "spring", "--dts", "abc"), "invalid --dts 'abc'"),
+    ],
+)
+def test_cli_bad_values_exit_2_with_one_line(args: tuple[str, ...], needle: str) -> None:
+    res = run_cli(*args)
+    assert res.returncode == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0], res.stderr

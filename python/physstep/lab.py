@@ -273,9 +273,9 @@ def order(
     until = float(UNTIL_SCALES * time_scale(scene, params) if until is None else until)
     if not (until > 0 and math.isfinite(until)):
         raise ValueError(f"invalid until = {until}: must be a finite number > 0")
-    n0 = 32 if dt is None else max(1, round(until / float(dt)))
     if dt is not None and not (dt > 0 and math.isfinite(dt)):
         raise ValueError(f"invalid dt = {dt}: must be a finite number > 0")
+    n0 = 32 if dt is None else max(1, round(until / float(dt)))
     n0 += n0 % 2  # even step counts
     has_exact = _has_exact(scene, params)
 
