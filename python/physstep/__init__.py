@@ -13,7 +13,9 @@ Python face.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import copy
+import functools
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -62,18 +64,27 @@ def method(name: str) -> MethodInfo:
     return MethodInfo(**_core.method_info(name))
 
 
+@functools.cache
+def _scene_specs() -> tuple[dict[str, Any], ...]:
+    return tuple(_core.scenes())
+
+
+def _spec(name: str) -> dict[str, Any]:
+    for s in _scene_specs():
+        if s["name"] == name:
+            return s
+    valid = ", ".join(s["name"] for s in _scene_specs())
+    raise ValueError(f"unknown scene '{name}'; valid scenes: {valid}")
+
+
 def scenes() -> list[dict[str, Any]]:
     """Every built-in scene: name, doc, dim, default dt and until, and parameters."""
-    return list(_core.scenes())
+    return copy.deepcopy(list(_scene_specs()))
 
 
 def scene(name: str) -> dict[str, Any]:
     """One built-in scene's description; ValueError listing the valid names otherwise."""
-    for s in _core.scenes():
-        if s["name"] == name:
-            return dict(s)
-    valid = ", ".join(s["name"] for s in _core.scenes())
-    raise ValueError(f"unknown scene '{name}'; valid scenes: {valid}")
+    return copy.deepcopy(_spec(name))
 
 
 @dataclass
@@ -102,7 +113,6 @@ class Trajectory:
     exact_v: np.ndarray | None = None
     stages: list[tuple[int, str, float, list[float], list[float], list[float]]] | None = None
     diverged: str | None = None
-    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def ns_per_step(self) -> float:
@@ -147,7 +157,7 @@ def simulate(
 
     Raises ValueError naming the bad field and value for any bad input.
     """
-    spec = _scene_spec(scene)
+    spec = _spec(scene)
     dt = float(spec["dt"] if dt is None else dt)
     until = float(spec["until"] if until is None else until)
     plist = [(str(k), _number(f"params['{k}']", v)) for k, v in (params or {}).items()]
@@ -172,10 +182,6 @@ def _number(field: str, value: Any) -> float:
         return float(value)
     except (TypeError, ValueError):
         raise ValueError(f"invalid {field} = {value!r}: must be a number") from None
-
-
-def _scene_spec(name: str) -> dict[str, Any]:
-    return scene(name)
 
 
 def summarize(traj: Trajectory) -> dict[str, Any]:

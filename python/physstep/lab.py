@@ -58,15 +58,14 @@ def _check_scene(name: str) -> dict[str, Any]:
     return physstep.scene(name)
 
 
+def _probe(scene: str, params: dict[str, float] | None) -> Trajectory:
+    """A zero-length run: the engine validates the scene and ``params`` and answers with the
+    resolved parameters (``.params``) and whether an exact solution exists (``.exact_x``)."""
+    return physstep.simulate(scene, REFERENCE_METHOD, dt=1.0, until=0.0, params=params)
+
+
 def _full_params(scene: str, params: dict[str, float] | None) -> dict[str, float]:
-    spec = _check_scene(scene)
-    out = {p["name"]: float(p["default"]) for p in spec["params"]}
-    for k, v in (params or {}).items():
-        if k not in out:
-            valid = ", ".join(out) or "(none)"
-            raise ValueError(f"unknown parameter '{k}' for scene '{scene}'; valid parameters: {valid}")
-        out[k] = float(v)
-    return out
+    return dict(_probe(scene, params).params)
 
 
 def time_scale(scene: str, params: dict[str, float] | None = None) -> float:
@@ -145,8 +144,7 @@ def _max_error(traj: Trajectory, ref: Trajectory | None) -> float:
 
 
 def _has_exact(scene: str, params: dict[str, float] | None) -> bool:
-    t = physstep.simulate(scene, "rk4", dt=1e-3, until=0.0, params=params)
-    return t.exact_x is not None
+    return _probe(scene, params).exact_x is not None
 
 
 def _error_against(has_exact: bool, ref_dt: float | None) -> str:
