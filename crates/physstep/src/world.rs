@@ -136,6 +136,8 @@ pub struct World {
     stale: bool,
     /// Time and step count at the latest change of dt.
     epoch: Epoch,
+    /// Newton settings for implicit methods, kept across [`World::set_method`].
+    implicit: ImplicitParams,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -175,6 +177,7 @@ impl World {
             prev_x: Vec::new(),
             stale: false,
             epoch: Epoch::default(),
+            implicit: params.implicit,
         })
     }
 
@@ -351,12 +354,12 @@ impl World {
         &self.integrator
     }
 
-    /// Switches the integrator (its Newton settings are kept at their defaults).
+    /// Switches the integrator (implicit methods use the world's Newton settings).
     ///
     /// # Errors
     /// [`Error::UnknownName`] listing the valid names.
     pub fn set_method(&mut self, name: &str) -> Result<()> {
-        self.integrator = Integrator::new(name)?;
+        self.integrator = Integrator::with_params(name, self.implicit)?;
         Ok(())
     }
 

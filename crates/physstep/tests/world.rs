@@ -735,3 +735,21 @@ fn large_worlds_are_bitwise_the_same_on_one_or_two_threads() {
     };
     assert_eq!(run(1), run(2));
 }
+
+#[test]
+fn set_method_keeps_the_worlds_newton_settings() {
+    // One Newton iteration cannot converge on a nonlinear orbit step: the setting must
+    // survive a switch of method.
+    let params = WorldParams {
+        dim: 2,
+        method: "rk4".into(),
+        dt: 0.1,
+        implicit: physstep::integrators::ImplicitParams { tol: 1e-12, max_iter: 1 },
+        ..Default::default()
+    };
+    let mut w = World::new(params).unwrap();
+    w.add_particle(&[1.0, 0.0], &[0.0, 1.0], 1.0, false).unwrap();
+    w.add_force(Force::CentralGravity { center: [0.0; 3], gm: 1.0 }).unwrap();
+    w.set_method("backward-euler").unwrap();
+    assert!(matches!(w.step(1), Err(Error::NotConverged { iterations: 1, .. })));
+}
