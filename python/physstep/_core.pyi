@@ -10,6 +10,7 @@ __all__ = [
     "DivergedError",
     "StepError",
     "World",
+    "WorldBusyError",
     "method_info",
     "methods",
     "scenes",
@@ -19,6 +20,9 @@ __all__ = [
 class StepError(RuntimeError): ...
 class DivergedError(StepError): ...
 class ConvergenceError(StepError): ...
+class WorldBusyError(RuntimeError): ...
+
+_Params = dict[str, float] | list[tuple[str, float]] | None
 
 def methods() -> list[dict[str, Any]]: ...
 def method_info(name: str) -> dict[str, Any]: ...
@@ -28,13 +32,13 @@ def simulate(
     method: str,
     dt: float,
     until: float,
-    params: list[tuple[str, float]] | None = None,
+    params: _Params = None,
     *,
-    x0: list[float] | None = None,
-    v0: list[float] | None = None,
-    stages: bool = False,
-    every: int = 1,
-    stop_on_diverge: bool = False,
+    x0: npt.ArrayLike | None = None,
+    v0: npt.ArrayLike | None = None,
+    stages: bool | None = None,
+    every: int | None = None,
+    stop_on_diverge: bool | None = None,
 ) -> dict[str, Any]: ...
 
 @final
@@ -42,19 +46,19 @@ class World:
     def __new__(
         cls,
         dim: int,
-        method: str = "symplectic-euler",
-        dt: float = ...,
-        max_steps_per_frame: int = 8,
-        max_frame_time: float = 0.1,
-        loop: str = "accumulator",
-        substeps: int = 1,
+        method: str | None = None,
+        dt: float | None = None,
+        max_steps_per_frame: int | None = None,
+        max_frame_time: float | None = None,
+        loop: str | None = None,
+        substeps: int | None = None,
     ) -> World: ...
     @staticmethod
     def from_scene(
         name: str,
-        method: str = "symplectic-euler",
-        dt: float = ...,
-        params: list[tuple[str, float]] | None = None,
+        method: str | None = None,
+        dt: float | None = None,
+        params: _Params = None,
     ) -> World: ...
     @property
     def dim(self) -> int: ...
@@ -68,14 +72,14 @@ class World:
     @dt.setter
     def dt(self, dt: float) -> None: ...
     def add_particle(
-        self, position: Any, velocity: Any = None, mass: float = 1.0, static: bool = False
+        self, position: Any, velocity: Any = None, mass: float | None = None, static: bool | None = None
     ) -> int: ...
     def add_particles(
         self,
         positions: npt.ArrayLike,
         velocities: npt.ArrayLike | None = None,
         masses: npt.ArrayLike | None = None,
-        static: bool = False,
+        static: bool | None = None,
     ) -> npt.NDArray[np.int64]: ...
     def add_gravity(self, g: Any) -> None: ...
     def add_spring(
@@ -84,13 +88,13 @@ class World:
         j_or_anchor: Any,
         stiffness: float,
         rest_length: float | None = None,
-        damping: float = 0.0,
+        damping: float | None = None,
     ) -> None: ...
-    def add_drag(self, linear: float = 0.0, quadratic: float = 0.0) -> None: ...
+    def add_drag(self, linear: float | None = None, quadratic: float | None = None) -> None: ...
     def add_central_gravity(self, center: Any, gm: float) -> None: ...
-    def add_nbody_gravity(self, g: float = 1.0, softening: float = 0.0) -> None: ...
+    def add_nbody_gravity(self, g: float | None = None, softening: float | None = None) -> None: ...
     def add_rod(self, i: int, anchor_or_j: Any, length: float) -> None: ...
-    def step(self, n: int = 1) -> None: ...
+    def step(self, n: int | None = None) -> None: ...
     def advance(self, frame_time: float) -> int: ...
     @property
     def alpha(self) -> float: ...
@@ -116,5 +120,7 @@ class World:
     def energy(self) -> float: ...
     def momentum(self) -> npt.NDArray[np.float64]: ...
     def snapshot(self) -> bytes: ...
-    def restore(self, data: bytes) -> None: ...
+    def restore(self, data: bytes | bytearray | memoryview) -> None: ...
     def state_hash(self) -> int: ...
+    def phase_state(self) -> npt.NDArray[np.float64]: ...
+    def set_phase_state(self, z: npt.ArrayLike) -> None: ...

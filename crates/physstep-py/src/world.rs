@@ -1,18 +1,33 @@
 //! `physstep.World`: the engine's world with the names the Python API promises.
+//!
+//! Threading: a World is used by one thread at a time. Its state sits behind a mutex; a call
+//! that finds it taken (another thread is stepping it, or a callback inside its own step
+//! touched it) raises `WorldBusyError` at once rather than wait or corrupt anything. Long
+//! calls (`step`) release the GIL in slices and look for Ctrl-C between them: an interrupt
+//! leaves the world after the last whole step.
 
-use crate::{matrix, py_err};
-use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use crate::convert::{array, bytes, count, float, index, matrix, text, vector, whole};
+use crate::errors::WorldBusyError;
+use crate::py_err;
+use crate::record::SLICE;
+use numpy::{PyArray1, PyArray2};
 use physstep::clock::LoopMode;
 use physstep::forces::{Endpoint, Force};
 use physstep::world::{World as Engine, WorldParams};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyBytes, PyDict};
+use pyo3::types::PyBytes;
+use std::sync::{Mutex, MutexGuard, TryLockError};
+use std::time::Instant;
 
 /// Particles, forces, an integrator and a fixed-timestep game loop.
-#[pyclass(module = "physstep._core")]
+#[pyclass(module = "physstep._core", frozen)]
 pub struct World {
-    inner: Engine,
+    inner: Mutex<Inner>,
+}
+
+struct Inner {
+    engine: Engine,
     /// Particles from `add_particle`, validated and waiting to be added in one batch:
     /// growing the engine's `[x; v]` state one particle at a time moves the velocity half
     /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
@@ -29,87 +44,6 @@ struct Pending {
     fixed: Vec<bool>,
 }
 
-/// A vector argument of `dim` components, named `field` in errors.
-fn vector(field: &str, v: Vec<f64>, dim: usize) -> PyResult<[f64; 3]> {
-    if v.len() != dim {
-        return Err(PyValueError::new_err(format!(
-            "invalid {field} = {v:?}: must have {dim} components (dim = {dim})"
-        )));
-    }
-    let mut out = [0.0; 3];
-    out[..dim].copy_from_slice(&v);
-    Ok(out)
-}
-
-/// A shape as Python prints it: `(4,)`, `(3, 2)`.
-fn shape_text(shape: &[usize]) -> String {
-    match shape {
-        [n] => format!("({n},)"),
-        _ => format!("({})", shape.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ")),
-    }
-}
-
-/// Any array-like (numpy array, nested lists) as float64 numpy data of the wanted shape:
-/// `cols = Some(dim)` for an `(n, dim)` matrix, `None` for a vector; `rows` fixes `n`.
-fn array_arg(
-    obj: &Bound<'_, PyAny>,
-    field: &str,
-    rows: Option<usize>,
-    cols: Option<usize>,
-) -> PyResult<Vec<f64>> {
-    let py = obj.py();
-    let want = match (rows, cols) {
-        (Some(r), Some(c)) => format!("({r}, {c})"),
-        (None, Some(c)) => format!("(n, {c})"),
-        (Some(r), None) => format!("({r},)"),
-        (None, None) => "(n,)".into(),
-    };
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("dtype", "float64")?;
-    let arr = py.import("numpy")?.call_method("ascontiguousarray", (obj,), Some(&kwargs)).map_err(|_| {
-        PyValueError::new_err(format!("invalid {field}: must be an array of numbers of shape {want}"))
-    })?;
-    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
-    let ok = match cols {
-        Some(c) => shape.len() == 2 && shape[1] == c,
-        None => shape.len() == 1,
-    } && rows.is_none_or(|r| shape[0] == r);
-    if !ok {
-        return Err(PyValueError::new_err(format!(
-            "invalid {field} shape {}: must be {want}",
-            shape_text(&shape)
-        )));
-    }
-    let data = if cols.is_some() {
-        arr.extract::<PyReadonlyArray2<'_, f64>>()?.as_array().iter().copied().collect()
-    } else {
-        arr.extract::<PyReadonlyArray1<'_, f64>>()?.as_array().iter().copied().collect()
-    };
-    Ok(data)
-}
-
-/// A particle index argument, named `field` in errors.
-fn index(field: &str, i: i64) -> PyResult<usize> {
-    usize::try_from(i)
-        .map_err(|_| PyValueError::new_err(format!("invalid {field} = {i}: must be a particle index >= 0")))
-}
-
-/// `other` as a particle index or an anchor point.
-fn endpoint(field: &str, other: &Bound<'_, PyAny>, dim: usize) -> PyResult<Endpoint> {
-    if let Ok(j) = other.extract::<i64>() {
-        let j = usize::try_from(j).map_err(|_| {
-            PyValueError::new_err(format!("invalid {field} = {j}: must be a particle index >= 0"))
-        })?;
-        return Ok(Endpoint::Particle(j));
-    }
-    let v: Vec<f64> = other.extract().map_err(|_| {
-        PyValueError::new_err(format!(
-            "invalid {field} = {other}: must be a particle index or an anchor point"
-        ))
-    })?;
-    Ok(Endpoint::Anchor(vector(field, v, dim)?))
-}
-
 fn loop_mode(name: &str, substeps: u32) -> PyResult<LoopMode> {
     Ok(match name {
         "accumulator" => LoopMode::Accumulator,
@@ -119,363 +53,494 @@ fn loop_mode(name: &str, substeps: u32) -> PyResult<LoopMode> {
         "consume-frame" => LoopMode::ConsumeFrame,
         other => {
             return Err(PyValueError::new_err(format!(
-                "unknown loop '{other}'; valid loops: accumulator, step-per-frame, steps-per-frame, frame-time, consume-frame"
+                "unknown loop '{}'; valid loops: accumulator, step-per-frame, steps-per-frame, frame-time, consume-frame",
+                physstep::error::one_line(other)
             )))
         }
     })
 }
 
-impl World {
+impl Inner {
     /// Adds the pending particles to the engine, in runs of equal `static` flag.
-    fn flush(&mut self) -> PyResult<()> {
-        if self.pending.mass.is_empty() {
-            return Ok(());
+    fn flush(&mut self) -> PyResult<&mut Engine> {
+        if !self.pending.mass.is_empty() {
+            let p = std::mem::take(&mut self.pending);
+            let d = self.engine.dim();
+            let mut start = 0;
+            while start < p.mass.len() {
+                let flag = p.fixed[start];
+                let end = (start..p.mass.len()).find(|&i| p.fixed[i] != flag).unwrap_or(p.mass.len());
+                let (xs, vs) = (&p.x[start * d..end * d], &p.v[start * d..end * d]);
+                self.engine.add_particles(xs, Some(vs), Some(&p.mass[start..end]), flag).map_err(py_err)?;
+                start = end;
+            }
         }
-        let p = std::mem::take(&mut self.pending);
-        let d = self.inner.dim();
-        let mut start = 0;
-        while start < p.mass.len() {
-            let flag = p.fixed[start];
-            let end = (start..p.mass.len()).find(|&i| p.fixed[i] != flag).unwrap_or(p.mass.len());
-            let (xs, vs) = (&p.x[start * d..end * d], &p.v[start * d..end * d]);
-            self.inner.add_particles(xs, Some(vs), Some(&p.mass[start..end]), flag).map_err(py_err)?;
-            start = end;
-        }
-        Ok(())
+        Ok(&mut self.engine)
     }
 
     /// Particles in the world, pending ones included.
     fn count(&self) -> usize {
-        self.inner.len() + self.pending.mass.len()
+        self.engine.len() + self.pending.mass.len()
     }
+}
 
-    fn distance(&self, i: usize, j: Endpoint) -> PyResult<f64> {
-        let d = self.inner.dim();
-        let x = self.inner.positions();
-        if i >= self.inner.len() {
+/// Particle `i` and the other end of a spring or rod (`field` names it), checked: indices in
+/// range and distinct, an anchor finite. Returns the ends and their current distance.
+fn ends(
+    w: &Engine,
+    i: &Bound<'_, PyAny>,
+    other: &Bound<'_, PyAny>,
+    field: &str,
+) -> PyResult<(usize, Endpoint, f64)> {
+    let n = w.len();
+    let d = w.dim();
+    let i = index(i, "i")?;
+    if i >= n {
+        return Err(PyValueError::new_err(format!("invalid i = {i}: must be a particle index < {n}")));
+    }
+    let j = if other.extract::<i64>().is_ok() && !other.is_instance_of::<pyo3::types::PyBool>() {
+        let j = index(other, field)?;
+        if j >= n || j == i {
             return Err(PyValueError::new_err(format!(
-                "invalid i = {i}: must be a particle index < {}",
-                self.inner.len()
+                "invalid {field} = {j}: must be a particle index < {n} other than i = {i}, or an anchor point"
             )));
         }
-        let other: Vec<f64> = match j {
-            Endpoint::Particle(j) if j < self.inner.len() => x[j * d..(j + 1) * d].to_vec(),
-            Endpoint::Particle(j) => {
-                return Err(PyValueError::new_err(format!(
-                    "invalid j = {j}: must be a particle index < {}",
-                    self.inner.len()
-                )))
-            }
-            Endpoint::Anchor(p) => p[..d].to_vec(),
-        };
-        Ok(x[i * d..(i + 1) * d].iter().zip(&other).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt())
+        Endpoint::Particle(j)
+    } else {
+        Endpoint::Anchor(vector(other, field, d)?)
+    };
+    let x = w.positions();
+    let xj: Vec<f64> = match j {
+        Endpoint::Particle(j) => x[j * d..(j + 1) * d].to_vec(),
+        Endpoint::Anchor(p) => p[..d].to_vec(),
+    };
+    let r = x[i * d..(i + 1) * d].iter().zip(&xj).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+    Ok((i, j, r))
+}
+
+impl World {
+    /// The state, or `WorldBusyError` when another thread (or a callback of this world's own
+    /// step) holds it.
+    fn lock(&self) -> PyResult<MutexGuard<'_, Inner>> {
+        match self.inner.try_lock() {
+            Ok(g) => Ok(g),
+            Err(TryLockError::WouldBlock) => Err(WorldBusyError::new_err(
+                "this World is in use by another thread (a World serves one thread at a time: \
+                 give each thread its own World, or guard it with a lock)",
+            )),
+            // A panic cannot happen inside (every engine call returns a Result); were it to,
+            // the data is still whole, so go on with it.
+            Err(TryLockError::Poisoned(p)) => Ok(p.into_inner()),
+        }
+    }
+
+    fn wrap(engine: Engine) -> Self {
+        Self { inner: Mutex::new(Inner { engine, pending: Pending::default() }) }
     }
 }
 
 #[pymethods]
 impl World {
     #[new]
-    #[pyo3(signature = (dim, method="symplectic-euler", dt=1.0/120.0, max_steps_per_frame=8, max_frame_time=0.1, r#loop="accumulator", substeps=1))]
+    #[pyo3(signature = (dim, method=None, dt=None, max_steps_per_frame=None, max_frame_time=None, r#loop=None, substeps=None))]
     fn new(
-        dim: i64,
-        method: &str,
-        dt: f64,
-        max_steps_per_frame: i64,
-        max_frame_time: f64,
-        r#loop: &str,
-        substeps: i64,
+        dim: &Bound<'_, PyAny>,
+        method: Option<Bound<'_, PyAny>>,
+        dt: Option<&Bound<'_, PyAny>>,
+        max_steps_per_frame: Option<&Bound<'_, PyAny>>,
+        max_frame_time: Option<&Bound<'_, PyAny>>,
+        r#loop: Option<&Bound<'_, PyAny>>,
+        substeps: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let dim = usize::try_from(dim)
-            .map_err(|_| PyValueError::new_err(format!("invalid dim = {dim}: must be 1, 2 or 3")))?;
-        let max_steps = u32::try_from(max_steps_per_frame).map_err(|_| {
-            PyValueError::new_err(format!(
-                "invalid max_steps_per_frame = {max_steps_per_frame}: must be at least 1"
-            ))
-        })?;
-        let substeps = u32::try_from(substeps).map_err(|_| {
-            PyValueError::new_err(format!("invalid substeps = {substeps}: must be at least 1"))
-        })?;
-        let params = WorldParams {
-            dim,
-            method: method.into(),
-            dt,
-            mode: loop_mode(r#loop, substeps)?,
-            max_steps_per_frame: max_steps,
-            max_frame_time,
-            ..WorldParams::default()
+        let defaults = WorldParams::default();
+        let dim = whole(dim, "dim", 1, 3)? as usize;
+        let method = match method {
+            Some(m) => text(&m, "method")?,
+            None => defaults.method.clone(),
         };
-        Ok(Self { inner: Engine::new(params).map_err(py_err)?, pending: Pending::default() })
+        let num = |o: Option<&Bound<'_, PyAny>>, f: &str, d: f64| o.map_or(Ok(d), |o| float(o, f));
+        let dt = num(dt, "dt", defaults.dt)?;
+        let max_frame_time = num(max_frame_time, "max_frame_time", defaults.max_frame_time)?;
+        let cap = |o: Option<&Bound<'_, PyAny>>, f: &str, d: u32| {
+            o.map_or(Ok(d), |o| whole(o, f, 1, i64::from(u32::MAX)).map(|v| v as u32))
+        };
+        let max_steps = cap(max_steps_per_frame, "max_steps_per_frame", defaults.max_steps_per_frame)?;
+        let substeps = cap(substeps, "substeps", 1)?;
+        let mode = match r#loop {
+            Some(l) => loop_mode(&text(l, "loop")?, substeps)?,
+            None => loop_mode("accumulator", substeps)?,
+        };
+        let params =
+            WorldParams { dim, method, dt, mode, max_steps_per_frame: max_steps, max_frame_time, ..defaults };
+        Ok(Self::wrap(Engine::new(params).map_err(py_err)?))
     }
 
-    /// A world built from a built-in scene.
+    /// A world built from a built-in scene; `params` is a dict of parameter overrides.
     #[staticmethod]
-    #[pyo3(signature = (name, method="symplectic-euler", dt=1.0/120.0, params=None))]
-    fn from_scene(name: &str, method: &str, dt: f64, params: Option<Vec<(String, f64)>>) -> PyResult<Self> {
-        let params = params.unwrap_or_default();
+    #[pyo3(signature = (name, method=None, dt=None, params=None))]
+    fn from_scene(
+        name: &Bound<'_, PyAny>,
+        method: Option<&Bound<'_, PyAny>>,
+        dt: Option<&Bound<'_, PyAny>>,
+        params: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let name = text(name, "name")?;
+        let method = method.map_or(Ok("symplectic-euler".to_string()), |m| text(m, "method"))?;
+        let dt = dt.map_or(Ok(WorldParams::default().dt), |d| float(d, "dt"))?;
+        let params = crate::convert::params(params)?;
         let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-        let scene = physstep::scenes::build(name, &overrides, method, dt).map_err(py_err)?;
-        Ok(Self { inner: scene.world, pending: Pending::default() })
+        let scene = physstep::scenes::build(&name, &overrides, &method, dt).map_err(py_err)?;
+        Ok(Self::wrap(scene.world))
     }
 
     /// Spatial dimensions.
     #[getter]
-    fn dim(&self) -> usize {
-        self.inner.dim()
+    fn dim(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.dim())
     }
 
-    fn __len__(&self) -> usize {
-        self.count()
+    fn __len__(&self) -> PyResult<usize> {
+        Ok(self.lock()?.count())
     }
 
-    fn __repr__(&self) -> String {
-        format!(
+    fn __repr__(&self) -> PyResult<String> {
+        let g = self.lock()?;
+        let w = &g.engine;
+        Ok(format!(
             "World(dim={}, particles={}, method='{}', dt={}, time={})",
-            self.inner.dim(),
-            self.count(),
-            self.inner.integrator().info().name,
-            self.inner.dt(),
-            self.inner.time()
-        )
+            w.dim(),
+            g.count(),
+            w.integrator().info().name,
+            w.dt(),
+            w.time()
+        ))
     }
 
     /// The integrator's registry name; assign a name to switch.
     #[getter]
-    fn method(&self) -> &'static str {
-        self.inner.integrator().info().name
+    fn method(&self) -> PyResult<&'static str> {
+        Ok(self.lock()?.engine.integrator().info().name)
     }
 
     #[setter]
-    fn set_method(&mut self, name: &str) -> PyResult<()> {
-        self.inner.set_method(name).map_err(py_err)
+    fn set_method(&self, name: &Bound<'_, PyAny>) -> PyResult<()> {
+        let name = text(name, "method")?;
+        self.lock()?.engine.set_method(&name).map_err(py_err)
     }
 
     /// The fixed step, s; assign to change it.
     #[getter]
-    fn dt(&self) -> f64 {
-        self.inner.dt()
+    fn dt(&self) -> PyResult<f64> {
+        Ok(self.lock()?.engine.dt())
     }
 
     #[setter]
-    fn set_dt(&mut self, dt: f64) -> PyResult<()> {
-        self.inner.set_dt(dt).map_err(py_err)
+    fn set_dt(&self, dt: &Bound<'_, PyAny>) -> PyResult<()> {
+        let dt = float(dt, "dt")?;
+        self.lock()?.engine.set_dt(dt).map_err(py_err)
     }
 
-    #[pyo3(signature = (position, velocity=None, mass=1.0, r#static=false))]
+    #[pyo3(signature = (position, velocity=None, mass=None, r#static=None))]
     fn add_particle(
-        &mut self,
-        position: Vec<f64>,
-        velocity: Option<Vec<f64>>,
-        mass: f64,
-        r#static: bool,
+        &self,
+        position: &Bound<'_, PyAny>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        mass: Option<&Bound<'_, PyAny>>,
+        r#static: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        let d = self.inner.dim();
-        let position = vector("position", position, d)?;
-        let velocity = vector("velocity", velocity.unwrap_or_else(|| vec![0.0; d]), d)?;
+        let mut g = self.lock()?;
+        let d = g.engine.dim();
+        let position = vector(position, "position", d)?;
+        let velocity = match velocity.filter(|v| !v.is_none()) {
+            Some(v) => vector(v, "velocity", d)?,
+            None => [0.0; 3],
+        };
+        let mass = mass.map_or(Ok(1.0), |m| float(m, "mass"))?;
+        let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
         if !mass.is_finite() {
             // An infinite mass may clash with n-body gravity, whose error names the index
             // the particle would get: count the pending ones in first.
-            self.flush()?;
+            g.flush()?;
         }
-        self.inner.check_particles(&position[..d], Some(&velocity[..d]), Some(&[mass])).map_err(py_err)?;
-        let i = self.count();
-        self.pending.x.extend_from_slice(&position[..d]);
-        self.pending.v.extend_from_slice(&velocity[..d]);
-        self.pending.mass.push(mass);
-        self.pending.fixed.push(r#static);
+        g.engine.check_particles(&position[..d], Some(&velocity[..d]), Some(&[mass])).map_err(py_err)?;
+        let i = g.count();
+        g.pending.x.extend_from_slice(&position[..d]);
+        g.pending.v.extend_from_slice(&velocity[..d]);
+        g.pending.mass.push(mass);
+        g.pending.fixed.push(fixed);
         Ok(i)
     }
 
-    #[pyo3(signature = (positions, velocities=None, masses=None, r#static=false))]
+    #[pyo3(signature = (positions, velocities=None, masses=None, r#static=None))]
     fn add_particles<'py>(
-        &mut self,
+        &self,
         py: Python<'py>,
         positions: &Bound<'py, PyAny>,
         velocities: Option<&Bound<'py, PyAny>>,
         masses: Option<&Bound<'py, PyAny>>,
-        r#static: bool,
+        r#static: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        self.flush()?;
-        let d = self.inner.dim();
-        let x = array_arg(positions, "positions", None, Some(d))?;
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let d = w.dim();
+        let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
+        let x = array(positions, "positions", None, Some(d))?;
         let k = x.len() / d;
-        let v = velocities.map(|v| array_arg(v, "velocities", Some(k), Some(d))).transpose()?;
-        let m = masses.map(|m| array_arg(m, "masses", Some(k), None)).transpose()?;
-        let first = self.inner.add_particles(&x, v.as_deref(), m.as_deref(), r#static).map_err(py_err)?;
+        let v = velocities
+            .filter(|v| !v.is_none())
+            .map(|v| array(v, "velocities", Some(k), Some(d)))
+            .transpose()?;
+        let m = masses.filter(|m| !m.is_none()).map(|m| array(m, "masses", Some(k), None)).transpose()?;
+        let first = w.add_particles(&x, v.as_deref(), m.as_deref(), fixed).map_err(py_err)?;
         Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
     }
 
-    fn add_gravity(&mut self, g: Vec<f64>) -> PyResult<()> {
-        self.flush()?;
-        let g = vector("g", g, self.inner.dim())?;
-        self.inner.add_force(Force::Gravity { g }).map_err(py_err)
+    fn add_gravity(&self, g: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut guard = self.lock()?;
+        let w = guard.flush()?;
+        let g = vector(g, "g", w.dim())?;
+        w.add_force(Force::Gravity { g }).map_err(py_err)
     }
 
-    #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=0.0))]
+    #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=None))]
     fn add_spring(
-        &mut self,
-        i: i64,
+        &self,
+        i: &Bound<'_, PyAny>,
         j_or_anchor: &Bound<'_, PyAny>,
-        stiffness: f64,
-        rest_length: Option<f64>,
-        damping: f64,
+        stiffness: &Bound<'_, PyAny>,
+        rest_length: Option<&Bound<'_, PyAny>>,
+        damping: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        self.flush()?;
-        let i = index("i", i)?;
-        let j = endpoint("j_or_anchor", j_or_anchor, self.inner.dim())?;
-        let rest_length = match rest_length {
-            Some(r) => r,
-            None => self.distance(i, j)?,
+        let mut guard = self.lock()?;
+        let w = guard.flush()?;
+        let (i, j, r) = ends(w, i, j_or_anchor, "j_or_anchor")?;
+        let stiffness = float(stiffness, "stiffness")?;
+        let rest_length = match rest_length.filter(|r| !r.is_none()) {
+            Some(r) => float(r, "rest_length")?,
+            None => r,
         };
-        self.inner.add_force(Force::Spring { i, j, stiffness, rest_length, damping }).map_err(py_err)
+        let damping = damping.map_or(Ok(0.0), |c| float(c, "damping"))?;
+        w.add_force(Force::Spring { i, j, stiffness, rest_length, damping }).map_err(py_err)
     }
 
-    #[pyo3(signature = (linear=0.0, quadratic=0.0))]
-    fn add_drag(&mut self, linear: f64, quadratic: f64) -> PyResult<()> {
-        self.flush()?;
-        self.inner.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
+    #[pyo3(signature = (linear=None, quadratic=None))]
+    fn add_drag(
+        &self,
+        linear: Option<&Bound<'_, PyAny>>,
+        quadratic: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let linear = linear.map_or(Ok(0.0), |c| float(c, "linear"))?;
+        let quadratic = quadratic.map_or(Ok(0.0), |c| float(c, "quadratic"))?;
+        let mut g = self.lock()?;
+        g.flush()?.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
     }
 
-    fn add_central_gravity(&mut self, center: Vec<f64>, gm: f64) -> PyResult<()> {
-        self.flush()?;
-        let center = vector("center", center, self.inner.dim())?;
-        self.inner.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
+    fn add_central_gravity(&self, center: &Bound<'_, PyAny>, gm: &Bound<'_, PyAny>) -> PyResult<()> {
+        let gm = float(gm, "gm")?;
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let center = vector(center, "center", w.dim())?;
+        w.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
     }
 
-    #[pyo3(signature = (g=1.0, softening=0.0))]
-    fn add_nbody_gravity(&mut self, g: f64, softening: f64) -> PyResult<()> {
-        self.flush()?;
-        self.inner.add_force(Force::NBody { g, softening }).map_err(py_err)
+    #[pyo3(signature = (g=None, softening=None))]
+    fn add_nbody_gravity(
+        &self,
+        g: Option<&Bound<'_, PyAny>>,
+        softening: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let gval = g.map_or(Ok(1.0), |g| float(g, "g"))?;
+        let softening = softening.map_or(Ok(0.0), |s| float(s, "softening"))?;
+        let mut guard = self.lock()?;
+        guard.flush()?.add_force(Force::NBody { g: gval, softening }).map_err(py_err)
     }
 
-    fn add_rod(&mut self, i: i64, anchor_or_j: &Bound<'_, PyAny>, length: f64) -> PyResult<()> {
-        self.flush()?;
-        let i = index("i", i)?;
-        let j = endpoint("anchor_or_j", anchor_or_j, self.inner.dim())?;
+    fn add_rod(
+        &self,
+        i: &Bound<'_, PyAny>,
+        anchor_or_j: &Bound<'_, PyAny>,
+        length: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let mut guard = self.lock()?;
+        let w = guard.flush()?;
+        let (i, j, r) = ends(w, i, anchor_or_j, "anchor_or_j")?;
+        let length = float(length, "length")?;
         if !(length.is_finite() && length > 0.0) {
             return Err(PyValueError::new_err(format!(
                 "invalid length = {length}: must be a finite number > 0"
             )));
         }
-        let r = self.distance(i, j)?;
         if (r - length).abs() > 1e-9 * length {
             return Err(PyValueError::new_err(format!(
                 "invalid length = {length}: must equal the current distance {r} between the rod's ends (move the particle first)"
             )));
         }
-        self.inner.add_force(Force::Rod { i, j, length }).map_err(py_err)
+        w.add_force(Force::Rod { i, j, length }).map_err(py_err)
     }
 
     /// Takes n fixed steps. Raises DivergedError/ConvergenceError if a step fails (that step
-    /// is rolled back).
-    #[pyo3(signature = (n=1))]
-    fn step(&mut self, py: Python<'_>, n: i64) -> PyResult<()> {
-        self.flush()?;
-        let n =
-            u64::try_from(n).map_err(|_| PyValueError::new_err(format!("invalid n = {n}: must be >= 0")))?;
-        let inner = &mut self.inner;
-        py.detach(|| inner.step(n)).map_err(py_err)
+    /// is rolled back, the steps before it stay taken); Ctrl-C stops after a whole step.
+    #[pyo3(signature = (n=None))]
+    fn step(&self, py: Python<'_>, n: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let mut left = n.map_or(Ok(1), |n| count(n, "n"))?;
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        while left > 0 {
+            let taken = py.detach(|| -> physstep::Result<u64> {
+                let start = Instant::now();
+                let mut k = 0;
+                while k < left {
+                    let chunk = (left - k).min(64);
+                    w.step(chunk)?;
+                    k += chunk;
+                    if start.elapsed() > SLICE {
+                        break;
+                    }
+                }
+                Ok(k)
+            });
+            left -= taken.map_err(py_err)?;
+            if left > 0 {
+                py.check_signals()?;
+            }
+        }
+        Ok(())
     }
 
     /// Runs one frame of the game loop; returns the number of fixed steps taken.
-    fn advance(&mut self, frame_time: f64) -> PyResult<u32> {
-        self.flush()?;
-        Ok(self.inner.advance(frame_time).map_err(py_err)?.plan.steps)
+    fn advance(&self, frame_time: &Bound<'_, PyAny>) -> PyResult<u32> {
+        let frame_time = float(frame_time, "frame_time")?;
+        let mut g = self.lock()?;
+        Ok(g.flush()?.advance(frame_time).map_err(py_err)?.plan.steps)
     }
 
     /// Render interpolation factor in [0, 1).
     #[getter]
-    fn alpha(&self) -> f64 {
-        self.inner.alpha()
+    fn alpha(&self) -> PyResult<f64> {
+        Ok(self.lock()?.engine.alpha())
     }
 
     /// Totals of the game loop: frames, steps, clamped and dropped time (s).
     #[getter]
-    fn clock_stats(&self) -> (u64, u64, f64, f64) {
-        let s = self.inner.clock().stats();
-        (s.frames, s.steps, s.clamped, s.dropped)
+    fn clock_stats(&self) -> PyResult<(u64, u64, f64, f64)> {
+        let s = self.lock()?.engine.clock().stats();
+        Ok((s.frames, s.steps, s.clamped, s.dropped))
     }
 
-    fn interpolated_positions<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.flush()?;
-        matrix(py, self.inner.interpolated_positions(), self.inner.dim())
+    fn interpolated_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        matrix(py, w.interpolated_positions(), w.dim())
     }
 
     /// Positions (n, dim), m: a copy; assign an array to move the particles.
     #[getter]
-    fn positions<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.flush()?;
-        matrix(py, self.inner.positions().to_vec(), self.inner.dim())
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        matrix(py, w.positions().to_vec(), w.dim())
     }
 
     #[setter(positions)]
-    fn set_positions(&mut self, x: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.flush()?;
-        let x = array_arg(x, "positions", Some(self.inner.len()), Some(self.inner.dim()))?;
-        self.inner.set_positions(&x).map_err(py_err)
+    fn set_positions(&self, x: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let x = array(x, "positions", Some(w.len()), Some(w.dim()))?;
+        w.set_positions(&x).map_err(py_err)
     }
 
     /// Velocities (n, dim), m/s: a copy; assign an array to change them.
     #[getter]
-    fn velocities<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.flush()?;
-        matrix(py, self.inner.velocities().to_vec(), self.inner.dim())
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        matrix(py, w.velocities().to_vec(), w.dim())
     }
 
     #[setter(velocities)]
-    fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.flush()?;
-        let v = array_arg(v, "velocities", Some(self.inner.len()), Some(self.inner.dim()))?;
-        self.inner.set_velocities(&v).map_err(py_err)
+    fn set_velocities(&self, v: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let v = array(v, "velocities", Some(w.len()), Some(w.dim()))?;
+        w.set_velocities(&v).map_err(py_err)
     }
 
     /// Accelerations at the current state (n, dim), m/s^2.
     #[getter]
-    fn accelerations<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.flush()?;
-        let dim = self.inner.dim();
-        matrix(py, self.inner.accelerations().to_vec(), dim)
+    fn accelerations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let dim = w.dim();
+        matrix(py, w.accelerations().to_vec(), dim)
     }
 
     /// Physics time, s.
     #[getter]
-    fn time(&self) -> f64 {
-        self.inner.time()
+    fn time(&self) -> PyResult<f64> {
+        Ok(self.lock()?.engine.time())
     }
 
     /// Steps taken.
     #[getter]
-    fn steps(&self) -> u64 {
-        self.inner.steps()
+    fn steps(&self) -> PyResult<u64> {
+        Ok(self.lock()?.engine.steps())
     }
 
     /// Force evaluations made.
     #[getter]
-    fn evals(&self) -> u64 {
-        self.inner.evals()
+    fn evals(&self) -> PyResult<u64> {
+        Ok(self.lock()?.engine.evals())
     }
 
-    fn energy(&mut self) -> PyResult<f64> {
-        self.flush()?;
-        Ok(self.inner.energy())
+    fn energy(&self) -> PyResult<f64> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let e = w.energy();
+        if !e.is_finite() {
+            return Err(py_err(physstep::Error::NonFinite {
+                method: w.integrator().info().name.into(),
+                quantity: "energy".into(),
+                value: e,
+                step: w.steps(),
+                t: w.time(),
+            }));
+        }
+        Ok(e)
     }
 
-    fn momentum<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.flush()?;
-        Ok(PyArray1::from_vec(py, self.inner.momentum()))
+    fn momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let mut g = self.lock()?;
+        Ok(PyArray1::from_vec(py, g.flush()?.momentum()))
     }
 
-    fn snapshot<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        self.flush()?;
-        Ok(PyBytes::new(py, &self.inner.snapshot()))
+    fn snapshot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let mut g = self.lock()?;
+        Ok(PyBytes::new(py, &g.flush()?.snapshot()))
     }
 
-    fn restore(&mut self, data: &[u8]) -> PyResult<()> {
-        self.flush()?;
-        self.inner.restore(data).map_err(py_err)
+    fn restore(&self, data: &Bound<'_, PyAny>) -> PyResult<()> {
+        let data = bytes(data, "data")?;
+        let mut g = self.lock()?;
+        g.flush()?.restore(&data).map_err(py_err)
     }
 
-    fn state_hash(&mut self) -> PyResult<u64> {
-        self.flush()?;
-        Ok(self.inner.state_hash())
+    fn state_hash(&self) -> PyResult<u64> {
+        let mut g = self.lock()?;
+        Ok(g.flush()?.state_hash())
+    }
+
+    /// The vector the step map acts on: positions and velocities (flat), then the vector
+    /// part of the integrator's memory (Verlet's previous positions, leapfrog's half-step
+    /// velocities). For linearising a step, as `physstep.lab.stability` does.
+    fn phase_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let mut g = self.lock()?;
+        Ok(PyArray1::from_vec(py, g.flush()?.phase()))
+    }
+
+    /// Sets what `phase_state()` returns, without restarting the integrator.
+    fn set_phase_state(&self, z: &Bound<'_, PyAny>) -> PyResult<()> {
+        let z = array(z, "phase", None, None)?;
+        let mut g = self.lock()?;
+        g.flush()?.set_phase(&z).map_err(py_err)
     }
 }

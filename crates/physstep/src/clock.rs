@@ -79,6 +79,17 @@ impl ClockParams {
     pub fn validate(&self) -> Result<()> {
         positive("dt", self.dt)?;
         positive("max_frame_time", self.max_frame_time)?;
+        // The accumulator counts a frame's steps as a float: past 2^53 steps per frame the
+        // count is no longer exact (and a subnormal dt overflows it), so the loop could not
+        // progress. The bound also keeps `dt / substeps` a usable step.
+        let min_dt = self.max_frame_time / MAX_FRAME_STEPS;
+        if self.dt < min_dt {
+            return Err(Error::invalid(
+                "dt",
+                crate::error::num(self.dt),
+                format!("at least max_frame_time / 2^53 = {min_dt:e} s, so a frame's steps can be counted"),
+            ));
+        }
         if self.max_steps_per_frame == 0 {
             return Err(Error::invalid("max_steps_per_frame", 0, "at least 1"));
         }
@@ -88,6 +99,9 @@ impl ClockParams {
         Ok(())
     }
 }
+
+/// Most steps one frame's time may hold: 2^53, the last exact integer of an f64.
+const MAX_FRAME_STEPS: f64 = 9_007_199_254_740_992.0;
 
 /// What one frame asks of the physics.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -589,11 +603,26 @@ mod tests {
     }
 
     #[test]
-    fn tiny_dt_does_not_loop_or_overflow() {
-        let mut c = Clock::new(ClockParams { dt: 1e-300, ..ClockParams::default() }).unwrap();
-        let plan = c.frame(0.1).unwrap();
-        assert_eq!(plan.steps, 8);
-        assert!(plan.dropped > 0.09 && plan.dropped.is_finite());
-        assert!(c.alpha() < 1.0);
+    fn smallest_dt_still_progresses_every_frame() {
+        // The smallest dt accepted: a frame's steps are still counted exactly, and the loop
+        // takes its capped steps frame after frame with a finite dropped time.
+        let dt = 0.1 / MAX_FRAME_STEPS;
+        let mut c = Clock::new(ClockParams { dt, ..ClockParams::default() }).unwrap();
+        for _ in 0..3 {
+            let plan = c.frame(0.1).unwrap();
+            assert_eq!(plan.steps, 8);
+            assert!(plan.dropped > 0.09 && plan.dropped.is_finite());
+            assert!(c.alpha() < 1.0);
+        }
+    }
+
+    #[test]
+    fn a_dt_whose_frames_cannot_be_counted_is_refused() {
+        // Issue 7, item 18: dt = 1e-310 took 8 steps, then none ever again (dropped = inf).
+        for dt in [1e-310, 1e-300, 0.1 / MAX_FRAME_STEPS / 2.0] {
+            let e = Clock::new(ClockParams { dt, ..ClockParams::default() }).unwrap_err();
+            assert!(e.to_string().starts_with("invalid dt = "), "{e}");
+            assert!(e.to_string().contains("max_frame_time / 2^53"), "{e}");
+        }
     }
 }

@@ -56,6 +56,20 @@ pub enum Error {
         /// Final residual (max norm).
         residual: f64,
     },
+    /// A quantity derived from a finite state (the energy) is not finite: the run cannot be
+    /// reported faithfully past this point.
+    NonFinite {
+        /// The method.
+        method: String,
+        /// What is not finite (`energy`).
+        quantity: String,
+        /// Its value.
+        value: f64,
+        /// Steps taken when it was seen.
+        step: u64,
+        /// Time then, s.
+        t: f64,
+    },
     /// Serialised state that cannot be read back (snapshot from another world or corrupted).
     Corrupt {
         /// What was wrong.
@@ -81,26 +95,46 @@ impl Error {
     }
 }
 
+impl Error {
+    /// Whether this is a step that failed (diverged, did not converge, or left a non-finite
+    /// derived quantity), as opposed to bad input.
+    #[must_use]
+    pub fn is_step_failure(&self) -> bool {
+        matches!(self, Self::Diverged { .. } | Self::NotConverged { .. } | Self::NonFinite { .. })
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::InvalidValue { field, value, expected } => {
-                write!(f, "invalid {field} = {value}: must be {expected}")
+                write!(f, "invalid {} = {}: must be {expected}", one_line(field), one_line(value))
             }
             Self::UnknownName { kind, name, valid } => {
-                write!(f, "unknown {kind} '{name}'; valid {kind}s: {}", valid.join(", "))
+                // Escaped, so a name with a newline or a quote still makes one line.
+                write!(f, "unknown {kind} '{}'; valid {kind}s: {}", one_line(name), valid.join(", "))
             }
             Self::Unsupported { method, reason } => write!(f, "method '{method}' {reason}"),
             Self::Diverged { method, step, t, index, particle } => {
                 write!(f, "method '{method}' diverged at step {step} (t = {t}): ")?;
                 match particle {
-                    Some(p) => write!(f, "particle {p} became non-finite; state rolled back"),
-                    None => write!(f, "coordinate {index} became non-finite; state rolled back"),
+                    Some(p) => write!(
+                        f,
+                        "particle {p} became non-finite or ran away (|value| > 1e100); state rolled back"
+                    ),
+                    None => write!(
+                        f,
+                        "coordinate {index} became non-finite or ran away (|value| > 1e100); state rolled back"
+                    ),
                 }
             }
             Self::NotConverged { method, iterations, residual } => write!(
                 f,
                 "method '{method}': Newton iteration did not converge in {iterations} iterations (residual {residual:e}); state rolled back"
+            ),
+            Self::NonFinite { method, quantity, value, step, t } => write!(
+                f,
+                "method '{method}' diverged: the {quantity} is {value} after step {step} (t = {t}); the run stops there"
             ),
             Self::Corrupt { reason } => write!(f, "corrupt snapshot: {reason}"),
         }
@@ -112,6 +146,24 @@ impl std::error::Error for Error {}
 /// Result with the engine's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
+/// `s` on one line: control characters (a newline in a name) shown as escapes (`\n`), the
+/// rest as it is, so every message stays one line.
+#[must_use]
+pub fn one_line(s: &str) -> String {
+    s.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
+}
+
+/// A number as messages show it: plain where that is short (`0.25`, `-3`, `1000`), with an
+/// exponent where plain digits would run long (`1e-300`, `2.5e20`), NaN and inf as words.
+#[must_use]
+pub fn num(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e16).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// Checks that `value` is finite, naming `field` otherwise.
 ///
 /// # Errors
@@ -120,7 +172,7 @@ pub fn finite(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "finite"))
+        Err(Error::invalid(field, num(value), "finite"))
     }
 }
 
@@ -132,7 +184,7 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::invalid(field, value, "a finite number > 0"))
+        Err(Error::invalid(field, num(value), "a finite number > 0"))
     }
 }
 
@@ -143,6 +195,6 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
 pub fn all_finite(field: &str, values: &[f64]) -> Result<()> {
     match values.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
-        Some(i) => Err(Error::invalid(format!("{field}[{i}]"), values[i], "finite")),
+        Some(i) => Err(Error::invalid(format!("{field}[{i}]"), num(values[i]), "finite")),
     }
 }

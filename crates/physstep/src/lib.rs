@@ -23,6 +23,7 @@ pub mod dynamics;
 pub mod error;
 pub mod forces;
 pub mod integrators;
+pub mod record;
 pub mod scenes;
 pub mod world;
 

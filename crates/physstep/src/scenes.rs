@@ -6,14 +6,21 @@ use crate::error::{Error, Result};
 use crate::forces::{Endpoint, Force};
 use crate::world::{World, WorldParams};
 
+/// Largest magnitude of a scene parameter. Bounds keep every accepted scene representable:
+/// squares, cubes and products of parameters (r^2 in gravity, k x^2 in an energy) neither
+/// overflow nor underflow to zero, so no accepted value drops physics in silence.
+pub const PARAM_MAX: f64 = 1e12;
+/// Smallest magnitude of a nonzero size parameter (mass, length, stiffness).
+pub const PARAM_MIN: f64 = 1e-12;
+
 /// What a parameter may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Rule {
-    /// Any finite number.
+    /// A number in [-1e12, 1e12].
     Any,
-    /// A finite number > 0.
+    /// A number in [1e-12, 1e12].
     Positive,
-    /// A finite number >= 0.
+    /// 0, or a number in [1e-12, 1e12].
     NonNegative,
     /// A whole number >= 1.
     Count,
@@ -238,16 +245,8 @@ impl Scene {
                 (vec![r * s, sign * r * c], vec![r * w * c, -sign * r * w * s])
             }
             Exact::Kepler { e } => {
-                // Mean anomaly M = t (n = 1); solve M = E - e sin E by Newton.
-                let m = t;
-                let mut big_e = if e < 0.8 { m } else { std::f64::consts::PI };
-                for _ in 0..60 {
-                    let d = (big_e - e * big_e.sin() - m) / (1.0 - e * big_e.cos());
-                    big_e -= d;
-                    if d.abs() < 1e-15 {
-                        break;
-                    }
-                }
+                // Mean anomaly M = t (n = 1).
+                let big_e = eccentric_anomaly(e, t);
                 let (s, c) = big_e.sin_cos();
                 let b = (1.0 - e * e).sqrt();
                 let de = 1.0 / (1.0 - e * c);
@@ -255,6 +254,49 @@ impl Scene {
             }
         })
     }
+}
+
+/// Solves Kepler's equation `M = E - e sin E` for the eccentric anomaly, any `e` in [0, 1)
+/// and any `M`; the result is `E` reduced to [-pi, pi] (only its sine and cosine are used).
+///
+/// `M` is first reduced to [-pi, pi] (the equation is 2 pi periodic: E + 2 pi solves
+/// M + 2 pi) and, by the odd symmetry, to [0, pi], where the root lies in [M, M + e]
+/// (E - M = e sin E is in [0, e] there) and g(E) = E - e sin E - M is increasing and convex.
+/// Newton from the upper end of that bracket then converges monotonically for every e < 1
+/// (no overshoot on a convex increasing function started right of the root); a bisection
+/// fallback keeps every iterate inside the bracket regardless.
+#[must_use]
+pub fn eccentric_anomaly(e: f64, m: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let mut m = m.rem_euclid(TAU);
+    if m > PI {
+        m -= TAU;
+    }
+    let (sign, m) = if m < 0.0 { (-1.0, -m) } else { (1.0, m) };
+    let (mut lo, mut hi) = (m, (m + e).min(PI));
+    let mut x = hi;
+    for _ in 0..200 {
+        let g = x - e * x.sin() - m;
+        if g == 0.0 {
+            break;
+        }
+        if g > 0.0 {
+            hi = x;
+        } else {
+            lo = x;
+        }
+        let dg = 1.0 - e * x.cos();
+        let mut next = x - g / dg;
+        if !(next > lo && next < hi) {
+            next = 0.5 * (lo + hi);
+        }
+        if next == x || hi - lo <= 2.0 * f64::EPSILON * hi.max(1.0) {
+            x = next;
+            break;
+        }
+        x = next;
+    }
+    sign * x
 }
 
 /// The damped oscillator `x'' + 2 zeta w0 x' + w0^2 x = 0` at time `t`, all three regimes.
@@ -303,23 +345,23 @@ pub fn resolve(spec: &SceneSpec, overrides: &[(&str, f64)]) -> Result<Vec<f64>> 
             .position(|p| p.name == *name)
             .ok_or_else(|| Error::unknown("param", name, spec.params.iter().map(|p| p.name)))?;
         let rule = spec.params[i].rule;
-        let ok = value.is_finite()
-            && match rule {
-                Rule::Any => true,
-                Rule::Positive => *value > 0.0,
-                Rule::NonNegative => *value >= 0.0,
-                Rule::Count => *value >= 1.0 && value.fract() == 0.0 && *value <= 1e6,
-                Rule::Fraction => (0.0..1.0).contains(value),
-            };
+        let size = (PARAM_MIN..=PARAM_MAX).contains(value);
+        let ok = match rule {
+            Rule::Any => value.abs() <= PARAM_MAX,
+            Rule::Positive => size,
+            Rule::NonNegative => *value == 0.0 || size,
+            Rule::Count => *value >= 1.0 && value.fract() == 0.0 && *value <= 1e6,
+            Rule::Fraction => (0.0..1.0).contains(value),
+        };
         if !ok {
             let expected = match rule {
-                Rule::Any => "finite",
-                Rule::Positive => "a finite number > 0",
-                Rule::NonNegative => "a finite number >= 0",
+                Rule::Any => "a number in [-1e12, 1e12]",
+                Rule::Positive => "a number in [1e-12, 1e12]",
+                Rule::NonNegative => "0 or a number in [1e-12, 1e12]",
                 Rule::Count => "a whole number from 1 to 1000000",
                 Rule::Fraction => "in [0, 1)",
             };
-            return Err(Error::invalid(*name, value, expected));
+            return Err(Error::invalid(*name, crate::error::num(*value), expected));
         }
         values[i] = *value;
     }

@@ -369,7 +369,7 @@ fn logged_and_plain_steps_agree() {
 
 #[test]
 fn stiff_explicit_euler_diverges_and_rolls_back() {
-    let mut scene = scenes::build("spring", &[("k", 1e300)], "explicit-euler", 1.0).unwrap();
+    let mut scene = scenes::build("spring", &[("k", 1e12)], "explicit-euler", 1.0).unwrap();
     let w = &mut scene.world;
     let mut good_steps = 0;
     let err = loop {
@@ -384,20 +384,21 @@ fn stiff_explicit_euler_diverges_and_rolls_back() {
                 break e;
             }
         }
-        assert!(good_steps < 10, "no divergence");
+        assert!(good_steps < 20, "no divergence");
     };
-    assert_eq!(good_steps, 1, "x1 = 20, v1 = -2e300, then a(x2) overflows");
+    // omega dt = 3e5: the state grows about 3e5-fold per step and runs away past 1e100.
+    assert!(good_steps >= 5, "{good_steps}");
     match &err {
         Error::Diverged { method, step, .. } => {
             assert_eq!(method, "explicit-euler");
-            assert_eq!(*step, 1);
+            assert_eq!(*step, good_steps);
         }
         other => panic!("expected Diverged, got {other:?}"),
     }
     assert!(err.to_string().contains("explicit-euler"), "{err}");
-    assert_eq!(w.steps(), 1);
-    // Recovers with a sane dt.
-    w.set_dt(1e-310).unwrap();
+    assert_eq!(w.steps(), good_steps);
+    // Recovers with a dt it can take.
+    w.set_dt(1e-9).unwrap();
     w.step(1).unwrap();
 }
 
@@ -439,6 +440,9 @@ fn a_nan_force_fails_the_step_and_leaves_the_state_bitwise_unchanged() {
         }
         let before = bits(&state);
         let memory = integ.memory();
+        // A twin that never sees the failed step.
+        let mut twin = integ.clone();
+        let mut twin_state = state.clone();
         sys.poison = true;
         let err = integ.step(&mut sys, &mut state, 0.1).unwrap_err();
         assert_eq!(bits(&state), before, "{}: state changed", info.name);
@@ -453,16 +457,14 @@ fn a_nan_force_fails_the_step_and_leaves_the_state_bitwise_unchanged() {
             other => panic!("{}: expected Diverged, got {other:?}", info.name),
         }
         assert!(err.to_string().contains(info.name), "{err}");
-        // Stateless methods keep no memory; the stateful ones start afresh after the rollback.
-        if memory.is_empty() {
-            assert!(integ.memory().is_empty());
-        }
-        // Un-poisoned, the next step goes on as a freshly started integrator would.
+        // The method's memory is rolled back bitwise too (issue 7, item 15).
+        let mem_bits = |m: Vec<f64>| m.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(mem_bits(integ.memory()), mem_bits(memory), "{}: memory changed", info.name);
+        // Un-poisoned, the next step goes on exactly as an uninterrupted run would.
         sys.poison = false;
-        let mut fresh_state = state.clone();
         integ.step(&mut sys, &mut state, 0.1).unwrap();
-        Integrator::new(info.name).unwrap().step(&mut sys, &mut fresh_state, 0.1).unwrap();
-        assert_eq!(bits(&state), bits(&fresh_state), "{}", info.name);
+        twin.step(&mut sys, &mut twin_state, 0.1).unwrap();
+        assert_eq!(bits(&state), bits(&twin_state), "{}", info.name);
     }
 }
 

@@ -334,24 +334,45 @@ fn unknown_names_list_the_valid_ones() {
 
 #[test]
 fn bad_param_values_name_the_param() {
-    let cases: [(&str, &str, f64, &str); 12] = [
-        ("spring", "m", 0.0, "invalid m = 0: must be a finite number > 0"),
-        ("projectile", "m", -1.0, "invalid m = -1: must be a finite number > 0"),
-        ("kepler", "e", 1.0, "invalid e = 1: must be in [0, 1)"),
-        ("kepler", "e", -0.1, "invalid e = -0.1: must be in [0, 1)"),
-        ("nbody", "n", 2.5, "invalid n = 2.5: must be a whole number from 1 to 1000000"),
-        ("nbody", "n", 0.0, "invalid n = 0: must be a whole number from 1 to 1000000"),
-        ("chain", "n", -3.0, "invalid n = -3: must be a whole number from 1 to 1000000"),
-        ("nbody", "softening", -0.1, "invalid softening = -0.1: must be a finite number >= 0"),
-        ("spring", "x0", f64::NAN, "invalid x0 = NaN: must be finite"),
-        ("pendulum", "length", 0.0, "invalid length = 0: must be a finite number > 0"),
-        ("orbit", "gm", f64::INFINITY, "invalid gm = inf: must be a finite number > 0"),
-        ("drag", "c", -1.0, "invalid c = -1: must be a finite number >= 0"),
+    let pos = "a number in [1e-12, 1e12]";
+    let nonneg = "0 or a number in [1e-12, 1e12]";
+    let any = "a number in [-1e12, 1e12]";
+    let cases: [(&str, &str, f64, String); 16] = [
+        ("spring", "m", 0.0, format!("invalid m = 0: must be {pos}")),
+        ("projectile", "m", -1.0, format!("invalid m = -1: must be {pos}")),
+        ("kepler", "e", 1.0, "invalid e = 1: must be in [0, 1)".into()),
+        ("kepler", "e", -0.1, "invalid e = -0.1: must be in [0, 1)".into()),
+        ("nbody", "n", 2.5, "invalid n = 2.5: must be a whole number from 1 to 1000000".into()),
+        ("nbody", "n", 0.0, "invalid n = 0: must be a whole number from 1 to 1000000".into()),
+        ("chain", "n", -3.0, "invalid n = -3: must be a whole number from 1 to 1000000".into()),
+        ("nbody", "softening", -0.1, format!("invalid softening = -0.1: must be {nonneg}")),
+        ("spring", "x0", f64::NAN, format!("invalid x0 = NaN: must be {any}")),
+        ("pendulum", "length", 0.0, format!("invalid length = 0: must be {pos}")),
+        ("orbit", "gm", f64::INFINITY, format!("invalid gm = inf: must be {pos}")),
+        ("drag", "c", -1.0, format!("invalid c = -1: must be {nonneg}")),
+        // Issue 7, item 11: values whose squares underflow or overflow drop physics in
+        // silence (orbit r = 1e-300: r^2 = 0, gravity vanished, the error was NaN).
+        ("orbit", "r", 1e-300, format!("invalid r = 1e-300: must be {pos}")),
+        ("spring", "k", 1e300, format!("invalid k = 1e300: must be {nonneg}")),
+        ("spring", "x0", -1e13, format!("invalid x0 = -10000000000000: must be {any}")),
+        ("drag", "c", 1e-13, format!("invalid c = 1e-13: must be {nonneg}")),
     ];
     for (scene, name, value, want) in cases {
         assert_eq!(msg(scenes::build(scene, &[(name, value)], "rk4", 0.01)), want, "{scene}");
         let spec = scenes::spec(scene).unwrap();
         assert_eq!(msg(scenes::resolve(spec, &[(name, value)])), want);
+    }
+    // Every accepted extreme builds a scene whose forces and energy are finite and nonzero.
+    for (scene, name, value) in
+        [("orbit", "r", 1e-12), ("orbit", "r", 1e12), ("orbit", "gm", 1e-12), ("spring", "k", 1e12)]
+    {
+        let mut s = scenes::build(scene, &[(name, value)], "rk4", 0.01).unwrap();
+        let a = s.world.accelerations().to_vec();
+        assert!(
+            a.iter().all(|c| c.is_finite()) && a.iter().any(|c| *c != 0.0),
+            "{scene} {name}={value}: {a:?}"
+        );
+        assert!(s.world.energy().is_finite() && s.world.energy() != 0.0);
     }
     // Good values pass, and the last override of a name wins.
     let spec = scenes::spec("kepler").unwrap();

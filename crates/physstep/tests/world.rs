@@ -440,10 +440,11 @@ fn state_hash_tracks_every_change() {
     assert_eq!(t, a.time());
     let mut bumped = snap.clone();
     bumped[t_at..t_at + 8].copy_from_slice(&f64::from_bits(t.to_bits() + 1).to_le_bytes());
+    // An edited snapshot is refused (checksum), the world unchanged (issue 7, item 14).
     let mut c = a.clone();
-    c.restore(&bumped).unwrap();
-    assert_eq!(bits(c.positions()), bits(a.positions()));
-    assert_ne!(c.state_hash(), h, "time");
+    let e = c.restore(&bumped).unwrap_err();
+    assert!(e.to_string().contains("checksum"), "{e}");
+    assert_eq!(c.state_hash(), h);
     c.restore(&snap).unwrap();
     assert_eq!(c.state_hash(), h);
     // A step changes it; -0.0 versus 0.0 is a change of bits too.

@@ -5,11 +5,23 @@ use super::{dot, relative, separation, Endpoint};
 /// Adds the force on `i` (and its opposite on `j`) to `f`, N; `p = [k, rest, c]`.
 ///
 /// `F_i = -k (r - rest) d / r - c (w . d) d / r^2`, `d = x_i - x_j`, `w = v_i - v_j`;
-/// `F_i = -k d` at `r = 0`.
+/// `F_i = -k d` at `r = 0`. A zero-rest-length spring is linear, `F_i = -k d - c w`: no
+/// square root, and its damping does not vanish (or jump) where `d = 0`.
 #[inline]
 pub(super) fn force(dim: usize, x: &[f64], v: &[f64], i: usize, j: Endpoint, p: [f64; 3], f: &mut [f64]) {
     let [k, rest, c] = p;
     let d = separation(dim, x, i, j);
+    if rest == 0.0 {
+        let w = relative(dim, v, i, j);
+        for kk in 0..dim {
+            let fk = -k * d[kk] - c * w[kk];
+            f[i * dim + kk] += fk;
+            if let Endpoint::Particle(j) = j {
+                f[j * dim + kk] -= fk;
+            }
+        }
+        return;
+    }
     let r2 = dot(&d, &d);
     let s = if r2 > 0.0 {
         let w = relative(dim, v, i, j);
@@ -30,6 +42,9 @@ pub(super) fn force(dim: usize, x: &[f64], v: &[f64], i: usize, j: Endpoint, p: 
 /// Elastic energy `k (r - rest)^2 / 2`, J.
 pub(super) fn potential(dim: usize, x: &[f64], i: usize, j: Endpoint, k: f64, rest: f64) -> f64 {
     let d = separation(dim, x, i, j);
+    if rest == 0.0 {
+        return 0.5 * k * dot(&d, &d);
+    }
     let e = dot(&d, &d).sqrt() - rest;
     0.5 * k * e * e
 }
@@ -43,13 +58,20 @@ pub(super) struct Jacobian {
 impl Jacobian {
     /// With `P = I - u u^T`:
     /// `dF/dd = -k (I - rest/r P) - c/r (u (P w)^T + (w . u) P)`, `dF/dw = -c u u^T`;
-    /// at `r = 0`: `-k I` and 0.
+    /// at `r = 0`: `-k I` and 0; for a zero rest length (the linear spring): `-k I`, `-c I`.
     pub(super) fn new(dim: usize, x: &[f64], v: &[f64], i: usize, j: Endpoint, p: [f64; 3]) -> Self {
         let [k, rest, c] = p;
         let d = separation(dim, x, i, j);
         let r2 = dot(&d, &d);
         let mut kx = [[0.0; 3]; 3];
         let mut kv = [[0.0; 3]; 3];
+        if rest == 0.0 {
+            for a in 0..3 {
+                kx[a][a] = -k;
+                kv[a][a] = -c;
+            }
+            return Self { kx, kv };
+        }
         if r2 == 0.0 {
             for (a, row) in kx.iter_mut().enumerate() {
                 row[a] = -k;

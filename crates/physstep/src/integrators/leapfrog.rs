@@ -63,14 +63,17 @@ impl Method for Leapfrog {
 
     fn reset(&mut self) {
         self.started = false;
+        self.half.clear();
     }
 
-    fn memory(&self) -> Vec<f64> {
-        super::pack(self.started, self.h_prev, &self.half)
+    const MEMORY_FLAGS: usize = 2;
+
+    fn memory(&self, out: &mut Vec<f64>) {
+        super::pack(self.started, self.h_prev, &self.half, out);
     }
 
-    fn recall(&mut self, m: &[f64]) -> bool {
-        let Some((started, h, v)) = super::unpack(m) else { return false };
+    fn recall(&mut self, m: &[f64], n: usize) -> bool {
+        let Some((started, h, v)) = super::unpack(m, n) else { return false };
         self.started = started;
         self.h_prev = h;
         self.half = v.to_vec();

@@ -140,30 +140,48 @@ pub trait Method {
     /// step starts afresh from `(x, v)`.
     fn reset(&mut self) {}
 
-    /// The method's internal state as numbers (for snapshots); empty for stateless methods.
-    fn memory(&self) -> Vec<f64> {
-        Vec::new()
+    /// How many leading entries of [`Method::memory`] are flags and settings (a started
+    /// flag, the previous step size) rather than state: the rest is a vector of the state's
+    /// kind (Verlet's previous position, leapfrog's half-step velocity), which a
+    /// linearisation of the step map perturbs like the state itself.
+    const MEMORY_FLAGS: usize = 0;
+
+    /// Appends the method's internal state as numbers to `out` (for snapshots and the
+    /// rollback of a failed step); nothing for stateless methods.
+    fn memory(&self, out: &mut Vec<f64>) {
+        let _ = out;
     }
 
-    /// Restores what [`Method::memory`] returned; `false` when `m` does not fit.
-    fn recall(&mut self, m: &[f64]) -> bool {
+    /// Restores what [`Method::memory`] returned for a state of `n` coordinates; `false`
+    /// when `m` does not fit (wrong length, a flag that is not 0 or 1, a non-finite value).
+    fn recall(&mut self, m: &[f64], n: usize) -> bool {
+        let _ = n;
         m.is_empty()
     }
 }
 
-/// Memory of a method with a started flag, a step size and one vector.
-pub(crate) fn pack(started: bool, h: f64, v: &[f64]) -> Vec<f64> {
-    let mut m = Vec::with_capacity(v.len() + 2);
-    m.push(if started { 1.0 } else { 0.0 });
-    m.push(h);
-    m.extend_from_slice(v);
-    m
+/// Memory of a method with a started flag, a step size and one vector, appended to `out`.
+pub(crate) fn pack(started: bool, h: f64, v: &[f64], out: &mut Vec<f64>) {
+    out.push(if started { 1.0 } else { 0.0 });
+    out.push(h);
+    out.extend_from_slice(v);
 }
 
 /// Inverse of [`pack`]: `(started, h, vector)`.
-pub(crate) fn unpack(m: &[f64]) -> Option<(bool, f64, &[f64])> {
+/// Only exact flags (0 or 1), a step size that is finite and >= 0 and a finite vector of `n`
+/// entries (or none, before the first step) are accepted: anything else is a damaged
+/// snapshot.
+pub(crate) fn unpack(m: &[f64], n: usize) -> Option<(bool, f64, &[f64])> {
     match m {
-        [s, h, rest @ ..] => Some((*s != 0.0, *h, rest)),
+        [s, h, rest @ ..]
+            if (*s == 0.0 || *s == 1.0)
+                && h.is_finite()
+                && *h >= 0.0
+                && (rest.len() == n || (*s == 0.0 && rest.is_empty()))
+                && rest.iter().all(|v| v.is_finite()) =>
+        {
+            Some((*s == 1.0, *h, rest))
+        }
         _ => None,
     }
 }

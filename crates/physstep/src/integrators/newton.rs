@@ -7,7 +7,9 @@ use crate::error::{Error, Result};
 /// Settings of the implicit methods' Newton iteration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImplicitParams {
-    /// Converged when the residual's max norm is at most `tol * (1 + max|z|)`.
+    /// Converged, after at least one Newton update, when the residual of `z = y0 + c f(z)`
+    /// is at most `tol` times the size of its terms (max norms of `z`, `y0` and `c f(z)`):
+    /// relative at every scale, so a state of size 1e-15 is solved as well as one of size 1.
     pub tol: f64,
     /// Iterations before giving up with [`Error::NotConverged`].
     pub max_iter: u32,
@@ -44,6 +46,10 @@ impl Newton {
     }
 
     /// Solves `z = y0 + c f(tau, z)` from the explicit guess `y0 + c f0`.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] when the system is too large for the dense solver (refused
+    /// before anything is allocated); [`Error::NotConverged`] when the iteration fails.
     pub fn solve<F: Flow>(
         &mut self,
         flow: &mut F,
@@ -54,19 +60,33 @@ impl Newton {
         f0: &[f64],
     ) -> Result<()> {
         let n = y0.len();
+        if n > MAX_DENSE {
+            return Err(Error::Unsupported {
+                method: method.into(),
+                reason: format!(
+                    "solves with a dense {n} x {n} Jacobian ({:.1} GB) for this system of {n} unknowns; \
+                     the dense solver takes at most {MAX_DENSE} unknowns (x and v of {} coordinates): \
+                     use an explicit method or a smaller system",
+                    (n as f64).powi(2) * 8e-9,
+                    MAX_DENSE / 2
+                ),
+            });
+        }
         let z = scratch(&mut self.z, n);
         let fz = scratch(&mut self.fz, n);
         let g = scratch(&mut self.g, n);
         axpy_to(z, y0, c, f0);
         let mut residual = f64::INFINITY;
-        for _ in 0..self.params.max_iter {
+        // One more pass than updates: the last one only checks the final update.
+        for iter in 0..=self.params.max_iter {
             flow.deriv(tau, z, fz);
             residual = 0.0;
             let mut scale = 0.0f64;
             for i in 0..n {
-                g[i] = z[i] - y0[i] - c * fz[i];
+                let cf = c * fz[i];
+                g[i] = z[i] - y0[i] - cf;
                 residual = residual.max(g[i].abs());
-                scale = scale.max(z[i].abs());
+                scale = scale.max(z[i].abs()).max(y0[i].abs()).max(cf.abs());
             }
             // f64::max skips NaN: a NaN in f(z) would otherwise pass for a zero residual and
             // be accepted as converged.
@@ -76,8 +96,12 @@ impl Newton {
             if !residual.is_finite() {
                 break;
             }
-            if residual <= self.params.tol * (1.0 + scale) {
+            // The explicit guess is never accepted as it is: at least one update is taken.
+            if iter > 0 && residual <= self.params.tol * scale {
                 return Ok(());
+            }
+            if iter == self.params.max_iter {
+                break;
             }
             // J = I - c df/dz
             let j = scratch(&mut self.j, n * n);
@@ -115,6 +139,9 @@ impl Newton {
         Err(Error::NotConverged { method: method.into(), iterations: self.params.max_iter, residual })
     }
 }
+
+/// Most unknowns the dense solver takes: its n x n Jacobian is then 128 MiB.
+pub const MAX_DENSE: usize = 4096;
 
 /// Solves `A x = b` in place (`b` becomes `x`) by LU with partial pivoting; `false` when `A`
 /// is singular.

@@ -43,6 +43,7 @@ pub struct Integrator {
     kind: Kind,
     backup_y: Vec<f64>,
     backup_f: Vec<f64>,
+    backup_m: Vec<f64>,
 }
 
 #[derive(Debug, Clone)]
@@ -167,19 +168,25 @@ impl State {
     }
 }
 
-/// Index of the first NaN or infinity in `v`. The scan is branch-free per block of values
-/// (an exponent with all bits set marks a non-finite double), so it runs at memory speed;
-/// only a block that holds one is searched element by element.
+/// Largest magnitude a state or acceleration entry may reach: beyond it the run has run away
+/// (explicit Euler on an oscillator at a large dt), and squares of it (energies) would
+/// overflow to infinity. A value past it is a divergence, like a NaN.
+pub const RUNAWAY: f64 = 1e100;
+
+/// Index of the first entry of `v` that is NaN, infinite or past [`RUNAWAY`]. The scan is
+/// branch-free per block of values (`!(|x| <= RUNAWAY)` is true for NaN too), so it runs at
+/// memory speed; only a block that holds one is searched element by element.
 fn first_non_finite(v: &[f64]) -> Option<usize> {
-    const EXP: u64 = 0x7ff0_0000_0000_0000;
     const BLOCK: usize = 256;
+    // NaN fails every comparison: `is_some_and(Greater)` would miss it, `!(<=)` does not.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let bad = |x: &f64| !(x.abs() <= RUNAWAY);
     if v.len() <= 16 {
-        return v.iter().position(|x| !x.is_finite());
+        return v.iter().position(bad);
     }
     v.chunks(BLOCK).enumerate().find_map(|(b, chunk)| {
-        let bad = chunk.iter().fold(false, |acc, x| acc | (x.to_bits() & EXP == EXP));
-        if bad {
-            chunk.iter().position(|x| !x.is_finite()).map(|i| b * BLOCK + i)
+        if chunk.iter().fold(false, |acc, x| acc | bad(x)) {
+            chunk.iter().position(bad).map(|i| b * BLOCK + i)
         } else {
             None
         }
@@ -223,7 +230,7 @@ impl Integrator {
             "yoshida4" => Kind::Yoshida4(Yoshida4::default()),
             other => unreachable!("method {other} is in INFOS but not constructed"),
         };
-        Ok(Self { kind, backup_y: Vec::new(), backup_f: Vec::new() })
+        Ok(Self { kind, backup_y: Vec::new(), backup_f: Vec::new(), backup_m: Vec::new() })
     }
 
     /// What this integrator is.
@@ -244,15 +251,28 @@ impl Integrator {
     /// The method's internal state (Verlet's previous position, ...) for a snapshot.
     #[must_use]
     pub fn memory(&self) -> Vec<f64> {
-        dispatch!(&self.kind, m => m.memory())
+        let mut out = Vec::new();
+        dispatch!(&self.kind, m => m.memory(&mut out));
+        out
     }
 
-    /// Restores what [`Integrator::memory`] returned.
+    /// How many leading entries of [`Integrator::memory`] are flags and settings; the rest
+    /// is a vector of the state's kind (see [`Method::MEMORY_FLAGS`]).
+    #[must_use]
+    pub fn memory_flags(&self) -> usize {
+        fn of<M: Method>(_: &M) -> usize {
+            M::MEMORY_FLAGS
+        }
+        dispatch!(&self.kind, m => of(m))
+    }
+
+    /// Restores what [`Integrator::memory`] returned for a system of `n` coordinates (the
+    /// length of `x`, half that of `y`).
     ///
     /// # Errors
-    /// [`Error::Corrupt`] when `memory` does not fit this method.
-    pub fn recall(&mut self, memory: &[f64]) -> Result<()> {
-        if dispatch!(&mut self.kind, m => m.recall(memory)) {
+    /// [`Error::Corrupt`] when `memory` does not fit this method and state size.
+    pub fn recall(&mut self, memory: &[f64], n: usize) -> Result<()> {
+        if dispatch!(&mut self.kind, m => m.recall(memory, n)) {
             Ok(())
         } else {
             Err(Error::Corrupt {
@@ -312,11 +332,13 @@ impl Integrator {
         self.finish(state, dt, r, 0)
     }
 
-    /// Keeps the state before a step, for a rollback: `y` and `f[skip..]` (for a
-    /// second-order system `f[..n]` is `v`, already in `y`, so only `a` is kept).
+    /// Keeps the state before a step, for a rollback: `y`, `f[skip..]` (for a second-order
+    /// system `f[..n]` is `v`, already in `y`, so only `a` is kept) and the method's memory.
     fn save(&mut self, state: &State, skip: usize) {
         scratch(&mut self.backup_y, state.y.len()).copy_from_slice(&state.y);
         scratch(&mut self.backup_f, state.f.len() - skip).copy_from_slice(&state.f[skip..]);
+        self.backup_m.clear();
+        dispatch!(&self.kind, m => m.memory(&mut self.backup_m));
     }
 
     /// Turns a step's non-finite output into [`Error::Diverged`]; `f[..skip]` is known to be
@@ -335,8 +357,8 @@ impl Integrator {
         }
     }
 
-    /// Counts a good step, or rolls a failed one back (state from the backup, the method's
-    /// own memory by a reset).
+    /// Counts a good step, or rolls a failed one back: state and the method's memory from the
+    /// backup, bitwise.
     fn finish(&mut self, state: &mut State, dt: f64, r: Result<()>, skip: usize) -> Result<()> {
         match r {
             Ok(()) => {
@@ -350,7 +372,12 @@ impl Integrator {
                 state.f[skip..].copy_from_slice(&self.backup_f);
                 let n = state.y.len() - skip;
                 state.f[..skip].copy_from_slice(&state.y[n..]);
-                self.reset();
+                let coords = state.y.len() / 2;
+                let restored = dispatch!(&mut self.kind, m => m.recall(&self.backup_m, coords));
+                debug_assert!(restored, "a method's own memory is always recallable");
+                if !restored {
+                    self.reset();
+                }
                 Err(e)
             }
         }

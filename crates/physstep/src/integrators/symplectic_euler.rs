@@ -160,13 +160,18 @@ impl Method for SymplecticEulerAlternating {
         self.odd = false;
     }
 
-    fn memory(&self) -> Vec<f64> {
-        vec![if self.odd { 1.0 } else { 0.0 }]
+    const MEMORY_FLAGS: usize = 1;
+
+    fn memory(&self, out: &mut Vec<f64>) {
+        out.push(if self.odd { 1.0 } else { 0.0 });
     }
 
-    fn recall(&mut self, m: &[f64]) -> bool {
+    fn recall(&mut self, m: &[f64], _n: usize) -> bool {
         let [odd] = m else { return false };
-        self.odd = *odd != 0.0;
+        if *odd != 0.0 && *odd != 1.0 {
+            return false;
+        }
+        self.odd = *odd == 1.0;
         true
     }
 }

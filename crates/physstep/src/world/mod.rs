@@ -9,9 +9,14 @@
 use crate::clock::{Clock, ClockParams, FramePlan, LoopMode};
 use crate::dynamics::SecondOrder;
 use crate::error::{all_finite, positive, Error, Result};
-use crate::forces::{Force, ForceSet};
+use crate::forces::Force;
 use crate::integrators::registry::State;
 use crate::integrators::{ImplicitParams, Integrator};
+
+mod model;
+mod snapshot;
+
+pub use model::Model;
 
 /// How to build a [`World`].
 #[derive(Debug, Clone, PartialEq)]
@@ -47,72 +52,9 @@ impl Default for WorldParams {
     }
 }
 
-/// The force model: what the integrators see as a [`SecondOrder`] system.
-#[derive(Debug, Clone, Default)]
-pub struct Model {
-    dim: usize,
-    mass: Vec<f64>,
-    inv_mass: Vec<f64>,
-    forces: ForceSet,
-    scratch: Vec<f64>,
-}
-
-impl SecondOrder for Model {
-    #[inline]
-    fn len(&self) -> usize {
-        self.mass.len() * self.dim
-    }
-
-    #[inline]
-    fn accel(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
-        let n = x.len();
-        if self.scratch.len() != n {
-            self.scratch.resize(n, 0.0);
-        }
-        self.forces.accel(self.dim, t, x, v, &self.mass, &self.inv_mass, &mut self.scratch, a);
-    }
-
-    fn velocity_dependent(&self) -> bool {
-        self.forces.velocity_dependent()
-    }
-
-    fn jacobian(&mut self, t: f64, x: &[f64], v: &[f64], dadx: &mut [f64], dadv: &mut [f64]) -> bool {
-        self.forces.jacobian(self.dim, t, x, v, &self.inv_mass, dadx, dadv)
-    }
-}
-
-impl Model {
-    /// Masses, kg (infinite for static particles).
-    #[must_use]
-    pub fn mass(&self) -> &[f64] {
-        &self.mass
-    }
-
-    /// The forces.
-    #[must_use]
-    pub fn forces(&self) -> &ForceSet {
-        &self.forces
-    }
-
-    /// Potential energy of positions `x`, J.
-    #[must_use]
-    pub fn potential(&self, x: &[f64]) -> f64 {
-        self.forces.potential(self.dim, x, &self.mass)
-    }
-
-    /// Kinetic energy of velocities `v`, J (static particles excluded).
-    #[must_use]
-    pub fn kinetic(&self, v: &[f64]) -> f64 {
-        let mut e = 0.0;
-        for (p, (m, w)) in self.mass.iter().zip(&self.inv_mass).enumerate() {
-            if *w > 0.0 {
-                let vp = &v[p * self.dim..(p + 1) * self.dim];
-                e += 0.5 * m * vp.iter().map(|c| c * c).sum::<f64>();
-            }
-        }
-        e
-    }
-}
+/// A small mass whose inverse is finite, kg (the true limit is about 5.6e-309: any mass with
+/// a finite `1/m` is accepted).
+pub const MIN_MASS: f64 = 1e-300;
 
 /// What one call of [`World::advance`] did.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,7 +90,17 @@ struct Epoch {
     dt: f64,
 }
 
-const MAGIC: &[u8; 8] = b"PHSTEP01";
+impl Epoch {
+    /// World time after `steps` steps in all: `t + (steps - self.steps) dt`; `None` when
+    /// `steps` is before the epoch, or after it while no dt was set yet.
+    fn time(self, steps: u64) -> Option<f64> {
+        let k = steps.checked_sub(self.steps)?;
+        if self.dt == 0.0 {
+            return (k == 0).then_some(self.t);
+        }
+        Some(self.t + k as f64 * self.dt)
+    }
+}
 
 impl World {
     /// An empty world.
@@ -293,8 +245,16 @@ impl World {
             }
             for (i, &mi) in m.iter().enumerate() {
                 let field = if k == 1 { "mass".to_string() } else { format!("mass[{i}]") };
-                if mi.is_nan() || mi <= 0.0 {
-                    return Err(Error::invalid(field, mi, "> 0 (inf for a static particle)"));
+                // 1/m must be finite too: a subnormal mass has an infinite inverse.
+                if mi.is_nan() || mi <= 0.0 || !(1.0 / mi).is_finite() {
+                    return Err(Error::invalid(
+                        field,
+                        crate::error::num(mi),
+                        format!(
+                            "> 0 with a finite inverse (at least {:e}; inf for a static particle)",
+                            MIN_MASS
+                        ),
+                    ));
                 }
             }
             // Forces that need finite masses (n-body) must accept the new particles too;
@@ -409,11 +369,23 @@ impl World {
 
     fn step_inner(&mut self, dt: f64, log: crate::integrators::Log<'_>) -> Result<()> {
         positive("dt", dt)?;
+        let epoch = if dt == self.epoch.dt {
+            self.epoch
+        } else {
+            Epoch { t: self.state.t, steps: self.state.steps, dt }
+        };
+        // Time must move: a dt below the resolution of t would step forever in place.
+        let t_next = epoch.time(self.state.steps + 1).unwrap_or(f64::NAN);
+        if !(t_next > self.state.t && t_next.is_finite()) {
+            return Err(Error::invalid(
+                "dt",
+                crate::error::num(dt),
+                format!("large enough to advance the time t = {} (t + dt == t)", self.state.t),
+            ));
+        }
+        self.epoch = epoch;
         self.refresh();
         let n = self.model.len();
-        if dt != self.epoch.dt {
-            self.epoch = Epoch { t: self.state.t, steps: self.state.steps, dt };
-        }
         let r = self.integrator.step_logged(&mut self.model, &mut self.state, dt, log);
         // Interpolation is between the last two states of a frame of `advance`; outside it
         // the current positions are drawn as they are.
@@ -422,7 +394,7 @@ impl World {
             // Time as t0 + k dt since the last change of dt: no drift from repeated addition,
             // so t = 10 after 100 steps of 0.1.
             Ok(()) => {
-                self.state.t = self.epoch.t + (self.state.steps - self.epoch.steps) as f64 * dt;
+                self.state.t = t_next;
                 Ok(())
             }
             Err(mut e) => {
@@ -567,119 +539,5 @@ impl World {
             }
         }
         p
-    }
-
-    /// The whole dynamic state as bytes: time, steps, positions, velocities, the
-    /// integrator's memory and the clock's accumulator. [`World::restore`] puts it back
-    /// bitwise, so a restored run continues exactly as an uninterrupted one.
-    #[must_use]
-    pub fn snapshot(&self) -> Vec<u8> {
-        let memory = self.integrator.memory();
-        let mut out = Vec::with_capacity(64 + 8 * (self.state.y.len() + memory.len()));
-        out.extend_from_slice(MAGIC);
-        let name = self.integrator.info().name.as_bytes();
-        for word in
-            [self.dim() as u64, self.len() as u64, name.len() as u64, self.state.steps, self.state.evals]
-        {
-            out.extend_from_slice(&word.to_le_bytes());
-        }
-        out.extend_from_slice(name);
-        let [hi, lo] = self.clock.balance();
-        // Before the first step (or after particles were added) there are no previous
-        // positions of this particle count; the current ones interpolate the same way.
-        let prev_x = if self.prev_x.len() == self.model.len() { &self.prev_x[..] } else { self.positions() };
-        let e = self.epoch;
-        for v in [self.state.t, hi, lo, e.t, e.steps as f64, e.dt, memory.len() as f64]
-            .iter()
-            .chain(&self.state.y)
-            .chain(&memory)
-            .chain(prev_x)
-        {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-        out
-    }
-
-    /// Restores a [`World::snapshot`] of this world (same dimensions, particle count and
-    /// method).
-    ///
-    /// # Errors
-    /// [`Error::Corrupt`] when the bytes are not such a snapshot; the world is unchanged.
-    pub fn restore(&mut self, bytes: &[u8]) -> Result<()> {
-        let corrupt = |reason: &str| Error::Corrupt { reason: reason.into() };
-        let rest = bytes.strip_prefix(MAGIC.as_slice()).ok_or_else(|| corrupt("not a physstep snapshot"))?;
-        let word = |i: usize| -> Result<u64> {
-            rest.get(i * 8..i * 8 + 8)
-                .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
-                .ok_or_else(|| corrupt("truncated header"))
-        };
-        let (dim, n, name_len, steps, evals) = (word(0)?, word(1)?, word(2)?, word(3)?, word(4)?);
-        if dim != self.dim() as u64 || n != self.len() as u64 {
-            return Err(corrupt(&format!(
-                "snapshot has {n} particles in {dim}D, this world {} in {}D",
-                self.len(),
-                self.dim()
-            )));
-        }
-        let rest = &rest[40..];
-        let name_len = usize::try_from(name_len).map_err(|_| corrupt("bad method name"))?;
-        let name = rest.get(..name_len).ok_or_else(|| corrupt("truncated method name"))?;
-        if name != self.integrator.info().name.as_bytes() {
-            return Err(corrupt(&format!(
-                "snapshot was taken with method '{}', this world uses '{}'",
-                String::from_utf8_lossy(name),
-                self.integrator.info().name
-            )));
-        }
-        let floats: Vec<f64> = rest[name_len..]
-            .chunks(8)
-            .map(|c| c.try_into().map(f64::from_le_bytes).map_err(|_| corrupt("truncated data")))
-            .collect::<Result<_>>()?;
-        let ny = 2 * self.model.len();
-        let nx = self.model.len();
-        let [t, hi, lo, et, es, edt, nm, data @ ..] = floats.as_slice() else {
-            return Err(corrupt("truncated data"));
-        };
-        // The memory length is what is left after the state and the previous positions; the
-        // stored length must agree (a damaged one, huge or NaN, must not overflow a sum).
-        let nm = data
-            .len()
-            .checked_sub(ny + nx)
-            .filter(|m| *m as f64 == *nm)
-            .ok_or_else(|| corrupt("data length does not match the world"))?;
-        let mut integrator = self.integrator.clone();
-        integrator.recall(&data[ny..ny + nm])?;
-        self.integrator = integrator;
-        self.state.t = *t;
-        self.epoch = Epoch { t: *et, steps: *es as u64, dt: *edt };
-        self.state.steps = steps;
-        self.state.evals = evals;
-        self.state.y.copy_from_slice(&data[..ny]);
-        self.prev_x = data[ny + nm..].to_vec();
-        self.clock.restore_balance([*hi, *lo]);
-        // The derivative is a function of the state: recompute it without counting it, so
-        // the evaluation count matches an uninterrupted run.
-        self.stale = true;
-        self.refresh();
-        self.state.evals = evals;
-        Ok(())
-    }
-
-    /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory):
-    /// equal for bitwise-equal states, different after any change.
-    #[must_use]
-    pub fn state_hash(&self) -> u64 {
-        // FNV-1a over the bit patterns.
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        let mut eat = |v: f64| {
-            for b in v.to_bits().to_le_bytes() {
-                h ^= u64::from(b);
-                h = h.wrapping_mul(0x0000_0100_0000_01b3);
-            }
-        };
-        eat(self.state.t);
-        self.state.y.iter().for_each(|v| eat(*v));
-        self.integrator.memory().iter().for_each(|v| eat(*v));
-        h
     }
 }

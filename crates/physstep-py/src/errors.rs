@@ -1,0 +1,50 @@
+//! The engine's errors as Python exceptions.
+//!
+//! Bad input becomes `ValueError` with the engine's message (it names the field and value);
+//! a step that fails becomes `DivergedError` / `ConvergenceError` (both `StepError`, a
+//! `RuntimeError`); a World used from two threads at once, `WorldBusyError`.
+
+use physstep::error::Error;
+use pyo3::create_exception;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+
+create_exception!(_core, StepError, PyRuntimeError, "A step failed; the state was rolled back.");
+create_exception!(
+    _core,
+    DivergedError,
+    StepError,
+    "A step produced a non-finite or runaway value (or a non-finite energy); it was rolled back."
+);
+create_exception!(
+    _core,
+    ConvergenceError,
+    StepError,
+    "An implicit method's Newton iteration did not converge; the step was rolled back."
+);
+create_exception!(
+    _core,
+    WorldBusyError,
+    PyRuntimeError,
+    "The World is in use by another thread (or by a callback inside its own step)."
+);
+
+/// The engine's error as the matching Python exception.
+pub(crate) fn py_err(e: Error) -> PyErr {
+    let msg = e.to_string();
+    match e {
+        Error::Diverged { .. } | Error::NonFinite { .. } => DivergedError::new_err(msg),
+        Error::NotConverged { .. } => ConvergenceError::new_err(msg),
+        _ => PyValueError::new_err(msg),
+    }
+}
+
+/// Registers the exception types on the module.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("StepError", py.get_type::<StepError>())?;
+    m.add("DivergedError", py.get_type::<DivergedError>())?;
+    m.add("ConvergenceError", py.get_type::<ConvergenceError>())?;
+    m.add("WorldBusyError", py.get_type::<WorldBusyError>())?;
+    Ok(())
+}

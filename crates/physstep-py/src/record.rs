@@ -1,0 +1,145 @@
+//! `simulate`: a built-in scene run and recorded by the engine's `Recorder`, in slices so
+//! Ctrl-C is seen between them.
+
+use crate::convert::{array, count, flag, float, matrix, params, text};
+use crate::py_err;
+use physstep::record::{RecordParams, Recorder};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::time::{Duration, Instant};
+
+/// How long the engine runs between two looks for Ctrl-C.
+pub(crate) const SLICE: Duration = Duration::from_millis(50);
+
+/// Runs a scene and returns its recorded trajectory as a dict of numpy arrays.
+#[pyfunction]
+#[pyo3(signature = (scene, method, dt, until, params=None, *, x0=None, v0=None, stages=None, every=None, stop_on_diverge=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn simulate<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyAny>,
+    method: &Bound<'py, PyAny>,
+    dt: &Bound<'py, PyAny>,
+    until: &Bound<'py, PyAny>,
+    params: Option<&Bound<'py, PyAny>>,
+    x0: Option<&Bound<'py, PyAny>>,
+    v0: Option<&Bound<'py, PyAny>>,
+    stages: Option<&Bound<'py, PyAny>>,
+    every: Option<&Bound<'py, PyAny>>,
+    stop_on_diverge: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (scene, method) = (text(scene, "scene")?, text(method, "method")?);
+    let (dt, until) = (float(dt, "dt")?, float(until, "until")?);
+    let params = params_arg(params)?;
+    let opt_flag = |o: Option<&Bound<'py, PyAny>>, f: &str| o.map_or(Ok(false), |o| flag(o, f));
+    let stages = opt_flag(stages, "stages")?;
+    let stop_on_diverge = opt_flag(stop_on_diverge, "stop_on_diverge")?;
+    let every = match every {
+        Some(e) => count(e, "every")?,
+        None => 1,
+    };
+    let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    let mut built = physstep::scenes::build(&scene, &overrides, &method, dt).map_err(py_err)?;
+    let w = &mut built.world;
+    let n = w.positions().len();
+    if let Some(x0) = x0.filter(|o| !o.is_none()) {
+        let x0 = initial(x0, "x0", n)?;
+        w.set_positions(&x0).map_err(py_err)?;
+    }
+    if let Some(v0) = v0.filter(|o| !o.is_none()) {
+        let v0 = initial(v0, "v0", n)?;
+        w.set_velocities(&v0).map_err(py_err)?;
+    }
+    let rp = RecordParams { dt, until, every, stages, stop_on_diverge };
+    let mut recorder = Recorder::new(w, rp).map_err(py_err)?;
+    let start = Instant::now();
+    // Slices of the run without the GIL (other Python threads run meanwhile), with a look
+    // for Ctrl-C between them; about 64 steps are taken between two looks at the clock.
+    loop {
+        let done = py.detach(|| -> physstep::Result<bool> {
+            let slice = Instant::now();
+            loop {
+                if recorder.run(w, 64)? {
+                    return Ok(true);
+                }
+                if slice.elapsed() > SLICE {
+                    return Ok(false);
+                }
+            }
+        });
+        if done.map_err(py_err)? {
+            break;
+        }
+        py.check_signals()?;
+    }
+    let elapsed = start.elapsed().as_nanos() as u64;
+    let rec = recorder.finish();
+    let d = PyDict::new(py);
+    d.set_item("scene", built.spec.name)?;
+    d.set_item("method", built.world.integrator().info().name)?;
+    d.set_item("dt", dt)?;
+    d.set_item("dim", built.spec.dim)?;
+    d.set_item("steps", built.world.steps())?;
+    d.set_item("evals", rec.evals)?;
+    d.set_item("elapsed_ns", elapsed)?;
+    d.set_item("diverged", rec.diverged.as_ref().map(ToString::to_string))?;
+    let params_out = PyDict::new(py);
+    for (p, v) in built.spec.params.iter().zip(&built.values) {
+        params_out.set_item(p.name, *v)?;
+    }
+    d.set_item("params", params_out)?;
+    if built.has_exact() {
+        let (mut ex, mut ev) = (Vec::with_capacity(rec.x.len()), Vec::with_capacity(rec.x.len()));
+        for t in &rec.t {
+            let (x, v) = built.exact(*t).unwrap_or_default();
+            ex.extend(x);
+            ev.extend(v);
+        }
+        d.set_item("exact_x", matrix(py, ex, n)?)?;
+        d.set_item("exact_v", matrix(py, ev, n)?)?;
+    } else {
+        d.set_item("exact_x", py.None())?;
+        d.set_item("exact_v", py.None())?;
+    }
+    d.set_item("t", numpy::PyArray1::from_vec(py, rec.t))?;
+    d.set_item("x", matrix(py, rec.x, n)?)?;
+    d.set_item("v", matrix(py, rec.v, n)?)?;
+    d.set_item("a", matrix(py, rec.a, n)?)?;
+    d.set_item("energy", numpy::PyArray1::from_vec(py, rec.energy))?;
+    d.set_item("kinetic", numpy::PyArray1::from_vec(py, rec.kinetic))?;
+    if stages {
+        let rows = PyList::empty(py);
+        for (k, stage, t, x, v, a) in rec.stages {
+            rows.append((k, stage, t, x, v, a))?;
+        }
+        d.set_item("stages", rows)?;
+    } else {
+        d.set_item("stages", py.None())?;
+    }
+    Ok(d)
+}
+
+/// Scene parameters from a dict or pairs.
+pub(crate) fn params_arg(o: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<(String, f64)>> {
+    params(o)
+}
+
+/// An initial state of `n` coordinates, flat or `(particles, dim)`.
+fn initial(o: &Bound<'_, PyAny>, field: &str, n: usize) -> PyResult<Vec<f64>> {
+    let flat = o.py().import("numpy")?.call_method1("ravel", (o,));
+    let flat = flat.map_err(|_| crate::convert::invalid(field, o, "an array of numbers"))?;
+    let v = array(&flat, field, None, None)?;
+    if v.len() != n {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "invalid len({field}) = {}: must be {n}, the scene's coordinate count",
+            v.len()
+        )));
+    }
+    if let Some(i) = v.iter().position(|c| !c.is_finite()) {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "invalid {field}[{i}] = {}: must be finite",
+            v[i]
+        )));
+    }
+    Ok(v)
+}

@@ -1,0 +1,241 @@
+//! Recording a run: the rows of `(t, x, v, a, energy)` that `simulate`, the command line and
+//! the lab read, taken every `every` steps of a [`World`].
+//!
+//! A [`Recorder`] is driven in slices ([`Recorder::run`] takes at most a given number of
+//! steps), so a caller can look up between slices (the Python face checks for Ctrl-C there)
+//! without the recording loop living in the bindings.
+
+use crate::error::{Error, Result};
+use crate::integrators::StageLog;
+use crate::world::World;
+
+/// Most values one recording may hold (t, x, v, a and energy of every row): 4 GB of f64.
+pub const MAX_RECORDED: u64 = 500_000_000;
+/// Most steps one recording may take.
+pub const MAX_STEPS: f64 = 1e9;
+
+/// One recorded evaluation point inside a step: step index, stage name, t, x, v, a.
+pub type StageRow = (u64, &'static str, f64, Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// What a run recorded.
+#[derive(Debug, Clone, Default)]
+pub struct Recording {
+    /// Times of the rows, s.
+    pub t: Vec<f64>,
+    /// Positions, row-major (rows x coordinates).
+    pub x: Vec<f64>,
+    /// Velocities, row-major.
+    pub v: Vec<f64>,
+    /// Accelerations, row-major.
+    pub a: Vec<f64>,
+    /// Energy of every row, J.
+    pub energy: Vec<f64>,
+    /// Kinetic energy of every row, J (the scale of the energy error where the total energy
+    /// is near zero).
+    pub kinetic: Vec<f64>,
+    /// The intermediate evaluation points, when asked for.
+    pub stages: Vec<StageRow>,
+    /// The failure that ended the run early (with `stop_on_diverge`).
+    pub diverged: Option<Error>,
+    /// Force evaluations made by the steps (not the initial one).
+    pub evals: u64,
+}
+
+/// How to record a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RecordParams {
+    /// Step, s.
+    pub dt: f64,
+    /// End time, s: the run takes `until / dt` steps, rounded down (a quotient within 1e-9
+    /// of a whole number counts as that number).
+    pub until: f64,
+    /// One row every this many steps (the last step is always recorded).
+    pub every: u64,
+    /// Record the intermediate evaluation points of each step.
+    pub stages: bool,
+    /// End the run at a failed step and report it in [`Recording::diverged`] instead of
+    /// returning the error.
+    pub stop_on_diverge: bool,
+}
+
+/// Steps of `dt` that fit in `until` (rounded down, forgiving the rounding of a quotient that
+/// should be whole).
+///
+/// # Errors
+/// [`Error::InvalidValue`] naming `until` when it is not a finite number >= 0 or asks for
+/// more than 1e9 steps.
+pub fn steps_until(dt: f64, until: f64) -> Result<u64> {
+    if !(until.is_finite() && until >= 0.0) {
+        return Err(Error::invalid("until", until, "a finite number >= 0"));
+    }
+    crate::error::positive("dt", dt)?;
+    let ratio = until / dt;
+    let steps =
+        if (ratio - ratio.round()).abs() <= 1e-9 * ratio.max(1.0) { ratio.round() } else { ratio.floor() };
+    if steps.is_nan() || steps > MAX_STEPS {
+        return Err(Error::invalid(
+            "until",
+            until,
+            format!("at most 1e9 steps of dt = {dt} (until / dt = {ratio:e})"),
+        ));
+    }
+    Ok(steps as u64)
+}
+
+/// Drives a [`World`] through a recorded run, in slices.
+#[derive(Debug)]
+pub struct Recorder {
+    params: RecordParams,
+    steps: u64,
+    next: u64,
+    evals0: u64,
+    done: bool,
+    log: StageLog,
+    rec: Recording,
+}
+
+impl Recorder {
+    /// Starts a recording of `world` and records its first row.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `until`, `dt` or `every` for a run that is malformed or
+    /// would not fit in memory (refused before anything is allocated).
+    pub fn new(world: &mut World, params: RecordParams) -> Result<Self> {
+        let steps = steps_until(params.dt, params.until)?;
+        if params.every == 0 {
+            return Err(Error::invalid("every", 0, "at least 1"));
+        }
+        let n = world.positions().len() as u64;
+        let rows = steps / params.every + 2;
+        let values = rows.saturating_mul(3 * n + 2);
+        if values > MAX_RECORDED {
+            let (field, value) = if params.every == 1 {
+                ("until", params.until.to_string())
+            } else {
+                ("every", params.every.to_string())
+            };
+            return Err(Error::invalid(
+                field,
+                value,
+                format!(
+                    "such that the recording fits in memory: {rows} rows of {n} coordinates would be \
+                     {values} values (more than {MAX_RECORDED}); record fewer rows (a larger every) or \
+                     a shorter run"
+                ),
+            ));
+        }
+        let cap = usize::try_from(rows).unwrap_or(usize::MAX);
+        let n = n as usize;
+        let mut rec = Recording {
+            t: Vec::with_capacity(cap),
+            x: Vec::with_capacity(cap * n),
+            v: Vec::with_capacity(cap * n),
+            a: Vec::with_capacity(cap * n),
+            energy: Vec::with_capacity(cap),
+            kinetic: Vec::with_capacity(cap),
+            ..Recording::default()
+        };
+        record(world, &mut rec)?;
+        let evals0 = world.evals();
+        Ok(Self { params, steps, next: 1, evals0, done: steps == 0, log: StageLog::default(), rec })
+    }
+
+    /// Steps the run takes in all.
+    #[must_use]
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Whether the run is over (all steps taken, or stopped at a failure).
+    #[must_use]
+    pub fn done(&self) -> bool {
+        self.done
+    }
+
+    /// Takes up to `max_steps` more steps, recording as asked; returns whether the run is
+    /// over.
+    ///
+    /// # Errors
+    /// A failed step ([`Error::Diverged`], [`Error::NotConverged`], [`Error::NonFinite`])
+    /// unless `stop_on_diverge`, which records the state at the failure and ends the run.
+    pub fn run(&mut self, world: &mut World, max_steps: u64) -> Result<bool> {
+        let n = world.positions().len();
+        let dt = self.params.dt;
+        let end = self.steps.min(self.next.saturating_add(max_steps).saturating_sub(1));
+        while !self.done && self.next <= end {
+            let k = self.next;
+            let r = if self.params.stages {
+                self.log.rows.clear();
+                let r = world.step_logged(dt, &mut self.log);
+                for row in &self.log.rows {
+                    let (x, v) = row.y.split_at(n);
+                    self.rec.stages.push((
+                        k - 1,
+                        row.stage,
+                        row.t,
+                        x.to_vec(),
+                        v.to_vec(),
+                        row.f[n..].to_vec(),
+                    ));
+                }
+                r
+            } else {
+                world.step_by(dt)
+            };
+            let r = r.and_then(|()| {
+                if k % self.params.every == 0 || k == self.steps {
+                    record(world, &mut self.rec)
+                } else {
+                    Ok(())
+                }
+            });
+            self.next += 1;
+            if let Err(e) = r {
+                if self.params.stop_on_diverge && e.is_step_failure() {
+                    self.done = true;
+                    if !matches!(e, Error::NonFinite { .. }) {
+                        // The world was rolled back to the last good state: record it.
+                        record(world, &mut self.rec)?;
+                    }
+                    self.rec.diverged = Some(e);
+                    break;
+                }
+                self.done = true;
+                return Err(e);
+            }
+            if k == self.steps {
+                self.done = true;
+            }
+        }
+        self.rec.evals = world.evals() - self.evals0;
+        Ok(self.done)
+    }
+
+    /// The recording so far.
+    #[must_use]
+    pub fn finish(self) -> Recording {
+        self.rec
+    }
+}
+
+/// Appends the world's current row; a non-finite energy (the state is finite, its energy
+/// overflowed) ends the run as a failure rather than a silent infinity.
+fn record(w: &mut World, rec: &mut Recording) -> Result<()> {
+    let e = w.energy();
+    if !e.is_finite() {
+        return Err(Error::NonFinite {
+            method: w.integrator().info().name.into(),
+            quantity: "energy".into(),
+            value: e,
+            step: w.steps(),
+            t: w.time(),
+        });
+    }
+    rec.t.push(w.time());
+    rec.x.extend_from_slice(w.positions());
+    rec.v.extend_from_slice(w.velocities());
+    rec.a.extend_from_slice(w.accelerations());
+    rec.energy.push(e);
+    rec.kinetic.push(w.model().kinetic(w.velocities()));
+    Ok(())
+}

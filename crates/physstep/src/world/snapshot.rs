@@ -1,0 +1,245 @@
+//! Snapshots, restores, state hashes and the phase vector of a [`World`].
+//!
+//! A snapshot is `MAGIC`, five little-endian words (dim, particles, method-name length,
+//! steps, evaluations), the method name, then f64s: time, the clock's balance (two), the
+//! epoch (time, steps, dt), the memory length, `[x; v]`, the integrator's memory, the
+//! previous positions and the static mask (1 for a static particle); and last an FNV-1a
+//! checksum of everything before it. [`World::restore`] checks all of it before it changes
+//! anything.
+
+use super::{Epoch, World};
+use crate::dynamics::SecondOrder;
+use crate::error::{Error, Result};
+
+const MAGIC: &[u8; 8] = b"PHSTEP02";
+/// Steps are counted exactly as f64 integers up to this (time is `t0 + k dt`).
+const MAX_STEPS: u64 = 1 << 53;
+
+/// FNV-1a over `bytes`, continuing from `h`.
+fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
+    for b in bytes {
+        h ^= u64::from(*b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
+
+fn corrupt(reason: impl Into<String>) -> Error {
+    Error::Corrupt { reason: reason.into() }
+}
+
+impl World {
+    /// The whole dynamic state as bytes: time, steps, positions, velocities, the
+    /// integrator's memory, the clock's accumulator and a checksum. [`World::restore`] puts
+    /// it back bitwise, so a restored run continues exactly as an uninterrupted one.
+    #[must_use]
+    pub fn snapshot(&self) -> Vec<u8> {
+        let memory = self.integrator.memory();
+        let mut out = Vec::with_capacity(80 + 8 * (2 * self.state.y.len() + memory.len()));
+        out.extend_from_slice(MAGIC);
+        let name = self.integrator.info().name.as_bytes();
+        for word in
+            [self.dim() as u64, self.len() as u64, name.len() as u64, self.state.steps, self.state.evals]
+        {
+            out.extend_from_slice(&word.to_le_bytes());
+        }
+        out.extend_from_slice(name);
+        let [hi, lo] = self.clock.balance();
+        // Before the first step (or after particles were added) there are no previous
+        // positions of this particle count; the current ones interpolate the same way.
+        let prev_x = if self.prev_x.len() == self.model.len() { &self.prev_x[..] } else { self.positions() };
+        let e = self.epoch;
+        let mask = self.model.inv_mass.iter().map(|w| if *w == 0.0 { 1.0 } else { 0.0 });
+        for v in [self.state.t, hi, lo, e.t, e.steps as f64, e.dt, memory.len() as f64]
+            .into_iter()
+            .chain(self.state.y.iter().copied())
+            .chain(memory.iter().copied())
+            .chain(prev_x.iter().copied())
+            .chain(mask)
+        {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        let sum = fnv1a(FNV_START, &out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out
+    }
+
+    /// Restores a [`World::snapshot`] of this world (same dimensions, particles, static
+    /// particles and method).
+    ///
+    /// # Errors
+    /// [`Error::Corrupt`] when the bytes are not such a snapshot: a bad checksum, another
+    /// layout or method, a static mask that differs, a non-finite value, a step count or
+    /// epoch that does not add up, integrator memory that does not fit. The world is then
+    /// unchanged.
+    pub fn restore(&mut self, bytes: &[u8]) -> Result<()> {
+        let body = bytes
+            .strip_prefix(MAGIC.as_slice())
+            .ok_or_else(|| corrupt("not a physstep snapshot (or one of another version)"))?;
+        if body.len() < 48 {
+            return Err(corrupt("truncated"));
+        }
+        let (body, sum) = body.split_at(body.len() - 8);
+        let sum = u64::from_le_bytes(sum.try_into().map_err(|_| corrupt("truncated"))?);
+        if fnv1a(fnv1a(FNV_START, MAGIC), body) != sum {
+            return Err(corrupt("checksum mismatch: the bytes were damaged or edited"));
+        }
+        let word = |i: usize| -> Result<u64> {
+            body.get(i * 8..i * 8 + 8)
+                .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
+                .ok_or_else(|| corrupt("truncated header"))
+        };
+        let (dim, n, name_len, steps, evals) = (word(0)?, word(1)?, word(2)?, word(3)?, word(4)?);
+        if dim != self.dim() as u64 || n != self.len() as u64 {
+            return Err(corrupt(format!(
+                "snapshot has {n} particles in {dim}D, this world {} in {}D",
+                self.len(),
+                self.dim()
+            )));
+        }
+        let rest = &body[40..];
+        let name_len = usize::try_from(name_len).map_err(|_| corrupt("bad method name"))?;
+        let name = rest.get(..name_len).ok_or_else(|| corrupt("truncated method name"))?;
+        if name != self.integrator.info().name.as_bytes() {
+            return Err(corrupt(format!(
+                "snapshot was taken with method '{}', this world uses '{}'",
+                crate::error::one_line(&String::from_utf8_lossy(name)),
+                self.integrator.info().name
+            )));
+        }
+        let rest = &rest[name_len..];
+        if rest.len() % 8 != 0 {
+            return Err(corrupt("truncated data"));
+        }
+        let floats: Vec<f64> =
+            rest.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or_default())).collect();
+        let nx = self.model.len();
+        let ny = 2 * nx;
+        let np = self.len();
+        let [t, hi, lo, et, es, edt, nm, data @ ..] = floats.as_slice() else {
+            return Err(corrupt("truncated data"));
+        };
+        // The memory length is what is left after the state, the previous positions and the
+        // mask; the stored length must agree (a damaged one, huge or NaN, must not overflow).
+        let nm = data
+            .len()
+            .checked_sub(ny + nx + np)
+            .filter(|m| *m as f64 == *nm)
+            .ok_or_else(|| corrupt("data length does not match the world"))?;
+        let (y, rest) = data.split_at(ny);
+        let (memory, rest) = rest.split_at(nm);
+        let (prev_x, mask) = rest.split_at(nx);
+        for (what, v) in [("time", t), ("accumulator", hi), ("accumulator", lo), ("epoch time", et)] {
+            if !v.is_finite() {
+                return Err(corrupt(format!("{what} is {v}")));
+            }
+        }
+        if let Some(i) = y.iter().chain(prev_x).position(|v| !v.is_finite()) {
+            return Err(corrupt(format!("state entry {i} is not finite")));
+        }
+        if steps > MAX_STEPS {
+            return Err(corrupt(format!("step count {steps} is more than 2^53")));
+        }
+        if !(es.fract() == 0.0 && *es >= 0.0 && *es <= steps as f64) {
+            return Err(corrupt(format!("epoch step {es} is not a step count <= {steps}")));
+        }
+        if !(*edt == 0.0 || (edt.is_finite() && *edt > 0.0)) {
+            return Err(corrupt(format!("epoch dt = {edt}")));
+        }
+        let epoch = Epoch { t: *et, steps: *es as u64, dt: *edt };
+        if epoch.time(steps) != Some(*t) {
+            return Err(corrupt(format!("time {t} does not follow from the epoch and {steps} steps")));
+        }
+        for (p, (flag, w)) in mask.iter().zip(&self.model.inv_mass).enumerate() {
+            if *flag != f64::from(u8::from(*w == 0.0)) {
+                return Err(corrupt(format!(
+                    "particle {p} is {} in the snapshot, {} in this world",
+                    if *flag == 1.0 { "static" } else { "dynamic" },
+                    if *w == 0.0 { "static" } else { "dynamic" }
+                )));
+            }
+            let v = &y[nx + p * self.dim()..nx + (p + 1) * self.dim()];
+            if *w == 0.0 && v.iter().any(|c| *c != 0.0) {
+                return Err(corrupt(format!("static particle {p} has a velocity")));
+            }
+        }
+        let mut integrator = self.integrator.clone();
+        integrator.recall(memory, nx)?;
+        // Everything checked: commit.
+        self.integrator = integrator;
+        self.state.t = *t;
+        self.epoch = epoch;
+        self.state.steps = steps;
+        self.state.evals = evals;
+        self.state.y.copy_from_slice(y);
+        self.prev_x = prev_x.to_vec();
+        self.clock.restore_balance([*hi, *lo]);
+        // The derivative is a function of the state: recompute it without counting it, so
+        // the evaluation count matches an uninterrupted run.
+        self.stale = true;
+        self.refresh();
+        self.state.evals = evals;
+        Ok(())
+    }
+
+    /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory):
+    /// equal for bitwise-equal states, different after any change.
+    #[must_use]
+    pub fn state_hash(&self) -> u64 {
+        let mut h = FNV_START;
+        let mut eat = |v: f64| h = fnv1a(h, &v.to_bits().to_le_bytes());
+        eat(self.state.t);
+        self.state.y.iter().for_each(|v| eat(*v));
+        self.integrator.memory().iter().for_each(|v| eat(*v));
+        h
+    }
+
+    /// The vector the step map acts on: `[x; v]` followed by the vector part of the
+    /// integrator's memory (Verlet's previous positions, leapfrog's half-step velocities;
+    /// nothing for the other methods, or before a stateful method's first step). A
+    /// linearisation of the step (the lab's amplification matrix) perturbs all of it.
+    #[must_use]
+    pub fn phase(&self) -> Vec<f64> {
+        let mut z = self.state.y.clone();
+        z.extend_from_slice(&self.integrator.memory()[self.memory_flags()..]);
+        z
+    }
+
+    /// Sets what [`World::phase`] returns, keeping the integrator's flags and step size (it is
+    /// not restarted, unlike after [`World::set_positions`]).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `phase` for a wrong length or a non-finite entry, or a
+    /// static particle given a velocity; the world is unchanged.
+    pub fn set_phase(&mut self, z: &[f64]) -> Result<()> {
+        let ny = self.state.y.len();
+        let mut memory = self.integrator.memory();
+        let flags = self.memory_flags();
+        let want = ny + memory.len() - flags;
+        if z.len() != want {
+            return Err(Error::invalid("len(phase)", z.len(), format!("{want}")));
+        }
+        crate::error::all_finite("phase", z)?;
+        let nx = self.model.len();
+        let d = self.dim();
+        if let Some(i) = (0..nx).find(|&i| self.model.inv_mass[i / d] == 0.0 && z[nx + i] != 0.0) {
+            return Err(Error::invalid(
+                format!("phase[{}]", nx + i),
+                z[nx + i],
+                "0 (the velocity of a static particle)",
+            ));
+        }
+        memory[flags..].copy_from_slice(&z[ny..]);
+        self.integrator.recall(&memory, ny / 2)?;
+        self.state.y.copy_from_slice(&z[..ny]);
+        self.stale = true;
+        self.refresh();
+        Ok(())
+    }
+
+    fn memory_flags(&self) -> usize {
+        self.integrator.memory_flags().min(self.integrator.memory().len())
+    }
+}
