@@ -118,24 +118,24 @@ def test_every_method_is_reachable_from_python_and_the_cli(method: str) -> None:
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
-        (["table", "spring", "--dt", "0", "--until", "2"], "invalid dt = 0"),
-        (["table", "spring", "--dt", "-1", "--until", "2"], "invalid dt = -1"),
-        (["table", "spring", "--dt", "nan", "--until", "2"], "invalid dt = NaN"),
-        (["run", "spring", "--dt", "0.1", "--until", "inf"], "invalid until = inf"),
+        (["table", "spring", "--dt", "0", "--until", "2"], "invalid --dt '0': must be a finite number > 0"),
+        (["table", "spring", "--dt", "-1", "--until", "2"], "invalid --dt '-1'"),
+        (["table", "spring", "--dt", "nan", "--until", "2"], "invalid --dt 'nan'"),
+        (["run", "spring", "--dt", "0.1", "--until", "inf"], "invalid --until 'inf'"),
         (["run", "spring", "--param", "m=0"], "invalid m = 0"),
         (["run", "spring", "--param", "m=-3"], "invalid m = -3"),
-        (["run", "spring", "--param", "x0=nan"], "invalid x0 = NaN"),
+        (["run", "spring", "--param", "x0=nan"], "invalid --param 'x0=nan'"),
         (["run", "spring", "--method", "nope"], "unknown method 'nope'; valid methods: explicit-euler"),
         (["run", "nowhere"], "unknown scene 'nowhere'; valid scenes: spring"),
         (["run", "spring", "--param", "q=1"], "unknown param 'q'; valid params: m, k, c, x0, v0"),
         (["run", "spring", "--param", "k"], "invalid --param 'k': must be NAME=VALUE"),
         (["run", "spring", "--param", "k=abc"], "invalid --param 'k=abc'"),
-        (["run", "spring", "--dt", "abc"], "invalid float value: 'abc'"),
+        (["run", "spring", "--dt", "abc"], "invalid --dt 'abc': not a number"),
         (
             ["run", "nbody", "--until", "1e5"],
             "invalid until = 100000: must be such that the recording fits in memory: 100000002 rows",
         ),
-        (["run", "spring", "--every", "0"], "invalid --every = 0"),
+        (["run", "spring", "--every", "0"], "invalid --every '0'"),
     ],
 )
 def test_bad_input_is_one_line_and_status_2(args: list[str], needle: str) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import matplotlib.image as mpimg
@@ -107,3 +108,117 @@ def test_bad_plot_input() -> None:
         plot.save(plot.trajectory(physstep.simulate("spring", "rk4", 0.1, 1.0)), "x.jpg")
     with pytest.raises(ValueError, match="2D"):
         plot.orbit(physstep.simulate("spring", "rk4", 0.1, 1.0))
+
+
+# -- bad data: a ValueError that says what is wrong ---------------------------------------
+
+
+def _empty(run: physstep.Trajectory) -> physstep.Trajectory:
+    none = np.empty((0, run.x.shape[1]))
+    return dataclasses.replace(run, t=np.empty(0), x=none, v=none, a=none, energy=np.empty(0), exact_x=None)
+
+
+@pytest.fixture
+def spring_run() -> physstep.Trajectory:
+    return physstep.simulate("spring", "rk4", 0.1, 2.0)
+
+
+@pytest.mark.parametrize("fn", [plot.trajectory, plot.phase, plot.energy, plot.orbit])
+def test_no_runs_or_a_run_without_rows_is_a_value_error(fn, spring_run) -> None:
+    with pytest.raises(ValueError, match=r"invalid trajectories = \[\]"):
+        fn([])
+    orbit = physstep.simulate("orbit", "rk4", 0.1, 1.0)
+    with pytest.raises(ValueError, match=r"invalid trajectories\[1\] \(rk4\): the trajectory has no rows"):
+        fn([orbit, _empty(orbit)])
+
+
+@pytest.mark.parametrize("fn", [plot.trajectory, plot.phase])
+@pytest.mark.parametrize("coord", [1, -1, 2.0])
+def test_coordinate_out_of_range(fn, spring_run, coord) -> None:
+    with pytest.raises(ValueError, match=f"invalid coord = {coord}"):
+        fn(spring_run, coord=coord)
+
+
+def test_particle_out_of_range() -> None:
+    run = physstep.simulate("chain", "rk4", 0.001, 0.01)
+    plot.orbit(run, particle=run.x.shape[1] // 2 - 1)
+    with pytest.raises(ValueError, match=r"invalid particle = 10: the chain run of rk4 has 10 particles"):
+        plot.orbit(run, particle=10)
+    with pytest.raises(ValueError, match="invalid particle = -1"):
+        plot.orbit(run, particle=-1)
+
+
+def test_non_finite_rows_are_left_out_and_the_legend_says_so(tmp_path, spring_run) -> None:
+    x, v, e = spring_run.x.copy(), spring_run.v.copy(), spring_run.energy.copy()
+    x[5:8, 0] = np.inf
+    v[10, 0] = np.nan
+    e[3] = -np.inf
+    bad = dataclasses.replace(spring_run, x=x, v=v, energy=e)
+    fig = plot.trajectory(bad)
+    assert _labels(fig)[0] == "rk4 (3 non-finite rows not shown)"
+    y = fig.axes[0].get_lines()[0].get_ydata()
+    assert np.isnan(y[5:8]).all() and np.isfinite(np.delete(y, [5, 6, 7])).all()
+    assert _labels(plot.phase(bad))[0] == "rk4 (4 non-finite rows not shown)"
+    assert _labels(plot.energy(bad))[0] == "rk4 (1 non-finite row not shown)"
+    plot.save(fig, tmp_path / "bad.png")
+    plot.save(plot.phase(bad), tmp_path / "bad.svg")
+
+
+@pytest.mark.parametrize("fn", [plot.trajectory, plot.phase, plot.energy])
+def test_a_run_with_no_finite_row_is_a_value_error(fn, spring_run) -> None:
+    nan = np.full_like(spring_run.x, np.nan)
+    bad = dataclasses.replace(spring_run, x=nan, v=nan, energy=np.full_like(spring_run.energy, np.inf))
+    with pytest.raises(ValueError, match=r"invalid trajectory \(rk4\): no row has finite values"):
+        fn([spring_run, bad])
+
+
+def _rows(errors: list[float | None]) -> list[dict]:
+    return [
+        {
+            "method": "rk4",
+            "dt": 0.1 / 2**i,
+            "evals": 100 * 2**i,
+            "time_s": 1e-5 * 2**i,
+            "max_error": e,
+            "error": e,
+        }
+        for i, e in enumerate(errors)
+    ]
+
+
+@pytest.mark.parametrize(
+    ("data", "needle"),
+    [
+        ({}, "invalid data: no 'rows'"),
+        ({"rows": []}, "invalid data: no rows"),
+        ([], "invalid data: no rows"),
+        ([{"method": "rk4", "dt": 0.1, "max_error": 1.0}], "invalid data: row 0 has no 'evals'"),
+        (_rows([None, None]), "no row has a finite, positive max_error"),
+        (_rows([float("nan"), float("inf"), 0.0, -1.0]), "no row has a finite, positive max_error"),
+    ],
+)
+def test_work_precision_bad_data(data, needle) -> None:
+    with pytest.raises(ValueError, match=needle):
+        plot.work_precision(data)
+
+
+def test_work_precision_leaves_out_non_finite_points(tmp_path) -> None:
+    fig = plot.work_precision(_rows([1e-2, float("inf"), 1e-4, float("nan")]), against="both")
+    assert _labels(fig) == ["rk4 (2 of 4 points left out)"]
+    for ax in fig.axes:
+        assert list(ax.get_lines()[0].get_ydata()) == [1e-2, 1e-4]  # sorted by work
+    plot.save(fig, tmp_path / "wp.png")
+
+
+def test_save_failure_keeps_the_old_file(tmp_path, monkeypatch, spring_run) -> None:
+    target = tmp_path / "x.png"
+    target.write_bytes(b"old")
+    fig = plot.trajectory(spring_run)
+
+    def full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(fig, "savefig", full)
+    with pytest.raises(ValueError, match=f"invalid plot file '{target}': No space left on device"):
+        plot.save(fig, target)
+    assert target.read_bytes() == b"old" and [p.name for p in tmp_path.iterdir()] == ["x.png"]

@@ -2,7 +2,8 @@
 
 :func:`register` adds them to the ``physstep`` command line (see :mod:`physstep.cli`). Each
 handler returns the exit status; a ValueError it raises becomes status 2 with one line on
-stderr.
+stderr. Output follows :mod:`physstep.cli`: strict JSON, no non-finite number printed,
+``--out`` and ``--plot`` checked before the computation and written whole or not at all.
 """
 
 from __future__ import annotations
@@ -10,21 +11,30 @@ from __future__ import annotations
 import argparse
 import csv
 import io
-import json
 import math
 import sys
 from pathlib import Path
 from typing import Any
 
 import physstep
-from physstep import lab
+from physstep import _files, lab
+from physstep.cli import (
+    MAX_LEVELS,
+    NotFiniteError,
+    UsageError,
+    _argument,
+    dump,
+    finite,
+    one_line,
+    parse_params,
+    reached,
+    requested_until,
+)
 
 _SCENE_HELP = "built-in scene (physstep scenes lists them)"
 
 
 def _params(args: argparse.Namespace) -> dict[str, float] | None:
-    from physstep.cli import parse_params
-
     return parse_params(args.param) or None
 
 
@@ -33,40 +43,64 @@ def _methods(text: str) -> list[str]:
         return [m.name for m in physstep.methods()]
     names = [m.strip() for m in text.split(",") if m.strip()]
     if not names:
-        raise ValueError(f"invalid --methods '{text}': give a comma-separated list of methods")
+        raise UsageError(f"invalid --methods '{text}': give a comma-separated list of methods, or all")
     return names
 
 
 def _floats(text: str, flag: str) -> list[float]:
+    """A comma-separated list of finite numbers > 0 (the steps of ``--dts``)."""
     out = []
     for item in text.split(","):
         item = item.strip()
         if not item:
             continue
         try:
-            out.append(float(item))
+            value = float(item)
         except ValueError:
-            raise ValueError(f"invalid {flag} '{text}': '{item}' is not a number") from None
+            raise UsageError(f"invalid {flag} '{text}': '{item}' is not a number") from None
+        if not (math.isfinite(value) and value > 0):
+            raise UsageError(f"invalid {flag} '{text}': '{item}' must be a finite number > 0")
+        out.append(value)
     if not out:
-        raise ValueError(f"invalid {flag} '{text}': give a comma-separated list of numbers")
+        raise UsageError(f"invalid {flag} '{text}': give a comma-separated list of numbers")
     return out
 
 
-def _plot_path(path: str | None) -> None:
-    if path is not None and Path(path).suffix.lower() not in (".png", ".svg"):
-        raise ValueError(f"invalid --plot '{path}': the file must end in .png or .svg")
+def _check_plot(path: str | None) -> None:
+    """Before any computation: ``--plot`` ends in .png or .svg and can be written."""
+    if path is None:
+        return
+    if Path(path).suffix.lower() not in (".png", ".svg"):
+        raise UsageError(f"invalid --plot '{path}': the file must end in .png or .svg")
+    _files.check(path, "--plot")
 
 
-def _dump(obj: Any) -> None:
-    print(json.dumps(obj, indent=2, allow_nan=True))
+def _save_plot(fig: Any, path: str) -> None:
+    fmt = Path(path).suffix.lower().lstrip(".")
+    _files.write(path, lambda fh: fig.savefig(fh, format=fmt), "--plot")
+
+
+def _print_json(obj: Any) -> None:
+    print(dump(obj))
 
 
 def _g(x: float | None, spec: str = ".3g") -> str:
     if x is None:
         return "-"
-    if isinstance(x, float) and not math.isfinite(x):
-        return str(x)
+    if isinstance(x, float) and not math.isfinite(x):  # finite() has run: never reached
+        raise NotFiniteError(f"non-finite value {x} in the text output: not printed")
     return format(x, spec)
+
+
+def _span(res: dict[str, Any]) -> tuple[int | None, float | None]:
+    """Steps and final time actually run by compare: from the lab's result if it says, else
+    from the first row that did not diverge."""
+    steps, t_end = res.get("steps"), res.get("t_end")
+    if steps is None or t_end is None:
+        ok = [r for r in res.get("rows", []) if not r.get("diverged")]
+        if ok:
+            steps, t_end = ok[0].get("steps"), ok[0].get("t_end")
+    return steps, t_end
 
 
 def _console() -> Any:
@@ -83,28 +117,40 @@ def _add_param(p: argparse.ArgumentParser) -> None:
 
 
 def _cmd_compare(args: argparse.Namespace) -> int:
-    _plot_path(args.plot)
+    _check_plot(args.plot)
     methods = _methods(args.methods)
     params = _params(args)
     res = lab.compare(args.scene, methods, args.dt, args.until, params)
+    until = requested_until(args.scene, args.until)
+    steps, t_end = _span(res)
+    res.setdefault("until_requested", until)
+    if steps is not None and t_end is not None:
+        res.setdefault("steps", steps)
+        res.setdefault("t_end", t_end)
+    finite(res)
     if args.plot:
-        _compare_plot(args.scene, methods, res, params, args.plot)
+        _compare_plot(args.scene, methods, res["dt"], until, params, args.plot)
         res["plot"] = args.plot
     if args.format == "json":
-        _dump(res)
+        _print_json(res)
         return 0
     from rich.table import Table
 
+    note = None if steps is None or t_end is None else reached(until, steps, res["dt"], t_end)
+    span = note or f"until = {until:.10g} s" + ("" if steps is None else f" ({steps} steps)")
     table = Table(
-        title=f"{res['scene']}: dt = {res['dt']:g} s, until = {res['until']:g} s",
+        title=f"{res['scene']}: dt = {res['dt']:g} s, {span}",
         caption=f"final error against the {res['error_against']}; drift = least-squares slope "
         "of the relative energy error, per second",
     )
-    for col in ("method", "order", "evals/step", "max |dE/E0|", "drift (1/s)", "final error (m)", "ns/step"):
+    repeats = res.get("ns_per_step_runs", res.get("repeats"))
+    timing = "ns/step" if repeats in (None, 1) else f"ns/step (median of {repeats})"
+    for col in ("method", "order", "evals/step", "max |dE/E0|", "drift (1/s)", "final error (m)", timing):
         table.add_column(col, justify="left" if col == "method" else "right")
     for r in res["rows"]:
+        where = f" at t = {r['t_end']:g} s" if r.get("t_end") is not None else ""
         table.add_row(
-            r["method"] + (f" [red](failed at t = {r['t_end']:g} s)[/red]" if r["diverged"] else ""),
+            r["method"] + (f" [red](failed{where})[/red]" if r["diverged"] else ""),
             str(r["order"]),
             _g(r["evals_per_step"], ".2f"),
             _g(r["energy_max_rel_error"], ".3e"),
@@ -116,30 +162,36 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     con.print(table)
     for r in res["rows"]:
         if r["diverged"]:
-            con.print(f"{r['method']}: {r['diverged']}; its row covers the run up to there", markup=False)
+            con.print(
+                f"{r['method']}: {one_line(r['diverged'])}; its row covers the run up to there", markup=False
+            )
     if args.plot:
-        con.print(f"plot: {args.plot}")
+        con.print(f"plot: {args.plot}", markup=False)
     return 0
 
 
 def _compare_plot(
-    scene: str, methods: list[str], res: dict[str, Any], params: dict[str, float] | None, path: str
+    scene: str, methods: list[str], dt: float, until: float, params: dict[str, float] | None, path: str
 ) -> None:
-    import physstep
     from physstep import plot
 
-    runs = [
-        physstep.simulate(scene, m, res["dt"], res["until"], params, stop_on_diverge=True) for m in methods
-    ]
+    runs = [physstep.simulate(scene, m, dt, until, params, stop_on_diverge=True) for m in methods]
     dim = runs[0].dim
     fig = plot.orbit(runs) if dim >= 2 and scene in ("orbit", "kepler") else plot.trajectory(runs)
-    plot.save(fig, path)
+    _save_plot(fig, path)
 
 
 def _cmd_order(args: argparse.Namespace) -> int:
     res = lab.order(args.scene, args.method, args.dt, args.until, _params(args), levels=args.levels)
+    for r in res.get("runs", []):
+        # the lab marks a run that diverged with an infinite error: say so, never print inf
+        e = r.get("error")
+        if isinstance(e, float) and not math.isfinite(e):
+            r["error"] = None
+            r["diverged"] = True
+    finite(res)
     if args.format == "json":
-        _dump(res)
+        _print_json(res)
         return 0
     from rich.table import Table
 
@@ -148,20 +200,22 @@ def _cmd_order(args: argparse.Namespace) -> int:
     for col in ("dt (s)", "steps", "error (m)", "order"):
         table.add_column(col, justify="right")
     for r in res["runs"]:
-        table.add_row(_g(r["dt"], ".6g"), str(r["steps"]), _g(r["error"], ".3e"), _g(r["order"], ".3f"))
+        err = "diverged" if r.get("diverged") else _g(r["error"], ".3e")
+        table.add_row(_g(r["dt"], ".6g"), str(r["steps"]), err, _g(r["order"], ".3f"))
     con = _console()
     con.print(table)
     con.print(f"observed order [bold]{obs}[/bold] (registry: {res['info_order']}), fit over the finest runs")
     con.print(f"error: final position error at t = {res['until']:g} s against the {res['error_against']}")
     if res["note"]:
-        con.print(f"note: {res['note']}")
+        con.print(f"note: {res['note']}", markup=False)
     return 0
 
 
 def _cmd_stability(args: argparse.Namespace) -> int:
     res = lab.stability(args.scene, args.method, _params(args), cap=args.cap)
+    finite(res)
     if args.format == "json":
-        _dump(res)
+        _print_json(res)
         return 0
     d = res["dt_max"]
     if d is None:
@@ -177,12 +231,14 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         f"search: log grid {res['grid'][0]:.3g} ... {res['grid'][1]:.6g} s "
         f"({res['grid'][2]} per decade), then bisection; natural time scale {res['time_scale']:.6g} s"
     )
-    con.print(res["note"])
+    con.print(res["note"], markup=False)
     return 0
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    _plot_path(args.plot)
+    _check_plot(args.plot)
+    if args.out is not None:
+        _files.check(args.out, "--out")
     methods = _methods(args.methods)
     dts = _floats(args.dts, "--dts")
     params = _params(args)
@@ -205,27 +261,40 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             bar.update(task, completed=done, description=label)
 
         res = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress)
+    res.setdefault("until_requested", requested_until(args.scene, args.until))
+    for r in res["rows"]:
+        # where each run ended: dt does not always divide until (the lab may say it itself)
+        r.setdefault("t_end", r["steps"] * r["dt"])
+    finite(res)
     if args.plot:
         from physstep import plot
 
-        plot.save(plot.work_precision(res, against="both"), args.plot)
+        _save_plot(plot.work_precision(res, against="both"), args.plot)
         res["plot"] = args.plot
     if args.format == "json":
-        text = json.dumps(res, indent=2, allow_nan=True) + "\n"
+        text = dump(res) + "\n"
     else:
         buf = io.StringIO()
-        cols = ["method", "dt", "steps", "evals", "time_s", "ns_per_step", "error", "max_error"]
+        cols = ["method", "dt", "steps", "t_end", "evals", "time_s", "ns_per_step", "error", "max_error"]
         cols.append("energy_max_rel_error")
         w = csv.writer(buf, lineterminator="\n")
         w.writerow(cols + ["diverged"])
         for r in res["rows"]:
-            w.writerow(["" if r[c] is None else r[c] for c in cols] + [r["diverged"] or ""])
+            w.writerow(["" if r.get(c) is None else r[c] for c in cols] + [one_line(r["diverged"] or "")])
         text = buf.getvalue()
     if args.out:
-        Path(args.out).write_text(text)
+        _files.write_text(args.out, text, "--out")
     else:
         sys.stdout.write(text)
     return 0
+
+
+_DT = _argument("--dt", low=0, open_low=True)
+_UNTIL = _argument("--until", low=0)
+_UNTIL_HELP = (
+    "end time, s (default: the scene's); a whole number of steps is run, the output says where "
+    "the last one ends"
+)
 
 
 def register(subparsers: Any) -> None:
@@ -237,8 +306,8 @@ def register(subparsers: Any) -> None:
         default="all",
         help="comma-separated integrators, e.g. explicit-euler,rk4, or all (the default)",
     )
-    c.add_argument("--dt", type=float, default=None, help="step, s (default: the scene's)")
-    c.add_argument("--until", type=float, default=None, help="end time, s (default: the scene's)")
+    c.add_argument("--dt", type=_DT, default=None, help="step, s (default: the scene's)")
+    c.add_argument("--until", type=_UNTIL, default=None, help=_UNTIL_HELP)
     c.add_argument("--plot", metavar="FILE.png", help="also plot the runs (.png or .svg)")
     _add_param(c)
     c.add_argument("--format", choices=("text", "json"), default="text", help="output format")
@@ -247,9 +316,19 @@ def register(subparsers: Any) -> None:
     o = subparsers.add_parser("order", help="observed convergence order from halvings of dt")
     o.add_argument("scene", help=_SCENE_HELP)
     o.add_argument("--method", required=True, help="integrator (physstep methods lists them)")
-    o.add_argument("--dt", type=float, default=None, help="coarsest step, s (default: until/32)")
-    o.add_argument("--until", type=float, default=None, help="end time, s (default: 0.3 time scales)")
-    o.add_argument("--levels", type=int, default=5, help="number of step sizes (default 5)")
+    o.add_argument("--dt", type=_DT, default=None, help="coarsest step, s (default: until/32)")
+    o.add_argument(
+        "--until",
+        type=_argument("--until", low=0, open_low=True),
+        default=None,
+        help="end time, s (default: 0.3 time scales)",
+    )
+    o.add_argument(
+        "--levels",
+        type=_argument("--levels", int, low=2, high=MAX_LEVELS),
+        default=5,
+        help=f"number of step sizes, 2 to {MAX_LEVELS} (default 5)",
+    )
     _add_param(o)
     o.add_argument("--format", choices=("text", "json"), default="text", help="output format")
     o.set_defaults(func=_cmd_order)
@@ -258,7 +337,10 @@ def register(subparsers: Any) -> None:
     s.add_argument("scene", help=_SCENE_HELP)
     s.add_argument("--method", required=True, help="integrator (physstep methods lists them)")
     s.add_argument(
-        "--cap", type=float, default=None, help="largest dt searched, s (default: 1000 time scales)"
+        "--cap",
+        type=_argument("--cap", low=0, open_low=True),
+        default=None,
+        help="largest dt searched, s (default: 1000 time scales)",
     )
     _add_param(s)
     s.add_argument("--format", choices=("text", "json"), default="text", help="output format")
@@ -268,7 +350,7 @@ def register(subparsers: Any) -> None:
     w.add_argument("scene", help=_SCENE_HELP)
     w.add_argument("--methods", default="all", help="comma-separated integrators, or all (the default)")
     w.add_argument("--dts", required=True, help="comma-separated steps, s, e.g. 0.1,0.05,0.025")
-    w.add_argument("--until", type=float, default=None, help="end time, s (default: the scene's)")
+    w.add_argument("--until", type=_UNTIL, default=None, help=_UNTIL_HELP)
     w.add_argument("--out", metavar="FILE", help="write the data here instead of stdout")
     w.add_argument("--plot", metavar="FILE.png", help="also plot work-precision (.png or .svg)")
     _add_param(w)

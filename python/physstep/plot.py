@@ -13,10 +13,13 @@ Every function takes one trajectory or several (overlaid, one legend entry per m
 
 from __future__ import annotations
 
+import math
+import operator
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
@@ -31,7 +34,47 @@ def _runs(trajs: Trajectory | Iterable[Trajectory]) -> list[Trajectory]:
     runs = [trajs] if isinstance(trajs, Trajectory) else list(trajs)
     if not runs:
         raise ValueError("invalid trajectories = []: give at least one run")
+    for i, r in enumerate(runs):
+        if not isinstance(r, Trajectory):
+            raise TypeError(f"invalid trajectories[{i}]: a {type(r).__name__}, not a physstep.Trajectory")
+        if len(r.t) == 0:
+            raise ValueError(f"invalid trajectories[{i}] ({r.method}): the trajectory has no rows")
     return runs
+
+
+def _index(value: Any, name: str) -> int:
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise ValueError(f"invalid {name} = {value!r}: must be an integer") from None
+
+
+def _check_coord(runs: Sequence[Trajectory], coord: int) -> int:
+    coord = _index(coord, "coord")
+    for r in runs:
+        n = r.x.shape[1]
+        if not 0 <= coord < n:
+            raise ValueError(
+                f"invalid coord = {coord}: the {r.scene} run of {r.method} has {n} coordinates "
+                f"(0 ... {n - 1})"
+            )
+    return coord
+
+
+def _finite(cols: Sequence[np.ndarray], what: str | None) -> tuple[list[np.ndarray], str]:
+    """``cols`` with every row that has a non-finite value in any of them set to NaN (a gap in
+    the line), and the legend note saying how many rows that hid. ValueError naming ``what``
+    when no row is finite (``what`` None: no error, the line is left empty)."""
+    ok = np.ones(len(cols[0]), dtype=bool)
+    for c in cols:
+        ok &= np.isfinite(c)
+    bad = int(len(ok) - ok.sum())
+    if bad == 0:
+        return list(cols), ""
+    if bad == len(ok) and what is not None:
+        raise ValueError(f"invalid trajectory ({what}): no row has finite values to plot")
+    masked = [np.where(ok, c, np.nan) for c in cols]
+    return masked, f" ({bad} non-finite row{'s' if bad != 1 else ''} not shown)"
 
 
 def _figure(size: tuple[float, float] = (8.0, 5.0), dpi: int = 100) -> Figure:
@@ -69,30 +112,55 @@ def _coord_name(run: Trajectory, coord: int) -> str:
     return axis if run.x.shape[1] == run.dim else f"{axis}[{particle}]"
 
 
-def save(fig: Figure, path: str | Path, **kwargs: Any) -> Path:
-    """Writes ``fig`` to ``path``; the format (png, svg, pdf) comes from the extension."""
-    path = Path(path)
-    fmt = path.suffix.lstrip(".").lower()
+def _format(path: str | Path) -> str:
+    fmt = Path(path).suffix.lstrip(".").lower()
     if fmt not in ("png", "svg", "pdf"):
         raise ValueError(f"invalid plot file '{path}': the extension must be .png, .svg or .pdf")
+    return fmt
+
+
+def save(fig: Figure, path: str | Path, **kwargs: Any) -> Path:
+    """Writes ``fig`` to ``path``; the format (png, svg, pdf) comes from the extension.
+
+    Missing parent directories are created. The file is written whole or not at all (a
+    temporary file beside it, then renamed): a failed write keeps the old file. Raises
+    ValueError for an unknown extension or a file that cannot be written.
+    """
+    from physstep import _files
+
+    path = Path(path)
+    fmt = _format(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, format=fmt, **kwargs)
+    _files.write(str(path), lambda fh: fig.savefig(fh, format=fmt, **kwargs), "plot file")
     return path
 
 
+def _exact(runs: Sequence[Trajectory]) -> Trajectory | None:
+    """The longest run with an exact solution, or None."""
+    ex = [r for r in runs if r.exact_x is not None]
+    return max(ex, key=lambda r: r.t[-1]) if ex else None
+
+
 def trajectory(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
-    """Position coordinate ``coord`` against time, one line per run, the exact solution dashed."""
+    """Position coordinate ``coord`` against time, one line per run, the exact solution dashed.
+
+    Raises ValueError for no runs, a run with no rows, or ``coord`` out of range.
+
+    Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
+    and the legend says how many; a run with no finite row at all is a ValueError.
+    """
     runs = _runs(trajs)
+    coord = _check_coord(runs, coord)
     fig = _figure()
     ax = fig.add_subplot()
     for r in runs:
-        ax.plot(r.t, r.x[:, coord], label=_label(r, runs))
-    ex = next((r for r in runs if r.exact_x is not None), None)
+        (t, y), note = _finite([r.t, r.x[:, coord]], r.method)
+        ax.plot(t, y, label=_label(r, runs) + note)
+    ex = _exact(runs)
     if ex is not None:
         assert ex.exact_x is not None
-        longest = max((r for r in runs if r.exact_x is not None), key=lambda r: r.t[-1])
-        assert longest.exact_x is not None
-        ax.plot(longest.t, longest.exact_x[:, coord], label="exact", **_EXACT_STYLE)
+        (t, y), note = _finite([ex.t, ex.exact_x[:, coord]], None)
+        ax.plot(t, y, label="exact" + note, **_EXACT_STYLE)
     name = _coord_name(runs[0], coord)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"{name} (m)")
@@ -103,18 +171,29 @@ def trajectory(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figu
 
 
 def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
-    """Phase portrait: velocity against position of coordinate ``coord``."""
+    """Phase portrait: velocity against position of coordinate ``coord``.
+
+    Raises ValueError for no runs, a run with no rows, or ``coord`` out of range.
+
+    Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
+    and the legend says how many; a run with no finite row at all is a ValueError.
+    """
     runs = _runs(trajs)
+    coord = _check_coord(runs, coord)
     fig = _figure((6.5, 6.0))
     ax = fig.add_subplot()
     for r in runs:
-        ax.plot(r.x[:, coord], r.v[:, coord], label=_label(r, runs), linewidth=1.2)
+        (x, v), note = _finite([r.x[:, coord], r.v[:, coord]], r.method)
+        ax.plot(x, v, label=_label(r, runs) + note, linewidth=1.2)
     ex = next((r for r in runs if r.exact_x is not None and r.exact_v is not None), None)
     if ex is not None:
         assert ex.exact_x is not None and ex.exact_v is not None
-        ax.plot(ex.exact_x[:, coord], ex.exact_v[:, coord], label="exact", **_EXACT_STYLE)
+        (x, v), note = _finite([ex.exact_x[:, coord], ex.exact_v[:, coord]], None)
+        ax.plot(x, v, label="exact" + note, **_EXACT_STYLE)
     start = runs[0]
-    ax.plot([start.x[0, coord]], [start.v[0, coord]], "ko", markersize=5, label="start")
+    x0, v0 = start.x[0, coord], start.v[0, coord]
+    if np.isfinite(x0) and np.isfinite(v0):
+        ax.plot([x0], [v0], "ko", markersize=5, label="start")
     name = _coord_name(runs[0], coord)
     ax.set_xlabel(f"{name} (m)")
     ax.set_ylabel("v (m/s)" if name == "x" else f"v_{name} (m/s)")
@@ -125,24 +204,44 @@ def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
 
 
 def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure:
-    """The path of ``particle`` in the plane (equal axes), the exact path dashed."""
+    """The path of ``particle`` in the plane (equal axes), the exact path dashed.
+
+    Raises ValueError for no runs, a run with no rows, a 1D scene, or ``particle`` out of
+    range.
+
+    Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
+    and the legend says how many; a run with no finite row at all is a ValueError.
+    """
     runs = _runs(trajs)
     if any(r.dim < 2 for r in runs):
         raise ValueError("invalid trajectory: orbit plots need a 2D scene")
+    particle = _index(particle, "particle")
+    for r in runs:
+        n = r.x.shape[1] // r.dim
+        if not 0 <= particle < n:
+            raise ValueError(
+                f"invalid particle = {particle}: the {r.scene} run of {r.method} has {n} particle"
+                + (f"s (0 ... {n - 1})" if n != 1 else " (0)")
+            )
     fig = _figure((9.5, 7.0))
     ax = fig.add_subplot()
-    i, j = particle * runs[0].dim, particle * runs[0].dim + 1
     for r in runs:
-        (line,) = ax.plot(r.x[:, i], r.x[:, j], label=_label(r, runs), linewidth=1.2)
-        if r.diverged:
+        i, j = particle * r.dim, particle * r.dim + 1
+        (x, y), note = _finite([r.x[:, i], r.x[:, j]], r.method)
+        (line,) = ax.plot(x, y, label=_label(r, runs) + note, linewidth=1.2)
+        if r.diverged and np.isfinite(r.x[-1, i]) and np.isfinite(r.x[-1, j]):
             ax.plot([r.x[-1, i]], [r.x[-1, j]], "x", color=line.get_color(), markersize=8)
-    ex = [r for r in runs if r.exact_x is not None]
-    if ex:
-        longest = max(ex, key=lambda r: r.t[-1])
-        assert longest.exact_x is not None
-        ax.plot(longest.exact_x[:, i], longest.exact_x[:, j], label="exact", **_EXACT_STYLE)
+    ex = _exact(runs)
+    if ex is not None:
+        assert ex.exact_x is not None
+        i, j = particle * ex.dim, particle * ex.dim + 1
+        (x, y), note = _finite([ex.exact_x[:, i], ex.exact_x[:, j]], None)
+        ax.plot(x, y, label="exact" + note, **_EXACT_STYLE)
     ax.plot([0.0], [0.0], marker="+", color="gray", markersize=10, linestyle="none")
-    ax.plot([runs[0].x[0, i]], [runs[0].x[0, j]], "ko", markersize=5, label="start")
+    first = runs[0]
+    i, j = particle * first.dim, particle * first.dim + 1
+    if np.isfinite(first.x[0, i]) and np.isfinite(first.x[0, j]):
+        ax.plot([first.x[0, i]], [first.x[0, j]], "ko", markersize=5, label="start")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -153,15 +252,22 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
 
 
 def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> Figure:
-    """Total energy against time (``relative``: the relative energy error (E - E0)/|E0|)."""
+    """Total energy against time (``relative``: the relative energy error (E - E0)/|E0|).
+
+    Raises ValueError for no runs or a run with no rows.
+
+    Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
+    and the legend says how many; a run with no finite row at all is a ValueError.
+    """
     runs = _runs(trajs)
     fig = _figure()
     ax = fig.add_subplot()
     for r in runs:
         y = r.energy_error if relative else r.energy
-        ax.plot(r.t, y, label=_label(r, runs))
-    if not relative:
-        e0 = runs[0].energy[0]
+        (t, y), note = _finite([r.t, y], r.method)
+        ax.plot(t, y, label=_label(r, runs) + note)
+    e0 = runs[0].energy[0]
+    if not relative and np.isfinite(e0):
         ax.axhline(e0, label="E0 (exact)", **_EXACT_STYLE)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("(E - E0) / |E0|" if relative else "E (J)")
@@ -171,6 +277,15 @@ def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> 
     return fig
 
 
+def _positive(value: Any) -> float | None:
+    """``value`` as a float if it is a finite number > 0, else None."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return None
+    return x if math.isfinite(x) and x > 0 else None
+
+
 def work_precision(
     data: dict[str, Any] | Sequence[dict[str, Any]], against: str = "evals", error: str = "max_error"
 ) -> Figure:
@@ -178,38 +293,63 @@ def work_precision(
 
     ``against`` is ``"evals"`` (force evaluations), ``"time"`` (wall time of the stepping
     loop, s) or ``"both"`` (two panels side by side); ``error`` is ``"max_error"`` (over the
-    run) or ``"error"`` (at the final time). Diverged runs and zero errors are left out.
+    run) or ``"error"`` (at the final time). Points without a finite, positive error and work
+    (diverged runs, zero errors, non-finite values) are left out, and the legend says how
+    many for each method. Raises ValueError for data without rows, a row without a method,
+    dt or the plotted keys, or data where no point is left to plot.
     """
-    rows = data["rows"] if isinstance(data, dict) else list(data)
-    meta = data if isinstance(data, dict) else {}
     panels = {"evals": ["evals"], "time": ["time_s"], "both": ["evals", "time_s"]}.get(against)
     if error not in ("max_error", "error"):
         raise ValueError(f"invalid error = '{error}': must be max_error or error")
     if panels is None:
         raise ValueError(f"invalid against = '{against}': must be evals, time or both")
+    if isinstance(data, dict):
+        if "rows" not in data:
+            raise ValueError("invalid data: no 'rows' (give the result of physstep.lab.sweep)")
+        rows, meta = list(data["rows"]), data
+    else:
+        rows, meta = list(data), {}
+    if not rows:
+        raise ValueError("invalid data: no rows to plot")
+    for n, r in enumerate(rows):
+        missing = [k for k in ("method", "dt", error, *panels) if not isinstance(r, dict) or k not in r]
+        if missing:
+            raise ValueError(f"invalid data: row {n} has no '{missing[0]}'")
     fig = _figure((6.5 * len(panels) + 1.5, 5.0))
     axes = fig.subplots(1, len(panels), squeeze=False)[0]
     methods = list(dict.fromkeys(r["method"] for r in rows))
+    plotted = 0
     for ax, key in zip(axes, panels, strict=True):
         for m in methods:
+            mine = [r for r in rows if r["method"] == m]
             pts = sorted(
-                (float(r[key]), float(r[error]))
-                for r in rows
-                if r["method"] == m and r.get(error) is not None and r[error] > 0 and r[key] > 0
+                (w, e)
+                for w, e in ((_positive(r[key]), _positive(r[error])) for r in mine)
+                if w is not None and e is not None
             )
+            left = len(mine) - len(pts)
+            label = m if not left else f"{m} ({left} of {len(mine)} points left out)"
             if not pts:
+                ax.plot([], [], marker="o", markersize=4, label=label)
                 continue
+            plotted += len(pts)
             xs, ys = zip(*pts, strict=True)
-            ax.loglog(xs, ys, marker="o", markersize=4, label=m)
+            ax.loglog(xs, ys, marker="o", markersize=4, label=label)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
         ax.set_xlabel("force evaluations" if key == "evals" else "stepping time (s)")
         ax.set_ylabel(
             "max position error over the run (m)" if error == "max_error" else "final position error (m)"
         )
         ax.grid(True, which="major", alpha=0.35)
         ax.grid(True, which="minor", alpha=0.1)
+    if plotted == 0:
+        raise ValueError(
+            f"invalid data: no row has a finite, positive {error} and work to plot (did every run diverge?)"
+        )
     against_txt = meta.get("error_against", "")
     scene = meta.get("scene", "")
-    dts = sorted({float(r["dt"]) for r in rows})
+    dts = sorted({d for d in (_positive(r["dt"]) for r in rows) if d is not None})
     dt_txt = f"dt = {dts[0]:g} ... {dts[-1]:g} s" if len(dts) > 1 else f"dt = {dts[0]:g} s" if dts else ""
     title = f"work-precision: {scene}, {dt_txt}" + (f" (error vs {against_txt})" if against_txt else "")
     fig.suptitle(title)

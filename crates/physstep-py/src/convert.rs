@@ -46,7 +46,7 @@ pub(crate) fn count(o: &Bound<'_, PyAny>, field: &str) -> PyResult<u64> {
 
 /// A particle index.
 pub(crate) fn index(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
-    whole(o, field, 0, i64::MAX).map(|v| v as usize)
+    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|_| invalid(field, o, "a particle index >= 0"))
 }
 
 /// A flag (bool or numpy bool).

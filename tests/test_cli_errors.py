@@ -1,0 +1,149 @@
+"""Error contracts of the command line: every flag error names the flag as typed and the
+value, in one line; Ctrl-C is status 130 with one line; a closed pipe is quiet."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import physstep
+import pytest
+from conftest import run_cli
+from physstep import cli
+
+
+def _one_line(res: subprocess.CompletedProcess[str]) -> str:
+    assert "Traceback" not in res.stderr
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1, res.stderr
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["compare", "spring", "--dt", "0"], "invalid --dt '0': must be a finite number > 0"),
+        (["compare", "spring", "--until", "-1"], "invalid --until '-1': must be a finite number >= 0"),
+        (["compare", "spring", "--until", "1e999"], "invalid --until '1e999'"),
+        (["order", "spring", "--method", "rk4", "--dt", "0"], "invalid --dt '0'"),
+        (
+            ["order", "spring", "--method", "rk4", "--until", "0"],
+            "invalid --until '0': must be a finite number > 0",
+        ),
+        (
+            ["order", "spring", "--method", "rk4", "--levels", "1"],
+            "invalid --levels '1': must be an integer from 2",
+        ),
+        (["order", "spring", "--method", "rk4", "--levels", "40"], "invalid --levels '40'"),
+        (["order", "spring", "--method", "rk4", "--levels", "x"], "invalid --levels 'x': not an integer"),
+        (
+            ["stability", "spring", "--method", "rk4", "--cap", "-1"],
+            "invalid --cap '-1': must be a finite number > 0",
+        ),
+        (["stability", "spring", "--method", "rk4", "--cap", "inf"], "invalid --cap 'inf'"),
+        (["sweep", "spring", "--dts", "0.1,-2"], "invalid --dts '0.1,-2': '-2' must be a finite number > 0"),
+        (["sweep", "spring", "--dts", "nan"], "invalid --dts 'nan'"),
+        (["sweep", "spring", "--dts", "0.1", "--until", "nan"], "invalid --until 'nan'"),
+        (["run", "spring", "--every", "1e3"], "invalid --every '1e3': not an integer"),
+        (
+            ["run", "spring", "--every", "99999999999999999999999"],
+            "invalid --every '99999999999999999999999'",
+        ),
+        (["table", "spring", "--decimals", "30"], "invalid --decimals '30': must be an integer from 0 to 17"),
+        (["run", "spring", "--param", "k=inf"], "invalid --param 'k=inf'"),
+        (["compare", "spring", "--methods", ""], "invalid --methods ''"),
+        (["compare", "spring", "--methods", ","], "invalid --methods ','"),
+        (["sweep", "spring", "--dts", "0.1", "--methods", " , "], "invalid --methods ' , '"),
+    ],
+)
+def test_flag_errors_name_the_flag_and_value(args: list[str], needle: str) -> None:
+    res = run_cli(*args)
+    assert res.returncode == 2
+    line = _one_line(res)
+    assert line.startswith("physstep: error: ") and needle in line, line
+    assert res.stdout == ""
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["run", "spring", "--method", "rk4\nTraceback (most recent call last):"],
+        ["run", "spr\ning"],
+        ["compare", "spring", "--methods", "rk4,a\r\nb"],
+        ["table", "spring", "--format", "x\ny"],
+        ["run", "spring", "--param", "k\nx=1"],
+    ],
+)
+def test_names_with_newlines_still_give_one_line(args: list[str]) -> None:
+    res = run_cli(*args)
+    assert res.returncode == 2
+    assert len(res.stderr.splitlines()) == 1, res.stderr
+    assert "\\n" in res.stderr and res.stderr.startswith("physstep: error: ")
+
+
+def test_one_line_escapes_control_characters() -> None:
+    assert cli.one_line("a\nb\r\tc\x1b[31m") == "a\\nb\\r\\tc\\x1b[31m"
+    assert cli.one_line("héllo — ok") == "héllo — ok"
+
+
+def test_keyboard_interrupt_is_130_with_one_line(monkeypatch, capsys) -> None:
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(physstep, "simulate", interrupted)
+    assert cli.main(["run", "spring"]) == 130
+    assert capsys.readouterr().err == "physstep: interrupted\n"
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process is POSIX")
+def test_sigint_stops_a_long_run() -> None:
+    env = dict(os.environ, MPLBACKEND="Agg")
+    cmd = [
+        sys.executable,
+        "-m",
+        "physstep",
+        "run",
+        "nbody",
+        "--param",
+        "n=1000",
+        "--until",
+        "2",
+        "--every",
+        "1000",
+    ]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    time.sleep(1.5)
+    if proc.poll() is not None:
+        proc.communicate()
+        pytest.skip("the run finished before the signal")
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert err == "physstep: interrupted\n"
+    assert out == ""
+
+
+def test_closed_pipe_is_quiet() -> None:
+    # 100 001 rows: far more than a pipe buffer, so the writer meets the closed pipe
+    env = dict(os.environ, MPLBACKEND="Agg")
+    cmd = [sys.executable, "-m", "physstep", "table", "spring", "--dt", "0.001", "--until", "100"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+    assert proc.stdout is not None and proc.stderr is not None
+    assert proc.stdout.readline().split() == [b"t", b"x", b"v", b"a"]
+    proc.stdout.close()
+    err = proc.stderr.read()
+    assert proc.wait(timeout=120) == 0
+    assert err == b""
+
+
+def test_unexpected_exception_is_one_line(monkeypatch, capsys) -> None:
+    def broken(*args, **kwargs):
+        raise RuntimeError("boom\nsecond line")
+
+    monkeypatch.setattr(physstep, "simulate", broken)
+    assert cli.main(["run", "spring"]) == 1
+    err = capsys.readouterr().err
+    assert err == "physstep: internal error: RuntimeError: boom\\nsecond line (please report it)\n"
