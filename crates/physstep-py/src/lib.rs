@@ -7,6 +7,7 @@
 
 mod convert;
 mod errors;
+mod force;
 mod record;
 mod registry;
 mod world;

@@ -101,11 +101,17 @@ pub(crate) fn simulate<'py>(
         d.set_item("exact_x", py.None())?;
         d.set_item("exact_v", py.None())?;
     }
+    // A user force without a potential leaves the energy unknown: None, not a wrong number.
+    let energy_known = rec.energy.len() == rec.t.len();
     d.set_item("t", numpy::PyArray1::from_vec(py, rec.t))?;
     d.set_item("x", matrix(py, rec.x, n)?)?;
     d.set_item("v", matrix(py, rec.v, n)?)?;
     d.set_item("a", matrix(py, rec.a, n)?)?;
-    d.set_item("energy", numpy::PyArray1::from_vec(py, rec.energy))?;
+    if energy_known {
+        d.set_item("energy", numpy::PyArray1::from_vec(py, rec.energy))?;
+    } else {
+        d.set_item("energy", py.None())?;
+    }
     d.set_item("kinetic", numpy::PyArray1::from_vec(py, rec.kinetic))?;
     if stages {
         let rows = PyList::empty(py);

@@ -8,6 +8,7 @@
 
 use crate::convert::{array, bytes, count, float, index, matrix, text, vector, whole};
 use crate::errors::WorldBusyError;
+use crate::force::{PyForce, Slot};
 use crate::py_err;
 use crate::record::SLICE;
 use numpy::{PyArray1, PyArray2};
@@ -28,6 +29,8 @@ pub struct World {
 
 struct Inner {
     engine: Engine,
+    /// A Python exception raised inside a step by a user force, to re-raise unchanged.
+    slot: Slot,
     /// Particles from `add_particle`, validated and waiting to be added in one batch:
     /// growing the engine's `[x; v]` state one particle at a time moves the velocity half
     /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
@@ -84,6 +87,13 @@ impl Inner {
     }
 }
 
+/// The engine's error as a Python exception; an exception a user force raised during the
+/// call comes first, unchanged.
+fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
+    let kept = slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
+    kept.unwrap_or_else(|| py_err(e))
+}
+
 /// Particle `i` and the other end of a spring or rod (`field` names it), checked: indices in
 /// range and distinct, an anchor finite. Returns the ends and their current distance.
 fn ends(
@@ -135,7 +145,7 @@ impl World {
     }
 
     fn wrap(engine: Engine) -> Self {
-        Self { inner: Mutex::new(Inner { engine, pending: Pending::default() }) }
+        Self { inner: Mutex::new(Inner { engine, slot: Slot::default(), pending: Pending::default() }) }
     }
 }
 
@@ -384,6 +394,7 @@ impl World {
     fn step(&self, py: Python<'_>, n: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         let mut left = n.map_or(Ok(1), |n| count(n, "n"))?;
         let mut g = self.lock()?;
+        let slot = g.slot.clone();
         let w = g.flush()?;
         while left > 0 {
             let taken = py.detach(|| -> physstep::Result<u64> {
@@ -399,7 +410,7 @@ impl World {
                 }
                 Ok(k)
             });
-            left -= taken.map_err(py_err)?;
+            left -= taken.map_err(|e| raise(&slot, e))?;
             if left > 0 {
                 py.check_signals()?;
             }
@@ -411,7 +422,8 @@ impl World {
     fn advance(&self, frame_time: &Bound<'_, PyAny>) -> PyResult<u32> {
         let frame_time = float(frame_time, "frame_time")?;
         let mut g = self.lock()?;
-        Ok(g.flush()?.advance(frame_time).map_err(py_err)?.plan.steps)
+        let slot = g.slot.clone();
+        Ok(g.flush()?.advance(frame_time).map_err(|e| raise(&slot, e))?.plan.steps)
     }
 
     /// Render interpolation factor in [0, 1).
@@ -469,9 +481,11 @@ impl World {
     #[getter]
     fn accelerations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let mut g = self.lock()?;
+        let slot = g.slot.clone();
         let w = g.flush()?;
         let dim = w.dim();
-        matrix(py, w.accelerations().to_vec(), dim)
+        let a = w.accelerations().map_err(|e| raise(&slot, e))?.to_vec();
+        matrix(py, a, dim)
     }
 
     /// Physics time, s.
@@ -492,10 +506,16 @@ impl World {
         Ok(self.lock()?.engine.evals())
     }
 
-    fn energy(&self) -> PyResult<f64> {
+    /// Kinetic plus potential energy, J; None when a user force has no potential.
+    fn energy(&self) -> PyResult<Option<f64>> {
         let mut g = self.lock()?;
+        let slot = g.slot.clone();
         let w = g.flush()?;
         let e = w.energy();
+        if let Some(err) = slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take() {
+            return Err(err);
+        }
+        let Some(e) = e else { return Ok(None) };
         if !e.is_finite() {
             return Err(py_err(physstep::Error::NonFinite {
                 method: w.integrator().info().name.into(),
@@ -505,7 +525,7 @@ impl World {
                 t: w.time(),
             }));
         }
-        Ok(e)
+        Ok(Some(e))
     }
 
     fn momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
@@ -521,7 +541,8 @@ impl World {
     fn restore(&self, data: &Bound<'_, PyAny>) -> PyResult<()> {
         let data = bytes(data, "data")?;
         let mut g = self.lock()?;
-        g.flush()?.restore(&data).map_err(py_err)
+        let slot = g.slot.clone();
+        g.flush()?.restore(&data).map_err(|e| raise(&slot, e))
     }
 
     fn state_hash(&self) -> PyResult<u64> {
@@ -541,6 +562,53 @@ impl World {
     fn set_phase_state(&self, z: &Bound<'_, PyAny>) -> PyResult<()> {
         let z = array(z, "phase", None, None)?;
         let mut g = self.lock()?;
-        g.flush()?.set_phase(&z).map_err(py_err)
+        let slot = g.slot.clone();
+        g.flush()?.set_phase(&z).map_err(|e| raise(&slot, e))
+    }
+
+    /// Adds a force written in Python: `func(t, x, v)` gets the time and the positions and
+    /// velocities of all particles as (n, dim) arrays and returns the forces (n, dim), N. It
+    /// is called once per force evaluation. `potential(x)` (J) makes the energy known;
+    /// `jacobian(t, x, v)` returns (dF/dx, dF/dv), each (n dim, n dim), for the implicit
+    /// methods; `velocity_dependent=False` saves re-evaluations when the force ignores v.
+    /// An exception raised inside propagates unchanged, with the step rolled back. Returns
+    /// the force's index among the user forces.
+    #[pyo3(signature = (func, *, potential=None, jacobian=None, velocity_dependent=None, name=None))]
+    fn add_force(
+        &self,
+        py: Python<'_>,
+        func: &Bound<'_, PyAny>,
+        potential: Option<&Bound<'_, PyAny>>,
+        jacobian: Option<&Bound<'_, PyAny>>,
+        velocity_dependent: Option<&Bound<'_, PyAny>>,
+        name: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let callable = |o: Option<&Bound<'_, PyAny>>, field: &str| -> PyResult<Option<Py<PyAny>>> {
+            match o.filter(|o| !o.is_none()) {
+                Some(o) if o.is_callable() => Ok(Some(o.clone().unbind())),
+                Some(o) => Err(crate::convert::invalid(field, o, "callable")),
+                None => Ok(None),
+            }
+        };
+        let func = callable(Some(func), "func")?
+            .ok_or_else(|| PyValueError::new_err("invalid func = None: must be callable"))?;
+        let potential = callable(potential, "potential")?;
+        let jacobian = callable(jacobian, "jacobian")?;
+        let velocity_dependent =
+            velocity_dependent.map_or(Ok(true), |v| crate::convert::flag(v, "velocity_dependent"))?;
+        let mut g = self.lock()?;
+        let k = g.engine.model().user_forces();
+        let name = match name {
+            Some(n) => text(n, "name")?,
+            None => func
+                .bind(py)
+                .getattr("__name__")
+                .and_then(|n| n.extract::<String>())
+                .unwrap_or_else(|_| format!("force {k}")),
+        };
+        let slot = g.slot.clone();
+        let w = g.flush()?;
+        let force = PyForce { name, dim: w.dim(), func, potential, jacobian, velocity_dependent, slot };
+        Ok(w.add_force_generator(std::sync::Arc::new(force)))
     }
 }

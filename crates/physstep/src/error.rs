@@ -70,6 +70,14 @@ pub enum Error {
         /// Time then, s.
         t: f64,
     },
+    /// A user force failed (its own error, or a wrong shape or a non-finite value); the step
+    /// that asked was rolled back.
+    Force {
+        /// The force's name.
+        name: String,
+        /// What went wrong.
+        reason: String,
+    },
     /// Serialised state that cannot be read back (snapshot from another world or corrupted).
     Corrupt {
         /// What was wrong.
@@ -136,6 +144,9 @@ impl fmt::Display for Error {
                 f,
                 "method '{method}' diverged: the {quantity} is {value} after step {step} (t = {t}); the run stops there"
             ),
+            Self::Force { name, reason } => {
+                write!(f, "force '{}' failed: {}; step rolled back", one_line(name), one_line(reason))
+            }
             Self::Corrupt { reason } => write!(f, "corrupt snapshot: {reason}"),
         }
     }

@@ -28,7 +28,8 @@ pub struct Recording {
     pub v: Vec<f64>,
     /// Accelerations, row-major.
     pub a: Vec<f64>,
-    /// Energy of every row, J.
+    /// Energy of every row, J; empty when the energy is unknown (a user force without a
+    /// potential).
     pub energy: Vec<f64>,
     /// Kinetic energy of every row, J (the scale of the energy error where the total energy
     /// is near zero).
@@ -222,7 +223,7 @@ impl Recorder {
 /// overflowed) ends the run as a failure rather than a silent infinity.
 fn record(w: &mut World, rec: &mut Recording) -> Result<()> {
     let e = w.energy();
-    if !e.is_finite() {
+    if let Some(e) = e.filter(|e| !e.is_finite()) {
         return Err(Error::NonFinite {
             method: w.integrator().info().name.into(),
             quantity: "energy".into(),
@@ -231,11 +232,13 @@ fn record(w: &mut World, rec: &mut Recording) -> Result<()> {
             t: w.time(),
         });
     }
+    rec.a.extend_from_slice(w.accelerations()?);
     rec.t.push(w.time());
     rec.x.extend_from_slice(w.positions());
     rec.v.extend_from_slice(w.velocities());
-    rec.a.extend_from_slice(w.accelerations());
-    rec.energy.push(e);
+    if let Some(e) = e {
+        rec.energy.push(e);
+    }
     rec.kinetic.push(w.model().kinetic(w.velocities()));
     Ok(())
 }

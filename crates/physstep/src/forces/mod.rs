@@ -15,8 +15,11 @@
 //! 3. accelerations added directly on dynamic particles (gravity, central gravity, n-body);
 //! 4. rod constraints, one at a time in canonical order.
 
+pub use generator::{ForceGenerator, UserForce};
+
 mod central;
 mod drag;
+mod generator;
 mod gravity;
 mod nbody;
 mod rod;

@@ -41,9 +41,7 @@ pub fn info(name: &str) -> Result<&'static Info> {
 #[derive(Debug, Clone)]
 pub struct Integrator {
     kind: Kind,
-    backup_y: Vec<f64>,
-    backup_f: Vec<f64>,
-    backup_m: Vec<f64>,
+    checkpoint: Checkpoint,
 }
 
 #[derive(Debug, Clone)]
@@ -230,7 +228,7 @@ impl Integrator {
             "yoshida4" => Kind::Yoshida4(Yoshida4::default()),
             other => unreachable!("method {other} is in INFOS but not constructed"),
         };
-        Ok(Self { kind, backup_y: Vec::new(), backup_f: Vec::new(), backup_m: Vec::new() })
+        Ok(Self { kind, checkpoint: Checkpoint::default() })
     }
 
     /// What this integrator is.
@@ -303,14 +301,12 @@ impl Integrator {
         log: Log<'_>,
     ) -> Result<()> {
         crate::error::positive("dt", dt)?;
-        // f = [v; a] and v is part of y: keeping and checking y and a covers everything.
-        let n = state.y.len() / 2;
-        self.save(state, n);
-        let State { t, y, f, evals, .. } = state;
-        let mut split = Split { sys, evals };
-        let r = dispatch!(&mut self.kind, m => m.step_split(&mut split, *t, dt, y, f, log));
-        let r = self.check(state, r, n);
-        self.finish(state, dt, r, n)
+        let mut checkpoint = std::mem::take(&mut self.checkpoint);
+        checkpoint.save(state, self, Layout::Second);
+        let r = self.advance(sys, state, dt, log).and_then(|()| self.check(state, Layout::Second));
+        let r = self.finish(state, dt, r, &checkpoint, Layout::Second);
+        self.checkpoint = checkpoint;
+        r
     }
 
     /// Advances a first-order flow's `state` by `dt` seconds.
@@ -324,27 +320,44 @@ impl Integrator {
         dt: f64,
     ) -> Result<()> {
         crate::error::positive("dt", dt)?;
-        self.save(state, 0);
-        let State { t, y, f, evals, .. } = state;
+        let mut checkpoint = std::mem::take(&mut self.checkpoint);
+        checkpoint.save(state, self, Layout::First);
+        let State { t, y, f, evals, .. } = &mut *state;
         let mut plain = Plain { sys, evals };
         let r = dispatch!(&mut self.kind, m => m.step_flow(&mut plain, *t, dt, y, f, None));
-        let r = self.check(state, r, 0);
-        self.finish(state, dt, r, 0)
+        let r = r.and_then(|()| self.check(state, Layout::First));
+        let r = self.finish(state, dt, r, &checkpoint, Layout::First);
+        self.checkpoint = checkpoint;
+        r
     }
 
-    /// Keeps the state before a step, for a rollback: `y`, `f[skip..]` (for a second-order
-    /// system `f[..n]` is `v`, already in `y`, so only `a` is kept) and the method's memory.
-    fn save(&mut self, state: &State, skip: usize) {
-        scratch(&mut self.backup_y, state.y.len()).copy_from_slice(&state.y);
-        scratch(&mut self.backup_f, state.f.len() - skip).copy_from_slice(&state.f[skip..]);
-        self.backup_m.clear();
-        dispatch!(&self.kind, m => m.memory(&mut self.backup_m));
+    /// Runs the method once on a second-order system: `state.y` and `state.f` move to the
+    /// end of the step and evaluations are counted, nothing else (no validation of `h`, no
+    /// check, no rollback, time and step count untouched). The building block of a staged
+    /// step: the caller checkpoints, checks and finishes (see [`Checkpoint`]).
+    ///
+    /// # Errors
+    /// [`Error::NotConverged`] when an implicit solve failed (the state is then partly
+    /// moved: restore the checkpoint).
+    pub fn advance<S: SecondOrder + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        state: &mut State,
+        h: f64,
+        log: Log<'_>,
+    ) -> Result<()> {
+        let State { t, y, f, evals, .. } = state;
+        let mut split = Split { sys, evals };
+        dispatch!(&mut self.kind, m => m.step_split(&mut split, *t, h, y, f, log))
     }
 
-    /// Turns a step's non-finite output into [`Error::Diverged`]; `f[..skip]` is known to be
-    /// a copy of part of `y`.
-    fn check(&self, state: &State, r: Result<()>, skip: usize) -> Result<()> {
-        r?;
+    /// [`Error::Diverged`] when the state or its derivative holds a NaN, an infinity or a
+    /// value past [`RUNAWAY`].
+    ///
+    /// # Errors
+    /// As said.
+    pub fn check(&self, state: &State, layout: Layout) -> Result<()> {
+        let skip = layout.skip(state);
         match first_non_finite(&state.y).or_else(|| first_non_finite(&state.f[skip..]).map(|i| i + skip)) {
             None => Ok(()),
             Some(i) => Err(Error::Diverged {
@@ -357,9 +370,15 @@ impl Integrator {
         }
     }
 
-    /// Counts a good step, or rolls a failed one back: state and the method's memory from the
-    /// backup, bitwise.
-    fn finish(&mut self, state: &mut State, dt: f64, r: Result<()>, skip: usize) -> Result<()> {
+    /// Counts a good step, or rolls a failed one back to `checkpoint`.
+    fn finish(
+        &mut self,
+        state: &mut State,
+        dt: f64,
+        r: Result<()>,
+        checkpoint: &Checkpoint,
+        layout: Layout,
+    ) -> Result<()> {
         match r {
             Ok(()) => {
                 state.steps += 1;
@@ -368,18 +387,66 @@ impl Integrator {
                 Ok(())
             }
             Err(e) => {
-                state.y.copy_from_slice(&self.backup_y);
-                state.f[skip..].copy_from_slice(&self.backup_f);
-                let n = state.y.len() - skip;
-                state.f[..skip].copy_from_slice(&state.y[n..]);
-                let coords = state.y.len() / 2;
-                let restored = dispatch!(&mut self.kind, m => m.recall(&self.backup_m, coords));
-                debug_assert!(restored, "a method's own memory is always recallable");
-                if !restored {
-                    self.reset();
-                }
+                checkpoint.restore(state, self, layout);
                 Err(e)
             }
+        }
+    }
+}
+
+/// What a state's derivative holds: `f = [v; a]` of a second-order system (its first half a
+/// copy of `v`, part of `y`) or the plain derivative of a first-order flow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Layout {
+    /// `y = [x; v]`, `f = [v; a]`.
+    Second,
+    /// `y` and `f = y'`.
+    First,
+}
+
+impl Layout {
+    /// How much of `f` is a copy of `y` (and need not be kept or checked).
+    fn skip(self, state: &State) -> usize {
+        match self {
+            Self::Second => state.y.len() / 2,
+            Self::First => 0,
+        }
+    }
+}
+
+/// The state before a step and the method's memory, for a bitwise rollback: the one place
+/// a failed step is undone, by the standalone [`Integrator::step`] and by the world's
+/// staged step alike.
+#[derive(Debug, Clone, Default)]
+pub struct Checkpoint {
+    y: Vec<f64>,
+    f: Vec<f64>,
+    memory: Vec<f64>,
+}
+
+impl Checkpoint {
+    /// Keeps `state` (`y` and the part of `f` that is not a copy of `y`) and the memory of
+    /// `integrator`, reusing the buffers.
+    pub fn save(&mut self, state: &State, integrator: &Integrator, layout: Layout) {
+        let skip = layout.skip(state);
+        scratch(&mut self.y, state.y.len()).copy_from_slice(&state.y);
+        scratch(&mut self.f, state.f.len() - skip).copy_from_slice(&state.f[skip..]);
+        self.memory.clear();
+        dispatch!(&integrator.kind, m => m.memory(&mut self.memory));
+    }
+
+    /// Puts back what [`Checkpoint::save`] kept, bitwise.
+    pub fn restore(&self, state: &mut State, integrator: &mut Integrator, layout: Layout) {
+        let skip = layout.skip(state);
+        state.y.copy_from_slice(&self.y);
+        state.f[skip..].copy_from_slice(&self.f);
+        let n = state.y.len() - skip;
+        state.f[..skip].copy_from_slice(&state.y[n..]);
+        let coords = state.y.len() / 2;
+        let restored = dispatch!(&mut integrator.kind, m => m.recall(&self.memory, coords));
+        debug_assert!(restored, "a method's own memory is always recallable");
+        if !restored {
+            integrator.reset();
         }
     }
 }

@@ -8,15 +8,18 @@
 
 use crate::clock::{Clock, ClockParams, FramePlan, LoopMode};
 use crate::dynamics::SecondOrder;
-use crate::error::{all_finite, positive, Error, Result};
+use crate::error::{all_finite, Error, Result};
 use crate::forces::Force;
+use crate::integrators::registry::Checkpoint;
 use crate::integrators::registry::State;
 use crate::integrators::{ImplicitParams, Integrator};
 
 mod model;
 mod snapshot;
+mod step;
 
 pub use model::Model;
+pub use step::{Stage, StepContext};
 
 /// How to build a [`World`].
 #[derive(Debug, Clone, PartialEq)]
@@ -80,6 +83,8 @@ pub struct World {
     epoch: Epoch,
     /// Newton settings for implicit methods, kept across [`World::set_method`].
     implicit: ImplicitParams,
+    /// The state before the current step, for its rollback.
+    checkpoint: Checkpoint,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -130,6 +135,7 @@ impl World {
             stale: false,
             epoch: Epoch::default(),
             implicit: params.implicit,
+            checkpoint: Checkpoint::default(),
         })
     }
 
@@ -296,7 +302,10 @@ impl World {
     }
 
     /// Re-evaluates the acceleration if anything changed since the last step.
-    fn refresh(&mut self) {
+    ///
+    /// # Errors
+    /// [`Error::Force`] when a user force fails; the derivative stays stale.
+    fn refresh(&mut self) -> Result<()> {
         if self.stale {
             let n = self.model.len();
             let (x, v) = self.state.y.split_at(n);
@@ -304,8 +313,22 @@ impl World {
             dx.copy_from_slice(v);
             self.model.accel(self.state.t, x, v, a);
             self.state.evals += 1;
+            if let Some(e) = self.model.failure.take() {
+                return Err(e);
+            }
             self.stale = false;
         }
+        Ok(())
+    }
+
+    /// Adds a user force; returns its index among the user forces.
+    pub fn add_force_generator(
+        &mut self,
+        generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
+    ) -> usize {
+        self.model.user.push(crate::forces::UserForce(generator));
+        self.touch();
+        self.model.user.len() - 1
     }
 
     /// The integrator in use.
@@ -365,45 +388,6 @@ impl World {
     /// As [`World::step_by`].
     pub fn step_logged(&mut self, dt: f64, log: &mut crate::integrators::StageLog) -> Result<()> {
         self.step_inner(dt, Some(log))
-    }
-
-    fn step_inner(&mut self, dt: f64, log: crate::integrators::Log<'_>) -> Result<()> {
-        positive("dt", dt)?;
-        let epoch = if dt == self.epoch.dt {
-            self.epoch
-        } else {
-            Epoch { t: self.state.t, steps: self.state.steps, dt }
-        };
-        // Time must move: a dt below the resolution of t would step forever in place.
-        let t_next = epoch.time(self.state.steps + 1).unwrap_or(f64::NAN);
-        if !(t_next > self.state.t && t_next.is_finite()) {
-            return Err(Error::invalid(
-                "dt",
-                crate::error::num(dt),
-                format!("large enough to advance the time t = {} (t + dt == t)", self.state.t),
-            ));
-        }
-        self.epoch = epoch;
-        self.refresh();
-        let n = self.model.len();
-        let r = self.integrator.step_logged(&mut self.model, &mut self.state, dt, log);
-        // Interpolation is between the last two states of a frame of `advance`; outside it
-        // the current positions are drawn as they are.
-        self.prev_x.clear();
-        match r {
-            // Time as t0 + k dt since the last change of dt: no drift from repeated addition,
-            // so t = 10 after 100 steps of 0.1.
-            Ok(()) => {
-                self.state.t = t_next;
-                Ok(())
-            }
-            Err(mut e) => {
-                if let Error::Diverged { index, particle, .. } = &mut e {
-                    *particle = Some((*index % n.max(1)) / self.dim());
-                }
-                Err(e)
-            }
-        }
     }
 
     /// Runs one frame of the game loop: `frame_time` seconds of wall time become fixed steps
@@ -466,9 +450,12 @@ impl World {
     }
 
     /// Accelerations at the current state, m/s^2 (flat, `n * dim`).
-    pub fn accelerations(&mut self) -> &[f64] {
-        self.refresh();
-        &self.state.f[self.model.len()..]
+    ///
+    /// # Errors
+    /// [`Error::Force`] when a user force fails.
+    pub fn accelerations(&mut self) -> Result<&[f64]> {
+        self.refresh()?;
+        Ok(&self.state.f[self.model.len()..])
     }
 
     /// Sets every position (flat, `n * dim`).
@@ -522,10 +509,11 @@ impl World {
         self.state.evals
     }
 
-    /// Kinetic plus potential energy, J.
+    /// Kinetic plus potential energy, J; `None` when a user force has no potential (the
+    /// energy is then unknown, not the built-in forces' part of it).
     #[must_use]
-    pub fn energy(&self) -> f64 {
-        self.model.kinetic(self.velocities()) + self.model.potential(self.positions())
+    pub fn energy(&self) -> Option<f64> {
+        Some(self.model.kinetic(self.velocities()) + self.model.potential(self.positions())?)
     }
 
     /// Total momentum of the dynamic particles, kg m/s (`dim` components).

@@ -1,7 +1,8 @@
 //! The force model: masses and forces, what the integrators see as a second-order system.
 
 use crate::dynamics::SecondOrder;
-use crate::forces::ForceSet;
+use crate::error::Error;
+use crate::forces::{ForceSet, UserForce};
 
 /// The force model: what the integrators see as a [`SecondOrder`] system.
 #[derive(Debug, Clone, Default)]
@@ -10,7 +11,13 @@ pub struct Model {
     pub(super) mass: Vec<f64>,
     pub(super) inv_mass: Vec<f64>,
     pub(super) forces: ForceSet,
+    /// The user's force generators, in the order they were added.
+    pub(super) user: Vec<UserForce>,
     pub(super) scratch: Vec<f64>,
+    pub(super) user_f: Vec<f64>,
+    /// The first failure of a user force during the current step (the accelerations were
+    /// set to NaN so the step fails and is rolled back; the world reports this instead).
+    pub(super) failure: Option<Error>,
 }
 
 impl SecondOrder for Model {
@@ -26,14 +33,38 @@ impl SecondOrder for Model {
             self.scratch.resize(n, 0.0);
         }
         self.forces.accel(self.dim, t, x, v, &self.mass, &self.inv_mass, &mut self.scratch, a);
+        if !self.user.is_empty() {
+            self.add_user(t, x, v, a);
+        }
     }
 
     fn velocity_dependent(&self) -> bool {
-        self.forces.velocity_dependent()
+        self.forces.velocity_dependent() || self.user.iter().any(|u| u.0.velocity_dependent())
     }
 
     fn jacobian(&mut self, t: f64, x: &[f64], v: &[f64], dadx: &mut [f64], dadv: &mut [f64]) -> bool {
-        self.forces.jacobian(self.dim, t, x, v, &self.inv_mass, dadx, dadv)
+        if !self.forces.jacobian(self.dim, t, x, v, &self.inv_mass, dadx, dadv) {
+            return false;
+        }
+        if self.user.is_empty() {
+            return true;
+        }
+        // da/dx = M^-1 dF/dx row by row; the generators add into zeroed blocks of their own.
+        let n = x.len();
+        let (mut fx, mut fv) = (vec![0.0; n * n], vec![0.0; n * n]);
+        for u in &self.user {
+            if !u.0.jacobian(t, x, v, &mut fx, &mut fv) {
+                return false;
+            }
+        }
+        for row in 0..n {
+            let w = self.inv_mass[row / self.dim];
+            for col in 0..n {
+                dadx[row * n + col] += w * fx[row * n + col];
+                dadv[row * n + col] += w * fv[row * n + col];
+            }
+        }
+        true
     }
 }
 
@@ -50,10 +81,48 @@ impl Model {
         &self.forces
     }
 
-    /// Potential energy of positions `x`, J.
+    /// How many user forces ([`crate::forces::ForceGenerator`]s) act.
     #[must_use]
-    pub fn potential(&self, x: &[f64]) -> f64 {
-        self.forces.potential(self.dim, x, &self.mass)
+    pub fn user_forces(&self) -> usize {
+        self.user.len()
+    }
+
+    /// Potential energy of positions `x`, J; `None` when a user force has no potential.
+    #[must_use]
+    pub fn potential(&self, x: &[f64]) -> Option<f64> {
+        let mut u = self.forces.potential(self.dim, x, &self.mass);
+        for g in &self.user {
+            u += g.0.potential(x)?;
+        }
+        Some(u)
+    }
+
+    /// Adds the user forces' accelerations to `a`. A failing generator (or one that returns
+    /// a non-finite force) poisons `a` with NaN, so the step fails and is rolled back, and
+    /// leaves its error in `failure` for the world to report.
+    fn add_user(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
+        let f = &mut self.user_f;
+        f.clear();
+        f.resize(x.len(), 0.0);
+        for g in &self.user {
+            let r = g.0.add_forces(t, x, v, f).and_then(|()| match f.iter().position(|c| !c.is_finite()) {
+                None => Ok(()),
+                Some(i) => Err(format!("force[{}][{}] = {} is not finite", i / self.dim, i % self.dim, f[i])),
+            });
+            if let Err(reason) = r {
+                if self.failure.is_none() {
+                    self.failure = Some(Error::Force { name: g.0.name().to_string(), reason });
+                }
+                a.fill(f64::NAN);
+                return;
+            }
+        }
+        for (p, (ap, fp)) in a.chunks_exact_mut(self.dim).zip(f.chunks_exact(self.dim)).enumerate() {
+            let w = self.inv_mass[p];
+            for (ak, fk) in ap.iter_mut().zip(fp) {
+                *ak += w * fk;
+            }
+        }
     }
 
     /// Kinetic energy of velocities `v`, J (static particles excluded).

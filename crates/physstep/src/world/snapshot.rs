@@ -179,9 +179,9 @@ impl World {
         // The derivative is a function of the state: recompute it without counting it, so
         // the evaluation count matches an uninterrupted run.
         self.stale = true;
-        self.refresh();
+        let r = self.refresh();
         self.state.evals = evals;
-        Ok(())
+        r
     }
 
     /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory):
@@ -235,8 +235,7 @@ impl World {
         self.integrator.recall(&memory, ny / 2)?;
         self.state.y.copy_from_slice(&z[..ny]);
         self.stale = true;
-        self.refresh();
-        Ok(())
+        self.refresh()
     }
 
     fn memory_flags(&self) -> usize {

@@ -1,0 +1,149 @@
+//! The step of a world, as named stages over a [`StepContext`]:
+//!
+//! ```text
+//! ctx        = StepContext::new(...)   // h validated once, here; t + h must move time
+//! Integrate    the method runs its recipe; forces are evaluated inside it
+//! Relax        position constraints projected (none yet: the constraints issue)
+//! Collide      contacts found and resolved (none yet: the collisions issue)
+//! Check        a non-finite or runaway state is a divergence: which part, which index
+//! Finish       t = t0 + k h; or, on any failure, the world restored from its checkpoint
+//! ```
+
+use super::{Epoch, World};
+use crate::error::{Error, Result};
+use crate::integrators::registry::Layout;
+use crate::integrators::Log;
+
+/// What every stage of one step sees, validated once when the step starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepContext {
+    /// Time at the start of the step, s.
+    pub t: f64,
+    /// The step, s (finite, > 0).
+    pub h: f64,
+    /// `1 / h`, 1/s (velocity from a position change, as Verlet-style stages need).
+    pub inv_h: f64,
+    /// Index of this step (steps taken before it).
+    pub step: u64,
+    /// Time at the end of the step: `t0 + k h` since the last change of `h`.
+    pub t_end: f64,
+    epoch: Epoch,
+}
+
+/// The stages of a step, named in failures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// The method's recipe (forces inside).
+    Integrate,
+    /// Position constraints.
+    Relax,
+    /// Contacts.
+    Collide,
+    /// The divergence check.
+    Check,
+}
+
+impl World {
+    /// The context of the next step of `h` seconds.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `dt` when `h` is not a finite number > 0 or too small
+    /// to move the current time.
+    fn context(&self, h: f64) -> Result<StepContext> {
+        crate::error::positive("dt", h)?;
+        let epoch = if h == self.epoch.dt {
+            self.epoch
+        } else {
+            Epoch { t: self.state.t, steps: self.state.steps, dt: h }
+        };
+        // Time as t0 + k h since the last change of h: no drift from repeated addition, so
+        // t = 10 after 100 steps of 0.1. Time must move: a step below the resolution of t
+        // would step forever in place.
+        let t_end = epoch.time(self.state.steps + 1).unwrap_or(f64::NAN);
+        if !(t_end > self.state.t && t_end.is_finite()) {
+            return Err(Error::invalid(
+                "dt",
+                crate::error::num(h),
+                format!("large enough to advance the time t = {} (t + dt == t)", self.state.t),
+            ));
+        }
+        Ok(StepContext { t: self.state.t, h, inv_h: 1.0 / h, step: self.state.steps, t_end, epoch })
+    }
+
+    /// One step of `h` seconds, stage by stage; a failure leaves the world exactly as it was
+    /// before the step (state, time, the method's memory) and is reported once.
+    pub(super) fn step_inner(&mut self, h: f64, log: Log<'_>) -> Result<()> {
+        let ctx = self.context(h)?;
+        self.refresh()?;
+        self.checkpoint.save(&self.state, &self.integrator, Layout::Second);
+        // Interpolation is between the last two states of a frame of `advance`; outside it
+        // the current positions are drawn as they are.
+        self.prev_x.clear();
+        let r = self
+            .integrate(&ctx, log)
+            .and_then(|()| self.relax(&ctx))
+            .and_then(|()| self.collide(&ctx))
+            .and_then(|()| self.check(&ctx));
+        self.finish(&ctx, r)
+    }
+
+    /// Integrate: the method's recipe over the world's parts.
+    fn integrate(&mut self, ctx: &StepContext, log: Log<'_>) -> Result<()> {
+        let r = self.integrator.advance(&mut self.model, &mut self.state, ctx.h, log);
+        // A user force that failed poisoned the accelerations; its own error is the news.
+        match self.model.failure.take() {
+            Some(e) => Err(e),
+            None => r,
+        }
+    }
+
+    /// Relax: position constraints (none yet).
+    #[allow(clippy::unused_self, clippy::unnecessary_wraps)]
+    fn relax(&mut self, _ctx: &StepContext) -> Result<()> {
+        Ok(())
+    }
+
+    /// Collide: contacts (none yet).
+    #[allow(clippy::unused_self, clippy::unnecessary_wraps)]
+    fn collide(&mut self, _ctx: &StepContext) -> Result<()> {
+        Ok(())
+    }
+
+    /// Check: a NaN, an infinity or a runaway value anywhere is a divergence, named by the
+    /// particle it belongs to.
+    fn check(&self, ctx: &StepContext) -> Result<()> {
+        self.integrator.check(&self.state, Layout::Second).map_err(|e| match e {
+            Error::Diverged { method, index, .. } => {
+                let n = self.model_len().max(1);
+                Error::Diverged {
+                    method,
+                    step: ctx.step,
+                    t: ctx.t,
+                    index,
+                    particle: Some((index % n) / self.dim()),
+                }
+            }
+            other => other,
+        })
+    }
+
+    /// Finish: count the step and set the time once; or restore the checkpoint.
+    fn finish(&mut self, ctx: &StepContext, r: Result<()>) -> Result<()> {
+        match r {
+            Ok(()) => {
+                self.epoch = ctx.epoch;
+                self.state.steps += 1;
+                self.state.t = ctx.t_end;
+                Ok(())
+            }
+            Err(e) => {
+                self.checkpoint.restore(&mut self.state, &mut self.integrator, Layout::Second);
+                Err(e)
+            }
+        }
+    }
+
+    fn model_len(&self) -> usize {
+        self.positions().len()
+    }
+}

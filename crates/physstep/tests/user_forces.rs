@@ -1,0 +1,109 @@
+//! User forces through the `ForceGenerator` trait (issue 8).
+
+use physstep::forces::ForceGenerator;
+use physstep::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// A zero-rest-length damped spring to the origin, written as a user force.
+struct Spring {
+    k: f64,
+    c: f64,
+}
+
+impl ForceGenerator for Spring {
+    fn add_forces(&self, _t: f64, x: &[f64], v: &[f64], f: &mut [f64]) -> Result<(), String> {
+        for ((fi, xi), vi) in f.iter_mut().zip(x).zip(v) {
+            *fi += -self.k * xi - self.c * vi;
+        }
+        Ok(())
+    }
+
+    fn potential(&self, x: &[f64]) -> Option<f64> {
+        Some(0.5 * self.k * x.iter().map(|c| c * c).sum::<f64>())
+    }
+
+    fn jacobian(&self, _t: f64, x: &[f64], _v: &[f64], dfdx: &mut [f64], dfdv: &mut [f64]) -> bool {
+        let n = x.len();
+        for i in 0..n {
+            dfdx[i * n + i] -= self.k;
+            dfdv[i * n + i] -= self.c;
+        }
+        true
+    }
+}
+
+fn world(method: &str, user: bool) -> World {
+    let mut w =
+        World::new(WorldParams { dim: 2, method: method.into(), dt: 0.1, ..Default::default() }).unwrap();
+    w.add_particle(&[20.0, -3.0], &[0.0, 1.0], 10.0, false).unwrap();
+    if user {
+        w.add_force_generator(Arc::new(Spring { k: 5.0, c: 0.5 }));
+    } else {
+        let spring = Force::Spring {
+            i: 0,
+            j: Endpoint::Anchor([0.0; 3]),
+            stiffness: 5.0,
+            rest_length: 0.0,
+            damping: 0.5,
+        };
+        w.add_force(spring).unwrap();
+    }
+    w
+}
+
+#[test]
+fn a_user_spring_gives_the_built_in_trajectory_for_every_method() {
+    for info in &INFOS {
+        let (mut a, mut b) = (world(info.name, false), world(info.name, true));
+        a.step(300).unwrap();
+        b.step(300).unwrap();
+        for (p, q) in a.positions().iter().zip(b.positions()) {
+            assert!((p - q).abs() <= 1e-12 * 20.0, "{}: {p} vs {q}", info.name);
+        }
+        let (ea, eb) = (a.energy().unwrap(), b.energy().unwrap());
+        assert!((ea - eb).abs() <= 1e-12 * ea.abs(), "{}", info.name);
+    }
+}
+
+/// Fails once `armed`.
+struct Flaky(Arc<AtomicBool>);
+
+impl ForceGenerator for Flaky {
+    fn name(&self) -> &str {
+        "flaky"
+    }
+
+    fn add_forces(&self, _t: f64, _x: &[f64], _v: &[f64], _f: &mut [f64]) -> Result<(), String> {
+        if self.0.load(Ordering::Relaxed) {
+            Err("sensor offline".into())
+        } else {
+            Ok(())
+        }
+    }
+}
+
+#[test]
+fn a_failing_user_force_rolls_the_step_back_and_is_named() {
+    for method in ["leapfrog", "rk4", "backward-euler"] {
+        let mut w = world(method, true);
+        let armed = Arc::new(AtomicBool::new(false));
+        w.add_force_generator(Arc::new(Flaky(armed.clone())));
+        w.step(5).unwrap();
+        let (hash, steps) = (w.state_hash(), w.steps());
+        armed.store(true, Ordering::Relaxed);
+        let e = w.step(1).unwrap_err();
+        assert_eq!(e.to_string(), "force 'flaky' failed: sensor offline; step rolled back", "{method}");
+        assert_eq!((w.state_hash(), w.steps()), (hash, steps), "{method}");
+        armed.store(false, Ordering::Relaxed);
+        w.step(1).unwrap();
+    }
+}
+
+#[test]
+fn a_user_force_without_a_potential_leaves_the_energy_unknown() {
+    let mut w = world("rk4", false);
+    assert!(w.energy().is_some());
+    w.add_force_generator(Arc::new(Flaky(Arc::new(AtomicBool::new(false)))));
+    assert!(w.energy().is_none());
+}
