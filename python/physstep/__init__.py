@@ -109,8 +109,9 @@ class Trajectory:
     x: np.ndarray
     v: np.ndarray
     a: np.ndarray
-    energy: np.ndarray
+    energy: np.ndarray | None
     kinetic: np.ndarray | None = None
+    kind: str = "particles"
     exact_x: np.ndarray | None = None
     exact_v: np.ndarray | None = None
     stages: list[tuple[int, str, float, list[float], list[float], list[float]]] | None = None
@@ -130,13 +131,20 @@ class Trajectory:
         reached during the run is the size of the energy that moves around; 1 J (an absolute
         error) when nothing moves and E0 = 0.
         """
+        if self.energy is None:
+            raise ValueError(
+                f"the energy of this {self.kind} run is unknown (a flow, or a force without a potential)"
+            )
         kin = float(np.max(self.kinetic)) if self.kinetic is not None and len(self.kinetic) else 0.0
         scale = max(abs(float(self.energy[0])), kin)
         return scale if scale > 0 else 1.0
 
     @property
-    def energy_error(self) -> np.ndarray:
-        """Relative energy error ``(E - E0) / energy_scale`` of every row."""
+    def energy_error(self) -> np.ndarray | None:
+        """Relative energy error ``(E - E0) / energy_scale`` of every row; None when the
+        energy is unknown (a flow, or a user force without a potential)."""
+        if self.energy is None:
+            return None
         return (self.energy - self.energy[0]) / self.energy_scale
 
     @property
@@ -192,8 +200,6 @@ def simulate(
 def summarize(traj: Trajectory) -> dict[str, Any]:
     """The summary of a run, as ``physstep run --format json`` prints it."""
     e = traj.energy
-    e0 = float(e[0])
-    scale = traj.energy_scale
     out: dict[str, Any] = {
         "scene": traj.scene,
         "method": traj.method,
@@ -202,15 +208,18 @@ def summarize(traj: Trajectory) -> dict[str, Any]:
         "steps": int(traj.steps),
         "t": float(traj.t[-1]),
         "final": {"x": traj.x[-1].tolist(), "v": traj.v[-1].tolist()},
-        "energy": {
+        "energy": None,
+        "evals": int(traj.evals),
+        "ns_per_step": traj.ns_per_step,
+    }
+    if e is not None:
+        e0, scale = float(e[0]), traj.energy_scale
+        out["energy"] = {
             "initial": e0,
             "final": float(e[-1]),
             "max_rel_error": float(np.max(np.abs(e - e0)) / scale),
             "scale": scale,
-        },
-        "evals": int(traj.evals),
-        "ns_per_step": traj.ns_per_step,
-    }
+        }
     if traj.exact_x is not None:
         err = traj.position_error
         assert err is not None

@@ -203,10 +203,13 @@ def _cmd_scenes(args: argparse.Namespace) -> int:
     return 0
 
 
-def _columns(n: int) -> list[str]:
+def _columns(traj: physstep.Trajectory) -> list[str]:
+    """Column names of a run's state: x, v, a of particles; y and dy of a flow."""
+    n = traj.x.shape[1]
+    names = ("y", "dy") if traj.kind == "flow" else ("x", "v", "a")
     if n == 1:
-        return ["x", "v", "a"]
-    return [f"{q}{i}" for q in ("x", "v", "a") for i in range(n)]
+        return list(names)
+    return [f"{q}{i}" for q in names for i in range(n)]
 
 
 def _table_rows(traj: physstep.Trajectory, stages: bool) -> list[list[Any]]:
@@ -235,8 +238,7 @@ def _cmd_table(args: argparse.Namespace) -> int:
     )
     until = requested_until(args.scene, args.until)
     t_end = float(traj.t[-1])
-    n = traj.x.shape[1]
-    header = ["t", *_columns(n)] + (["stage"] if args.stages else [])
+    header = ["t", *_columns(traj)] + (["stage"] if args.stages else [])
     rows = _table_rows(traj, args.stages)
     _check_rows(header, rows)
     if args.format == "json":
@@ -287,12 +289,14 @@ TIMING_RUNS = 5
 
 
 def _trajectory_csv(traj: physstep.Trajectory) -> str:
-    header = ["t", *_columns(traj.x.shape[1]), "energy"]
+    energy = [] if traj.energy is None else ["energy"]
+    header = ["t", *_columns(traj), *energy]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(header)
     for k in range(len(traj.t)):
-        row = [float(c) for c in [traj.t[k], *traj.x[k], *traj.v[k], *traj.a[k], traj.energy[k]]]
+        e = [] if traj.energy is None else [traj.energy[k]]
+        row = [float(c) for c in [traj.t[k], *traj.x[k], *traj.v[k], *traj.a[k], *e]]
         _check_rows(header, [row])
         w.writerow([repr(c) for c in row])
     return buf.getvalue()
@@ -336,9 +340,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
     table.add_row("final x", ", ".join(f"{c:.6g}" for c in summary["final"]["x"]))
     table.add_row("final v", ", ".join(f"{c:.6g}" for c in summary["final"]["v"]))
     en = summary["energy"]
-    table.add_row(
-        "energy", f"{en['initial']:.6g} -> {en['final']:.6g} J (max rel. error {en['max_rel_error']:.3g})"
-    )
+    if en is None:
+        table.add_row(
+            "energy", f"unknown ({'a flow has none' if traj.kind == 'flow' else 'a force has no potential'})"
+        )
+    else:
+        table.add_row(
+            "energy", f"{en['initial']:.6g} -> {en['final']:.6g} J (max rel. error {en['max_rel_error']:.3g})"
+        )
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
     runs = len(timings)

@@ -4,6 +4,7 @@
 use crate::convert::{array, count, flag, float, matrix, params, text};
 use crate::py_err;
 use physstep::record::{RecordParams, Recorder};
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::time::{Duration, Instant};
@@ -103,10 +104,19 @@ pub(crate) fn simulate<'py>(
     }
     // A user force without a potential leaves the energy unknown: None, not a wrong number.
     let energy_known = rec.energy.len() == rec.t.len();
+    let is_flow = built.world.flow().is_some();
+    let n_rows = rec.t.len();
+    d.set_item("kind", if is_flow { "flow" } else { "particles" })?;
     d.set_item("t", numpy::PyArray1::from_vec(py, rec.t))?;
     d.set_item("x", matrix(py, rec.x, n)?)?;
     d.set_item("v", matrix(py, rec.v, n)?)?;
-    d.set_item("a", matrix(py, rec.a, n)?)?;
+    if is_flow {
+        // A flow has a state and its derivative (`x`, `v` here), no accelerations.
+        let rows = n_rows;
+        d.set_item("a", numpy::ndarray::Array2::<f64>::zeros((rows, 0)).into_pyarray(py))?;
+    } else {
+        d.set_item("a", matrix(py, rec.a, n)?)?;
+    }
     if energy_known {
         d.set_item("energy", numpy::PyArray1::from_vec(py, rec.energy))?;
     } else {

@@ -609,6 +609,6 @@ impl World {
         let slot = g.slot.clone();
         let w = g.flush()?;
         let force = PyForce { name, dim: w.dim(), func, potential, jacobian, velocity_dependent, slot };
-        Ok(w.add_force_generator(std::sync::Arc::new(force)))
+        w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)
     }
 }

@@ -39,7 +39,7 @@ fn main() -> physstep::Result<()> {
         World::new(WorldParams { dim: 2, method: "rk4".into(), dt: 1.0 / 120.0, ..Default::default() })?;
     w.add_particle(&[0.0, 10.0], &[0.0, 0.0], 1.0, false)?;
     w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] })?;
-    w.add_force_generator(Arc::new(Wind { c: 0.5, wind: [3.0, 0.0] }));
+    w.add_force_generator(Arc::new(Wind { c: 0.5, wind: [3.0, 0.0] }))?;
     w.step(120)?;
     let (x, v) = (w.positions(), w.velocities());
     println!("after 1 s: x = ({:.4}, {:.4}) m, v = ({:.4}, {:.4}) m/s", x[0], x[1], v[0], v[1]);

@@ -21,6 +21,7 @@
 pub mod clock;
 pub mod dynamics;
 pub mod error;
+pub mod flows;
 pub mod forces;
 pub mod integrators;
 pub mod record;

@@ -3,6 +3,7 @@
 //! its exact solution.
 
 use crate::error::{Error, Result};
+use crate::flows::Flow;
 use crate::forces::{Endpoint, Force};
 use crate::world::{World, WorldParams};
 
@@ -63,7 +64,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 }
 
 /// Every built-in scene, in registry order.
-pub const SCENES: [SceneSpec; 8] = [
+pub const SCENES: [SceneSpec; 11] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -165,6 +166,50 @@ pub const SCENES: [SceneSpec; 8] = [
         ],
         dt: 0.001,
         until: 2.0,
+    },
+    SceneSpec {
+        name: "lorenz",
+        doc:
+            "Lorenz attractor, a first-order flow x' = sigma (y - x), y' = x (rho - z) - y, z' = x y - beta z",
+        dim: 3,
+        params: &[
+            p("sigma", 10.0, "Prandtl number", Rule::Any),
+            p("rho", 28.0, "Rayleigh number", Rule::Any),
+            p("beta", 8.0 / 3.0, "geometry factor", Rule::Any),
+            p("x0", 1.0, "initial x", Rule::Any),
+            p("y0", 1.0, "initial y", Rule::Any),
+            p("z0", 1.0, "initial z", Rule::Any),
+        ],
+        dt: 0.005,
+        until: 40.0,
+    },
+    SceneSpec {
+        name: "rossler",
+        doc: "Rossler attractor, a first-order flow x' = -y - z, y' = x + a y, z' = b + z (x - c)",
+        dim: 3,
+        params: &[
+            p("a", 0.2, "", Rule::Any),
+            p("b", 0.2, "", Rule::Any),
+            p("c", 5.7, "", Rule::Any),
+            p("x0", 1.0, "initial x", Rule::Any),
+            p("y0", 1.0, "initial y", Rule::Any),
+            p("z0", 0.0, "initial z", Rule::Any),
+        ],
+        dt: 0.01,
+        until: 200.0,
+    },
+    SceneSpec {
+        name: "thomas",
+        doc: "Thomas' cyclically symmetric attractor, x' = sin y - b x (and cyclic)",
+        dim: 3,
+        params: &[
+            p("b", 0.208_186, "dissipation", Rule::Any),
+            p("x0", 0.1, "initial x", Rule::Any),
+            p("y0", 0.0, "initial y", Rule::Any),
+            p("z0", 0.0, "initial z", Rule::Any),
+        ],
+        dt: 0.05,
+        until: 500.0,
     },
 ];
 
@@ -376,9 +421,19 @@ pub fn resolve(spec: &SceneSpec, overrides: &[(&str, f64)]) -> Result<Vec<f64>> 
 pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Result<Scene> {
     let spec = spec(name)?;
     let values = resolve(spec, overrides)?;
-    let world =
-        World::new(WorldParams { dim: spec.dim, method: method.into(), dt, ..WorldParams::default() })?;
     let v = |n: &str| values[spec.params.iter().position(|p| p.name == n).expect("param in spec")];
+    let params = WorldParams { dim: spec.dim, method: method.into(), dt, ..WorldParams::default() };
+    let flow = match spec.name {
+        "lorenz" => Some(Flow::Lorenz { sigma: v("sigma"), rho: v("rho"), beta: v("beta") }),
+        "rossler" => Some(Flow::Rossler { a: v("a"), b: v("b"), c: v("c") }),
+        "thomas" => Some(Flow::Thomas { b: v("b") }),
+        _ => None,
+    };
+    if let Some(flow) = flow {
+        let world = World::with_flow(flow, &[v("x0"), v("y0"), v("z0")], params)?;
+        return Ok(Scene { spec, values, world, exact: None });
+    }
+    let world = World::new(params)?;
     let mut scene = Scene { spec, values: values.clone(), world, exact: None };
     let w = &mut scene.world;
     scene.exact = match spec.name {

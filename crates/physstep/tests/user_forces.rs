@@ -38,7 +38,7 @@ fn world(method: &str, user: bool) -> World {
         World::new(WorldParams { dim: 2, method: method.into(), dt: 0.1, ..Default::default() }).unwrap();
     w.add_particle(&[20.0, -3.0], &[0.0, 1.0], 10.0, false).unwrap();
     if user {
-        w.add_force_generator(Arc::new(Spring { k: 5.0, c: 0.5 }));
+        w.add_force_generator(Arc::new(Spring { k: 5.0, c: 0.5 })).unwrap();
     } else {
         let spring = Force::Spring {
             i: 0,
@@ -88,7 +88,7 @@ fn a_failing_user_force_rolls_the_step_back_and_is_named() {
     for method in ["leapfrog", "rk4", "backward-euler"] {
         let mut w = world(method, true);
         let armed = Arc::new(AtomicBool::new(false));
-        w.add_force_generator(Arc::new(Flaky(armed.clone())));
+        w.add_force_generator(Arc::new(Flaky(armed.clone()))).unwrap();
         w.step(5).unwrap();
         let (hash, steps) = (w.state_hash(), w.steps());
         armed.store(true, Ordering::Relaxed);
@@ -104,6 +104,6 @@ fn a_failing_user_force_rolls_the_step_back_and_is_named() {
 fn a_user_force_without_a_potential_leaves_the_energy_unknown() {
     let mut w = world("rk4", false);
     assert!(w.energy().is_some());
-    w.add_force_generator(Arc::new(Flaky(Arc::new(AtomicBool::new(false)))));
+    w.add_force_generator(Arc::new(Flaky(Arc::new(AtomicBool::new(false))))).unwrap();
     assert!(w.energy().is_none());
 }

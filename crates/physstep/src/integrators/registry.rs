@@ -351,6 +351,23 @@ impl Integrator {
         dispatch!(&mut self.kind, m => m.step_split(&mut split, *t, h, y, f, log))
     }
 
+    /// [`Integrator::advance`] for a first-order flow.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for the split methods; [`Error::NotConverged`] as
+    /// [`Integrator::advance`].
+    pub fn advance_flow<F: FirstOrder + ?Sized>(
+        &mut self,
+        sys: &mut F,
+        state: &mut State,
+        h: f64,
+        log: Log<'_>,
+    ) -> Result<()> {
+        let State { t, y, f, evals, .. } = state;
+        let mut plain = Plain { sys, evals };
+        dispatch!(&mut self.kind, m => m.step_flow(&mut plain, *t, h, y, f, log))
+    }
+
     /// [`Error::Diverged`] when the state or its derivative holds a NaN, an infinity or a
     /// value past [`RUNAWAY`].
     ///
@@ -406,7 +423,8 @@ pub enum Layout {
 
 impl Layout {
     /// How much of `f` is a copy of `y` (and need not be kept or checked).
-    fn skip(self, state: &State) -> usize {
+    #[must_use]
+    pub fn skip(self, state: &State) -> usize {
         match self {
             Self::Second => state.y.len() / 2,
             Self::First => 0,
@@ -442,7 +460,10 @@ impl Checkpoint {
         state.f[skip..].copy_from_slice(&self.f);
         let n = state.y.len() - skip;
         state.f[..skip].copy_from_slice(&state.y[n..]);
-        let coords = state.y.len() / 2;
+        let coords = match layout {
+            Layout::Second => state.y.len() / 2,
+            Layout::First => state.y.len(),
+        };
         let restored = dispatch!(&mut integrator.kind, m => m.recall(&self.memory, coords));
         debug_assert!(restored, "a method's own memory is always recallable");
         if !restored {

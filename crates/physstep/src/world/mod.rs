@@ -7,11 +7,12 @@
 //! back and is reported).
 
 use crate::clock::{Clock, ClockParams, FramePlan, LoopMode};
-use crate::dynamics::SecondOrder;
+use crate::dynamics::{FirstOrder, SecondOrder};
 use crate::error::{all_finite, Error, Result};
+use crate::flows::{Flow, FlowModel};
 use crate::forces::Force;
-use crate::integrators::registry::Checkpoint;
 use crate::integrators::registry::State;
+use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
 mod model;
@@ -85,6 +86,9 @@ pub struct World {
     implicit: ImplicitParams,
     /// The state before the current step, for its rollback.
     checkpoint: Checkpoint,
+    /// A first-order flow, when the world is one (then it has no particles and `y` is the
+    /// flow's state).
+    flow: Option<FlowModel>,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -136,7 +140,73 @@ impl World {
             epoch: Epoch::default(),
             implicit: params.implicit,
             checkpoint: Checkpoint::default(),
+            flow: None,
         })
+    }
+
+    /// A world whose part is the first-order flow `flow` from state `y0` (a strange
+    /// attractor, the user's own ODE). Its positions are the flow's state (drawn as points
+    /// of `dim = len(y0)` coordinates up to 3, else one coordinate each), its velocities the
+    /// derivative; it has no particles and no energy.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] for a bad flow parameter, `y0` of the wrong length or not
+    /// finite, or bad clock settings; [`Error::Unsupported`] for a split method.
+    pub fn with_flow(flow: Flow, y0: &[f64], params: WorldParams) -> Result<Self> {
+        flow.validate()?;
+        if y0.len() != flow.len() {
+            return Err(Error::invalid("len(y0)", y0.len(), format!("{}, the flow's length", flow.len())));
+        }
+        all_finite("y0", y0)?;
+        let dim = if y0.len() <= 3 { y0.len() } else { 1 };
+        let mut w = Self::new(WorldParams { dim, ..params })?;
+        w.flow = Some(FlowModel::new(flow));
+        w.refuse_split(w.integrator.info())?;
+        w.state.y = y0.to_vec();
+        w.state.f = vec![0.0; y0.len()];
+        w.stale = true;
+        Ok(w)
+    }
+
+    /// The flow, when the world is one.
+    #[must_use]
+    pub fn flow(&self) -> Option<&Flow> {
+        self.flow.as_ref().map(|f| &f.flow)
+    }
+
+    fn refuse_split(&self, info: &crate::integrators::Info) -> Result<()> {
+        if info.split && self.flow.is_some() {
+            return Err(crate::integrators::split_only(info));
+        }
+        Ok(())
+    }
+
+    fn refuse_flow(&self, what: &str) -> Result<()> {
+        match &self.flow {
+            Some(f) => Err(Error::Unsupported {
+                method: self.integrator.info().name.into(),
+                reason: format!("cannot add {what} to a world that is the flow '{}'", f.flow.name()),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The state's layout: `[x; v]` of particles, or a flow's `y`.
+    fn layout(&self) -> Layout {
+        if self.flow.is_some() {
+            Layout::First
+        } else {
+            Layout::Second
+        }
+    }
+
+    /// Coordinates of the positions (a flow's whole state).
+    fn coords(&self) -> usize {
+        if self.flow.is_some() {
+            self.state.y.len()
+        } else {
+            self.model.len()
+        }
     }
 
     /// Spatial dimensions.
@@ -190,6 +260,7 @@ impl World {
         masses: Option<&[f64]>,
         is_static: bool,
     ) -> Result<usize> {
+        self.refuse_flow("particles")?;
         self.check_particles(positions, velocities, masses)?;
         let d = self.dim();
         let k = positions.len() / d;
@@ -278,6 +349,7 @@ impl World {
     /// [`Error::InvalidValue`] naming the bad field (a missing particle index, a negative
     /// stiffness, a zero rod length, ...); the world is unchanged.
     pub fn add_force(&mut self, force: Force) -> Result<()> {
+        self.refuse_flow("a force")?;
         if matches!(force, Force::NBody { .. }) {
             // n-body gravity pulls with every mass: none may be infinite.
             crate::forces::finite_masses(&self.model.mass, 0)?;
@@ -306,6 +378,15 @@ impl World {
     /// # Errors
     /// [`Error::Force`] when a user force fails; the derivative stays stale.
     fn refresh(&mut self) -> Result<()> {
+        if let (true, Some(flow)) = (self.stale, self.flow.as_mut()) {
+            let (y, f, t) = (&self.state.y, &mut self.state.f, self.state.t);
+            flow.deriv(t, y, f);
+            self.state.evals += 1;
+            if let Some(e) = flow.failure.take() {
+                return Err(e);
+            }
+            self.stale = false;
+        }
         if self.stale {
             let n = self.model.len();
             let (x, v) = self.state.y.split_at(n);
@@ -322,13 +403,17 @@ impl World {
     }
 
     /// Adds a user force; returns its index among the user forces.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for a world that is a flow.
     pub fn add_force_generator(
         &mut self,
         generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
-    ) -> usize {
+    ) -> Result<usize> {
+        self.refuse_flow("a force")?;
         self.model.user.push(crate::forces::UserForce(generator));
         self.touch();
-        self.model.user.len() - 1
+        Ok(self.model.user.len() - 1)
     }
 
     /// The integrator in use.
@@ -342,7 +427,9 @@ impl World {
     /// # Errors
     /// [`Error::UnknownName`] listing the valid names.
     pub fn set_method(&mut self, name: &str) -> Result<()> {
-        self.integrator = Integrator::with_params(name, self.implicit)?;
+        let integrator = Integrator::with_params(name, self.implicit)?;
+        self.refuse_split(integrator.info())?;
+        self.integrator = integrator;
         Ok(())
     }
 
@@ -440,12 +527,16 @@ impl World {
     /// Positions, m (flat, `n * dim`).
     #[must_use]
     pub fn positions(&self) -> &[f64] {
-        &self.state.y[..self.model.len()]
+        &self.state.y[..self.coords()]
     }
 
     /// Velocities, m/s (flat, `n * dim`).
     #[must_use]
     pub fn velocities(&self) -> &[f64] {
+        if self.flow.is_some() {
+            // A flow's velocity is its derivative at the current state.
+            return &self.state.f;
+        }
         &self.state.y[self.model.len()..]
     }
 
@@ -455,6 +546,9 @@ impl World {
     /// [`Error::Force`] when a user force fails.
     pub fn accelerations(&mut self) -> Result<&[f64]> {
         self.refresh()?;
+        if self.flow.is_some() {
+            return Ok(&[]);
+        }
         Ok(&self.state.f[self.model.len()..])
     }
 
@@ -463,7 +557,7 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] for a wrong length or a non-finite entry; nothing changes.
     pub fn set_positions(&mut self, x: &[f64]) -> Result<()> {
-        let n = self.model.len();
+        let n = self.coords();
         if x.len() != n {
             return Err(Error::invalid("len(positions)", x.len(), format!("{n}")));
         }
@@ -478,6 +572,7 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] for a wrong length or a non-finite entry; nothing changes.
     pub fn set_velocities(&mut self, v: &[f64]) -> Result<()> {
+        self.refuse_flow("velocities")?;
         let n = self.model.len();
         if v.len() != n {
             return Err(Error::invalid("len(velocities)", v.len(), format!("{n}")));
@@ -513,6 +608,9 @@ impl World {
     /// energy is then unknown, not the built-in forces' part of it).
     #[must_use]
     pub fn energy(&self) -> Option<f64> {
+        if self.flow.is_some() {
+            return None;
+        }
         Some(self.model.kinetic(self.velocities()) + self.model.potential(self.positions())?)
     }
 

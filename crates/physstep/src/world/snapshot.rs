@@ -49,7 +49,7 @@ impl World {
         let [hi, lo] = self.clock.balance();
         // Before the first step (or after particles were added) there are no previous
         // positions of this particle count; the current ones interpolate the same way.
-        let prev_x = if self.prev_x.len() == self.model.len() { &self.prev_x[..] } else { self.positions() };
+        let prev_x = if self.prev_x.len() == self.coords() { &self.prev_x[..] } else { self.positions() };
         let e = self.epoch;
         let mask = self.model.inv_mass.iter().map(|w| if *w == 0.0 { 1.0 } else { 0.0 });
         for v in [self.state.t, hi, lo, e.t, e.steps as f64, e.dt, memory.len() as f64]
@@ -115,8 +115,8 @@ impl World {
         }
         let floats: Vec<f64> =
             rest.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or_default())).collect();
-        let nx = self.model.len();
-        let ny = 2 * nx;
+        let nx = self.coords();
+        let ny = self.state.y.len();
         let np = self.len();
         let [t, hi, lo, et, es, edt, nm, data @ ..] = floats.as_slice() else {
             return Err(corrupt("truncated data"));
@@ -166,7 +166,7 @@ impl World {
             }
         }
         let mut integrator = self.integrator.clone();
-        integrator.recall(memory, nx)?;
+        integrator.recall(memory, if self.flow.is_some() { ny } else { nx })?;
         // Everything checked: commit.
         self.integrator = integrator;
         self.state.t = *t;
@@ -232,7 +232,7 @@ impl World {
             ));
         }
         memory[flags..].copy_from_slice(&z[ny..]);
-        self.integrator.recall(&memory, ny / 2)?;
+        self.integrator.recall(&memory, if self.flow.is_some() { ny } else { ny / 2 })?;
         self.state.y.copy_from_slice(&z[..ny]);
         self.stale = true;
         self.refresh()

@@ -11,7 +11,6 @@
 
 use super::{Epoch, World};
 use crate::error::{Error, Result};
-use crate::integrators::registry::Layout;
 use crate::integrators::Log;
 
 /// What every stage of one step sees, validated once when the step starts.
@@ -75,7 +74,7 @@ impl World {
     pub(super) fn step_inner(&mut self, h: f64, log: Log<'_>) -> Result<()> {
         let ctx = self.context(h)?;
         self.refresh()?;
-        self.checkpoint.save(&self.state, &self.integrator, Layout::Second);
+        self.checkpoint.save(&self.state, &self.integrator, self.layout());
         // Interpolation is between the last two states of a frame of `advance`; outside it
         // the current positions are drawn as they are.
         self.prev_x.clear();
@@ -89,6 +88,13 @@ impl World {
 
     /// Integrate: the method's recipe over the world's parts.
     fn integrate(&mut self, ctx: &StepContext, log: Log<'_>) -> Result<()> {
+        if let Some(flow) = self.flow.as_mut() {
+            let r = self.integrator.advance_flow(flow, &mut self.state, ctx.h, log);
+            return match flow.failure.take() {
+                Some(e) => Err(e),
+                None => r,
+            };
+        }
         let r = self.integrator.advance(&mut self.model, &mut self.state, ctx.h, log);
         // A user force that failed poisoned the accelerations; its own error is the news.
         match self.model.failure.take() {
@@ -112,16 +118,12 @@ impl World {
     /// Check: a NaN, an infinity or a runaway value anywhere is a divergence, named by the
     /// particle it belongs to.
     fn check(&self, ctx: &StepContext) -> Result<()> {
-        self.integrator.check(&self.state, Layout::Second).map_err(|e| match e {
+        let particles = self.flow.is_none();
+        self.integrator.check(&self.state, self.layout()).map_err(|e| match e {
             Error::Diverged { method, index, .. } => {
                 let n = self.model_len().max(1);
-                Error::Diverged {
-                    method,
-                    step: ctx.step,
-                    t: ctx.t,
-                    index,
-                    particle: Some((index % n) / self.dim()),
-                }
+                let particle = particles.then(|| (index % n) / self.dim());
+                Error::Diverged { method, step: ctx.step, t: ctx.t, index, particle }
             }
             other => other,
         })
@@ -137,7 +139,8 @@ impl World {
                 Ok(())
             }
             Err(e) => {
-                self.checkpoint.restore(&mut self.state, &mut self.integrator, Layout::Second);
+                let layout = self.layout();
+                self.checkpoint.restore(&mut self.state, &mut self.integrator, layout);
                 Err(e)
             }
         }
