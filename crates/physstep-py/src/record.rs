@@ -3,8 +3,8 @@
 
 use crate::convert::{array, count, flag, float, matrix, params, text};
 use crate::py_err;
-use physstep::record::{RecordParams, Recorder};
 use numpy::IntoPyArray;
+use physstep::record::{RecordParams, Recorder};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::time::{Duration, Instant};
