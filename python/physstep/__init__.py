@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import copy
 import functools
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,6 +27,7 @@ from physstep._core import ConvergenceError, DivergedError, StepError, World, Wo
 __all__ = [
     "ConvergenceError",
     "DivergedError",
+    "Flow",
     "MethodInfo",
     "StepError",
     "Trajectory",
@@ -86,6 +88,53 @@ def scenes() -> list[dict[str, Any]]:
 def scene(name: str) -> dict[str, Any]:
     """One built-in scene's description; ValueError listing the valid names otherwise."""
     return copy.deepcopy(_spec(name))
+
+
+@dataclass(frozen=True)
+class Flow:
+    """A first-order flow ``y' = fn(t, y)`` from ``y0``: a strange attractor, any ODE.
+
+    ``fn(t, y)`` gets the time and the state (a 1-D array) and returns the derivative;
+    ``jacobian(t, y)``, if given, returns ``df/dy`` (``len(y0)`` x ``len(y0)``) for the
+    implicit methods. The flow methods (Euler, midpoint, Heun, RK4, the implicit ones)
+    integrate it; the split methods refuse it with one clear line. Pass it (or a callable
+    returning it) to :func:`simulate` and to every ``physstep.lab`` function in place of a
+    scene name.
+
+    >>> import physstep
+    >>> decay = physstep.Flow(lambda t, y: -y, [1.0])
+    >>> round(float(physstep.simulate(decay, "rk4", dt=0.1, until=1.0).x[-1, 0]), 5)
+    0.36788
+    """
+
+    fn: Callable[[float, np.ndarray], Any]
+    y0: Any
+    jacobian: Callable[[float, np.ndarray], Any] | None = None
+    name: str | None = None
+
+    def world(self, method: str = "rk4", dt: float = 0.01) -> World:
+        """A fresh World whose part is this flow."""
+        return World.from_flow(self.fn, self.y0, method, dt, jacobian=self.jacobian, name=self.name)
+
+
+def _system_world(system: Any, method: str | None, dt: float | None) -> tuple[World, str]:
+    """The fresh World of a user system (a Flow, or a zero-argument callable returning a
+    World or a Flow) with ``method`` and ``dt`` applied, and the system's name."""
+    name = getattr(system, "name", None) or getattr(system, "__name__", None) or "system"
+    made = system if isinstance(system, Flow) else system()
+    if isinstance(made, Flow):
+        world = made.world(method or "rk4", 0.01 if dt is None else dt)
+        return world, made.name or name
+    if not isinstance(made, World):
+        raise ValueError(
+            f"invalid system = {system!r}: must be a Flow or a callable returning a fresh World or Flow "
+            f"(it returned {type(made).__name__})"
+        )
+    if method is not None:
+        made.method = method
+    if dt is not None:
+        made.dt = dt
+    return made, name
 
 
 @dataclass
@@ -157,7 +206,7 @@ class Trajectory:
 
 def simulate(
     scene: str,
-    method: str = "symplectic-euler",
+    method: str | None = None,
     dt: float | None = None,
     until: float | None = None,
     params: dict[str, float] | None = None,
@@ -168,7 +217,13 @@ def simulate(
     every: int = 1,
     stop_on_diverge: bool = False,
 ) -> Trajectory:
-    """Runs a built-in scene with an integrator and records it.
+    """Runs a built-in scene, or your own system, with an integrator and records it.
+
+    ``scene`` is a built-in scene's name, a :class:`Flow`, or a zero-argument callable
+    that returns a fresh :class:`World` (your particles and forces, Python forces included)
+    or a :class:`Flow`. For a system, ``until`` is required, ``method`` and ``dt`` (when
+    given) replace the world's own, and the trajectory has no exact solution (the lab
+    measures it against a reference run).
 
     ``dt`` and ``until`` default to the scene's own (see :func:`scenes`); ``params``
     override the scene's parameters; ``x0``/``v0`` (flat or (n, dim)) replace its initial
@@ -179,12 +234,16 @@ def simulate(
 
     Raises ValueError naming the bad field and value for any bad input.
     """
+    if isinstance(scene, Flow) or (callable(scene) and not isinstance(scene, str)):
+        return _simulate_system(scene, method, dt, until, params, x0, v0, stages, every, stop_on_diverge)
     if not isinstance(scene, str):
-        raise ValueError(f"invalid scene = {scene!r}: must be a string")
+        raise ValueError(
+            f"invalid scene = {scene!r}: must be a scene name, a Flow or a callable returning a World"
+        )
     spec = _spec(scene)
     raw = _core.simulate(
         scene,
-        method,
+        "symplectic-euler" if method is None else method,
         spec["dt"] if dt is None else dt,
         spec["until"] if until is None else until,
         params,
@@ -195,6 +254,33 @@ def simulate(
         stop_on_diverge=stop_on_diverge,
     )
     return Trajectory(**raw)
+
+
+def _simulate_system(
+    system: Any,
+    method: str | None,
+    dt: float | None,
+    until: float | None,
+    params: Any,
+    x0: Any,
+    v0: Any,
+    stages: bool,
+    every: int,
+    stop_on_diverge: bool,
+) -> Trajectory:
+    if params:
+        raise ValueError(
+            f"invalid params = {params!r}: a system has no scene parameters (build them into it)"
+        )
+    if until is None:
+        raise ValueError("invalid until = None: a system has no default run length; give until")
+    world, name = _system_world(system, method, dt)
+    if x0 is not None:
+        world.positions = np.asarray(x0, dtype=float).reshape(world.positions.shape)
+    if v0 is not None:
+        world.velocities = np.asarray(v0, dtype=float).reshape(world.velocities.shape)
+    raw = world.record(until, every=every, stop_on_diverge=stop_on_diverge, stages=stages)
+    return Trajectory(scene=name, params={}, **raw)
 
 
 def summarize(traj: Trajectory) -> dict[str, Any]:

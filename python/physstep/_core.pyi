@@ -61,6 +61,22 @@ class World:
         dt: float | None = None,
         params: _Params = None,
     ) -> World: ...
+    @staticmethod
+    def from_flow(
+        func: Callable[[float, npt.NDArray[np.float64]], npt.ArrayLike],
+        y0: npt.ArrayLike,
+        method: str | None = None,
+        dt: float | None = None,
+        jacobian: Callable[[float, npt.NDArray[np.float64]], npt.ArrayLike] | None = None,
+        name: str | None = None,
+    ) -> World: ...
+    def record(
+        self,
+        until: float,
+        every: int | None = None,
+        stop_on_diverge: bool | None = None,
+        stages: bool | None = None,
+    ) -> dict[str, Any]: ...
     @property
     def dim(self) -> int: ...
     def __len__(self) -> int: ...

@@ -142,3 +142,70 @@ impl ForceGenerator for PyForce {
         })
     }
 }
+
+/// A Python flow `func(t, y) -> dy`.
+pub(crate) struct PyFlow {
+    pub name: String,
+    pub func: Py<PyAny>,
+    pub jacobian: Option<Py<PyAny>>,
+    pub slot: Slot,
+}
+
+impl PyFlow {
+    fn keep(&self, py: Python<'_>, e: PyErr) -> String {
+        let msg = format!("raised {}", e.value(py));
+        let mut slot = self.slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if slot.is_none() {
+            *slot = Some(e);
+        }
+        msg
+    }
+
+    /// A flat float vector of length `n` from `out`, or a message naming what is wrong.
+    fn vector(out: &Bound<'_, PyAny>, what: &str, n: usize) -> Result<Vec<f64>, String> {
+        let py = out.py();
+        let arr = py
+            .import("numpy")
+            .and_then(|np| np.call_method1("asarray", (out, "float64")))
+            .and_then(|a| a.call_method0("ravel"))
+            .map_err(|_| format!("{what} must be an array of {n} numbers"))?;
+        let v: Vec<f64> = arr.extract().map_err(|_| format!("{what} must be an array of {n} numbers"))?;
+        if v.len() != n {
+            return Err(format!("{what} must have {n} entries, not {}", v.len()));
+        }
+        Ok(v)
+    }
+}
+
+impl physstep::flows::FlowGenerator for PyFlow {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn deriv(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), String> {
+        Python::attach(|py| {
+            let out =
+                self.func.bind(py).call1((t, PyArray1::from_slice(py, y))).map_err(|e| self.keep(py, e))?;
+            let v = Self::vector(&out, "the returned derivative", y.len())?;
+            dy.copy_from_slice(&v);
+            Ok(())
+        })
+    }
+
+    fn jacobian(&self, t: f64, y: &[f64], dfdy: &mut [f64]) -> bool {
+        let Some(jac) = self.jacobian.as_ref() else { return false };
+        Python::attach(|py| match jac.bind(py).call1((t, PyArray1::from_slice(py, y))) {
+            Ok(out) => match Self::vector(&out, "the Jacobian", y.len() * y.len()) {
+                Ok(v) if v.iter().all(|c| c.is_finite()) => {
+                    dfdy.copy_from_slice(&v);
+                    true
+                }
+                _ => false,
+            },
+            Err(e) => {
+                self.keep(py, e);
+                false
+            }
+        })
+    }
+}

@@ -4,7 +4,7 @@
 use crate::convert::{array, count, flag, float, matrix, params, text};
 use crate::py_err;
 use numpy::IntoPyArray;
-use physstep::record::{RecordParams, Recorder};
+use physstep::record::{RecordParams, Recorder, Recording};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::time::{Duration, Instant};
@@ -52,38 +52,9 @@ pub(crate) fn simulate<'py>(
         w.set_velocities(&v0).map_err(py_err)?;
     }
     let rp = RecordParams { dt, until, every, stages, stop_on_diverge };
-    let mut recorder = Recorder::new(w, rp).map_err(py_err)?;
-    let start = Instant::now();
-    // Slices of the run without the GIL (other Python threads run meanwhile), with a look
-    // for Ctrl-C between them; about 64 steps are taken between two looks at the clock.
-    loop {
-        let done = py.detach(|| -> physstep::Result<bool> {
-            let slice = Instant::now();
-            loop {
-                if recorder.run(w, 64)? {
-                    return Ok(true);
-                }
-                if slice.elapsed() > SLICE {
-                    return Ok(false);
-                }
-            }
-        });
-        if done.map_err(py_err)? {
-            break;
-        }
-        py.check_signals()?;
-    }
-    let elapsed = start.elapsed().as_nanos() as u64;
-    let rec = recorder.finish();
+    let (rec, elapsed) = run(py, w, rp, None)?;
     let d = PyDict::new(py);
     d.set_item("scene", built.spec.name)?;
-    d.set_item("method", built.world.integrator().info().name)?;
-    d.set_item("dt", dt)?;
-    d.set_item("dim", built.spec.dim)?;
-    d.set_item("steps", built.world.steps())?;
-    d.set_item("evals", rec.evals)?;
-    d.set_item("elapsed_ns", elapsed)?;
-    d.set_item("diverged", rec.diverged.as_ref().map(ToString::to_string))?;
     let params_out = PyDict::new(py);
     for (p, v) in built.spec.params.iter().zip(&built.values) {
         params_out.set_item(p.name, *v)?;
@@ -102,17 +73,81 @@ pub(crate) fn simulate<'py>(
         d.set_item("exact_x", py.None())?;
         d.set_item("exact_v", py.None())?;
     }
+    fill(&d, &built.world, rec, elapsed, stages)?;
+    Ok(d)
+}
+
+/// Records `w` as `rp` says, in slices without the GIL (other Python threads run meanwhile)
+/// with a look for Ctrl-C between them; returns the recording and the stepping time, ns.
+/// A Python exception kept in `slot` by a user force comes first, unchanged.
+pub(crate) fn run(
+    py: Python<'_>,
+    w: &mut physstep::world::World,
+    rp: RecordParams,
+    slot: Option<&crate::force::Slot>,
+) -> PyResult<(Recording, u64)> {
+    let fail = |e: physstep::Error| match slot {
+        Some(s) => crate::world::raise(s, e),
+        None => py_err(e),
+    };
+    let mut recorder = Recorder::new(w, rp).map_err(fail)?;
+    let start = Instant::now();
+    loop {
+        let done = py.detach(|| -> physstep::Result<bool> {
+            let slice = Instant::now();
+            loop {
+                if recorder.run(w, 64)? {
+                    return Ok(true);
+                }
+                if slice.elapsed() > SLICE {
+                    return Ok(false);
+                }
+            }
+        });
+        if done.map_err(fail)? {
+            break;
+        }
+        py.check_signals()?;
+    }
+    let elapsed = start.elapsed().as_nanos() as u64;
+    let mut rec = recorder.finish();
+    // A failure the run stopped at (stop_on_diverge) may have been a Python exception.
+    if let (Some(s), Some(_)) = (slot, rec.diverged.as_ref()) {
+        if let Some(e) = s.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take() {
+            rec.diverged = None;
+            return Err(e);
+        }
+    }
+    Ok((rec, elapsed))
+}
+
+/// The recording's arrays and counts in `d` (the keys of `physstep.Trajectory`).
+pub(crate) fn fill(
+    d: &Bound<'_, PyDict>,
+    w: &physstep::world::World,
+    rec: Recording,
+    elapsed: u64,
+    stages: bool,
+) -> PyResult<()> {
+    let py = d.py();
+    let n = w.positions().len();
+    d.set_item("method", w.integrator().info().name)?;
+    d.set_item("dt", w.dt())?;
+    d.set_item("dim", w.dim())?;
+    d.set_item("steps", w.steps())?;
+    d.set_item("evals", rec.evals)?;
+    d.set_item("elapsed_ns", elapsed)?;
+    d.set_item("diverged", rec.diverged.as_ref().map(ToString::to_string))?;
     // A user force without a potential leaves the energy unknown: None, not a wrong number.
     let energy_known = rec.energy.len() == rec.t.len();
-    let is_flow = built.world.flow().is_some();
-    let n_rows = rec.t.len();
+    let is_flow = w.flow().is_some();
+    let rows = rec.t.len();
     d.set_item("kind", if is_flow { "flow" } else { "particles" })?;
     d.set_item("t", numpy::PyArray1::from_vec(py, rec.t))?;
     d.set_item("x", matrix(py, rec.x, n)?)?;
     d.set_item("v", matrix(py, rec.v, n)?)?;
     if is_flow {
         // A flow has a state and its derivative (`x`, `v` here), no accelerations.
-        let rows = n_rows;
         d.set_item("a", numpy::ndarray::Array2::<f64>::zeros((rows, 0)).into_pyarray(py))?;
     } else {
         d.set_item("a", matrix(py, rec.a, n)?)?;
@@ -124,15 +159,15 @@ pub(crate) fn simulate<'py>(
     }
     d.set_item("kinetic", numpy::PyArray1::from_vec(py, rec.kinetic))?;
     if stages {
-        let rows = PyList::empty(py);
+        let list = PyList::empty(py);
         for (k, stage, t, x, v, a) in rec.stages {
-            rows.append((k, stage, t, x, v, a))?;
+            list.append((k, stage, t, x, v, a))?;
         }
-        d.set_item("stages", rows)?;
+        d.set_item("stages", list)?;
     } else {
         d.set_item("stages", py.None())?;
     }
-    Ok(d)
+    Ok(())
 }
 
 /// Scene parameters from a dict or pairs.

@@ -89,7 +89,7 @@ impl Inner {
 
 /// The engine's error as a Python exception; an exception a user force raised during the
 /// call comes first, unchanged.
-fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
+pub(crate) fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
     let kept = slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
     kept.unwrap_or_else(|| py_err(e))
 }
@@ -201,6 +201,75 @@ impl World {
         let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         let scene = physstep::scenes::build(&name, &overrides, &method, dt).map_err(py_err)?;
         Ok(Self::wrap(scene.world))
+    }
+
+    /// A world whose part is a first-order flow `func(t, y) -> dy` from state `y0` (an
+    /// attractor, any ODE): the flow methods integrate it, the split methods refuse.
+    /// `jacobian(t, y)` returns df/dy (len(y0), len(y0)) for the implicit methods.
+    #[staticmethod]
+    #[pyo3(signature = (func, y0, method=None, dt=None, jacobian=None, name=None))]
+    fn from_flow(
+        py: Python<'_>,
+        func: &Bound<'_, PyAny>,
+        y0: &Bound<'_, PyAny>,
+        method: Option<&Bound<'_, PyAny>>,
+        dt: Option<&Bound<'_, PyAny>>,
+        jacobian: Option<&Bound<'_, PyAny>>,
+        name: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        if !func.is_callable() {
+            return Err(crate::convert::invalid("func", func, "callable"));
+        }
+        let jacobian = match jacobian.filter(|j| !j.is_none()) {
+            Some(j) if j.is_callable() => Some(j.clone().unbind()),
+            Some(j) => return Err(crate::convert::invalid("jacobian", j, "callable")),
+            None => None,
+        };
+        let y0 = array(y0, "y0", None, None)?;
+        let method = method.map_or(Ok("rk4".to_string()), |m| text(m, "method"))?;
+        let dt = dt.map_or(Ok(WorldParams::default().dt), |d| float(d, "dt"))?;
+        let name = match name {
+            Some(n) => text(n, "name")?,
+            None => {
+                func.getattr("__name__").and_then(|n| n.extract::<String>()).unwrap_or_else(|_| "flow".into())
+            }
+        };
+        let _ = py;
+        let slot = Slot::default();
+        let generator =
+            crate::force::PyFlow { name, func: func.clone().unbind(), jacobian, slot: slot.clone() };
+        let flow = physstep::flows::Flow::User { n: y0.len(), generator: std::sync::Arc::new(generator) };
+        let params = WorldParams { method, dt, ..WorldParams::default() };
+        let engine = Engine::with_flow(flow, &y0, params).map_err(py_err)?;
+        Ok(Self { inner: Mutex::new(Inner { engine, slot, pending: Pending::default() }) })
+    }
+
+    /// Records a run of this world from its current state: `until` seconds of its fixed dt,
+    /// a row every `every` steps. Returns the data of a `physstep.Trajectory` (as a dict).
+    #[pyo3(signature = (until, every=None, stop_on_diverge=None, stages=None))]
+    fn record<'py>(
+        &self,
+        py: Python<'py>,
+        until: &Bound<'py, PyAny>,
+        every: Option<&Bound<'py, PyAny>>,
+        stop_on_diverge: Option<&Bound<'py, PyAny>>,
+        stages: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let until = float(until, "until")?;
+        let every = every.map_or(Ok(1), |e| count(e, "every"))?;
+        let flag =
+            |o: Option<&Bound<'py, PyAny>>, f: &str| o.map_or(Ok(false), |o| crate::convert::flag(o, f));
+        let stop_on_diverge = flag(stop_on_diverge, "stop_on_diverge")?;
+        let stages = flag(stages, "stages")?;
+        let mut g = self.lock()?;
+        let slot = g.slot.clone();
+        let w = g.flush()?;
+        let dt = w.dt();
+        let rp = physstep::record::RecordParams { dt, until, every, stages, stop_on_diverge };
+        let (rec, elapsed) = crate::record::run(py, w, rp, Some(&slot))?;
+        let d = pyo3::types::PyDict::new(py);
+        crate::record::fill(&d, w, rec, elapsed, stages)?;
+        Ok(d)
     }
 
     /// Spatial dimensions.
