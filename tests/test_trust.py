@@ -79,7 +79,7 @@ def test_item_12_anchors_and_rods_name_the_right_field() -> None:
     with pytest.raises(ValueError, match=r"invalid j_or_anchor\[0\] = NaN: must be finite"):
         w.add_spring(0, [float("nan"), 0.0], 1.0)
     with pytest.raises(
-        ValueError, match=r"invalid anchor_or_j = 0: must be a particle index < 1 other than i = 0"
+        ValueError, match=r"invalid j_or_anchor = 0: must be a particle index < 1 other than i = 0"
     ):
         w.add_rod(0, 0, 5.0)
     with pytest.raises(ValueError, match=r"unknown method 'rk\\n4'"):

@@ -14,7 +14,7 @@ use crate::record::SLICE;
 use numpy::{PyArray1, PyArray2};
 use physstep::clock::LoopMode;
 use physstep::forces::{Endpoint, Force};
-use physstep::world::{World as Engine, WorldParams};
+use physstep::world::{ParticleBatch, World as Engine, WorldParams};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -35,55 +35,21 @@ struct Inner {
     /// growing the engine's `[x; v]` state one particle at a time moves the velocity half
     /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
     /// state flushes them first.
-    pending: Pending,
-}
-
-/// Validated particles not yet in the engine.
-#[derive(Default)]
-struct Pending {
-    x: Vec<f64>,
-    v: Vec<f64>,
-    mass: Vec<f64>,
-    fixed: Vec<bool>,
-}
-
-fn loop_mode(name: &str, substeps: u32) -> PyResult<LoopMode> {
-    Ok(match name {
-        "accumulator" => LoopMode::Accumulator,
-        "step-per-frame" => LoopMode::StepPerFrame,
-        "steps-per-frame" => LoopMode::StepsPerFrame(substeps),
-        "frame-time" => LoopMode::FrameTime,
-        "consume-frame" => LoopMode::ConsumeFrame,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "unknown loop '{}'; valid loops: accumulator, step-per-frame, steps-per-frame, frame-time, consume-frame",
-                physstep::error::one_line(other)
-            )))
-        }
-    })
+    pending: ParticleBatch,
 }
 
 impl Inner {
-    /// Adds the pending particles to the engine, in runs of equal `static` flag.
+    /// The engine, with the particles waiting in the batch added.
     fn flush(&mut self) -> PyResult<&mut Engine> {
-        if !self.pending.mass.is_empty() {
-            let p = std::mem::take(&mut self.pending);
-            let d = self.engine.dim();
-            let mut start = 0;
-            while start < p.mass.len() {
-                let flag = p.fixed[start];
-                let end = (start..p.mass.len()).find(|&i| p.fixed[i] != flag).unwrap_or(p.mass.len());
-                let (xs, vs) = (&p.x[start * d..end * d], &p.v[start * d..end * d]);
-                self.engine.add_particles(xs, Some(vs), Some(&p.mass[start..end]), flag).map_err(py_err)?;
-                start = end;
-            }
+        if !self.pending.is_empty() {
+            self.pending.commit(&mut self.engine).map_err(py_err)?;
         }
         Ok(&mut self.engine)
     }
 
-    /// Particles in the world, pending ones included.
+    /// Particles in the world, waiting ones included.
     fn count(&self) -> usize {
-        self.engine.len() + self.pending.mass.len()
+        self.engine.len() + self.pending.len()
     }
 }
 
@@ -94,38 +60,16 @@ pub(crate) fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
     kept.unwrap_or_else(|| py_err(e))
 }
 
-/// Particle `i` and the other end of a spring or rod (`field` names it), checked: indices in
-/// range and distinct, an anchor finite. Returns the ends and their current distance.
-fn ends(
-    w: &Engine,
-    i: &Bound<'_, PyAny>,
-    other: &Bound<'_, PyAny>,
-    field: &str,
-) -> PyResult<(usize, Endpoint, f64)> {
-    let n = w.len();
-    let d = w.dim();
-    let i = index(i, "i")?;
-    if i >= n {
-        return Err(PyValueError::new_err(format!("invalid i = {i}: must be a particle index < {n}")));
+/// The other end of a spring or rod: a particle index or an anchor point.
+fn endpoint(o: &Bound<'_, PyAny>, field: &str, dim: usize) -> PyResult<Endpoint> {
+    if o.extract::<i64>().is_ok() && !o.is_instance_of::<pyo3::types::PyBool>() {
+        return Ok(Endpoint::Particle(index(o, field)?));
     }
-    let j = if other.extract::<i64>().is_ok() && !other.is_instance_of::<pyo3::types::PyBool>() {
-        let j = index(other, field)?;
-        if j >= n || j == i {
-            return Err(PyValueError::new_err(format!(
-                "invalid {field} = {j}: must be a particle index < {n} other than i = {i}, or an anchor point"
-            )));
-        }
-        Endpoint::Particle(j)
-    } else {
-        Endpoint::Anchor(vector(other, field, d)?)
-    };
-    let x = w.positions();
-    let xj: Vec<f64> = match j {
-        Endpoint::Particle(j) => x[j * d..(j + 1) * d].to_vec(),
-        Endpoint::Anchor(p) => p[..d].to_vec(),
-    };
-    let r = x[i * d..(i + 1) * d].iter().zip(&xj).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
-    Ok((i, j, r))
+    let p = array(o, field, Some(dim), None)
+        .map_err(|_| crate::convert::invalid(field, o, "a particle index or an anchor point"))?;
+    let mut out = [0.0; 3];
+    out[..dim].copy_from_slice(&p);
+    Ok(Endpoint::Anchor(out))
 }
 
 impl World {
@@ -145,7 +89,7 @@ impl World {
     }
 
     fn wrap(engine: Engine) -> Self {
-        Self { inner: Mutex::new(Inner { engine, slot: Slot::default(), pending: Pending::default() }) }
+        Self { inner: Mutex::new(Inner { engine, slot: Slot::default(), pending: ParticleBatch::default() }) }
     }
 }
 
@@ -177,8 +121,8 @@ impl World {
         let max_steps = cap(max_steps_per_frame, "max_steps_per_frame", defaults.max_steps_per_frame)?;
         let substeps = cap(substeps, "substeps", 1)?;
         let mode = match r#loop {
-            Some(l) => loop_mode(&text(l, "loop")?, substeps)?,
-            None => loop_mode("accumulator", substeps)?,
+            Some(l) => LoopMode::from_name(&text(l, "loop")?, substeps).map_err(py_err)?,
+            None => LoopMode::Accumulator,
         };
         let params =
             WorldParams { dim, method, dt, mode, max_steps_per_frame: max_steps, max_frame_time, ..defaults };
@@ -241,7 +185,7 @@ impl World {
         let flow = physstep::flows::Flow::User { n: y0.len(), generator: std::sync::Arc::new(generator) };
         let params = WorldParams { method, dt, ..WorldParams::default() };
         let engine = Engine::with_flow(flow, &y0, params).map_err(py_err)?;
-        Ok(Self { inner: Mutex::new(Inner { engine, slot, pending: Pending::default() }) })
+        Ok(Self { inner: Mutex::new(Inner { engine, slot, pending: ParticleBatch::default() }) })
     }
 
     /// Records a run of this world from its current state: `until` seconds of its fixed dt,
@@ -336,17 +280,8 @@ impl World {
         };
         let mass = mass.map_or(Ok(1.0), |m| float(m, "mass"))?;
         let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
-        if !mass.is_finite() {
-            // An infinite mass may clash with n-body gravity, whose error names the index
-            // the particle would get: count the pending ones in first.
-            g.flush()?;
-        }
-        g.engine.check_particles(&position[..d], Some(&velocity[..d]), Some(&[mass])).map_err(py_err)?;
-        let i = g.count();
-        g.pending.x.extend_from_slice(&position[..d]);
-        g.pending.v.extend_from_slice(&velocity[..d]);
-        g.pending.mass.push(mass);
-        g.pending.fixed.push(fixed);
+        let Inner { engine, pending, .. } = &mut *g;
+        let i = pending.push(engine, &position[..d], &velocity[..d], mass, fixed).map_err(py_err)?;
         Ok(i)
     }
 
@@ -392,14 +327,13 @@ impl World {
     ) -> PyResult<()> {
         let mut guard = self.lock()?;
         let w = guard.flush()?;
-        let (i, j, r) = ends(w, i, j_or_anchor, "j_or_anchor")?;
+        let i = index(i, "i")?;
+        let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
         let stiffness = float(stiffness, "stiffness")?;
-        let rest_length = match rest_length.filter(|r| !r.is_none()) {
-            Some(r) => float(r, "rest_length")?,
-            None => r,
-        };
+        let rest_length =
+            rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
         let damping = damping.map_or(Ok(0.0), |c| float(c, "damping"))?;
-        w.add_force(Force::Spring { i, j, stiffness, rest_length, damping }).map_err(py_err)
+        w.add_spring(i, j, stiffness, rest_length, damping).map_err(py_err)
     }
 
     #[pyo3(signature = (linear=None, quadratic=None))]
@@ -434,27 +368,19 @@ impl World {
         guard.flush()?.add_force(Force::NBody { g: gval, softening }).map_err(py_err)
     }
 
+    #[pyo3(signature = (i, j_or_anchor, length=None))]
     fn add_rod(
         &self,
         i: &Bound<'_, PyAny>,
-        anchor_or_j: &Bound<'_, PyAny>,
-        length: &Bound<'_, PyAny>,
+        j_or_anchor: &Bound<'_, PyAny>,
+        length: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let mut guard = self.lock()?;
         let w = guard.flush()?;
-        let (i, j, r) = ends(w, i, anchor_or_j, "anchor_or_j")?;
-        let length = float(length, "length")?;
-        if !(length.is_finite() && length > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "invalid length = {length}: must be a finite number > 0"
-            )));
-        }
-        if (r - length).abs() > 1e-9 * length {
-            return Err(PyValueError::new_err(format!(
-                "invalid length = {length}: must equal the current distance {r} between the rod's ends (move the particle first)"
-            )));
-        }
-        w.add_force(Force::Rod { i, j, length }).map_err(py_err)
+        let i = index(i, "i")?;
+        let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
+        let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
+        w.add_rod(i, j, length).map_err(py_err)
     }
 
     /// Takes n fixed steps. Raises DivergedError/ConvergenceError if a step fails (that step

@@ -49,6 +49,39 @@ pub enum LoopMode {
     Accumulator,
 }
 
+impl LoopMode {
+    /// The names of the variants, as `World(loop=...)` and scene files take them.
+    pub const NAMES: [&'static str; 5] =
+        ["accumulator", "step-per-frame", "steps-per-frame", "frame-time", "consume-frame"];
+
+    /// The variant named `name` (`substeps` for `steps-per-frame`).
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] listing the valid names.
+    pub fn from_name(name: &str, substeps: u32) -> Result<Self> {
+        Ok(match name {
+            "accumulator" => Self::Accumulator,
+            "step-per-frame" => Self::StepPerFrame,
+            "steps-per-frame" => Self::StepsPerFrame(substeps),
+            "frame-time" => Self::FrameTime,
+            "consume-frame" => Self::ConsumeFrame,
+            other => return Err(Error::unknown("loop", other, Self::NAMES)),
+        })
+    }
+
+    /// The variant's name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Accumulator => "accumulator",
+            Self::StepPerFrame => "step-per-frame",
+            Self::StepsPerFrame(_) => "steps-per-frame",
+            Self::FrameTime => "frame-time",
+            Self::ConsumeFrame => "consume-frame",
+        }
+    }
+}
+
 /// Configuration of a [`Clock`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClockParams {

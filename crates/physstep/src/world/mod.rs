@@ -16,10 +16,12 @@ use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
 mod model;
+mod rules;
 mod snapshot;
 mod step;
 
 pub use model::Model;
+pub use rules::ParticleBatch;
 pub use step::{Stage, StepContext};
 
 /// How to build a [`World`].
