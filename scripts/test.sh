@@ -11,7 +11,8 @@ cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace --exclude physstep-py
 cargo run -q -p physstep --example custom_force
-"$VENV/bin/ruff" check python tests scripts bench
-"$VENV/bin/ruff" format --check python tests scripts bench
+"$VENV/bin/ruff" check python tests scripts bench examples
+"$VENV/bin/ruff" format --check python tests scripts bench examples
 "$VENV/bin/python" -m mypy.stubtest physstep._core
+for example in examples/*.py; do MPLBACKEND=Agg "$VENV/bin/python" "$example" >/dev/null; done
 MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q

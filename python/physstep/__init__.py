@@ -44,6 +44,16 @@ __all__ = [
 __version__ = "0.1.0"
 
 
+def __getattr__(name: str) -> Any:
+    """``physstep.lab`` and ``physstep.plot`` on first use: ``import physstep`` is enough,
+    and matplotlib is loaded only when a plot is asked for."""
+    if name in ("lab", "plot"):
+        import importlib
+
+        return importlib.import_module(f"physstep.{name}")
+    raise AttributeError(f"module 'physstep' has no attribute {name!r}")
+
+
 @dataclass(frozen=True)
 class MethodInfo:
     """What an integrator is: its registry name, order, properties and one-line doc."""

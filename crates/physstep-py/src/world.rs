@@ -22,6 +22,10 @@ use std::sync::{Mutex, MutexGuard, TryLockError};
 use std::time::Instant;
 
 /// Particles, forces, an integrator and a fixed-timestep game loop.
+///
+/// World(dim, method="symplectic-euler", dt=1/120, max_steps_per_frame=8,
+/// max_frame_time=0.1, loop="accumulator", substeps=1). A World serves one thread at a time
+/// (WorldBusyError otherwise); step() and the recording release the GIL and see Ctrl-C.
 #[pyclass(module = "physstep._core", frozen)]
 pub struct World {
     inner: Mutex<Inner>,
@@ -222,10 +226,12 @@ impl World {
         Ok(self.lock()?.engine.dim())
     }
 
+    /// Number of particles.
     fn __len__(&self) -> PyResult<usize> {
         Ok(self.lock()?.count())
     }
 
+    /// `World(dim=..., particles=..., method=..., dt=..., time=...)`.
     fn __repr__(&self) -> PyResult<String> {
         let g = self.lock()?;
         let w = &g.engine;
@@ -263,6 +269,10 @@ impl World {
         self.lock()?.engine.set_dt(dt).map_err(py_err)
     }
 
+    /// Adds one particle at `position` (dim numbers, m) with `velocity` (m/s, default 0) and
+    /// `mass` (kg, default 1; `inf` or `static=True` makes it immovable). Returns its index.
+    /// Checked at once (ValueError naming the field); added in a batch before the world is
+    /// next read or stepped, so spawn loops cost O(1) per particle.
     #[pyo3(signature = (position, velocity=None, mass=None, r#static=None))]
     fn add_particle(
         &self,
@@ -285,6 +295,8 @@ impl World {
         Ok(i)
     }
 
+    /// Adds many particles: `positions` (k, dim), optional `velocities` (k, dim) and
+    /// `masses` (k,). Returns their indices.
     #[pyo3(signature = (positions, velocities=None, masses=None, r#static=None))]
     fn add_particles<'py>(
         &self,
@@ -309,6 +321,7 @@ impl World {
         Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
     }
 
+    /// Adds uniform gravity `g` (dim numbers, m/s^2) on every dynamic particle.
     fn add_gravity(&self, g: &Bound<'_, PyAny>) -> PyResult<()> {
         let mut guard = self.lock()?;
         let w = guard.flush()?;
@@ -316,6 +329,9 @@ impl World {
         w.add_force(Force::Gravity { g }).map_err(py_err)
     }
 
+    /// Adds a damped spring (`stiffness` N/m, `damping` N s/m) from particle `i` to particle
+    /// `j_or_anchor` or to a fixed anchor point; `rest_length` (m) defaults to the current
+    /// distance. A zero rest length makes the linear spring F = -k d - c w.
     #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=None))]
     fn add_spring(
         &self,
@@ -336,6 +352,7 @@ impl World {
         w.add_spring(i, j, stiffness, rest_length, damping).map_err(py_err)
     }
 
+    /// Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2).
     #[pyo3(signature = (linear=None, quadratic=None))]
     fn add_drag(
         &self,
@@ -348,6 +365,7 @@ impl World {
         g.flush()?.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
     }
 
+    /// Adds gravity towards a fixed `center` with parameter `gm` (m^3/s^2): a = -gm r / |r|^3.
     fn add_central_gravity(&self, center: &Bound<'_, PyAny>, gm: &Bound<'_, PyAny>) -> PyResult<()> {
         let gm = float(gm, "gm")?;
         let mut g = self.lock()?;
@@ -356,6 +374,7 @@ impl World {
         w.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
     }
 
+    /// Adds mutual gravity between all particles (constant `g`, `softening` length m).
     #[pyo3(signature = (g=None, softening=None))]
     fn add_nbody_gravity(
         &self,
@@ -368,6 +387,8 @@ impl World {
         guard.flush()?.add_force(Force::NBody { g: gval, softening }).map_err(py_err)
     }
 
+    /// Adds the notes' force-based rod from particle `i` to `j_or_anchor` (a particle or an
+    /// anchor point); it holds the current distance (`length`, when given, must equal it).
     #[pyo3(signature = (i, j_or_anchor, length=None))]
     fn add_rod(
         &self,
@@ -434,6 +455,8 @@ impl World {
         Ok((s.frames, s.steps, s.clamped, s.dropped))
     }
 
+    /// Positions to draw (n, dim): previous + alpha (current - previous) over the last step
+    /// of the latest `advance()`.
     fn interpolated_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let mut g = self.lock()?;
         let w = g.flush()?;
@@ -523,16 +546,20 @@ impl World {
         Ok(Some(e))
     }
 
+    /// Total momentum of the dynamic particles (dim,), kg m/s.
     fn momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let mut g = self.lock()?;
         Ok(PyArray1::from_vec(py, g.flush()?.momentum()))
     }
 
+    /// The whole dynamic state as checksummed bytes (restore() puts it back bitwise).
     fn snapshot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
         let mut g = self.lock()?;
         Ok(PyBytes::new(py, &g.flush()?.snapshot()))
     }
 
+    /// Restores a snapshot() of this world (bytes, bytearray or memoryview); a damaged or
+    /// foreign one is a ValueError and the world is unchanged.
     fn restore(&self, data: &Bound<'_, PyAny>) -> PyResult<()> {
         let data = bytes(data, "data")?;
         let mut g = self.lock()?;
@@ -540,6 +567,7 @@ impl World {
         g.flush()?.restore(&data).map_err(|e| raise(&slot, e))
     }
 
+    /// A 64-bit hash of the dynamic state: equal for bitwise-equal states.
     fn state_hash(&self) -> PyResult<u64> {
         let mut g = self.lock()?;
         Ok(g.flush()?.state_hash())
