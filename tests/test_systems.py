@@ -82,3 +82,15 @@ def test_a_callable_system_runs_with_its_own_forces() -> None:
 def test_bad_systems_are_named(system, kwargs, needle: str) -> None:
     with pytest.raises(ValueError, match=needle):
         physstep.simulate(system, **kwargs)
+
+
+def test_the_readme_example_of_your_own_forces_and_systems_runs() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).parent.parent / "README.md").read_text()
+    start = text.index("```python", text.index("### Your own forces and systems")) + len("```python")
+    code = text[start : text.index("```", start)]
+    scope: dict[str, object] = {}
+    exec(compile(code, "README.md", "exec"), scope)  # noqa: S102 - the README's own example
+    traj = scope["traj"]
+    assert isinstance(traj, physstep.Trajectory) and traj.steps == 2000
