@@ -163,3 +163,14 @@ def test_readme_method_table_is_generated_from_the_registry() -> None:
     readme = (ROOT / "README.md").read_text()
     for m in physstep.methods():
         assert f"| `{m.name}` | {m.order} |" in readme
+
+
+def test_version_prints_the_package_version_and_exits_0(capsys) -> None:
+    from physstep import cli
+
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(["--version"])
+    assert exit_.value.code == 0
+    assert capsys.readouterr().out == f"physstep {physstep.__version__}\n"
+    res = run_cli("--version")
+    assert (res.returncode, res.stdout, res.stderr) == (0, f"physstep {physstep.__version__}\n", "")

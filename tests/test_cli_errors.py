@@ -13,6 +13,7 @@ import physstep
 import pytest
 from conftest import run_cli
 from physstep import cli
+from physstep.cli import output
 
 
 def _one_line(res: subprocess.CompletedProcess[str]) -> str:
@@ -85,8 +86,8 @@ def test_names_with_newlines_still_give_one_line(args: list[str]) -> None:
 
 
 def test_one_line_escapes_control_characters() -> None:
-    assert cli.one_line("a\nb\r\tc\x1b[31m") == "a\\nb\\r\\tc\\x1b[31m"
-    assert cli.one_line("héllo — ok") == "héllo — ok"
+    assert output.one_line("a\nb\r\tc\x1b[31m") == "a\\nb\\r\\tc\\x1b[31m"
+    assert output.one_line("héllo — ok") == "héllo — ok"
 
 
 def test_keyboard_interrupt_is_130_with_one_line(monkeypatch, capsys) -> None:

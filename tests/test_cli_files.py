@@ -12,7 +12,8 @@ from pathlib import Path
 import physstep
 import pytest
 from conftest import run_cli
-from physstep import _files, cli, lab, plot
+from physstep import _files as files
+from physstep import cli, lab, plot
 
 
 def _bad_path(tmp_path: Path, kind: str, ext: str) -> tuple[str, str]:
@@ -145,11 +146,11 @@ def test_write_replaces_whole_files_and_keeps_links_and_modes(tmp_path) -> None:
     real.chmod(0o640)
     link = tmp_path / "link.csv"
     link.symlink_to(real)
-    _files.write_text(str(link), "new\n", "--out")
+    files.write_text(str(link), "new\n", "--out")
     assert link.is_symlink() and real.read_text() == "new\n"
     assert real.stat().st_mode & 0o777 == 0o640
     fresh = tmp_path / "fresh.csv"
-    _files.write_text(str(fresh), "x\n", "--out")
+    files.write_text(str(fresh), "x\n", "--out")
     umask = os.umask(0)
     os.umask(umask)
     assert fresh.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's 0600

@@ -14,6 +14,7 @@ import physstep
 import pytest
 from conftest import run_cli
 from physstep import cli, lab
+from physstep.cli import output
 
 
 def _strict(text: str):
@@ -43,13 +44,13 @@ def _strict(text: str):
     ],
 )
 def test_round_half_away_is_exact_for_any_double(value: float, places: int, want: str) -> None:
-    assert cli.round_half_away(value, places) == want
+    assert output.round_half_away(value, places) == want
 
 
 def test_round_half_away_refuses_non_finite_values() -> None:
     for bad in (float("nan"), float("inf"), -float("inf")):
         with pytest.raises(ValueError, match="not a finite number"):
-            cli.round_half_away(bad, 1)
+            output.round_half_away(bad, 1)
 
 
 def test_table_prints_huge_values_exactly() -> None:
@@ -160,9 +161,9 @@ def test_order_prints_diverged_runs_without_infinity(monkeypatch, capsys) -> Non
 
 
 def test_dump_names_the_nested_field() -> None:
-    with pytest.raises(cli.NotFiniteError, match=r"rows\[0\]\.error is not finite \(inf\)"):
-        cli.dump({"rows": [{"error": float("inf")}]})
-    assert cli.dump({"a": [1, 2.5, None]}) == json.dumps({"a": [1, 2.5, None]}, indent=2)
+    with pytest.raises(output.NotFiniteError, match=r"rows\[0\]\.error is not finite \(inf\)"):
+        output.dump({"rows": [{"error": float("inf")}]})
+    assert output.dump({"a": [1, 2.5, None]}) == json.dumps({"a": [1, 2.5, None]}, indent=2)
 
 
 def test_sweep_json_is_strict_with_diverged_rows() -> None:

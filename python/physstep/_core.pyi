@@ -1,4 +1,9 @@
-"""Type stubs of the native module ``physstep._core`` (kept in step with crates/physstep-py)."""
+"""Type stubs of the native module ``physstep._core`` (kept in step with crates/physstep-py).
+
+Every bad argument raises ValueError naming the field and the value (``invalid dt = 0.0:
+...``), never TypeError; a step that fails raises a :class:`StepError` with that step rolled
+back; a World used by two threads at once raises :class:`WorldBusyError`.
+"""
 
 from collections.abc import Callable
 from typing import Any, final
@@ -18,16 +23,34 @@ __all__ = [
     "simulate",
 ]
 
-class StepError(RuntimeError): ...
-class DivergedError(StepError): ...
-class ConvergenceError(StepError): ...
-class WorldBusyError(RuntimeError): ...
+class StepError(RuntimeError):
+    """A step failed; the state was rolled back to before that step."""
+
+class DivergedError(StepError):
+    """A step produced a non-finite or runaway value (or a non-finite energy)."""
+
+class ConvergenceError(StepError):
+    """An implicit method's Newton iteration did not converge."""
+
+class WorldBusyError(RuntimeError):
+    """The World is in use by another thread (or by a callback inside its own step)."""
 
 _Params = dict[str, float] | list[tuple[str, float]] | None
 
-def methods() -> list[dict[str, Any]]: ...
-def method_info(name: str) -> dict[str, Any]: ...
-def scenes() -> list[dict[str, Any]]: ...
+def methods() -> list[dict[str, Any]]:
+    """Every integrator's metadata, in registry order: dicts with ``name``, ``order``,
+    ``symplectic``, ``implicit``, ``evals`` (force evaluations per step), ``split``, ``doc``."""
+
+def method_info(name: str) -> dict[str, Any]:
+    """The metadata of the integrator ``name`` (the keys of :func:`methods`).
+
+    Raises ValueError listing the valid names for an unknown one.
+    """
+
+def scenes() -> list[dict[str, Any]]:
+    """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``dt`` (s), ``until`` (s)
+    and ``params`` (dicts with ``name``, ``default``, ``doc``)."""
+
 def simulate(
     scene: str,
     method: str,
@@ -40,10 +63,30 @@ def simulate(
     stages: bool | None = None,
     every: int | None = None,
     stop_on_diverge: bool | None = None,
-) -> dict[str, Any]: ...
+) -> dict[str, Any]:
+    """Runs the built-in ``scene`` with ``method`` at step ``dt`` (s) for ``until`` (s) and
+    returns the fields of a ``physstep.Trajectory`` as a dict of numpy arrays.
+
+    ``params`` override the scene's parameters; ``x0``/``v0`` (m, m/s; flat or (n, dim))
+    replace its initial state; ``every`` records one row in ``every`` steps (default 1);
+    ``stages`` records the intermediate evaluation points; ``stop_on_diverge`` ends the run
+    at a failing step and reports it in ``diverged`` instead of raising.
+
+    Raises ValueError for any bad argument (unknown scene or method, dt <= 0, ...),
+    DivergedError or ConvergenceError when a step fails, KeyboardInterrupt on Ctrl-C.
+    """
 
 @final
 class World:
+    """Particles, forces, an integrator and a fixed-timestep game loop.
+
+    ``World(dim, method="symplectic-euler", dt=1/120, max_steps_per_frame=8,
+    max_frame_time=0.1, loop="accumulator", substeps=1)``: ``dim`` is 1, 2 or 3, ``dt`` and
+    ``max_frame_time`` are in s. Raises ValueError for a bad argument. A World serves one
+    thread at a time: any method raises WorldBusyError while another thread (or a callback
+    of its own step) holds it.
+    """
+
     def __new__(
         cls,
         dim: int,
@@ -53,14 +96,19 @@ class World:
         max_frame_time: float | None = None,
         loop: str | None = None,
         substeps: int | None = None,
-    ) -> World: ...
+    ) -> World:
+        """A world of ``dim`` dimensions with no particles; ValueError for a bad argument."""
+
     @staticmethod
     def from_scene(
         name: str,
         method: str | None = None,
         dt: float | None = None,
         params: _Params = None,
-    ) -> World: ...
+    ) -> World:
+        """A world built from the built-in scene ``name`` (``params`` override its parameters;
+        ``dt`` in s). Raises ValueError for an unknown scene, method or parameter."""
+
     @staticmethod
     def from_flow(
         func: Callable[[float, npt.NDArray[np.float64]], npt.ArrayLike],
@@ -69,36 +117,69 @@ class World:
         dt: float | None = None,
         jacobian: Callable[[float, npt.NDArray[np.float64]], npt.ArrayLike] | None = None,
         name: str | None = None,
-    ) -> World: ...
+    ) -> World:
+        """A world whose part is the first-order flow ``y' = func(t, y)`` from ``y0`` (method
+        default ``rk4``); ``jacobian(t, y)`` returns df/dy for the implicit methods.
+
+        Raises ValueError if ``func`` or ``jacobian`` is not callable or ``y0`` is not a vector
+        of numbers, and for a split method (they need positions and velocities).
+        """
+
     def record(
         self,
         until: float,
         every: int | None = None,
         stop_on_diverge: bool | None = None,
         stages: bool | None = None,
-    ) -> dict[str, Any]: ...
+    ) -> dict[str, Any]:
+        """Runs this world from its state for ``until`` s of its fixed dt, a row every
+        ``every`` steps; returns the fields of a ``physstep.Trajectory`` (as a dict).
+
+        Raises ValueError for a bad argument, DivergedError or ConvergenceError when a step
+        fails (unless ``stop_on_diverge``), a user force's own exception unchanged.
+        """
+
     @property
-    def dim(self) -> int: ...
-    def __len__(self) -> int: ...
+    def dim(self) -> int:
+        """Spatial dimensions (1, 2 or 3)."""
+
+    def __len__(self) -> int:
+        """Number of particles."""
+
     @property
-    def method(self) -> str: ...
+    def method(self) -> str:
+        """The integrator's registry name; assign a name to switch (ValueError if unknown)."""
+
     @method.setter
     def method(self, name: str) -> None: ...
     @property
-    def dt(self) -> float: ...
+    def dt(self) -> float:
+        """The fixed step, s; assign to change it (ValueError unless finite and > 0)."""
+
     @dt.setter
     def dt(self, dt: float) -> None: ...
     def add_particle(
         self, position: Any, velocity: Any = None, mass: float | None = None, static: bool | None = None
-    ) -> int: ...
+    ) -> int:
+        """Adds a particle at ``position`` (dim numbers, m) with ``velocity`` (m/s, default 0)
+        and ``mass`` (kg, default 1; ``inf`` or ``static=True``: immovable); returns its index.
+
+        Raises ValueError naming the bad field.
+        """
+
     def add_particles(
         self,
         positions: npt.ArrayLike,
         velocities: npt.ArrayLike | None = None,
         masses: npt.ArrayLike | None = None,
         static: bool | None = None,
-    ) -> npt.NDArray[np.int64]: ...
-    def add_gravity(self, g: Any) -> None: ...
+    ) -> npt.NDArray[np.int64]:
+        """Adds ``positions`` (k, dim; m) with optional ``velocities`` (k, dim; m/s) and
+        ``masses`` (k,; kg); returns their indices. ValueError for a bad shape or value."""
+
+    def add_gravity(self, g: Any) -> None:
+        """Adds uniform gravity ``g`` (dim numbers, m/s^2) on every dynamic particle."""
+
     def add_spring(
         self,
         i: int,
@@ -106,39 +187,92 @@ class World:
         stiffness: float,
         rest_length: float | None = None,
         damping: float | None = None,
-    ) -> None: ...
-    def add_drag(self, linear: float | None = None, quadratic: float | None = None) -> None: ...
-    def add_central_gravity(self, center: Any, gm: float) -> None: ...
-    def add_nbody_gravity(self, g: float | None = None, softening: float | None = None) -> None: ...
-    def add_rod(self, i: int, j_or_anchor: Any, length: float | None = None) -> None: ...
-    def step(self, n: int | None = None) -> None: ...
-    def advance(self, frame_time: float) -> int: ...
+    ) -> None:
+        """Adds a damped spring (``stiffness`` N/m, ``damping`` N s/m) from particle ``i`` to a
+        particle or an anchor point (dim numbers, m); ``rest_length`` (m) defaults to the
+        current distance. ValueError for a bad index or value."""
+
+    def add_drag(self, linear: float | None = None, quadratic: float | None = None) -> None:
+        """Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2)."""
+
+    def add_central_gravity(self, center: Any, gm: float) -> None:
+        """Adds gravity towards ``center`` (m) with ``gm`` (m^3/s^2): a = -gm r / |r|^3."""
+
+    def add_nbody_gravity(self, g: float | None = None, softening: float | None = None) -> None:
+        """Adds mutual gravity between all particles (constant ``g``, default 1; ``softening``
+        length, m)."""
+
+    def add_rod(self, i: int, j_or_anchor: Any, length: float | None = None) -> None:
+        """Adds a force-based rod from particle ``i`` to a particle or an anchor point holding
+        the current distance (``length``, m, when given, must equal it: ValueError)."""
+
+    def step(self, n: int | None = None) -> None:
+        """Takes ``n`` fixed steps (default 1). Raises DivergedError or ConvergenceError if a
+        step fails (that step rolled back, those before it kept); Ctrl-C stops after a whole
+        step (KeyboardInterrupt)."""
+
+    def advance(self, frame_time: float) -> int:
+        """Runs one frame of the game loop over ``frame_time`` s of wall time; returns the
+        number of fixed steps taken. Raises as :meth:`step` does."""
+
     @property
-    def alpha(self) -> float: ...
+    def alpha(self) -> float:
+        """Render interpolation factor in [0, 1) after the latest :meth:`advance`."""
+
     @property
-    def clock_stats(self) -> tuple[int, int, float, float]: ...
-    def interpolated_positions(self) -> npt.NDArray[np.float64]: ...
+    def clock_stats(self) -> tuple[int, int, float, float]:
+        """Totals of the game loop: frames, steps, clamped time (s) and dropped time (s)."""
+
+    def interpolated_positions(self) -> npt.NDArray[np.float64]:
+        """Positions to draw (n, dim), m: previous + alpha (current - previous)."""
+
     @property
-    def positions(self) -> npt.NDArray[np.float64]: ...
+    def positions(self) -> npt.NDArray[np.float64]:
+        """Positions (n, dim), m: a copy; assign an array of that shape to move the particles
+        (ValueError for a bad shape or a non-finite value)."""
+
     @positions.setter
     def positions(self, x: npt.ArrayLike) -> None: ...
     @property
-    def velocities(self) -> npt.NDArray[np.float64]: ...
+    def velocities(self) -> npt.NDArray[np.float64]:
+        """Velocities (n, dim), m/s: a copy; assign an array of that shape to change them
+        (ValueError for a bad shape or a non-finite value)."""
+
     @velocities.setter
     def velocities(self, v: npt.ArrayLike) -> None: ...
     @property
-    def accelerations(self) -> npt.NDArray[np.float64]: ...
+    def accelerations(self) -> npt.NDArray[np.float64]:
+        """Accelerations at the current state (n, dim), m/s^2."""
+
     @property
-    def time(self) -> float: ...
+    def time(self) -> float:
+        """Physics time, s."""
+
     @property
-    def steps(self) -> int: ...
+    def steps(self) -> int:
+        """Steps taken."""
+
     @property
-    def evals(self) -> int: ...
-    def energy(self) -> float | None: ...
-    def momentum(self) -> npt.NDArray[np.float64]: ...
-    def snapshot(self) -> bytes: ...
-    def restore(self, data: bytes | bytearray | memoryview) -> None: ...
-    def state_hash(self) -> int: ...
+    def evals(self) -> int:
+        """Force evaluations made."""
+
+    def energy(self) -> float | None:
+        """Kinetic plus potential energy, J; None when a user force has no potential.
+        Raises DivergedError if it is not finite."""
+
+    def momentum(self) -> npt.NDArray[np.float64]:
+        """Total momentum of the dynamic particles (dim,), kg m/s."""
+
+    def snapshot(self) -> bytes:
+        """The whole dynamic state as checksummed bytes (:meth:`restore` puts it back bitwise)."""
+
+    def restore(self, data: bytes | bytearray | memoryview) -> None:
+        """Restores a :meth:`snapshot` of this world; a damaged or foreign one is a ValueError
+        and the world is unchanged."""
+
+    def state_hash(self) -> int:
+        """A 64-bit hash of the dynamic state: equal for bitwise-equal states."""
+
     def add_force(
         self,
         func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
@@ -147,6 +281,18 @@ class World:
         jacobian: Callable[..., tuple[npt.ArrayLike, npt.ArrayLike]] | None = None,
         velocity_dependent: bool | None = None,
         name: str | None = None,
-    ) -> int: ...
-    def phase_state(self) -> npt.NDArray[np.float64]: ...
-    def set_phase_state(self, z: npt.ArrayLike) -> None: ...
+    ) -> int:
+        """Adds a Python force: ``func(t, x, v)`` gets positions and velocities (n, dim) and
+        returns forces (n, dim), N. ``potential(x)`` (J) makes the energy known;
+        ``jacobian(t, x, v)`` returns (dF/dx, dF/dv) for the implicit methods. Returns its
+        index among the user forces; ValueError if an argument is not callable. An exception
+        raised inside propagates unchanged from the step, which is rolled back."""
+
+    def phase_state(self) -> npt.NDArray[np.float64]:
+        """The vector the step map acts on: positions and velocities (flat), then the
+        integrator's vector memory (Verlet's previous positions, leapfrog's half-step
+        velocities)."""
+
+    def set_phase_state(self, z: npt.ArrayLike) -> None:
+        """Sets what :meth:`phase_state` returns, without restarting the integrator
+        (ValueError for a wrong length or a non-finite value)."""

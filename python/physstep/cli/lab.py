@@ -1,49 +1,42 @@
 """The lab's commands: ``compare``, ``order``, ``stability`` and ``sweep``.
 
-:func:`register` adds them to the ``physstep`` command line (see :mod:`physstep.cli`). Each
+:func:`register` adds them to the ``physstep`` command line (:mod:`physstep.cli.app`). Each
 handler returns the exit status; a ValueError it raises becomes status 2 with one line on
-stderr. Output follows :mod:`physstep.cli`: strict JSON, no non-finite number printed,
-``--out`` and ``--plot`` checked before the computation and written whole or not at all.
+stderr. Output follows :mod:`physstep.cli.output`: strict JSON, no non-finite number
+printed; ``--out`` and ``--plot`` are checked before the computation and written whole or
+not at all (:mod:`physstep._files`).
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import math
 import sys
 from pathlib import Path
 from typing import Any
 
 import physstep
-from physstep import _files, lab
-from physstep.cli import (
-    MAX_LEVELS,
-    NotFiniteError,
-    UsageError,
-    _argument,
-    dump,
-    finite,
-    one_line,
-    parse_params,
-    reached,
-    requested_until,
-)
+from physstep import _files as files
+from physstep import lab
+from physstep.cli import options, output
 
-_SCENE_HELP = "built-in scene (physstep scenes lists them)"
+#: The most step sizes ``order --levels`` runs (the finest run is 2**(levels-1) times finer).
+MAX_LEVELS = 12
 
 
 def _params(args: argparse.Namespace) -> dict[str, float] | None:
-    return parse_params(args.param) or None
+    return options.parse_params(args.param) or None
 
 
 def _methods(text: str) -> list[str]:
+    """``--methods``: a comma-separated list of names, or ``all``."""
     if text.strip() == "all":
         return [m.name for m in physstep.methods()]
     names = [m.strip() for m in text.split(",") if m.strip()]
     if not names:
-        raise UsageError(f"invalid --methods '{text}': give a comma-separated list of methods, or all")
+        raise options.UsageError(
+            f"invalid --methods '{text}': give a comma-separated list of methods, or all"
+        )
     return names
 
 
@@ -57,12 +50,12 @@ def _floats(text: str, flag: str) -> list[float]:
         try:
             value = float(item)
         except ValueError:
-            raise UsageError(f"invalid {flag} '{text}': '{item}' is not a number") from None
+            raise options.UsageError(f"invalid {flag} '{text}': '{item}' is not a number") from None
         if not (math.isfinite(value) and value > 0):
-            raise UsageError(f"invalid {flag} '{text}': '{item}' must be a finite number > 0")
+            raise options.UsageError(f"invalid {flag} '{text}': '{item}' must be a finite number > 0")
         out.append(value)
     if not out:
-        raise UsageError(f"invalid {flag} '{text}': give a comma-separated list of numbers")
+        raise options.UsageError(f"invalid {flag} '{text}': give a comma-separated list of numbers")
     return out
 
 
@@ -71,25 +64,13 @@ def _check_plot(path: str | None) -> None:
     if path is None:
         return
     if Path(path).suffix.lower() not in (".png", ".svg"):
-        raise UsageError(f"invalid --plot '{path}': the file must end in .png or .svg")
-    _files.check(path, "--plot")
+        raise options.UsageError(f"invalid --plot '{path}': the file must end in .png or .svg")
+    files.check(path, "--plot")
 
 
 def _save_plot(fig: Any, path: str) -> None:
     fmt = Path(path).suffix.lower().lstrip(".")
-    _files.write(path, lambda fh: fig.savefig(fh, format=fmt), "--plot")
-
-
-def _print_json(obj: Any) -> None:
-    print(dump(obj))
-
-
-def _g(x: float | None, spec: str = ".3g") -> str:
-    if x is None:
-        return "-"
-    if isinstance(x, float) and not math.isfinite(x):  # finite() has run: never reached
-        raise NotFiniteError(f"non-finite value {x} in the text output: not printed")
-    return format(x, spec)
+    files.write(path, lambda fh: fig.savefig(fh, format=fmt), "--plot")
 
 
 def _span(res: dict[str, Any]) -> tuple[int | None, float | None]:
@@ -103,40 +84,28 @@ def _span(res: dict[str, Any]) -> tuple[int | None, float | None]:
     return steps, t_end
 
 
-def _console() -> Any:
-    from rich.console import Console
-
-    return Console(width=max(120, Console().width))
-
-
-def _add_param(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a scene parameter")
-
-
-# --------------------------------------------------------------------------------------
-
-
 def _cmd_compare(args: argparse.Namespace) -> int:
+    """``physstep compare``: methods side by side on one scene (order, cost, energy, error)."""
     _check_plot(args.plot)
     methods = _methods(args.methods)
     params = _params(args)
     res = lab.compare(args.scene, methods, args.dt, args.until, params)
-    until = requested_until(args.scene, args.until)
+    until = options.requested_until(args.scene, args.until)
     steps, t_end = _span(res)
     res.setdefault("until_requested", until)
     if steps is not None and t_end is not None:
         res.setdefault("steps", steps)
         res.setdefault("t_end", t_end)
-    finite(res)
+    output.finite(res)
     if args.plot:
         _compare_plot(args.scene, methods, res["dt"], until, params, args.plot)
         res["plot"] = args.plot
     if args.format == "json":
-        _print_json(res)
+        print(output.dump(res))
         return 0
     from rich.table import Table
 
-    note = None if steps is None or t_end is None else reached(until, steps, res["dt"], t_end)
+    note = None if steps is None or t_end is None else output.reached(until, steps, res["dt"], t_end)
     span = note or f"until = {until:.10g} s" + ("" if steps is None else f" ({steps} steps)")
     table = Table(
         title=f"{res['scene']}: dt = {res['dt']:g} s, {span}",
@@ -147,23 +116,25 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     timing = "ns/step" if repeats in (None, 1) else f"ns/step (median of {repeats})"
     for col in ("method", "order", "evals/step", "max |dE/E0|", "drift (1/s)", "final error (m)", timing):
         table.add_column(col, justify="left" if col == "method" else "right")
+    g = output.number
     for r in res["rows"]:
         where = f" at t = {r['t_end']:g} s" if r.get("t_end") is not None else ""
         table.add_row(
             r["method"] + (f" [red](failed{where})[/red]" if r["diverged"] else ""),
             str(r["order"]),
-            _g(r["evals_per_step"], ".2f"),
-            _g(r["energy_max_rel_error"], ".3e"),
-            _g(r["energy_drift"], ".2e"),
-            _g(r["final_error"], ".3e"),
-            _g(r["ns_per_step"], ".0f"),
+            g(r["evals_per_step"], ".2f"),
+            g(r["energy_max_rel_error"], ".3e"),
+            g(r["energy_drift"], ".2e"),
+            g(r["final_error"], ".3e"),
+            g(r["ns_per_step"], ".0f"),
         )
-    con = _console()
+    con = output.console()
     con.print(table)
     for r in res["rows"]:
         if r["diverged"]:
             con.print(
-                f"{r['method']}: {one_line(r['diverged'])}; its row covers the run up to there", markup=False
+                f"{r['method']}: {output.one_line(r['diverged'])}; its row covers the run up to there",
+                markup=False,
             )
     if args.plot:
         con.print(f"plot: {args.plot}", markup=False)
@@ -173,6 +144,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 def _compare_plot(
     scene: str, methods: list[str], dt: float, until: float, params: dict[str, float] | None, path: str
 ) -> None:
+    """The runs of ``compare`` plotted to ``path``: orbits for the 2-D orbit scenes, else x(t)."""
     from physstep import plot
 
     runs = [physstep.simulate(scene, m, dt, until, params, stop_on_diverge=True) for m in methods]
@@ -182,6 +154,7 @@ def _compare_plot(
 
 
 def _cmd_order(args: argparse.Namespace) -> int:
+    """``physstep order``: the observed order of convergence over halvings of dt."""
     res = lab.order(args.scene, args.method, args.dt, args.until, _params(args), levels=args.levels)
     for r in res.get("runs", []):
         # the lab marks a run that diverged with an infinite error: say so, never print inf
@@ -189,20 +162,21 @@ def _cmd_order(args: argparse.Namespace) -> int:
         if isinstance(e, float) and not math.isfinite(e):
             r["error"] = None
             r["diverged"] = True
-    finite(res)
+    output.finite(res)
     if args.format == "json":
-        _print_json(res)
+        print(output.dump(res))
         return 0
     from rich.table import Table
 
+    g = output.number
     obs = "-" if res["order"] is None else f"{res['order']:.3f}"
     table = Table(title=f"{res['scene']} / {res['method']}")
     for col in ("dt (s)", "steps", "error (m)", "order"):
         table.add_column(col, justify="right")
     for r in res["runs"]:
-        err = "diverged" if r.get("diverged") else _g(r["error"], ".3e")
-        table.add_row(_g(r["dt"], ".6g"), str(r["steps"]), err, _g(r["order"], ".3f"))
-    con = _console()
+        err = "diverged" if r.get("diverged") else g(r["error"], ".3e")
+        table.add_row(g(r["dt"], ".6g"), str(r["steps"]), err, g(r["order"], ".3f"))
+    con = output.console()
     con.print(table)
     con.print(f"observed order [bold]{obs}[/bold] (registry: {res['info_order']}), fit over the finest runs")
     con.print(f"error: final position error at t = {res['until']:g} s against the {res['error_against']}")
@@ -212,10 +186,11 @@ def _cmd_order(args: argparse.Namespace) -> int:
 
 
 def _cmd_stability(args: argparse.Namespace) -> int:
+    """``physstep stability``: the largest stable dt of a method on a scene."""
     res = lab.stability(args.scene, args.method, _params(args), cap=args.cap)
-    finite(res)
+    output.finite(res)
     if args.format == "json":
-        _print_json(res)
+        print(output.dump(res))
         return 0
     d = res["dt_max"]
     if d is None:
@@ -224,7 +199,7 @@ def _cmd_stability(args: argparse.Namespace) -> int:
         verdict = "0: unstable at every dt"
     else:
         verdict = f"{d:.10g} s"
-    con = _console()
+    con = output.console()
     con.print(f"[bold]{res['scene']} / {res['method']}[/bold]: largest stable dt = [bold]{verdict}[/bold]")
     con.print(f"criterion: {res['criterion']}")
     con.print(
@@ -236,22 +211,22 @@ def _cmd_stability(args: argparse.Namespace) -> int:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    """``physstep sweep``: work-precision data over methods and steps, as CSV or JSON."""
     _check_plot(args.plot)
     if args.out is not None:
-        _files.check(args.out, "--out")
+        files.check(args.out, "--out")
     methods = _methods(args.methods)
     dts = _floats(args.dts, "--dts")
     params = _params(args)
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    err_console = Console(stderr=True)
     with Progress(
         TextColumn("[progress.description]{task.description}"),
         BarColumn(),
         MofNCompleteColumn(),
         TimeElapsedColumn(),
-        console=err_console,
+        console=Console(stderr=True),
         disable=not sys.stderr.isatty(),
         transient=True,
     ) as bar:
@@ -261,98 +236,91 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             bar.update(task, completed=done, description=label)
 
         res = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress)
-    res.setdefault("until_requested", requested_until(args.scene, args.until))
+    res.setdefault("until_requested", options.requested_until(args.scene, args.until))
     for r in res["rows"]:
         # where each run ended: dt does not always divide until (the lab may say it itself)
         r.setdefault("t_end", r["steps"] * r["dt"])
-    finite(res)
+    output.finite(res)
     if args.plot:
         from physstep import plot
 
         _save_plot(plot.work_precision(res, against="both"), args.plot)
         res["plot"] = args.plot
     if args.format == "json":
-        text = dump(res) + "\n"
+        text = output.dump(res) + "\n"
     else:
-        buf = io.StringIO()
         cols = ["method", "dt", "steps", "t_end", "evals", "time_s", "ns_per_step", "error", "max_error"]
         cols.append("energy_max_rel_error")
-        w = csv.writer(buf, lineterminator="\n")
-        w.writerow(cols + ["diverged"])
-        for r in res["rows"]:
-            w.writerow(["" if r.get(c) is None else r[c] for c in cols] + [one_line(r["diverged"] or "")])
-        text = buf.getvalue()
+        text = output.csv_text(
+            [cols + ["diverged"]]
+            + [
+                ["" if r.get(c) is None else r[c] for c in cols] + [output.one_line(r["diverged"] or "")]
+                for r in res["rows"]
+            ]
+        )
     if args.out:
-        _files.write_text(args.out, text, "--out")
+        files.write_text(args.out, text, "--out")
     else:
         sys.stdout.write(text)
     return 0
 
 
-_DT = _argument("--dt", low=0, open_low=True)
-_UNTIL = _argument("--until", low=0)
-_UNTIL_HELP = (
-    "end time, s (default: the scene's); a whole number of steps is run, the output says where "
-    "the last one ends"
-)
-
-
 def register(subparsers: Any) -> None:
     """Adds ``compare``, ``order``, ``stability`` and ``sweep`` to an argparse subparsers object."""
     c = subparsers.add_parser("compare", help="compare methods on a scene: order, cost, energy, error")
-    c.add_argument("scene", help=_SCENE_HELP)
+    c.add_argument("scene", help=options.SCENE_HELP)
     c.add_argument(
         "--methods",
         default="all",
         help="comma-separated integrators, e.g. explicit-euler,rk4, or all (the default)",
     )
-    c.add_argument("--dt", type=_DT, default=None, help="step, s (default: the scene's)")
-    c.add_argument("--until", type=_UNTIL, default=None, help=_UNTIL_HELP)
+    c.add_argument("--dt", type=options.DT, default=None, help="step, s (default: the scene's)")
+    c.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
     c.add_argument("--plot", metavar="FILE.png", help="also plot the runs (.png or .svg)")
-    _add_param(c)
-    c.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    options.add_param(c)
+    options.add_format(c)
     c.set_defaults(func=_cmd_compare)
 
     o = subparsers.add_parser("order", help="observed convergence order from halvings of dt")
-    o.add_argument("scene", help=_SCENE_HELP)
-    o.add_argument("--method", required=True, help="integrator (physstep methods lists them)")
-    o.add_argument("--dt", type=_DT, default=None, help="coarsest step, s (default: until/32)")
+    o.add_argument("scene", help=options.SCENE_HELP)
+    o.add_argument("--method", required=True, help=options.METHOD_HELP)
+    o.add_argument("--dt", type=options.DT, default=None, help="coarsest step, s (default: until/32)")
     o.add_argument(
         "--until",
-        type=_argument("--until", low=0, open_low=True),
+        type=options.argument("--until", low=0, open_low=True),
         default=None,
         help="end time, s (default: 0.3 time scales)",
     )
     o.add_argument(
         "--levels",
-        type=_argument("--levels", int, low=2, high=MAX_LEVELS),
+        type=options.argument("--levels", int, low=2, high=MAX_LEVELS),
         default=5,
         help=f"number of step sizes, 2 to {MAX_LEVELS} (default 5)",
     )
-    _add_param(o)
-    o.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    options.add_param(o)
+    options.add_format(o)
     o.set_defaults(func=_cmd_order)
 
     s = subparsers.add_parser("stability", help="largest stable dt of a method on a scene")
-    s.add_argument("scene", help=_SCENE_HELP)
-    s.add_argument("--method", required=True, help="integrator (physstep methods lists them)")
+    s.add_argument("scene", help=options.SCENE_HELP)
+    s.add_argument("--method", required=True, help=options.METHOD_HELP)
     s.add_argument(
         "--cap",
-        type=_argument("--cap", low=0, open_low=True),
+        type=options.argument("--cap", low=0, open_low=True),
         default=None,
         help="largest dt searched, s (default: 1000 time scales)",
     )
-    _add_param(s)
-    s.add_argument("--format", choices=("text", "json"), default="text", help="output format")
+    options.add_param(s)
+    options.add_format(s)
     s.set_defaults(func=_cmd_stability)
 
     w = subparsers.add_parser("sweep", help="work-precision data: error against work over methods and dts")
-    w.add_argument("scene", help=_SCENE_HELP)
+    w.add_argument("scene", help=options.SCENE_HELP)
     w.add_argument("--methods", default="all", help="comma-separated integrators, or all (the default)")
     w.add_argument("--dts", required=True, help="comma-separated steps, s, e.g. 0.1,0.05,0.025")
-    w.add_argument("--until", type=_UNTIL, default=None, help=_UNTIL_HELP)
+    w.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
     w.add_argument("--out", metavar="FILE", help="write the data here instead of stdout")
     w.add_argument("--plot", metavar="FILE.png", help="also plot work-precision (.png or .svg)")
-    _add_param(w)
-    w.add_argument("--format", choices=("csv", "json"), default="csv", help="output format (default csv)")
+    options.add_param(w)
+    options.add_format(w, ("csv", "json"))
     w.set_defaults(func=_cmd_sweep)

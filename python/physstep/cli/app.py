@@ -1,0 +1,85 @@
+"""The parser of every command, :func:`main`, and the exit statuses.
+
+``main`` maps what a command raises to one line on stderr and a status: 0 done, 1 a failed
+run (:class:`physstep.StepError`, a diverged ``table``) or a non-finite number about to be
+printed (:class:`~physstep.cli.output.NotFiniteError`), 2 bad input (any ValueError: a
+flag's value, an output file that cannot be written), 130 interrupted; anything else is an
+internal error, still one line (status 1).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+from typing import NoReturn
+
+import physstep
+from physstep.cli import basic, lab, output
+from physstep.cli.options import UsageError
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports errors in one line and exits with status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        """Raises UsageError with ``message`` (the flag named once, as its check wrote it)."""
+        # "argument --dt: invalid --dt '0': ..." from the type functions: the flag once
+        m = re.match(r"argument [^:]+: (invalid --.*)", message, re.DOTALL)
+        raise UsageError(m.group(1) if m else message)
+
+
+def parser() -> argparse.ArgumentParser:
+    """The argument parser of every command (``--version`` exits 0 as ``--help`` does)."""
+    p = _Parser(prog="physstep", description="Game-physics integration engine and integrator lab.")
+    p.add_argument("--version", action="version", version=f"physstep {physstep.__version__}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    basic.register(sub)
+    lab.register(sub)
+    return p
+
+
+def _say(message: str) -> None:
+    try:
+        print(f"physstep: {output.one_line(message)}", file=sys.stderr)
+    except OSError:  # stderr closed: nothing left to tell
+        pass
+
+
+def _silence_stdout() -> None:
+    """Points stdout at /dev/null so that the interpreter's final flush after a closed
+    pipe (``physstep ... | head -1``) neither fails nor prints."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Runs the command line; returns the exit status (0 done, 1 a failed or non-finite
+    run, 2 bad input or an output file that cannot be written, 130 interrupted).
+
+    ``--help`` and ``--version`` print and raise SystemExit(0), as argparse does.
+    """
+    try:
+        args = parser().parse_args(argv)
+        status = int(args.func(args))
+        sys.stdout.flush()
+        return status
+    except BrokenPipeError:
+        _silence_stdout()
+        return 0
+    except KeyboardInterrupt:
+        _say("interrupted")
+        return 130
+    except (ValueError, OverflowError) as e:
+        _say(f"error: {e}")
+        return 2
+    except (physstep.StepError, output.NotFiniteError) as e:
+        _say(str(e))
+        return 1
+    except Exception as e:  # the contract is one line, never a traceback
+        _say(f"internal error: {type(e).__name__}: {e} (please report it)")
+        return 1

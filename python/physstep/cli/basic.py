@@ -1,0 +1,246 @@
+"""The engine's commands: ``methods``, ``scenes``, ``table`` and ``run``.
+
+:func:`register` adds them to the ``physstep`` command line (:mod:`physstep.cli.app`). Each
+handler returns the exit status: 0, or 1 when the run diverged.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+from typing import Any
+
+import physstep
+from physstep import _files as files
+from physstep.cli import options, output
+
+#: The most decimals ``table`` prints: 17 significant digits round-trip any double, and the
+#: CSV output (``--format csv``) prints every digit.
+MAX_DECIMALS = 17
+#: The largest ``run --every``.
+MAX_EVERY = 10**9
+#: A run faster than this (s) is timed again, ns/step being the median of TIMING_RUNS runs.
+TIMING_MIN_S = 0.2
+TIMING_RUNS = 5
+
+
+def _cmd_methods(args: argparse.Namespace) -> int:
+    """``physstep methods``: the integrator registry."""
+    rows = [m.__dict__ for m in physstep.methods()]
+    if args.format == "json":
+        print(output.dump(rows))
+        return 0
+    from rich.table import Table
+
+    table = Table(title="physstep integrators")
+    for col in ("name", "order", "symplectic", "implicit", "evals", "doc"):
+        table.add_column(col, overflow="fold")
+    for r in rows:
+        table.add_row(
+            r["name"],
+            str(r["order"]),
+            "yes" if r["symplectic"] else "no",
+            "yes" if r["implicit"] else "no",
+            str(r["evals"]),
+            r["doc"],
+        )
+    output.console().print(table)
+    return 0
+
+
+def _cmd_scenes(args: argparse.Namespace) -> int:
+    """``physstep scenes``: the built-in scenes and their parameters."""
+    rows = physstep.scenes()
+    if args.format == "json":
+        print(output.dump(rows))
+        return 0
+    for s in rows:
+        params = ", ".join(f"{p['name']}={p['default']:g}" for p in s["params"])
+        print(f"{s['name']:<11} {s['dim']}D  dt={s['dt']:g} until={s['until']:.4g}  {s['doc']}")
+        print(f"{'':<15}params: {params}")
+    return 0
+
+
+def _columns(traj: physstep.Trajectory) -> list[str]:
+    """Column names of a run's state: x, v, a of particles; y and dy of a flow."""
+    n = traj.x.shape[1]
+    names = ("y", "dy") if traj.kind == "flow" else ("x", "v", "a")
+    if n == 1:
+        return list(names)
+    return [f"{q}{i}" for q in names for i in range(n)]
+
+
+def _table_rows(traj: physstep.Trajectory, stages: bool) -> list[list[Any]]:
+    """One row per recorded step (t, x, v, a), each followed by its stages if ``stages``."""
+    rows: list[list[Any]] = []
+    by_step: dict[int, list[Any]] = {}
+    for k, stage, t, x, v, a in traj.stages or []:
+        by_step.setdefault(k, []).append([t, *x, *v, *a, stage])
+    for k in range(len(traj.t)):
+        row = [float(traj.t[k]), *traj.x[k].tolist(), *traj.v[k].tolist(), *traj.a[k].tolist()]
+        rows.append([*row, "state"] if stages else row)
+        rows.extend(by_step.get(k, []))
+    return rows
+
+
+def _cmd_table(args: argparse.Namespace) -> int:
+    """``physstep table``: the state at every step, as the notes print it."""
+    params = options.parse_params(args.param)
+    traj = physstep.simulate(args.scene, args.method, args.dt, args.until, params, stages=args.stages)
+    until = options.requested_until(args.scene, args.until)
+    t_end = float(traj.t[-1])
+    header = ["t", *_columns(traj)] + (["stage"] if args.stages else [])
+    rows = _table_rows(traj, args.stages)
+    output.check_rows(header, rows)
+    if args.format == "json":
+        doc = {
+            "scene": traj.scene,
+            "method": traj.method,
+            "dt": traj.dt,
+            "until": until,
+            "steps": int(traj.steps),
+            "t_end": t_end,
+            "columns": header,
+            "rows": rows,
+        }
+        print(output.dump(doc))
+    elif args.format == "csv":
+        sys.stdout.write(
+            output.csv_text([header] + [[repr(c) if isinstance(c, float) else c for c in r] for r in rows])
+        )
+    else:
+        cells = [header] + [
+            [
+                (output.round_half_away(c, args.decimals) if i > 0 else f"{c:g}")
+                if isinstance(c, float)
+                else str(c)
+                for i, c in enumerate(r)
+            ]
+            for r in rows
+        ]
+        print(output.aligned(cells))
+        note = output.reached(until, traj.steps, traj.dt, t_end)
+        if note:
+            print(f"note: {note}")
+    if traj.diverged:
+        print(f"physstep: {output.one_line(traj.diverged)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _trajectory_csv(traj: physstep.Trajectory) -> str:
+    """The run as CSV (t, the state, the energy if known), every digit of every double."""
+    energy = [] if traj.energy is None else ["energy"]
+    header = ["t", *_columns(traj), *energy]
+    rows: list[list[Any]] = [header]
+    for k in range(len(traj.t)):
+        e = [] if traj.energy is None else [traj.energy[k]]
+        row = [float(c) for c in [traj.t[k], *traj.x[k], *traj.v[k], *traj.a[k], *e]]
+        output.check_rows(header, [row])
+        rows.append([repr(c) for c in row])
+    return output.csv_text(rows)
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    """``physstep run``: one run, summarised (energy, error, cost), its trajectory to ``--out``."""
+    if args.out is not None:
+        files.check(args.out, "--out")
+    params = options.parse_params(args.param)
+
+    def once() -> physstep.Trajectory:
+        return physstep.simulate(args.scene, args.method, args.dt, args.until, params, every=args.every)
+
+    traj = once()
+    timings = [traj.ns_per_step]
+    if traj.elapsed_ns * 1e-9 < TIMING_MIN_S:
+        timings += [once().ns_per_step for _ in range(TIMING_RUNS - 1)]
+    summary = physstep.summarize(traj)
+    until = options.requested_until(args.scene, args.until)
+    summary["until"] = until
+    summary["ns_per_step"] = statistics.median(timings)
+    summary["ns_per_step_runs"] = len(timings)
+    output.finite(summary)
+    if args.out is not None:
+        files.write_text(args.out, _trajectory_csv(traj), "--out")
+        summary["out"] = args.out
+    if args.format == "json":
+        print(output.dump(summary))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"{traj.scene} with {traj.method}, dt = {traj.dt:g}", show_header=False)
+    table.add_column("", style="bold")
+    table.add_column("")
+    table.add_row("steps", f"{summary['steps']} (t = {summary['t']:.10g} s)")
+    note = output.reached(until, summary["steps"], traj.dt, summary["t"])
+    if note:
+        table.add_row("note", note)
+    table.add_row("params", ", ".join(f"{k}={v:g}" for k, v in summary["params"].items()))
+    table.add_row("final x", ", ".join(f"{c:.6g}" for c in summary["final"]["x"]))
+    table.add_row("final v", ", ".join(f"{c:.6g}" for c in summary["final"]["v"]))
+    en = summary["energy"]
+    if en is None:
+        why = "a flow has none" if traj.kind == "flow" else "a force has no potential"
+        table.add_row("energy", f"unknown ({why})")
+    else:
+        table.add_row(
+            "energy", f"{en['initial']:.6g} -> {en['final']:.6g} J (max rel. error {en['max_rel_error']:.3g})"
+        )
+    if "error" in summary:
+        table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
+    runs = len(timings)
+    timing = "one run" if runs == 1 else f"median of {runs} runs"
+    table.add_row(
+        "cost", f"{summary['evals']} force evaluations, {summary['ns_per_step']:.0f} ns/step ({timing})"
+    )
+    if args.out:
+        table.add_row("trajectory", args.out)
+    Console().print(table)
+    return 0
+
+
+def _add_run_args(p: argparse.ArgumentParser) -> None:
+    """The arguments ``table`` and ``run`` share: scene, method, dt, until and params."""
+    p.add_argument("scene", help=options.SCENE_HELP)
+    p.add_argument("--method", default="symplectic-euler", help=options.METHOD_HELP)
+    p.add_argument("--dt", type=options.DT, default=None, help="step, s (default: the scene's)")
+    p.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
+    options.add_param(p)
+
+
+def register(subparsers: Any) -> None:
+    """Adds ``methods``, ``scenes``, ``table`` and ``run`` to an argparse subparsers object."""
+    m = subparsers.add_parser("methods", help="list the integrators")
+    options.add_format(m)
+    m.set_defaults(func=_cmd_methods)
+
+    s = subparsers.add_parser("scenes", help="list the built-in scenes and their parameters")
+    options.add_format(s)
+    s.set_defaults(func=_cmd_scenes)
+
+    t = subparsers.add_parser("table", help="the state at every step, as the notes print it")
+    _add_run_args(t)
+    t.add_argument("--stages", action="store_true", help="also print intermediate evaluation points")
+    t.add_argument(
+        "--decimals",
+        type=options.argument("--decimals", int, low=0, high=MAX_DECIMALS),
+        default=1,
+        help=f"decimals of the text output, 0 to {MAX_DECIMALS} (default 1; --format csv prints every digit)",
+    )
+    options.add_format(t, ("text", "csv", "json"))
+    t.set_defaults(func=_cmd_table)
+
+    r = subparsers.add_parser("run", help="run a scene and summarise energy and error")
+    _add_run_args(r)
+    r.add_argument("--out", metavar="FILE.csv", help="write the trajectory as CSV")
+    r.add_argument(
+        "--every",
+        type=options.argument("--every", int, low=1, high=MAX_EVERY),
+        default=1,
+        metavar="N",
+        help="record every N-th step (energy error over those)",
+    )
+    options.add_format(r)
+    r.set_defaults(func=_cmd_run)

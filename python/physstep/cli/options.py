@@ -1,0 +1,97 @@
+"""The commands' flags and their checks: a bad value is one line naming the flag.
+
+Every check raises :class:`UsageError` (a ValueError: exit status 2), or, inside argparse,
+``argparse.ArgumentTypeError``, which :mod:`physstep.cli.app` turns into the same line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+from typing import Any
+
+import physstep
+
+SCENE_HELP = "built-in scene (physstep scenes lists them)"
+METHOD_HELP = "integrator (physstep methods lists them)"
+UNTIL_HELP = (
+    "end time, s (default: the scene's); a whole number of steps is run, the output says where "
+    "the last one ends"
+)
+
+
+class UsageError(ValueError):
+    """Bad command-line input (exit status 2)."""
+
+
+def argument(
+    flag: str, kind: type = float, *, low: float, open_low: bool = False, high: float = math.inf
+) -> Callable[[str], Any]:
+    """An argparse ``type`` for ``flag``: a finite ``kind`` (float or int) in [low, high]
+    (``open_low``: > low); a bad value is one line naming the flag and the value as typed."""
+
+    integer = kind is int
+
+    def show(bound: float) -> str:
+        return str(int(bound)) if integer else f"{bound:g}"
+
+    what = "an integer" if integer else "a finite number"
+    cmp = ">" if open_low else ">="
+    bound = f"from {show(low)} to {show(high)}" if high < math.inf else f"{cmp} {show(low)}"
+
+    def parse(text: str) -> Any:
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"invalid {flag} '{text}': not {'an integer' if integer else 'a number'}"
+            ) from None
+        finite = integer or math.isfinite(value)  # (an int may be too large for a float)
+        if not (finite and (value > low if open_low else value >= low) and value <= high):
+            raise argparse.ArgumentTypeError(f"invalid {flag} '{text}': must be {what} {bound}")
+        return value
+
+    parse.__name__ = flag.lstrip("-")
+    parse.__doc__ = f"``{flag}``: {what} {bound}; argparse.ArgumentTypeError naming it otherwise."
+    return parse
+
+
+#: ``--dt``: a step, s, > 0.
+DT = argument("--dt", low=0, open_low=True)
+#: ``--until``: an end time, s, >= 0.
+UNTIL = argument("--until", low=0)
+
+
+def parse_params(items: list[str] | None) -> dict[str, float]:
+    """``["k=5", "m=2"]`` as ``{"k": 5.0, "m": 2.0}``; UsageError naming a malformed item."""
+    out: dict[str, float] = {}
+    for item in items or []:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise UsageError(f"invalid --param '{item}': must be NAME=VALUE")
+        try:
+            number = float(value)
+        except ValueError:
+            raise UsageError(f"invalid --param '{item}': value '{value}' is not a number") from None
+        if not math.isfinite(number):
+            raise UsageError(f"invalid --param '{item}': value '{value}' is not a finite number")
+        out[name.strip()] = number
+    return out
+
+
+def requested_until(scene: str, until: float | None) -> float:
+    """The end time the user asked for, s: ``--until`` or the scene's default."""
+    return float(physstep.scene(scene)["until"] if until is None else until)
+
+
+def add_format(p: argparse.ArgumentParser, formats: tuple[str, ...] = ("text", "json")) -> None:
+    """Adds ``--format`` (the first of ``formats`` is the default) to ``p``."""
+    p.add_argument(
+        "--format", choices=formats, default=formats[0], help=f"output format (default: {formats[0]})"
+    )
+
+
+def add_param(p: argparse.ArgumentParser) -> None:
+    """Adds the repeatable ``--param NAME=VALUE`` (read by :func:`parse_params`) to ``p``."""
+    p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a scene parameter")
