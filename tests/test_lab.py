@@ -2,11 +2,18 @@
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
+import itertools
 import json
 import math
+import re
+import signal
+import time
+import warnings
 
+import numpy as np
 import physstep
 import pytest
 from conftest import run_cli
@@ -141,6 +148,184 @@ def test_bad_input_raises_value_error() -> None:
         lab.compare("spring", ["bogus"], 0.1, 1.0)
     with pytest.raises(ValueError, match="nope"):
         lab.order("spring", "rk4", params={"nope": 1.0})
+
+
+# -- review fixes: stability ---------------------------------------------------------
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: int):
+    """Fails (instead of hanging) a call that does not return in time."""
+
+    def fail(signum, frame):
+        raise TimeoutError(f"did not return within {seconds} s")
+
+    old = signal.signal(signal.SIGALRM, fail)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def test_amplification_covers_the_integrator_memory() -> None:
+    # leapfrog's phase vector is [x; v; v_half]: the matrix is 3 x 3 on the 1D spring, and on
+    # drag its repeating map has v_half' = (1 - c dt / m) v_half + ..., eigenvalue -1 at 4 s
+    m = lab.amplification("drag", "leapfrog", 4.1)
+    assert m.shape == (3, 3)
+    assert max(abs(np.linalg.eigvals(m))) == pytest.approx(1.05125, rel=1e-9)
+    assert lab.amplification("spring", "velocity-verlet", 1.0).shape == (2, 2)
+
+
+def test_a_large_cap_still_finds_the_limit() -> None:
+    # the grid starts at 1e-3 natural time scales whatever the cap (it used to start at cap * 1e-6)
+    assert lab.stability("spring", "rk4", cap=1e9)["dt_max"] == pytest.approx(4.0, rel=1e-6)
+    assert lab.stability("drag", "leapfrog", cap=1e9)["dt_max"] == pytest.approx(4.0, rel=1e-6)
+    assert lab.stability("spring", "explicit-euler", cap=1e9)["dt_max"] == 0.0
+
+
+@pytest.mark.parametrize("cap", [5e-324, 1e-3, 0.0, -1.0, math.inf, math.nan, 1e300])
+def test_a_cap_outside_the_grid_is_refused(cap: float) -> None:
+    with pytest.raises(ValueError, match="invalid cap"):
+        lab.stability("spring", "rk4", cap=cap)
+
+
+@pytest.mark.parametrize("rtol", [0.0, -1e-3, math.nan, 1e-17, 0.5, math.inf])
+def test_a_bad_rtol_is_refused_not_looped_on(rtol: float) -> None:
+    with _time_limit(20), pytest.raises(ValueError, match="invalid rtol"):
+        lab.stability("spring", "rk4", rtol=rtol)
+
+
+def test_stability_on_the_chain_uses_the_state_not_the_energy() -> None:
+    # the chain's E0 is 3e-30 J (rounding): a criterion relative to E0 said "unstable at every dt"
+    res = lab.stability("chain", "symplectic-euler")
+    assert res["analysis"] == "bounded growth"
+    assert "|x_k - x_0|" in res["criterion"] and "energy" not in res["criterion"]
+    assert 0.001 < res["dt_max"] < lab.time_scale("chain")
+
+
+def test_stability_says_which_analysis() -> None:
+    assert lab.stability("spring", "rk4")["analysis"] == "amplification matrix"
+    assert lab.stability("orbit", "rk4")["analysis"] == "bounded growth"
+
+
+# -- review fixes: order -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "needle"),
+    [
+        ({"levels": 40}, "invalid levels = 40"),
+        ({"levels": 1}, "invalid levels = 1"),
+        ({"levels": 2.5}, "invalid levels = 2.5"),
+        ({"levels": 18, "dt": 0.01}, "invalid levels = 18 with dt = "),
+        ({"dt": 1e-9}, "invalid levels = 5 with dt = 1e-09"),
+        ({"dt": 1e200}, "invalid dt = 1e+200"),
+    ],
+)
+def test_order_refuses_oversized_runs_up_front(kwargs: dict, needle: str) -> None:
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=re.escape(needle)):
+        lab.order("spring", "rk4", **kwargs)
+    assert time.perf_counter() - start < 1.0  # refused before running anything
+
+
+def test_yoshida4_on_drag_tends_to_fourth_order() -> None:
+    # pre-asymptotic, not an order loss: the local order rises towards 4 as dt falls
+    res = lab.order("drag", "yoshida4", levels=8)
+    pairs = [r["order"] for r in res["runs"] if r["order"] is not None]
+    assert pairs[1] < 3.2  # 3.06 from dt 0.15 to 0.075
+    assert pairs[1:] == sorted(pairs[1:]) and 3.95 < pairs[-1] < 4.0  # ... 3.87, 3.94, 3.97
+    assert 3.9 < res["order"] < 4.0
+
+
+@pytest.mark.parametrize("scene", ["spring", "orbit", "drag"])
+def test_alternating_euler_is_second_order_at_odd_step_counts(scene: str) -> None:
+    until = 0.3 * lab.time_scale(scene)
+    counts = [65, 129, 257, 513]
+    errs = []
+    for n in counts:
+        traj = physstep.simulate(scene, "symplectic-euler-alternating", until / n, until, every=n)
+        errs.append(float(abs(traj.x[-1] - traj.exact_x[-1]).max()))
+    for (n1, e1), (n2, e2) in itertools.pairwise(zip(counts, errs, strict=True)):
+        assert math.log(e1 / e2) / math.log(n2 / n1) == pytest.approx(2.0, abs=0.02)
+
+
+# -- review fixes: compare and sweep ---------------------------------------------------
+
+
+def test_a_bare_string_is_not_a_list_of_methods() -> None:
+    with pytest.raises(ValueError, match="invalid methods = 'rk4'"):
+        lab.compare("spring", methods="rk4")
+    with pytest.raises(ValueError, match="invalid methods = 'rk4'"):
+        lab.sweep("spring", "rk4", [0.1])
+    with pytest.raises(ValueError, match="invalid dts = '0.1'"):
+        lab.sweep("spring", ["rk4"], "0.1")
+
+
+@pytest.mark.parametrize(
+    ("call", "needle"),
+    [
+        (lambda: lab.compare("spring", ["rk4"], dt=1e200), "invalid dt = 1e+200"),
+        (lambda: lab.compare("spring", ["rk4"], dt=1e-9, until=100.0), "with dt = 1e-09"),
+        (
+            lambda: lab.compare("nbody", ["rk4"], dt=1e-6, until=100.0),
+            "invalid until = 100.0 with dt = 1e-06",
+        ),
+        (lambda: lab.sweep("spring", ["rk4"], [0.1, 1e-9], 100.0), "with dts = 1e-09"),
+        (lambda: lab.sweep("nbody", ["rk4"], [1e-5], 100.0), "invalid until = 100.0 with dts = 1e-05"),
+        (lambda: lab.sweep("spring", ["rk4"], [50.0]), "invalid dts: dt = 50.0"),
+    ],
+)
+def test_long_runs_are_refused_before_running_naming_the_lab_argument(call, needle: str) -> None:
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=re.escape(needle)) as err:
+        call()
+    assert "every" not in str(err.value)
+    assert time.perf_counter() - start < 1.0
+
+
+def test_drift_is_none_without_finite_data() -> None:
+    traj = physstep.simulate("spring", "rk4", 0.1, 1.0)
+    assert lab._drift(traj) is not None
+    traj.energy = np.full_like(traj.energy, np.nan)
+    assert lab._drift(traj) is None
+    traj.energy = np.array([1.0] + [1e300] * (len(traj.t) - 1))
+    assert lab._drift(traj) is None or math.isfinite(lab._drift(traj))
+
+
+def test_compare_of_a_diverging_run_reports_cleanly() -> None:
+    # explicit Euler at dt = 5 s on the spring grows 3.7x a step until a state passes 1e100
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = lab.compare("spring", ["explicit-euler", "rk4"], dt=5.0, until=5000.0)
+    rows = {r["method"]: r for r in res["rows"]}
+    assert rows["explicit-euler"]["diverged"] and rows["explicit-euler"]["t_end"] < 5000.0
+    drift = rows["explicit-euler"]["energy_drift"]
+    assert drift is None or math.isfinite(drift)
+
+
+def test_compare_and_sweep_say_what_was_run() -> None:
+    res = lab.compare("orbit", ["symplectic-euler", "rk4"], 0.1, 18.85)
+    assert res["until_requested"] == 18.85 and res["steps"] == 188 and res["t_end"] == pytest.approx(18.8)
+    for r in res["rows"]:
+        assert r["steps"] == 188 and r["t_end"] == pytest.approx(18.8)
+        assert r["ns_per_step_runs"] >= 3 and r["ns_per_step"] > 0
+    assert "median" in res["timing"] and "kinetic" in res["energy_error"]
+    sw = lab.sweep("orbit", ["rk4"], [0.3, 0.1], 1.0)
+    assert sw["until_requested"] == 1.0
+    assert [(r["steps"], round(r["t_end"], 9)) for r in sw["rows"]] == [(3, 0.9), (10, 1.0)]
+    assert all(r["ns_per_step_runs"] >= 3 for r in sw["rows"])
+
+
+def test_compare_energy_errors_on_the_chain_are_meaningful() -> None:
+    # E0 = 3e-30 J: relative to E0 the errors read 1e24; relative to the kinetic energy they are small
+    res = lab.compare("chain", ["symplectic-euler", "rk4"], 0.001, 0.5)
+    rows = {r["method"]: r for r in res["rows"]}
+    assert rows["rk4"]["energy_max_rel_error"] < 1e-5
+    assert rows["symplectic-euler"]["energy_max_rel_error"] < 0.05
+    assert rows["rk4"]["energy_scale"] > 1.0  # J: the chain's kinetic energy, not |E0|
 
 
 # -- CLI -------------------------------------------------------------------------------
