@@ -146,8 +146,8 @@ fn check_orders(scene: &str, t_end: f64, steps_for: impl Fn(&Info) -> Vec<u64>, 
 
 #[test]
 fn drag_converges_at_each_method_order() {
-    // t = 2 with even step counts (symplectic-euler-alternating is second order at even
-    // steps). Yoshida4's error on drag is irregular below 40 steps (the composed velocity
+    // t = 2 with even step counts (symplectic-euler-alternating is second order at any
+    // count, with an error constant that differs between odd and even ones). Yoshida4's error on drag is irregular below 40 steps (the composed velocity
     // Verlet is not symmetric for a velocity-dependent force), so the 4th-order methods
     // start there.
     check_orders(

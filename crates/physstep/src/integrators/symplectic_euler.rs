@@ -133,7 +133,7 @@ impl Method for SymplecticEulerAlternating {
         implicit: false,
         evals: 1,
         split: true,
-        doc: "the two symplectic Euler orders alternated (velocity first on even steps); 2nd order at even steps",
+        doc: "the two symplectic Euler orders alternated (velocity first on even steps); a pair of steps is velocity Verlet at 2 dt",
     };
 
     split_method!();
