@@ -207,3 +207,20 @@ def test_item_19_a_mass_with_an_infinite_inverse_is_refused() -> None:
     with pytest.raises(ValueError, match=r"invalid mass = 5e-324: must be > 0 with a finite inverse"):
         w.add_particle([0.0], mass=5e-324)
     assert len(w) == 0
+
+
+def test_the_error_catalogue_names_tests_that_exist() -> None:
+    """docs/errors.md names, for every error, the test that triggers it: each must exist."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).parent.parent
+    text = (root / "docs" / "errors.md").read_text()
+    sources = {p: p.read_text() for p in [*root.glob("tests/*.py"), *root.glob("crates/physstep/**/*.rs")]}
+    names = set(re.findall(r"`(?:[\w/.]+::)?((?:test|item)_\w+|\w+_is_\w+|\w+_names?_\w+)`", text))
+    names |= set(re.findall(r"\.(?:rs|py)::(\w+)`", text))
+    assert len(names) > 30
+    missing = [
+        n for n in sorted(names) if not any(re.search(rf"fn {n}\b|def {n}\b", s) for s in sources.values())
+    ]
+    assert not missing, missing
