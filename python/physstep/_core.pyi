@@ -17,6 +17,7 @@ __all__ = [
     "StepError",
     "World",
     "WorldBusyError",
+    "_world_from_parts",
     "method_info",
     "methods",
     "scenes",
@@ -50,6 +51,9 @@ def method_info(name: str) -> dict[str, Any]:
 def scenes() -> list[dict[str, Any]]:
     """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``dt`` (s), ``until`` (s)
     and ``params`` (dicts with ``name``, ``default``, ``doc``)."""
+
+def _world_from_parts(parts: dict[str, Any], snapshot: bytes) -> World:
+    """Rebuilds a World pickled by ``World.__reduce__``."""
 
 def simulate(
     scene: str,
@@ -139,6 +143,12 @@ class World:
         fails (unless ``stop_on_diverge``), a user force's own exception unchanged.
         """
 
+    def __copy__(self) -> World:
+        """A copy: the same particles, forces, method, clock and state (Python callables shared)."""
+    def __deepcopy__(self, memo: Any) -> World:
+        """As ``__copy__``: the engine's data copied, Python callables shared."""
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any], bytes]]:
+        """Pickles as the world's parts and its snapshot (a lambda force does not pickle)."""
     @property
     def dim(self) -> int:
         """Spatial dimensions (1, 2 or 3)."""

@@ -8,6 +8,7 @@
 mod convert;
 mod errors;
 mod force;
+mod pickle;
 mod record;
 mod registry;
 mod world;
@@ -22,6 +23,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     registry::register(m)?;
     m.add_function(wrap_pyfunction!(record::simulate, m)?)?;
     m.add_class::<world::World>()?;
+    m.add_function(wrap_pyfunction!(pickle::_world_from_parts, m)?)?;
     errors::register(m)?;
     Ok(())
 }

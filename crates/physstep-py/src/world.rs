@@ -35,6 +35,11 @@ struct Inner {
     engine: Engine,
     /// A Python exception raised inside a step by a user force, to re-raise unchanged.
     slot: Slot,
+    /// The Python forces as added: `(func, potential, jacobian, velocity_dependent, name)`,
+    /// for pickling.
+    user: Vec<Py<PyAny>>,
+    /// A Python flow as made: `(func, jacobian, name, n)`, for pickling.
+    flow: Option<Py<PyAny>>,
     /// Particles from `add_particle`, validated and waiting to be added in one batch:
     /// growing the engine's `[x; v]` state one particle at a time moves the velocity half
     /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
@@ -93,7 +98,16 @@ impl World {
     }
 
     fn wrap(engine: Engine) -> Self {
-        Self { inner: Mutex::new(Inner { engine, slot: Slot::default(), pending: ParticleBatch::default() }) }
+        Self::with_parts(engine, Slot::default(), Vec::new(), None)
+    }
+
+    pub(crate) fn with_parts(
+        engine: Engine,
+        slot: Slot,
+        user: Vec<Py<PyAny>>,
+        flow: Option<Py<PyAny>>,
+    ) -> Self {
+        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending: ParticleBatch::default() }) }
     }
 }
 
@@ -182,14 +196,17 @@ impl World {
                 func.getattr("__name__").and_then(|n| n.extract::<String>()).unwrap_or_else(|_| "flow".into())
             }
         };
-        let _ = py;
         let slot = Slot::default();
+        let spec = (func, jacobian.as_ref().map(|j| j.bind(py)), &name, y0.len())
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
         let generator =
             crate::force::PyFlow { name, func: func.clone().unbind(), jacobian, slot: slot.clone() };
         let flow = physstep::flows::Flow::User { n: y0.len(), generator: std::sync::Arc::new(generator) };
         let params = WorldParams { method, dt, ..WorldParams::default() };
         let engine = Engine::with_flow(flow, &y0, params).map_err(py_err)?;
-        Ok(Self { inner: Mutex::new(Inner { engine, slot, pending: ParticleBatch::default() }) })
+        Ok(Self::with_parts(engine, slot, Vec::new(), Some(spec)))
     }
 
     /// Records a run of this world from its current state: `until` seconds of its fixed dt,
@@ -218,6 +235,31 @@ impl World {
         let d = pyo3::types::PyDict::new(py);
         crate::record::fill(&d, w, rec, elapsed, stages)?;
         Ok(d)
+    }
+
+    /// A copy: the same particles, forces, method, clock and state (Python forces are
+    /// shared, as functions are).
+    fn __copy__(&self, py: Python<'_>) -> PyResult<Self> {
+        let mut g = self.lock()?;
+        let engine = g.flush()?.clone();
+        let user = g.user.iter().map(|u| u.clone_ref(py)).collect();
+        let flow = g.flow.as_ref().map(|f| f.clone_ref(py));
+        Ok(Self::with_parts(engine, g.slot.clone(), user, flow))
+    }
+
+    /// As `__copy__`: the engine's data is copied, Python callables are shared.
+    fn __deepcopy__(&self, py: Python<'_>, _memo: &Bound<'_, PyAny>) -> PyResult<Self> {
+        self.__copy__(py)
+    }
+
+    /// Pickles as the world's parts (settings, particles, forces, flow, Python callables)
+    /// and its snapshot; unpickled, it continues bitwise as the original would.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::pickle::Reduce<'py>> {
+        let mut g = self.lock()?;
+        let snapshot = g.flush()?.snapshot();
+        let parts = crate::pickle::parts(py, &g.engine, &g.user, g.flow.as_ref())?;
+        let rebuild = py.import("physstep._core")?.getattr("_world_from_parts")?;
+        Ok((rebuild, (parts.into_any(), PyBytes::new(py, &snapshot).into_any())))
     }
 
     /// Spatial dimensions.
@@ -629,9 +671,21 @@ impl World {
                 .and_then(|n| n.extract::<String>())
                 .unwrap_or_else(|_| format!("force {k}")),
         };
+        let spec = (
+            func.bind(py),
+            potential.as_ref().map(|p| p.bind(py)),
+            jacobian.as_ref().map(|j| j.bind(py)),
+            velocity_dependent,
+            &name,
+        )
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
         let slot = g.slot.clone();
         let w = g.flush()?;
         let force = PyForce { name, dim: w.dim(), func, potential, jacobian, velocity_dependent, slot };
-        w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)
+        let k = w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
+        g.user.push(spec);
+        Ok(k)
     }
 }

@@ -48,7 +48,8 @@ pub enum Force {
     /// Damped spring between particle `i` and `j`. With `d = x_i - x_j` (or `x_i - anchor`),
     /// `u = d / |d|` and `w = v_i - v_j` (or `v_i`), the force on `i` is
     /// `-k (|d| - rest) u - c (w . u) u`, and its opposite acts on `j`. At `|d| = 0` the force
-    /// is `-k d` (zero) and the damping is zero.
+    /// is `-k d` (zero) and the damping is zero. A zero rest length is the linear spring
+    /// `-k d - c w` (no square root; its damping acts in every direction).
     Spring {
         /// First particle.
         i: usize,

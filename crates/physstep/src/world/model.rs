@@ -81,6 +81,12 @@ impl Model {
         &self.forces
     }
 
+    /// Inverse masses, 1/kg (0 for static particles).
+    #[must_use]
+    pub fn inv_mass(&self) -> &[f64] {
+        &self.inv_mass
+    }
+
     /// How many user forces ([`crate::forces::ForceGenerator`]s) act.
     #[must_use]
     pub fn user_forces(&self) -> usize {
