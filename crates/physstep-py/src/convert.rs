@@ -130,6 +130,16 @@ pub(crate) fn array(
         (Some(r), None) => format!("({r},)"),
         (None, None) => "(n,)".into(),
     };
+    // Only real numbers: numpy would cast a complex array to its real part with a warning.
+    let np = py.import("numpy")?;
+    if let Ok(raw) = np.call_method1("asarray", (obj,)) {
+        let kind: String = raw.getattr("dtype")?.getattr("kind")?.extract()?;
+        if !matches!(kind.as_str(), "i" | "u" | "f") && raw.getattr("size")?.extract::<usize>()? > 0 {
+            return Err(PyValueError::new_err(format!(
+                "invalid {field}: must be an array of real numbers of shape {want}"
+            )));
+        }
+    }
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", "float64")?;
     let arr = py.import("numpy")?.call_method("ascontiguousarray", (obj,), Some(&kwargs)).map_err(|_| {

@@ -232,8 +232,14 @@ impl Clock {
     /// [`Error::InvalidValue`] naming `frame_time` when it is not finite or is negative; the
     /// clock is then unchanged.
     pub fn frame(&mut self, frame_time: f64) -> Result<FramePlan> {
-        if !(frame_time.is_finite() && frame_time >= 0.0) {
-            return Err(Error::invalid("frame_time", frame_time, "a finite number >= 0"));
+        // A frame longer than 1e9 s (31 years) is no frame: beyond it the clamped-time
+        // total could overflow to infinity.
+        if !(frame_time.is_finite() && (0.0..=1e9).contains(&frame_time)) {
+            return Err(Error::invalid(
+                "frame_time",
+                crate::error::num(frame_time),
+                "a number from 0 to 1e9 s",
+            ));
         }
         let p = self.params;
         let (frame, clamped) = if frame_time > p.max_frame_time {

@@ -209,3 +209,19 @@ pub fn all_finite(field: &str, values: &[f64]) -> Result<()> {
         Some(i) => Err(Error::invalid(format!("{field}[{i}]"), num(values[i]), "finite")),
     }
 }
+
+/// Checks that every entry of `values` is finite and at most `limit` in magnitude, naming
+/// `field[i]` of the first that is not.
+///
+/// # Errors
+/// [`Error::InvalidValue`] for the first entry out of range.
+pub fn bounded(field: &str, values: &[f64], limit: f64) -> Result<()> {
+    match values.iter().position(|v| v.is_nan() || v.abs() > limit) {
+        None => Ok(()),
+        Some(i) => Err(Error::invalid(
+            format!("{field}[{i}]"),
+            num(values[i]),
+            format!("finite, at most {} in magnitude", num(limit)),
+        )),
+    }
+}

@@ -168,16 +168,15 @@ impl Recorder {
             let r = if self.params.stages {
                 self.log.rows.clear();
                 let r = world.step_logged(dt, &mut self.log);
+                let flow = world.flow().is_some();
                 for row in &self.log.rows {
-                    let (x, v) = row.y.split_at(n);
-                    self.rec.stages.push((
-                        k - 1,
-                        row.stage,
-                        row.t,
-                        x.to_vec(),
-                        v.to_vec(),
-                        row.f[n..].to_vec(),
-                    ));
+                    // A flow's stage is its state and derivative (as its rows are: x = y, v = dy).
+                    let (x, v, a) = if flow {
+                        (row.y.clone(), row.f.clone(), Vec::new())
+                    } else {
+                        (row.y[..n].to_vec(), row.y[n..].to_vec(), row.f[n..].to_vec())
+                    };
+                    self.rec.stages.push((k - 1, row.stage, row.t, x, v, a));
                 }
                 r
             } else {

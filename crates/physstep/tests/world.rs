@@ -473,15 +473,15 @@ fn bad_input_names_field_and_value_and_changes_nothing() {
 
     assert_eq!(
         msg(w.add_particle(&[0.0, f64::NAN, 0.0], &[0.0; 3], 1.0, false)),
-        "invalid position[1] = NaN: must be finite"
+        "invalid position[1] = NaN: must be finite, at most 1e100 in magnitude"
     );
     assert_eq!(
         msg(w.add_particles(&[0.0, 0.0, 0.0, 1.0, 2.0, f64::NAN], None, None, false)),
-        "invalid position[5] = NaN: must be finite"
+        "invalid position[5] = NaN: must be finite, at most 1e100 in magnitude"
     );
     assert_eq!(
         msg(w.add_particle(&[0.0; 3], &[0.0, 0.0, f64::INFINITY], 1.0, false)),
-        "invalid velocity[2] = inf: must be finite"
+        "invalid velocity[2] = inf: must be finite, at most 1e100 in magnitude"
     );
     assert!(
         msg(w.add_particle(&[0.0; 3], &[0.0; 3], -2.0, false)).starts_with("invalid mass = -2: must be > 0")
@@ -522,7 +522,10 @@ fn bad_input_names_field_and_value_and_changes_nothing() {
     assert!(msg(w.set_positions(&[0.0; 2])).starts_with("invalid len(positions) = 2"));
     let mut x = w.positions().to_vec();
     x[4] = f64::NAN;
-    assert_eq!(msg(w.set_positions(&x)), "invalid position[4] = NaN: must be finite");
+    assert_eq!(
+        msg(w.set_positions(&x)),
+        "invalid position[4] = NaN: must be finite, at most 1e100 in magnitude"
+    );
     assert!(msg(w.step_by(0.0)).starts_with("invalid dt = 0"));
     assert!(msg(w.step_by(-1.0)).starts_with("invalid dt = -1"));
     assert!(msg(w.advance(f64::NAN)).starts_with("invalid frame_time = NaN"));

@@ -8,10 +8,11 @@
 
 use crate::clock::{Clock, ClockParams, FramePlan, LoopMode};
 use crate::dynamics::{FirstOrder, SecondOrder};
-use crate::error::{all_finite, Error, Result};
+use crate::error::{all_finite, bounded, Error, Result};
 use crate::flows::{Flow, FlowModel};
 use crate::forces::Force;
 use crate::integrators::registry::State;
+use crate::integrators::registry::RUNAWAY;
 use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
@@ -57,6 +58,9 @@ impl Default for WorldParams {
         }
     }
 }
+
+/// The largest finite mass, kg: momenta `m v` of any state (|v| <= 1e100) stay finite.
+pub const MAX_MASS: f64 = 1e100;
 
 /// A small mass whose inverse is finite, kg (the true limit is about 5.6e-309: any mass with
 /// a finite `1/m` is accepted).
@@ -298,6 +302,7 @@ impl World {
         velocities: Option<&[f64]>,
         masses: Option<&[f64]>,
     ) -> Result<()> {
+        self.refuse_flow("particles")?;
         let d = self.dim();
         if positions.len() % d != 0 {
             return Err(Error::invalid(
@@ -307,7 +312,7 @@ impl World {
             ));
         }
         let k = positions.len() / d;
-        all_finite("position", positions)?;
+        bounded("position", positions, RUNAWAY)?;
         if let Some(v) = velocities {
             if v.len() != positions.len() {
                 return Err(Error::invalid(
@@ -316,7 +321,7 @@ impl World {
                     format!("{}, like the positions", positions.len()),
                 ));
             }
-            all_finite("velocity", v)?;
+            bounded("velocity", v, RUNAWAY)?;
         }
         if let Some(m) = masses {
             if m.len() != k {
@@ -324,15 +329,14 @@ impl World {
             }
             for (i, &mi) in m.iter().enumerate() {
                 let field = if k == 1 { "mass".to_string() } else { format!("mass[{i}]") };
-                // 1/m must be finite too: a subnormal mass has an infinite inverse.
-                if mi.is_nan() || mi <= 0.0 || !(1.0 / mi).is_finite() {
+                // 1/m must be finite (a subnormal mass has an infinite inverse), and so must m v
+                // for every velocity a state may hold (|v| <= 1e100).
+                let finite_ok = mi.is_finite() && mi > 0.0 && (1.0 / mi).is_finite() && mi <= MAX_MASS;
+                if !(finite_ok || mi == f64::INFINITY) {
                     return Err(Error::invalid(
                         field,
                         crate::error::num(mi),
-                        format!(
-                            "> 0 with a finite inverse (at least {:e}; inf for a static particle)",
-                            MIN_MASS
-                        ),
+                        "> 0 with a finite inverse 1/m (about 5.6e-309 or more), at most 1e100 (inf for a static particle)",
                     ));
                 }
             }
@@ -387,6 +391,7 @@ impl World {
             if let Some(e) = flow.failure.take() {
                 return Err(e);
             }
+            self.derivative_finite()?;
             self.stale = false;
         }
         if self.stale {
@@ -399,9 +404,35 @@ impl World {
             if let Some(e) = self.model.failure.take() {
                 return Err(e);
             }
+            self.derivative_finite()?;
             self.stale = false;
         }
         Ok(())
+    }
+
+    /// [`Error::NonFinite`] when the derivative just evaluated at the current state holds a
+    /// NaN, an infinity or a runaway value: forces the world accepted can still overflow at a
+    /// state (a particle at a central mass, a tiny mass on a spring), and that must not leave
+    /// as a number.
+    fn derivative_finite(&self) -> Result<()> {
+        match self.integrator.check(&self.state, self.layout()) {
+            Ok(()) => Ok(()),
+            Err(Error::Diverged { index, .. }) => {
+                let skip = self.layout().skip(&self.state);
+                let bad = |v: &f64| v.is_nan() || v.abs() > RUNAWAY;
+                let value = self.state.y.get(index).copied().filter(bad);
+                let value = value
+                    .unwrap_or_else(|| self.state.f[skip..].iter().copied().find(bad).unwrap_or(f64::NAN));
+                Err(Error::NonFinite {
+                    method: self.integrator.info().name.into(),
+                    quantity: if self.flow.is_some() { "derivative".into() } else { "acceleration".into() },
+                    value,
+                    step: self.state.steps,
+                    t: self.state.t,
+                })
+            }
+            Err(e) => Err(e),
+        }
     }
 
     /// Adds a user force; returns its index among the user forces.
@@ -563,7 +594,7 @@ impl World {
         if x.len() != n {
             return Err(Error::invalid("len(positions)", x.len(), format!("{n}")));
         }
-        all_finite("position", x)?;
+        bounded("position", x, RUNAWAY)?;
         self.state.y[..n].copy_from_slice(x);
         self.touch();
         Ok(())
@@ -579,7 +610,7 @@ impl World {
         if v.len() != n {
             return Err(Error::invalid("len(velocities)", v.len(), format!("{n}")));
         }
-        all_finite("velocity", v)?;
+        bounded("velocity", v, RUNAWAY)?;
         let d = self.dim();
         for (i, (dst, src)) in self.state.y[n..].iter_mut().zip(v).enumerate() {
             *dst = if self.model.inv_mass[i / d] > 0.0 { *src } else { 0.0 };
@@ -621,6 +652,9 @@ impl World {
     pub fn momentum(&self) -> Vec<f64> {
         let d = self.dim();
         let mut p = vec![0.0; d];
+        if self.flow.is_some() {
+            return p; // a flow has no particles
+        }
         for (i, vi) in self.velocities().iter().enumerate() {
             if self.model.inv_mass[i / d] > 0.0 {
                 p[i % d] += self.model.mass[i / d] * vi;

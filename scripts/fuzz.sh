@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Fuzzes the command line and the World API for a while: the property-based tests of
+# tests/test_properties.py in the "long" hypothesis profile, round after round, each round
+# with a new seed, until the time is up or a property fails.
+#
+# Usage: bash scripts/fuzz.sh [MINUTES]        (default 10 minutes)
+#
+#   PHYSSTEP_VENV         the virtual environment (default .venv, with the package and
+#                         ".[test]" installed: see scripts/test.sh)
+#   PHYSSTEP_FUZZ_SEED    the first round's seed (default: the clock); round k uses SEED + k
+#   PHYSSTEP_FUZZ_SCALE   examples per round, as a multiple of the ci profile's (default 20:
+#                         a round takes a few minutes)
+#
+# Each round's output is in target/fuzz/seed-SEED.log. On a failure the script prints the end
+# of the log (the falsifying example, shrunk) and exits 1; rerun that round alone with
+#   PHYSSTEP_FUZZ_PROFILE=long PHYSSTEP_FUZZ_SEED=SEED .venv/bin/python -m pytest -q tests/test_properties.py
+# then write the example as an xfail case at the end of that file (or fix the bug).
+# Exit status 0: the time ran out and every round passed (a round cut short by the time
+# limit counts as passed so far).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+
+MINUTES=${1:-10}
+if ! [[ "$MINUTES" =~ ^[0-9]+$ ]] || [ "$MINUTES" -lt 1 ]; then
+    echo "usage: bash scripts/fuzz.sh [MINUTES]  (a whole number >= 1, not '$MINUTES')" >&2
+    exit 2
+fi
+VENV=${PHYSSTEP_VENV:-.venv}
+PY="$VENV/bin/python"
+if [ ! -x "$PY" ]; then
+    echo "fuzz: no $PY (set PHYSSTEP_VENV, or run scripts/test.sh once)" >&2
+    exit 2
+fi
+if ! "$PY" -c "import hypothesis" 2>/dev/null; then
+    echo "fuzz: hypothesis is not installed in $VENV: $PY -m pip install 'hypothesis>=6'" >&2
+    exit 2
+fi
+
+seed=${PHYSSTEP_FUZZ_SEED:-$(date +%s)}
+if ! [[ "$seed" =~ ^[0-9]+$ ]]; then
+    echo "fuzz: PHYSSTEP_FUZZ_SEED must be a whole number, not '$seed'" >&2
+    exit 2
+fi
+end=$(($(date +%s) + MINUTES * 60))
+mkdir -p target/fuzz
+rounds=0
+
+while :; do
+    left=$((end - $(date +%s)))
+    [ "$left" -gt 0 ] || break
+    log="target/fuzz/seed-$seed.log"
+    echo "fuzz: round $((rounds + 1)), seed $seed, ${left} s left (log: $log)"
+    PHYSSTEP_FUZZ_PROFILE=long PHYSSTEP_FUZZ_SEED=$seed MPLBACKEND=Agg \
+        timeout --kill-after=10 "$left" \
+        "$PY" -m pytest -q -p no:cacheprovider tests/test_properties.py -k "not test_bug_" >"$log" 2>&1
+    status=$?
+    # 124: stopped by the time limit (TERM: the CLI under test takes SIGINT as Ctrl-C), 137: killed
+    if [ "$status" -eq 124 ] || [ "$status" -eq 137 ]; then
+        echo "fuzz: time is up (round $((rounds + 1)) cut short, no failure so far)"
+        break
+    fi
+    if [ "$status" -ne 0 ]; then
+        tail -n 60 "$log"
+        echo "fuzz: FAILED in round $((rounds + 1)), seed $seed: see $log" >&2
+        exit 1
+    fi
+    rounds=$((rounds + 1))
+    seed=$((seed + 1))
+done
+echo "fuzz: $rounds whole rounds passed in $MINUTES min"
