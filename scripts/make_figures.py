@@ -1,15 +1,20 @@
 """Regenerates the figures of the README's lab section in docs/figures/.
 
-python scripts/make_figures.py [--out docs/figures]
+python scripts/make_figures.py [--out docs/figures] [NAME ...]
+
+With names (e.g. ``lorenz``), only those figures; the work-precision figures time the runs,
+so regenerating them changes their time panels.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
 from pathlib import Path
 
 import physstep
+from matplotlib.figure import Figure
 from physstep import lab, plot
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -26,35 +31,65 @@ WP_METHODS = (
 )
 
 
+def orbit_paths() -> Figure:
+    """The notes' picture: three periods of the circular orbit at a coarse dt."""
+    until = 3 * 2 * math.pi
+    runs = [physstep.simulate("orbit", m, 0.1, until, stop_on_diverge=True) for m in ORBIT_METHODS]
+    return plot.orbit(runs)
+
+
+def spring_energy() -> Figure:
+    """Energy of the notes' spring (m = 10, k = 5, x0 = 20) at dt = 0.1 s."""
+    return plot.energy([physstep.simulate("spring", m, 0.1, 40.0) for m in SPRING_METHODS])
+
+
+def spring_phase() -> Figure:
+    """Phase portrait of the spring at a coarse dt = 0.25 s (omega dt = 0.18), two periods."""
+    methods = ("explicit-euler", "symplectic-euler", "rk4")
+    return plot.phase([physstep.simulate("spring", m, 0.25, 17.75) for m in methods])
+
+
+def work_precision(scene: str, until: float) -> Callable[[], Figure]:
+    """Work-precision on ``scene`` up to ``until``: eight halvings of dt from 0.4 s."""
+
+    def make() -> Figure:
+        data = lab.sweep(scene, WP_METHODS, [0.4 / 2**i for i in range(8)], until)
+        return plot.work_precision(data, against="both")
+
+    return make
+
+
+def lorenz() -> Figure:
+    """The Lorenz attractor, a first-order flow: 40 s of RK4 at dt = 0.005 s from (1, 1, 1)."""
+    return plot.path3d(physstep.simulate("lorenz", "rk4", 0.005, 40.0))
+
+
+#: Every figure by its file name (without .png).
+FIGURES: dict[str, Callable[[], Figure]] = {
+    "orbit_paths": orbit_paths,
+    "spring_energy": spring_energy,
+    "spring_phase": spring_phase,
+    "work_precision_spring": work_precision("spring", 20.0),
+    "work_precision_orbit": work_precision("orbit", 2 * math.pi),
+    "lorenz": lorenz,
+}
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "figures")
-    out: Path = ap.parse_args().out
+    ap.add_argument(
+        "names", nargs="*", metavar="NAME", help=f"figures to make: {', '.join(FIGURES)} (default: all)"
+    )
+    args = ap.parse_args()
+    unknown = [n for n in args.names if n not in FIGURES]
+    if unknown:
+        ap.error(f"unknown figure '{unknown[0]}'; valid: {', '.join(FIGURES)}")
+    out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
-
-    # The notes' picture: three periods of the circular orbit at a coarse dt.
-    until = 3 * 2 * math.pi
-    runs = [physstep.simulate("orbit", m, 0.1, until, stop_on_diverge=True) for m in ORBIT_METHODS]
-    plot.save(plot.orbit(runs), out / "orbit_paths.png")
-
-    # Energy of the notes' spring (m = 10, k = 5, x0 = 20) at dt = 0.1 s.
-    spring = [physstep.simulate("spring", m, 0.1, 40.0) for m in SPRING_METHODS]
-    plot.save(plot.energy(spring), out / "spring_energy.png")
-
-    # Phase portrait of the spring at a coarse dt = 0.25 s (omega dt = 0.18), two periods.
-    coarse = [
-        physstep.simulate("spring", m, 0.25, 17.75) for m in ("explicit-euler", "symplectic-euler", "rk4")
-    ]
-    plot.save(plot.phase(coarse), out / "spring_phase.png")
-
-    # Work-precision on the spring and the orbit.
-    dts = [0.4 / 2**i for i in range(8)]
-    for scene, until_s in (("spring", 20.0), ("orbit", 2 * math.pi)):
-        data = lab.sweep(scene, WP_METHODS, dts, until_s)
-        plot.save(plot.work_precision(data, against="both"), out / f"work_precision_{scene}.png")
-
-    for p in sorted(out.glob("*.png")):
-        print(p.relative_to(ROOT) if p.is_relative_to(ROOT) else p)
+    for name in args.names or FIGURES:
+        path = plot.save(FIGURES[name](), out / f"{name}.png")
+        print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
     return 0
 
 

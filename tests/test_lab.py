@@ -220,7 +220,8 @@ def test_stability_says_which_analysis() -> None:
         ({"levels": 1}, "invalid levels = 1"),
         ({"levels": 2.5}, "invalid levels = 2.5"),
         ({"levels": 18, "dt": 0.01}, "invalid levels = 18 with dt = "),
-        ({"dt": 1e-9}, "invalid levels = 5 with dt = 1e-09"),
+        ({"dt": 1e-9}, "invalid dt = 1e-09: until / dt = "),
+        ({"dt": 1e-320}, "invalid dt = 1e-320: until / dt = inf steps"),
         ({"dt": 1e200}, "invalid dt = 1e+200"),
     ],
 )

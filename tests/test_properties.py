@@ -92,8 +92,8 @@ def _is_flow(name: str) -> bool:
 
 
 FLOWS = {name for name in SCENES if _is_flow(name)}
-#: Commands that fail on flow scenes (see the xfail cases at the end): steered around.
-FLOW_BROKEN = {"compare", "stability", "sweep"}
+#: Commands that failed on flow scenes (fixed; see test_bug_lab_commands_on_a_flow_scene).
+FLOW_BROKEN: set[str] = set()
 
 NAN, INF = float("nan"), float("inf")
 # fmt: off
@@ -851,8 +851,7 @@ def _assert_cli_contract(argv: list[str], fmt: str = "text") -> None:
     check_cli(argv, fmt, status, stdout, stderr)
 
 
-# Steered: compare, stability and sweep never get a flow scene (FLOW_BROKEN).
-@pytest.mark.xfail(strict=True, reason="lab on a flow scene: internal error TypeError (energy None)")
+# Fixed: the lab works on flows (energy columns None, split methods skipped or refused).
 @pytest.mark.parametrize(
     "argv",
     [
@@ -875,7 +874,6 @@ def test_bug_table_stages_on_a_flow_scene(fmt: str) -> None:
 
 
 # Not steered (the properties check only the exit status and the shape of the message).
-@pytest.mark.xfail(strict=True, reason="order --dt 1e-320: 'cannot convert float infinity to integer'")
 def test_bug_order_tiny_dt_message_names_nothing() -> None:
     status, _, stderr = run_in_process(["order", "spring", "--method", "rk4", "--dt", "1e-320"])
     assert status == 2

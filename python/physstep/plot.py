@@ -3,6 +3,9 @@
 The figures are built on matplotlib's object API (no pyplot state, Agg canvas), so they work
 headless and never pop up a window; :func:`save` writes PNG or SVG by the file's extension.
 Every function takes one trajectory or several (overlaid, one legend entry per method).
+Flows (``Trajectory.kind == "flow"``: the attractors, your own :class:`physstep.Flow`) plot
+their state ``y`` and its rate ``dy/dt``, without units; :func:`path3d` draws three
+coordinates in 3D; :func:`energy` refuses a run whose energy is unknown.
 
 >>> import physstep
 >>> from physstep import plot
@@ -25,7 +28,7 @@ from matplotlib.figure import Figure
 
 from physstep import Trajectory
 
-__all__ = ["energy", "orbit", "phase", "save", "trajectory", "work_precision"]
+__all__ = ["energy", "orbit", "path3d", "phase", "save", "trajectory", "work_precision"]
 
 _EXACT_STYLE: dict[str, Any] = {"color": "black", "linestyle": "--", "linewidth": 1.2, "alpha": 0.7}
 
@@ -105,11 +108,25 @@ def _label(run: Trajectory, runs: Sequence[Trajectory]) -> str:
 
 
 def _coord_name(run: Trajectory, coord: int) -> str:
+    """How coordinate ``coord`` is called: x, y, z (x[p] for particle p), or y[i] for a flow."""
+    if run.kind == "flow":
+        return "y" if run.x.shape[1] == 1 else f"y[{coord}]"
     if run.dim == 1:
         return "x" if run.x.shape[1] == 1 else f"x[{coord}]"
     axis = "xyz"[coord % run.dim] if run.dim <= 3 else str(coord % run.dim)
     particle = coord // run.dim
     return axis if run.x.shape[1] == run.dim else f"{axis}[{particle}]"
+
+
+def _axis(run: Trajectory, coord: int, rate: bool = False) -> str:
+    """The axis label of coordinate ``coord`` (``rate``: of its velocity, or a flow's dy/dt),
+    with its unit for particles."""
+    name = _coord_name(run, coord)
+    if run.kind == "flow":
+        return f"d{name}/dt" if rate else name
+    if rate:
+        return "v (m/s)" if name == "x" else f"v_{name} (m/s)"
+    return f"{name} (m)"
 
 
 def _format(path: str | Path) -> str:
@@ -163,7 +180,7 @@ def trajectory(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figu
         ax.plot(t, y, label="exact" + note, **_EXACT_STYLE)
     name = _coord_name(runs[0], coord)
     ax.set_xlabel("t (s)")
-    ax.set_ylabel(f"{name} (m)")
+    ax.set_ylabel(_axis(runs[0], coord))
     ax.set_title(_title(f"{name}(t)", runs))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize="small")
@@ -171,7 +188,8 @@ def trajectory(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figu
 
 
 def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
-    """Phase portrait: velocity against position of coordinate ``coord``.
+    """Phase portrait: velocity against position of coordinate ``coord`` (for a flow, dy/dt
+    against y).
 
     Raises ValueError for no runs, a run with no rows, or ``coord`` out of range.
 
@@ -194,9 +212,8 @@ def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
     x0, v0 = start.x[0, coord], start.v[0, coord]
     if np.isfinite(x0) and np.isfinite(v0):
         ax.plot([x0], [v0], "ko", markersize=5, label="start")
-    name = _coord_name(runs[0], coord)
-    ax.set_xlabel(f"{name} (m)")
-    ax.set_ylabel("v (m/s)" if name == "x" else f"v_{name} (m/s)")
+    ax.set_xlabel(_axis(runs[0], coord))
+    ax.set_ylabel(_axis(runs[0], coord, rate=True))
     ax.set_title(_title("phase portrait", runs))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize="small")
@@ -204,7 +221,8 @@ def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
 
 
 def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure:
-    """The path of ``particle`` in the plane (equal axes), the exact path dashed.
+    """The path of ``particle`` in the plane (equal axes), the exact path dashed (a flow:
+    y[0] against y[1]).
 
     Raises ValueError for no runs, a run with no rows, a 1D scene, or ``particle`` out of
     range.
@@ -243,34 +261,84 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
     if np.isfinite(first.x[0, i]) and np.isfinite(first.x[0, j]):
         ax.plot([first.x[0, i]], [first.x[0, j]], "ko", markersize=5, label="start")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    ax.set_xlabel(_axis(first, i))
+    ax.set_ylabel(_axis(first, j))
     ax.set_title(_title("path", runs))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", borderaxespad=0.0)
     return fig
 
 
-def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> Figure:
-    """Total energy against time (``relative``: the relative energy error (E - E0)/|E0|).
+def path3d(
+    trajs: Trajectory | Iterable[Trajectory], coords: Sequence[int] = (0, 1, 2), linewidth: float = 0.6
+) -> Figure:
+    """The path through three coordinates in 3D (an attractor, a particle in space), one line
+    per run, the exact path dashed; ``coords`` picks them (default the first three: a flow's
+    y[0], y[1], y[2], or particle 0's x, y, z). Drawn with :mod:`mpl_toolkits.mplot3d`.
 
-    Raises ValueError for no runs or a run with no rows.
+    Raises ValueError for no runs, a run with no rows, or ``coords`` not three distinct
+    coordinates of every run.
 
     Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
     and the legend says how many; a run with no finite row at all is a ValueError.
     """
     runs = _runs(trajs)
+    if isinstance(coords, str | bytes) or len(coords) != 3:
+        raise ValueError(f"invalid coords = {coords!r}: give three coordinates, e.g. (0, 1, 2)")
+    picked = [_check_coord(runs, c) for c in coords]
+    if len(set(picked)) != 3:
+        raise ValueError(f"invalid coords = {tuple(coords)!r}: the three coordinates must differ")
+    fig = _figure((8.0, 7.0))
+    ax = fig.add_subplot(projection="3d")
+    for r in runs:
+        cols, note = _finite([r.x[:, c] for c in picked], r.method)
+        (line,) = ax.plot(*cols, label=_label(r, runs) + note, linewidth=linewidth)
+        if r.diverged and np.isfinite(r.x[-1, picked]).all():
+            ax.plot(*([r.x[-1, c]] for c in picked), "x", color=line.get_color(), markersize=8)
+    ex = _exact(runs)
+    if ex is not None:
+        assert ex.exact_x is not None
+        cols, note = _finite([ex.exact_x[:, c] for c in picked], None)
+        ax.plot(*cols, label="exact" + note, **_EXACT_STYLE)
+    first = runs[0]
+    if np.isfinite(first.x[0, picked]).all():
+        ax.plot(*([first.x[0, c]] for c in picked), "ko", markersize=5, label="start")
+    ax.set_xlabel(_axis(first, picked[0]))
+    ax.set_ylabel(_axis(first, picked[1]))
+    ax.set_zlabel(_axis(first, picked[2]))
+    ax.set_title(_title("path", runs))
+    ax.legend(loc="upper left", fontsize="small")
+    return fig
+
+
+def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> Figure:
+    """Total energy against time (``relative``: the relative energy error (E - E0) / the
+    run's energy scale, see :attr:`physstep.Trajectory.energy_scale`).
+
+    Raises ValueError for no runs, a run with no rows, or a run whose energy is unknown (a
+    flow, or a force without a potential).
+
+    Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
+    and the legend says how many; a run with no finite row at all is a ValueError.
+    """
+    runs = _runs(trajs)
+    for i, r in enumerate(runs):
+        if r.energy is None:
+            raise ValueError(
+                f"invalid trajectories[{i}] ({r.scene}, {r.method}): the energy of this {r.kind} run "
+                "is unknown (a flow, or a force without a potential): nothing to plot"
+            )
     fig = _figure()
     ax = fig.add_subplot()
     for r in runs:
         y = r.energy_error if relative else r.energy
         (t, y), note = _finite([r.t, y], r.method)
         ax.plot(t, y, label=_label(r, runs) + note)
-    e0 = runs[0].energy[0]
+    e0 = runs[0].energy[0]  # type: ignore[index]
     if not relative and np.isfinite(e0):
         ax.axhline(e0, label="E0 (exact)", **_EXACT_STYLE)
     ax.set_xlabel("t (s)")
-    ax.set_ylabel("(E - E0) / |E0|" if relative else "E (J)")
+    ax.set_ylabel("(E - E0) / energy scale" if relative else "E (J)")
     ax.set_title(_title("relative energy error" if relative else "energy", runs))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize="small")

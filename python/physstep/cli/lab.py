@@ -28,10 +28,11 @@ def _params(args: argparse.Namespace) -> dict[str, float] | None:
     return options.parse_params(args.param) or None
 
 
-def _methods(text: str) -> list[str]:
-    """``--methods``: a comma-separated list of names, or ``all``."""
+def _methods(text: str) -> list[str] | str:
+    """``--methods``: a comma-separated list of names, or ``all`` (passed to the lab as
+    ``"all"``: every method that applies, the split methods skipped on a flow)."""
     if text.strip() == "all":
-        return [m.name for m in physstep.methods()]
+        return "all"
     names = [m.strip() for m in text.split(",") if m.strip()]
     if not names:
         raise options.UsageError(
@@ -98,7 +99,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
         res.setdefault("t_end", t_end)
     output.finite(res)
     if args.plot:
-        _compare_plot(args.scene, methods, res["dt"], until, params, args.plot)
+        ran = [r["method"] for r in res["rows"]]
+        _compare_plot(args.scene, ran, res["dt"], until, params, args.plot)
         res["plot"] = args.plot
     if args.format == "json":
         print(output.dump(res))
@@ -107,14 +109,17 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
     note = None if steps is None or t_end is None else output.reached(until, steps, res["dt"], t_end)
     span = note or f"until = {until:.10g} s" + ("" if steps is None else f" ({steps} steps)")
+    unknown = all(r.get("energy_scale") is None for r in res["rows"])
     table = Table(
         title=f"{res['scene']}: dt = {res['dt']:g} s, {span}",
-        caption=f"final error against the {res['error_against']}; drift = least-squares slope "
-        "of the relative energy error, per second",
+        caption=f"final error against the {res['error_against']}; energy error relative to the energy "
+        "scale max(|E0|, max kinetic energy), drift = its least-squares slope per second",
     )
     repeats = res.get("ns_per_step_runs", res.get("repeats"))
     timing = "ns/step" if repeats in (None, 1) else f"ns/step (median of {repeats})"
-    for col in ("method", "order", "evals/step", "max |dE/E0|", "drift (1/s)", "final error (m)", timing):
+    error = "final error" if res.get("kind") == "flow" else "final error (m)"
+    cols = ("method", "order", "evals/step", "max |dE|/scale", "drift (1/s)", error, timing)
+    for col in cols:
         table.add_column(col, justify="left" if col == "method" else "right")
     g = output.number
     for r in res["rows"]:
@@ -130,6 +135,11 @@ def _cmd_compare(args: argparse.Namespace) -> int:
         )
     con = output.console()
     con.print(table)
+    if unknown:
+        why = "a flow has none" if res.get("kind") == "flow" else "a force has no potential"
+        con.print(f"energy: unknown ({why}): its columns show -", markup=False)
+    if res.get("note"):
+        con.print(f"note: {output.one_line(res['note'])}", markup=False)
     for r in res["rows"]:
         if r["diverged"]:
             con.print(
@@ -144,18 +154,32 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 def _compare_plot(
     scene: str, methods: list[str], dt: float, until: float, params: dict[str, float] | None, path: str
 ) -> None:
-    """The runs of ``compare`` plotted to ``path``: orbits for the 2-D orbit scenes, else x(t)."""
+    """The runs of ``compare`` plotted to ``path``: orbits for the 2-D orbit scenes, the path in
+    3D for a flow of three or more coordinates (the attractors), else x(t)."""
     from physstep import plot
 
     runs = [physstep.simulate(scene, m, dt, until, params, stop_on_diverge=True) for m in methods]
-    dim = runs[0].dim
-    fig = plot.orbit(runs) if dim >= 2 and scene in ("orbit", "kepler") else plot.trajectory(runs)
+    first = runs[0]
+    if first.dim >= 2 and scene in ("orbit", "kepler"):
+        fig = plot.orbit(runs)
+    elif first.kind == "flow" and first.x.shape[1] >= 3:
+        fig = plot.path3d(runs)
+    else:
+        fig = plot.trajectory(runs)
     _save_plot(fig, path)
 
 
 def _cmd_order(args: argparse.Namespace) -> int:
     """``physstep order``: the observed order of convergence over halvings of dt."""
-    res = lab.order(args.scene, args.method, args.dt, args.until, _params(args), levels=args.levels)
+    res = lab.order(
+        args.scene,
+        args.method,
+        args.dt,
+        args.until,
+        _params(args),
+        levels=args.levels,
+        time_scale=args.time_scale,
+    )
     for r in res.get("runs", []):
         # the lab marks a run that diverged with an infinite error: say so, never print inf
         e = r.get("error")
@@ -171,7 +195,7 @@ def _cmd_order(args: argparse.Namespace) -> int:
     g = output.number
     obs = "-" if res["order"] is None else f"{res['order']:.3f}"
     table = Table(title=f"{res['scene']} / {res['method']}")
-    for col in ("dt (s)", "steps", "error (m)", "order"):
+    for col in ("dt (s)", "steps", "error" if res.get("kind") == "flow" else "error (m)", "order"):
         table.add_column(col, justify="right")
     for r in res["runs"]:
         err = "diverged" if r.get("diverged") else g(r["error"], ".3e")
@@ -179,7 +203,8 @@ def _cmd_order(args: argparse.Namespace) -> int:
     con = output.console()
     con.print(table)
     con.print(f"observed order [bold]{obs}[/bold] (registry: {res['info_order']}), fit over the finest runs")
-    con.print(f"error: final position error at t = {res['until']:g} s against the {res['error_against']}")
+    what = res.get("error", "final position error")
+    con.print(f"error: {what} at t = {res['until']:g} s against the {res['error_against']}")
     if res["note"]:
         con.print(f"note: {res['note']}", markup=False)
     return 0
@@ -187,7 +212,7 @@ def _cmd_order(args: argparse.Namespace) -> int:
 
 def _cmd_stability(args: argparse.Namespace) -> int:
     """``physstep stability``: the largest stable dt of a method on a scene."""
-    res = lab.stability(args.scene, args.method, _params(args), cap=args.cap)
+    res = lab.stability(args.scene, args.method, _params(args), cap=args.cap, time_scale=args.time_scale)
     output.finite(res)
     if args.format == "json":
         print(output.dump(res))
@@ -241,6 +266,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         # where each run ended: dt does not always divide until (the lab may say it itself)
         r.setdefault("t_end", r["steps"] * r["dt"])
     output.finite(res)
+    if res.get("note"):
+        print(f"physstep: note: {output.one_line(res['note'])}", file=sys.stderr)
     if args.plot:
         from physstep import plot
 
@@ -263,6 +290,18 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(text)
     return 0
+
+
+def _add_time_scale(p: argparse.ArgumentParser) -> None:
+    """Adds ``--time-scale`` (the lab's ``time_scale``) to ``p``."""
+    p.add_argument(
+        "--time-scale",
+        type=options.argument("--time-scale", low=0, open_low=True),
+        default=None,
+        metavar="S",
+        help="natural time scale, s (default: from the scene's parameters; estimated from the initial "
+        "state for the attractors)",
+    )
 
 
 def register(subparsers: Any) -> None:
@@ -297,6 +336,7 @@ def register(subparsers: Any) -> None:
         default=5,
         help=f"number of step sizes, 2 to {MAX_LEVELS} (default 5)",
     )
+    _add_time_scale(o)
     options.add_param(o)
     options.add_format(o)
     o.set_defaults(func=_cmd_order)
@@ -310,6 +350,7 @@ def register(subparsers: Any) -> None:
         default=None,
         help="largest dt searched, s (default: 1000 time scales)",
     )
+    _add_time_scale(s)
     options.add_param(s)
     options.add_format(s)
     s.set_defaults(func=_cmd_stability)

@@ -97,7 +97,9 @@ impl Newton {
                 break;
             }
             // The explicit guess is never accepted as it is: at least one update is taken.
-            if iter > 0 && residual <= self.params.tol * scale {
+            // The floor keeps the test meaningful where the state decays into subnormal numbers
+            // (whose rounding is absolute, not relative).
+            if iter > 0 && residual <= self.params.tol * scale.max(SCALE_FLOOR) {
                 return Ok(());
             }
             if iter == self.params.max_iter {
@@ -139,6 +141,10 @@ impl Newton {
         Err(Error::NotConverged { method: method.into(), iterations: self.params.max_iter, residual })
     }
 }
+
+/// The smallest size of the terms the relative stopping test measures against: below it
+/// (subnormal states) it is absolute.
+const SCALE_FLOOR: f64 = 1e-290;
 
 /// Most unknowns the dense solver takes: its n x n Jacobian is then 128 MiB.
 pub const MAX_DENSE: usize = 4096;

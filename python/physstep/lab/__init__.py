@@ -1,0 +1,114 @@
+"""The integrator lab: measure how each method behaves on a scene, or on your own system.
+
+Four measurements, each returning plain data (dicts and lists, JSON-ready):
+
+- :func:`compare`: one row per method (order, force evaluations per step, energy error and
+  drift, final error, ns per step).
+- :func:`order`: the observed convergence order from successive halvings of dt.
+- :func:`stability`: the largest stable dt, from the amplification matrix of the repeating
+  step map on the linear/affine scenes and from a bounded-growth search on the others.
+- :func:`sweep`: work-precision data (error against force evaluations and time).
+
+Each takes, where it takes a scene name, a *system* as :func:`physstep.simulate` does: a
+:class:`physstep.Flow`, or a zero-argument callable returning a fresh World (your particles
+and Python forces) or a Flow (:mod:`physstep.lab.system`). Errors are measured against the
+scene's exact solution where it has one and otherwise against a reference solution (RK4 at
+a sixteenth of the finest dt, interpolated with cubic Hermite polynomials between its rows:
+:mod:`physstep.lab.reference`); every result says which in ``error_against``. Every run the
+lab would make is checked against :func:`physstep.simulate`'s limits before any is made: a
+refusal names the lab's own argument (``dt``, ``dts``, ``until``, ``levels``).
+
+The package: :mod:`~physstep.lab.common` (limits, checks, timing, energy statistics),
+:mod:`~physstep.lab.system` (a scene or a system, its time scale), :mod:`~physstep.lab.reference`,
+and one module per measurement.
+"""
+
+from __future__ import annotations
+
+from physstep.lab.common import (
+    ENERGY_ERROR,
+    MAX_RECORDED,
+    MAX_STEPS,
+    REFERENCE_METHOD,
+    REFERENCE_REFINE,
+    TIMING_MAX_RUNS,
+    TIMING_MAX_S,
+    TIMING_MIN_RUNS,
+    TIMING_MIN_S,
+)
+from physstep.lab.common import drift as _drift  # noqa: F401 (the tests use it)
+from physstep.lab.compare import compare
+from physstep.lab.order import MAX_LEVELS, MAX_ORDER_STEPS, ROUNDOFF, UNTIL_SCALES, order
+from physstep.lab.reference import reference
+from physstep.lab.stability import (
+    ABOVE_FACTORS,
+    CAP_SCALES,
+    CLUSTER_TOL,
+    GRID_LOW_SCALES,
+    GRID_PER_DECADE,
+    GROWTH_LIMIT,
+    GROWTH_SCREEN_STEPS,
+    GROWTH_STEPS,
+    GROWTH_STEPS_SYSTEM,
+    LINEAR_SCENES,
+    MAX_BISECTIONS,
+    MAX_CAP_SCALES,
+    NOISE_REL,
+    RHO_TOL,
+    RTOL_GROWTH,
+    RTOL_LINEAR,
+    RTOL_RANGE,
+    SCALE_RUN_SCALES,
+    SCALE_RUN_STEPS,
+    SCAN_FACTORS,
+    SCAN_ROUNDS,
+    amplification,
+    stability,
+)
+from physstep.lab.sweep import sweep
+from physstep.lab.system import FALLBACK_TIME_SCALE, time_scale
+
+__all__ = [
+    "ABOVE_FACTORS",
+    "CAP_SCALES",
+    "CLUSTER_TOL",
+    "ENERGY_ERROR",
+    "FALLBACK_TIME_SCALE",
+    "GRID_LOW_SCALES",
+    "GRID_PER_DECADE",
+    "GROWTH_LIMIT",
+    "GROWTH_SCREEN_STEPS",
+    "GROWTH_STEPS",
+    "GROWTH_STEPS_SYSTEM",
+    "LINEAR_SCENES",
+    "MAX_BISECTIONS",
+    "MAX_CAP_SCALES",
+    "MAX_LEVELS",
+    "MAX_ORDER_STEPS",
+    "MAX_RECORDED",
+    "MAX_STEPS",
+    "NOISE_REL",
+    "REFERENCE_METHOD",
+    "REFERENCE_REFINE",
+    "RHO_TOL",
+    "ROUNDOFF",
+    "RTOL_GROWTH",
+    "RTOL_LINEAR",
+    "RTOL_RANGE",
+    "SCALE_RUN_SCALES",
+    "SCALE_RUN_STEPS",
+    "SCAN_FACTORS",
+    "SCAN_ROUNDS",
+    "TIMING_MAX_RUNS",
+    "TIMING_MAX_S",
+    "TIMING_MIN_RUNS",
+    "TIMING_MIN_S",
+    "UNTIL_SCALES",
+    "amplification",
+    "compare",
+    "order",
+    "reference",
+    "stability",
+    "sweep",
+    "time_scale",
+]

@@ -1,0 +1,119 @@
+"""``compare``: one row per method on one scene or system at one dt."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import physstep
+from physstep import Trajectory
+from physstep.lab.common import (
+    ENERGY_ERROR,
+    REFERENCE_REFINE,
+    check_run,
+    drift,
+    energy_scale,
+    max_abs,
+    positive,
+    timed,
+    timing_note,
+)
+from physstep.lab.reference import error_against, final_error, reference
+from physstep.lab.system import Subject, skipped_note
+
+
+def run_args(subject: Subject, dt: Any, until: Any, dt_name: str = "dt") -> tuple[float, float]:
+    """The (dt, until) of a compare run: the scene's defaults for None (a system has none),
+    both finite > 0, and at least one step (dt <= until)."""
+    dt = positive(dt_name, subject.default("dt", dt))
+    until = positive("until", subject.default("until", until))
+    if dt > until:
+        raise ValueError(f"invalid {dt_name} = {dt!r}: must be <= until = {until!r} (at least one step)")
+    return dt, until
+
+
+def compare(
+    scene: Any,
+    methods: Sequence[str] | str,
+    dt: float | None = None,
+    until: float | None = None,
+    params: dict[str, float] | None = None,
+) -> dict[str, Any]:
+    """One row per method on ``scene`` at ``dt`` up to ``until`` (the scene's defaults if None).
+
+    ``scene`` is a built-in scene's name or a system (a :class:`physstep.Flow`, or a
+    zero-argument callable returning a fresh World or Flow), as :func:`physstep.simulate`
+    takes; a system needs ``dt`` and ``until`` and takes no ``params``. ``methods`` is a list
+    of names or ``"all"``: every method that applies (a flow skips the split methods, and
+    ``note`` says so); a split method named for a flow is refused.
+
+    Each row: ``method``, ``order`` (the registry's), ``evals_per_step`` (measured),
+    ``energy_max_rel_error`` (max |relative energy error|, finite rows), ``energy_drift``
+    (least-squares slope of the relative energy error, per second; None without two finite
+    rows), ``energy_scale`` (J: what the energy error is relative to, :data:`ENERGY_ERROR`),
+    the three None where the energy is unknown (a flow, or a force without a potential),
+    ``final_error`` (max coordinate distance of the final position from the exact solution,
+    or from the reference: see ``error_against``), ``ns_per_step`` (median of
+    ``ns_per_step_runs`` timed runs), ``steps`` and ``t_end`` (what the run took and reached)
+    and ``diverged`` (message or None; a diverged run reports its errors up to the step
+    before).
+
+    The result also has ``until_requested`` (= ``until``), ``steps`` and ``t_end`` (the run
+    takes until / dt steps rounded down: ``t_end`` can fall short of ``until``),
+    ``energy_error``, ``timing`` (how the numbers were made), ``skipped`` and ``note``.
+    ValueError naming ``dt`` or ``until`` before anything runs if a run would be refused (no
+    whole step, too many steps, too large a recording).
+    """
+    subject = Subject(scene, params)
+    names, skipped = subject.methods(methods)
+    dt, until = run_args(subject, dt, until)
+    steps = check_run(dt, until, subject.coords)
+    ref = None
+    if not subject.has_exact:
+        check_run(
+            dt,
+            until,
+            subject.coords,
+            every=REFERENCE_REFINE,
+            refine=REFERENCE_REFINE,
+            what="the reference run",
+        )
+        ref = reference(scene, dt, until, params, every=REFERENCE_REFINE)
+    rows = [_row(subject, m, dt, until, ref) for m in names]
+    t_end = next((r["t_end"] for r in rows if not r["diverged"]), steps * dt)
+    return {
+        "scene": subject.name,
+        "kind": subject.kind,
+        "dt": dt,
+        "until": until,
+        "until_requested": until,
+        "steps": steps,
+        "t_end": t_end,
+        "params": subject.full_params,
+        "error_against": error_against(subject.has_exact, None if ref is None else dt / REFERENCE_REFINE),
+        "energy_error": ENERGY_ERROR,
+        "timing": timing_note(),
+        "skipped": skipped,
+        "note": skipped_note(subject, skipped),
+        "rows": rows,
+    }
+
+
+def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:
+    """One row of :func:`compare`."""
+    traj, ns, runs = timed(lambda: subject.run(method, dt, until, stop_on_diverge=True))
+    return {
+        "method": method,
+        "order": physstep.method(method).order,
+        "evals_per_step": traj.evals / max(traj.steps, 1),
+        "energy_max_rel_error": max_abs(traj.energy_error),
+        "energy_drift": drift(traj),
+        "energy_scale": energy_scale(traj),
+        "final_error": final_error(traj, ref) if len(traj.t) else math.nan,
+        "ns_per_step": ns,
+        "ns_per_step_runs": runs,
+        "steps": int(traj.steps),
+        "t_end": float(traj.t[-1]),
+        "diverged": traj.diverged,
+    }

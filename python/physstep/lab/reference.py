@@ -1,0 +1,75 @@
+"""What the errors are measured against: the exact solution, or a reference run.
+
+A scene with an exact solution (spring, drag, projectile, orbit, kepler; pendulum with
+``g=0``) is measured against it. Everything else (the other scenes, the flow scenes and
+every user system) is measured against a reference run: :data:`REFERENCE_METHOD` (RK4: it
+applies to particles and flows alike, and is the most accurate method that does) at
+``dt / REFERENCE_REFINE`` of the finest dt, interpolated with cubic Hermite polynomials
+between its rows (x and v for particles, y and dy/dt for a flow). Every result says which
+in ``error_against``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+import physstep
+from physstep import Trajectory
+from physstep.lab.common import REFERENCE_METHOD, REFERENCE_REFINE
+
+
+def reference(
+    scene: Any, dt: float, until: float, params: dict[str, float] | None = None, *, every: int = 1
+) -> Trajectory:
+    """The reference run of a scene or system: :data:`REFERENCE_METHOD` at
+    ``dt / REFERENCE_REFINE``, one row every ``every`` of its steps (the last always)."""
+    return physstep.simulate(scene, REFERENCE_METHOD, dt / REFERENCE_REFINE, until, params, every=every)
+
+
+def hermite(traj: Trajectory, times: np.ndarray) -> np.ndarray:
+    """Positions of ``traj`` at ``times`` by cubic Hermite interpolation of (x, v) between rows."""
+    t = traj.t
+    times = np.atleast_1d(np.asarray(times, dtype=float))
+    i = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(t) - 2)
+    h = t[i + 1] - t[i]
+    s = ((times - t[i]) / h)[:, None]
+    h = h[:, None]
+    x0, x1, v0, v1 = traj.x[i], traj.x[i + 1], traj.v[i], traj.v[i + 1]
+    h00 = 2 * s**3 - 3 * s**2 + 1
+    h10 = s**3 - 2 * s**2 + s
+    h01 = -2 * s**3 + 3 * s**2
+    h11 = s**3 - s**2
+    out = h00 * x0 + h10 * h * v0 + h01 * x1 + h11 * h * v1
+    # rows hit exactly (to rounding) are taken as they are
+    exact = np.isclose(
+        times, t[np.clip(np.searchsorted(t, times), 0, len(t) - 1)], rtol=0, atol=1e-9 * h[:, 0]
+    )
+    j = np.clip(np.searchsorted(t, times), 0, len(t) - 1)
+    out[exact] = traj.x[j[exact]]
+    return out
+
+
+def final_error(traj: Trajectory, ref: Trajectory | None) -> float:
+    """Max-coordinate distance of the final position from the exact or reference one."""
+    if traj.exact_x is not None:
+        return float(np.abs(traj.x[-1] - traj.exact_x[-1]).max())
+    assert ref is not None
+    want = hermite(ref, np.array([traj.t[-1]]))[0]
+    return float(np.abs(traj.x[-1] - want).max())
+
+
+def max_error(traj: Trajectory, ref: Trajectory | None) -> float:
+    """Max over the run (and over coordinates) of the distance from the exact/reference path."""
+    if traj.exact_x is not None:
+        return float(np.abs(traj.x - traj.exact_x).max())
+    assert ref is not None
+    return float(np.abs(traj.x - hermite(ref, traj.t)).max())
+
+
+def error_against(has_exact: bool, ref_dt: float | None) -> str:
+    """What the errors were measured against, as a phrase (``error_against``)."""
+    if has_exact:
+        return "exact solution"
+    return f"reference: {REFERENCE_METHOD} at dt/{REFERENCE_REFINE} = {ref_dt:.6g} s"

@@ -1,0 +1,121 @@
+"""``sweep``: work-precision data, every method at every dt."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from physstep import Trajectory
+from physstep.lab.common import (
+    ENERGY_ERROR,
+    REFERENCE_REFINE,
+    check_run,
+    max_abs,
+    positive,
+    timed,
+    timing_note,
+)
+from physstep.lab.reference import error_against, final_error, max_error, reference
+from physstep.lab.system import Subject, skipped_note
+
+
+def _check_dts(dts: Sequence[float]) -> list[float]:
+    if isinstance(dts, str | bytes):
+        raise ValueError(f"invalid dts = {dts!r}: give a list of numbers")
+    try:
+        values = list(dts)
+    except TypeError:
+        raise ValueError(f"invalid dts = {dts!r}: give a list of numbers") from None
+    if not values:
+        raise ValueError("invalid dts = []: give at least one dt")
+    return [positive("dts", d) for d in values]
+
+
+def sweep(
+    scene: Any,
+    methods: Sequence[str] | str,
+    dts: Sequence[float],
+    until: float | None = None,
+    params: dict[str, float] | None = None,
+    *,
+    progress: Callable[[int, int, str], None] | None = None,
+) -> dict[str, Any]:
+    """Work-precision data: every method at every dt up to ``until``.
+
+    ``scene`` is a built-in scene's name or a system (a :class:`physstep.Flow`, or a
+    zero-argument callable returning a fresh World or Flow; it needs ``until``). ``methods``
+    is a list of names or ``"all"``: every method that applies (a flow skips the split
+    methods, and ``note`` says so); a split method named for a flow is refused.
+
+    One row per (method, dt): ``method``, ``dt``, ``steps`` and ``t_end`` (what the run took and
+    reached: until / dt steps rounded down), ``evals`` (force evaluations, measured),
+    ``time_s`` (the stepping loop's wall time, from the median ``ns_per_step``),
+    ``ns_per_step`` (median of ``ns_per_step_runs`` timed runs), ``error`` (final position
+    error, max over coordinates, against the exact solution or the reference at the smallest
+    dt / 16, interpolated to each run's final time), ``max_error`` (the same, maximum over the
+    whole run: free of the cancellations a single time can show), ``energy_max_rel_error``
+    (:data:`ENERGY_ERROR`; None where the energy is unknown) and ``diverged`` (rows that
+    diverged have ``error`` None). ``progress(done, total, label)`` is called after each run.
+
+    Every dt must be <= ``until`` (at least one step); a run that :func:`physstep.simulate`
+    would refuse is a ValueError naming ``dts`` and ``until`` before anything runs.
+    """
+    subject = Subject(scene, params)
+    names, skipped = subject.methods(methods)
+    values = _check_dts(dts)
+    until = positive("until", subject.default("until", until))
+    for d in values:
+        if d > until:
+            raise ValueError(f"invalid dts: dt = {d!r} must be <= until = {until!r} (at least one step)")
+    for d in values:
+        check_run(d, until, subject.coords, dt_name="dts")
+    ref = None
+    if not subject.has_exact:
+        check_run(
+            min(values),
+            until,
+            subject.coords,
+            refine=REFERENCE_REFINE,
+            dt_name="dts",
+            what="the reference run",
+        )
+        ref = reference(scene, min(values), until, params)
+    total = len(names) * len(values)
+    rows = []
+    for m in names:
+        for d in sorted(values, reverse=True):
+            rows.append(_row(subject, m, d, until, ref))
+            if progress is not None:
+                progress(len(rows), total, f"{m} dt={d:g}")
+    return {
+        "scene": subject.name,
+        "kind": subject.kind,
+        "until": until,
+        "until_requested": until,
+        "params": subject.full_params,
+        "error_against": error_against(subject.has_exact, None if ref is None else ref.dt),
+        "energy_error": ENERGY_ERROR,
+        "timing": timing_note(),
+        "skipped": skipped,
+        "note": skipped_note(subject, skipped),
+        "rows": rows,
+    }
+
+
+def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:
+    """One row of :func:`sweep`."""
+    traj, ns, runs = timed(lambda: subject.run(method, dt, until, stop_on_diverge=True))
+    return {
+        "method": method,
+        "dt": dt,
+        "steps": int(traj.steps),
+        "t_end": float(traj.t[-1]),
+        "evals": int(traj.evals),
+        "time_s": float(f"{ns * traj.steps * 1e-9:.12g}"),  # 12 digits: no float noise (e.g. ...0001)
+        "ns_per_step": ns,
+        "ns_per_step_runs": runs,
+        "error": None if traj.diverged else final_error(traj, ref),
+        "max_error": None if traj.diverged else max_error(traj, ref),
+        "energy_max_rel_error": max_abs(traj.energy_error),
+        "diverged": traj.diverged,
+    }
