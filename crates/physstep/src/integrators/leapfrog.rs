@@ -1,6 +1,8 @@
 //! Leapfrog: half-step velocities kept inside, synchronised velocity reported.
 
-use super::{axpy_to, drift, kick, scratch, split_method, sync_f, xva, Info, Log, Method};
+use super::{
+    axpy_to, carried_memory, drift, kick, scratch, split_method, sync_f, xva, Carried, Info, Log, Method,
+};
 use crate::dynamics::{SecondOrder, Split};
 use crate::error::Result;
 
@@ -14,9 +16,7 @@ use crate::error::Result;
 /// predicted synchronised velocity.
 #[derive(Debug, Clone, Default)]
 pub struct Leapfrog {
-    half: Vec<f64>,
-    h_prev: f64,
-    started: bool,
+    half: Carried,
 }
 
 impl Method for Leapfrog {
@@ -43,8 +43,8 @@ impl Method for Leapfrog {
     ) -> Result<()> {
         let again = sys.sys.velocity_dependent();
         let (x, v, a) = xva(y, f);
-        let half = scratch(&mut self.half, x.len());
-        if !self.started || h != self.h_prev {
+        let half = scratch(&mut self.half.v, x.len());
+        if !self.half.started || h != self.half.h {
             axpy_to(half, v, 0.5 * h, a);
         }
         drift(x, half, h);
@@ -56,27 +56,9 @@ impl Method for Leapfrog {
         axpy_to(v, half, 0.5 * h, a);
         kick(half, a, h);
         sync_f(y, f);
-        self.started = true;
-        self.h_prev = h;
+        self.half.keep(h);
         Ok(())
     }
 
-    fn reset(&mut self) {
-        self.started = false;
-        self.half.clear();
-    }
-
-    const MEMORY_FLAGS: usize = 2;
-
-    fn memory(&self, out: &mut Vec<f64>) {
-        super::pack(self.started, self.h_prev, &self.half, out);
-    }
-
-    fn recall(&mut self, m: &[f64], n: usize) -> bool {
-        let Some((started, h, v)) = super::unpack(m, n) else { return false };
-        self.started = started;
-        self.h_prev = h;
-        self.half = v.to_vec();
-        true
-    }
+    carried_memory!(half);
 }

@@ -160,31 +160,81 @@ pub trait Method {
     }
 }
 
-/// Memory of a method with a started flag, a step size and one vector, appended to `out`.
-pub(crate) fn pack(started: bool, h: f64, v: &[f64], out: &mut Vec<f64>) {
-    out.push(if started { 1.0 } else { 0.0 });
-    out.push(h);
-    out.extend_from_slice(v);
+/// The memory of a method that carries one vector from step to step (Verlet's previous
+/// positions, leapfrog's half-step velocities): the vector, the step it was made with, and
+/// whether it is started. As numbers (for snapshots and rollback): `[started, h, vector...]`.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Carried {
+    /// The vector.
+    pub v: Vec<f64>,
+    /// The step the vector belongs to, s.
+    pub h: f64,
+    /// Whether `v` holds a value (false before the first step and after a reset).
+    pub started: bool,
 }
 
-/// Inverse of [`pack`]: `(started, h, vector)`.
-/// Only exact flags (0 or 1), a step size that is finite and >= 0 and a finite vector of `n`
-/// entries (or none, before the first step) are accepted: anything else is a damaged
-/// snapshot.
-pub(crate) fn unpack(m: &[f64], n: usize) -> Option<(bool, f64, &[f64])> {
-    match m {
-        [s, h, rest @ ..]
-            if (*s == 0.0 || *s == 1.0)
-                && h.is_finite()
-                && *h >= 0.0
-                && (rest.len() == n || (*s == 0.0 && rest.is_empty()))
-                && rest.iter().all(|v| v.is_finite()) =>
-        {
-            Some((*s == 1.0, *h, rest))
+impl Carried {
+    /// Forgets the vector.
+    pub fn reset(&mut self) {
+        self.started = false;
+        self.v.clear();
+    }
+
+    /// Marks the vector as made with step `h`.
+    pub fn keep(&mut self, h: f64) {
+        self.started = true;
+        self.h = h;
+    }
+
+    /// Appends `[started, h, vector...]` to `out`.
+    pub fn memory(&self, out: &mut Vec<f64>) {
+        out.push(if self.started { 1.0 } else { 0.0 });
+        out.push(self.h);
+        out.extend_from_slice(&self.v);
+    }
+
+    /// Restores what [`Carried::memory`] wrote for a system of `n` coordinates; `false` when
+    /// `m` does not fit: a flag that is not exactly 0 or 1, a step that is not finite and
+    /// >= 0, a vector that is not finite or not `n` long (or empty, before the first step).
+    pub fn recall(&mut self, m: &[f64], n: usize) -> bool {
+        match m {
+            [s, h, rest @ ..]
+                if (*s == 0.0 || *s == 1.0)
+                    && h.is_finite()
+                    && *h >= 0.0
+                    && (rest.len() == n || (*s == 0.0 && rest.is_empty()))
+                    && rest.iter().all(|v| v.is_finite()) =>
+            {
+                self.started = *s == 1.0;
+                self.h = *h;
+                self.v = rest.to_vec();
+                true
+            }
+            _ => false,
         }
-        _ => None,
     }
 }
+
+/// Implements the memory items of [`Method`] for a method whose memory is the [`Carried`]
+/// field `$field`.
+macro_rules! carried_memory {
+    ($field:ident) => {
+        const MEMORY_FLAGS: usize = 2;
+
+        fn reset(&mut self) {
+            self.$field.reset();
+        }
+
+        fn memory(&self, out: &mut Vec<f64>) {
+            self.$field.memory(out);
+        }
+
+        fn recall(&mut self, m: &[f64], n: usize) -> bool {
+            self.$field.recall(m, n)
+        }
+    };
+}
+pub(crate) use carried_memory;
 
 /// The answer of a split method asked to integrate a first-order flow.
 pub(crate) fn split_only(info: &Info) -> Error {

@@ -1,6 +1,8 @@
 //! Velocityless (Stormer) Verlet and velocity Verlet.
 
-use super::{axpy_to, drift, kick, scratch, split_method, sync_f, xva, Info, Log, Method};
+use super::{
+    axpy_to, carried_memory, drift, kick, scratch, split_method, sync_f, xva, Carried, Info, Log, Method,
+};
 use crate::dynamics::{SecondOrder, Split};
 use crate::error::Result;
 
@@ -14,9 +16,7 @@ use crate::error::Result;
 /// `(x[n] - x[n-1]) / dt` is kept.
 #[derive(Debug, Clone, Default)]
 pub struct Verlet {
-    prev: Vec<f64>,
-    h_prev: f64,
-    started: bool,
+    prev: Carried,
 }
 
 impl Method for Verlet {
@@ -42,13 +42,13 @@ impl Method for Verlet {
         _log: Log<'_>,
     ) -> Result<()> {
         let (x, v, a) = xva(y, f);
-        let prev = scratch(&mut self.prev, x.len());
-        if !self.started {
+        let prev = scratch(&mut self.prev.v, x.len());
+        if !self.prev.started {
             for ((p, xi), vi) in prev.iter_mut().zip(x.iter()).zip(v.iter()) {
                 *p = xi - vi * h;
             }
-        } else if h != self.h_prev {
-            let s = h / self.h_prev;
+        } else if h != self.prev.h {
+            let s = h / self.prev.h;
             for (p, xi) in prev.iter_mut().zip(x.iter()) {
                 *p = xi - (xi - *p) * s;
             }
@@ -63,29 +63,11 @@ impl Method for Verlet {
         }
         sys.accel(t + h, x, v, a);
         sync_f(y, f);
-        self.started = true;
-        self.h_prev = h;
+        self.prev.keep(h);
         Ok(())
     }
 
-    fn reset(&mut self) {
-        self.started = false;
-        self.prev.clear();
-    }
-
-    const MEMORY_FLAGS: usize = 2;
-
-    fn memory(&self, out: &mut Vec<f64>) {
-        super::pack(self.started, self.h_prev, &self.prev, out);
-    }
-
-    fn recall(&mut self, m: &[f64], n: usize) -> bool {
-        let Some((started, h, v)) = super::unpack(m, n) else { return false };
-        self.started = started;
-        self.h_prev = h;
-        self.prev = v.to_vec();
-        true
-    }
+    carried_memory!(prev);
 }
 
 /// Velocity Verlet: `v += a dt/2; x += v dt; a = a(x); v += a dt/2`. Second order,
