@@ -1,0 +1,239 @@
+//! The forces of a world as one set in canonical order: what the integrators evaluate
+//! (accelerations in four phases), the potential energy and the analytic Jacobians.
+
+use super::{central, drag, finite_masses, gravity, nbody, rod, spring, Force};
+use crate::error::Result;
+
+/// The forces of a world, kept in canonical order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ForceSet {
+    forces: Vec<Force>,
+    /// What the list holds, kept on `add` so the hot path does not scan for it.
+    kinds: Kinds,
+}
+
+/// Which phases of [`ForceSet::accel`] have work, and whether any force reads velocity.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct Kinds {
+    forces: bool,
+    rods: bool,
+    velocity: bool,
+    nbody: bool,
+}
+
+impl Kinds {
+    /// These kinds and those of `f`.
+    fn with(self, f: &Force) -> Self {
+        let mut k = self;
+        match *f {
+            Force::Spring { damping, .. } => {
+                k.forces = true;
+                k.velocity |= damping != 0.0;
+            }
+            Force::Drag { linear, quadratic } => {
+                k.forces = true;
+                k.velocity |= linear != 0.0 || quadratic != 0.0;
+            }
+            Force::Rod { .. } => {
+                k.rods = true;
+                k.velocity = true;
+            }
+            Force::NBody { .. } => k.nbody = true,
+            Force::Gravity { .. } | Force::CentralGravity { .. } => {}
+        }
+        k
+    }
+}
+
+impl ForceSet {
+    /// An empty set.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Validates `force` for `n` particles in `dim` dimensions (1..=3) and inserts it in
+    /// canonical order. Springs and rods between two particles are stored with `i < j`;
+    /// vector components (gravity, center, anchor) beyond `dim` are stored as zero.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field: `dim`; `i`, `j` (a particle index `< n`, and
+    /// `j != i`); `stiffness`, `rest_length`, `damping`, `linear`, `quadratic`, `softening`
+    /// (finite, >= 0); `length` (finite, > 0); `gm`, `g` (finite); `g`, `center`, `anchor`
+    /// (every component within `dim` finite).
+    pub fn add(&mut self, force: Force, n: usize, dim: usize) -> Result<()> {
+        let force = force.normalised(n, dim)?;
+        let key = force.key();
+        let at = self.forces.partition_point(|f| f.key() <= key);
+        self.forces.insert(at, force);
+        self.kinds = self.kinds.with(&force);
+        Ok(())
+    }
+
+    /// Number of forces.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.forces.len()
+    }
+
+    /// Whether there are no forces.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.forces.is_empty()
+    }
+
+    /// The forces in canonical order, as normalised by [`ForceSet::add`].
+    pub fn iter(&self) -> impl Iterator<Item = &Force> {
+        self.forces.iter()
+    }
+
+    /// Checks the masses (kg) for forces that need them finite: with an n-body force, every
+    /// particle's mass must be finite (no static particles).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `mass[i]` of the first offending particle.
+    pub fn validate_masses(&self, mass: &[f64]) -> Result<()> {
+        if self.needs_finite_masses() {
+            finite_masses(mass, 0)?;
+        }
+        Ok(())
+    }
+
+    /// Whether every particle's mass must be finite (n-body gravity pulls with each mass).
+    #[must_use]
+    pub fn needs_finite_masses(&self) -> bool {
+        self.kinds.nbody
+    }
+
+    /// Fills `a` (length `n * dim`, m/s^2) with the total acceleration at time `t` (s),
+    /// positions `x` (m) and velocities `v` (m/s). `mass` (kg) and `inv_mass` (1/kg, 0 for
+    /// static particles) have length `n`; `f` is scratch of length `n * dim` (left holding
+    /// the accumulated spring and drag forces, N). Allocates nothing.
+    #[allow(clippy::too_many_arguments)]
+    pub fn accel(
+        &self,
+        dim: usize,
+        _t: f64,
+        x: &[f64],
+        v: &[f64],
+        mass: &[f64],
+        inv_mass: &[f64],
+        f: &mut [f64],
+        a: &mut [f64],
+    ) {
+        let len = inv_mass.len() * dim;
+        debug_assert!(x.len() == len && v.len() == len && f.len() == len && a.len() == len);
+        debug_assert_eq!(mass.len(), inv_mass.len());
+
+        if self.kinds.forces {
+            f.fill(0.0);
+            for force in &self.forces {
+                match *force {
+                    Force::Spring { i, j, stiffness, rest_length, damping } => {
+                        spring::force(dim, x, v, i, j, [stiffness, rest_length, damping], f);
+                    }
+                    Force::Drag { linear, quadratic } => drag::force(dim, v, linear, quadratic, f),
+                    _ => {}
+                }
+            }
+            for ((ap, fp), &im) in a.chunks_exact_mut(dim).zip(f.chunks_exact(dim)).zip(inv_mass) {
+                for (ak, fk) in ap.iter_mut().zip(fp) {
+                    *ak = fk * im;
+                }
+            }
+        }
+        let mut accels = &self.forces[..];
+        if !self.kinds.forces {
+            // No forces, only accelerations: 0 * inv_mass is 0 for every particle. Gravity
+            // sorts first; when present it writes 0 + g in the same pass instead of adding
+            // to zeros in a second one.
+            match self.forces.split_first() {
+                Some((Force::Gravity { g }, rest)) => {
+                    gravity::set(dim, *g, inv_mass, a);
+                    accels = rest;
+                }
+                _ => a.fill(0.0),
+            }
+        }
+
+        for force in accels {
+            match *force {
+                Force::Gravity { g } => gravity::accel(dim, g, inv_mass, a),
+                Force::CentralGravity { center, gm } => central::accel(dim, center, gm, x, inv_mass, a),
+                Force::NBody { g, softening } => nbody::accel(dim, g, softening, x, mass, inv_mass, a),
+                _ => {}
+            }
+        }
+
+        if self.kinds.rods {
+            for force in &self.forces {
+                if let Force::Rod { i, j, .. } = *force {
+                    rod::apply(dim, i, j, x, v, inv_mass, a);
+                }
+            }
+        }
+    }
+
+    /// Total potential energy, J, at positions `x` (m) with masses `mass` (kg): gravity
+    /// `-m g . x` and central gravity `-gm m / r` over particles of finite mass (central: 0 at
+    /// `r = 0`); springs `k (|d| - rest)^2 / 2`; n-body
+    /// `-sum_{i<j} G m_i m_j / sqrt(r^2 + eps^2)`; drag and rods 0.
+    #[must_use]
+    pub fn potential(&self, dim: usize, x: &[f64], mass: &[f64]) -> f64 {
+        let mut u = 0.0;
+        for force in &self.forces {
+            u += match *force {
+                Force::Gravity { g } => gravity::potential(dim, g, x, mass),
+                Force::Spring { i, j, stiffness, rest_length, .. } => {
+                    spring::potential(dim, x, i, j, stiffness, rest_length)
+                }
+                Force::CentralGravity { center, gm } => central::potential(dim, center, gm, x, mass),
+                Force::NBody { g, softening } => nbody::potential(dim, g, softening, x, mass),
+                Force::Drag { .. } | Force::Rod { .. } => 0.0,
+            };
+        }
+        u
+    }
+
+    /// Whether any force depends on velocity (drag, damped spring, rod).
+    #[must_use]
+    pub fn velocity_dependent(&self) -> bool {
+        self.kinds.velocity
+    }
+
+    /// Adds the analytic Jacobians `da/dx` (1/s^2) and `da/dv` (1/s), row-major
+    /// `(n dim) x (n dim)` and zeroed by the caller, and returns `true`; returns `false`
+    /// without touching them when a force has no analytic Jacobian (n-body, rod), so the
+    /// caller falls back to finite differences.
+    #[allow(clippy::too_many_arguments)]
+    pub fn jacobian(
+        &self,
+        dim: usize,
+        _t: f64,
+        x: &[f64],
+        v: &[f64],
+        inv_mass: &[f64],
+        dadx: &mut [f64],
+        dadv: &mut [f64],
+    ) -> bool {
+        if self.forces.iter().any(|f| matches!(f, Force::NBody { .. } | Force::Rod { .. })) {
+            return false;
+        }
+        let len = inv_mass.len() * dim;
+        debug_assert!(dadx.len() == len * len && dadv.len() == len * len);
+        for force in &self.forces {
+            match *force {
+                Force::Spring { i, j, stiffness, rest_length, damping } => {
+                    let jac = spring::Jacobian::new(dim, x, v, i, j, [stiffness, rest_length, damping]);
+                    jac.add(dim, i, j, inv_mass, dadx, dadv);
+                }
+                Force::Drag { linear, quadratic } => {
+                    drag::jacobian(dim, v, linear, quadratic, inv_mass, dadv)
+                }
+                Force::CentralGravity { center, gm } => central::jacobian(dim, center, gm, x, inv_mass, dadx),
+                _ => {}
+            }
+        }
+        true
+    }
+}
