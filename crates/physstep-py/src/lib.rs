@@ -12,6 +12,8 @@ mod pickle;
 mod record;
 mod registry;
 mod world;
+mod world_build;
+mod world_state;
 
 use pyo3::prelude::*;
 

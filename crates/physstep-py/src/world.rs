@@ -6,16 +6,13 @@
 //! calls (`step`) release the GIL in slices and look for Ctrl-C between them: an interrupt
 //! leaves the world after the last whole step.
 
-use crate::convert::{array, bytes, count, float, index, matrix, text, vector, whole};
+use crate::convert::{array, count, float, text, whole};
 use crate::errors::WorldBusyError;
-use crate::force::{PyForce, Slot};
+use crate::force::Slot;
 use crate::py_err;
 use crate::record::SLICE;
-use numpy::{PyArray1, PyArray2};
 use physstep::clock::LoopMode;
-use physstep::forces::{Endpoint, Force};
 use physstep::world::{ParticleBatch, World as Engine, WorldParams};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use std::sync::{Mutex, MutexGuard, TryLockError};
@@ -31,25 +28,25 @@ pub struct World {
     inner: Mutex<Inner>,
 }
 
-struct Inner {
-    engine: Engine,
+pub(crate) struct Inner {
+    pub(crate) engine: Engine,
     /// A Python exception raised inside a step by a user force, to re-raise unchanged.
-    slot: Slot,
+    pub(crate) slot: Slot,
     /// The Python forces as added: `(func, potential, jacobian, velocity_dependent, name)`,
     /// for pickling.
-    user: Vec<Py<PyAny>>,
+    pub(crate) user: Vec<Py<PyAny>>,
     /// A Python flow as made: `(func, jacobian, name, n)`, for pickling.
-    flow: Option<Py<PyAny>>,
+    pub(crate) flow: Option<Py<PyAny>>,
     /// Particles from `add_particle`, validated and waiting to be added in one batch:
     /// growing the engine's `[x; v]` state one particle at a time moves the velocity half
     /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
     /// state flushes them first.
-    pending: ParticleBatch,
+    pub(crate) pending: ParticleBatch,
 }
 
 impl Inner {
     /// The engine, with the particles waiting in the batch added.
-    fn flush(&mut self) -> PyResult<&mut Engine> {
+    pub(crate) fn flush(&mut self) -> PyResult<&mut Engine> {
         if !self.pending.is_empty() {
             self.pending.commit(&mut self.engine).map_err(py_err)?;
         }
@@ -57,7 +54,7 @@ impl Inner {
     }
 
     /// Particles in the world, waiting ones included.
-    fn count(&self) -> usize {
+    pub(crate) fn count(&self) -> usize {
         self.engine.len() + self.pending.len()
     }
 }
@@ -69,22 +66,10 @@ pub(crate) fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
     kept.unwrap_or_else(|| py_err(e))
 }
 
-/// The other end of a spring or rod: a particle index or an anchor point.
-fn endpoint(o: &Bound<'_, PyAny>, field: &str, dim: usize) -> PyResult<Endpoint> {
-    if o.extract::<i64>().is_ok() && !o.is_instance_of::<pyo3::types::PyBool>() {
-        return Ok(Endpoint::Particle(index(o, field)?));
-    }
-    let p = array(o, field, Some(dim), None)
-        .map_err(|_| crate::convert::invalid(field, o, "a particle index or an anchor point"))?;
-    let mut out = [0.0; 3];
-    out[..dim].copy_from_slice(&p);
-    Ok(Endpoint::Anchor(out))
-}
-
 impl World {
     /// The state, or `WorldBusyError` when another thread (or a callback of this world's own
     /// step) holds it.
-    fn lock(&self) -> PyResult<MutexGuard<'_, Inner>> {
+    pub(crate) fn lock(&self) -> PyResult<MutexGuard<'_, Inner>> {
         match self.inner.try_lock() {
             Ok(g) => Ok(g),
             Err(TryLockError::WouldBlock) => Err(WorldBusyError::new_err(
@@ -311,141 +296,6 @@ impl World {
         self.lock()?.engine.set_dt(dt).map_err(py_err)
     }
 
-    /// Adds one particle at `position` (dim numbers, m) with `velocity` (m/s, default 0) and
-    /// `mass` (kg, default 1; `inf` or `static=True` makes it immovable). Returns its index.
-    /// Checked at once (ValueError naming the field); added in a batch before the world is
-    /// next read or stepped, so spawn loops cost O(1) per particle.
-    #[pyo3(signature = (position, velocity=None, mass=None, r#static=None))]
-    fn add_particle(
-        &self,
-        position: &Bound<'_, PyAny>,
-        velocity: Option<&Bound<'_, PyAny>>,
-        mass: Option<&Bound<'_, PyAny>>,
-        r#static: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let mut g = self.lock()?;
-        let d = g.engine.dim();
-        let position = vector(position, "position", d)?;
-        let velocity = match velocity.filter(|v| !v.is_none()) {
-            Some(v) => vector(v, "velocity", d)?,
-            None => [0.0; 3],
-        };
-        let mass = mass.map_or(Ok(1.0), |m| float(m, "mass"))?;
-        let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
-        let Inner { engine, pending, .. } = &mut *g;
-        let i = pending.push(engine, &position[..d], &velocity[..d], mass, fixed).map_err(py_err)?;
-        Ok(i)
-    }
-
-    /// Adds many particles: `positions` (k, dim), optional `velocities` (k, dim) and
-    /// `masses` (k,). Returns their indices.
-    #[pyo3(signature = (positions, velocities=None, masses=None, r#static=None))]
-    fn add_particles<'py>(
-        &self,
-        py: Python<'py>,
-        positions: &Bound<'py, PyAny>,
-        velocities: Option<&Bound<'py, PyAny>>,
-        masses: Option<&Bound<'py, PyAny>>,
-        r#static: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let d = w.dim();
-        let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
-        let x = array(positions, "positions", None, Some(d))?;
-        let k = x.len() / d;
-        let v = velocities
-            .filter(|v| !v.is_none())
-            .map(|v| array(v, "velocities", Some(k), Some(d)))
-            .transpose()?;
-        let m = masses.filter(|m| !m.is_none()).map(|m| array(m, "masses", Some(k), None)).transpose()?;
-        let first = w.add_particles(&x, v.as_deref(), m.as_deref(), fixed).map_err(py_err)?;
-        Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
-    }
-
-    /// Adds uniform gravity `g` (dim numbers, m/s^2) on every dynamic particle.
-    fn add_gravity(&self, g: &Bound<'_, PyAny>) -> PyResult<()> {
-        let mut guard = self.lock()?;
-        let w = guard.flush()?;
-        let g = vector(g, "g", w.dim())?;
-        w.add_force(Force::Gravity { g }).map_err(py_err)
-    }
-
-    /// Adds a damped spring (`stiffness` N/m, `damping` N s/m) from particle `i` to particle
-    /// `j_or_anchor` or to a fixed anchor point; `rest_length` (m) defaults to the current
-    /// distance. A zero rest length makes the linear spring F = -k d - c w.
-    #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=None))]
-    fn add_spring(
-        &self,
-        i: &Bound<'_, PyAny>,
-        j_or_anchor: &Bound<'_, PyAny>,
-        stiffness: &Bound<'_, PyAny>,
-        rest_length: Option<&Bound<'_, PyAny>>,
-        damping: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
-        let mut guard = self.lock()?;
-        let w = guard.flush()?;
-        let i = index(i, "i")?;
-        let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
-        let stiffness = float(stiffness, "stiffness")?;
-        let rest_length =
-            rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
-        let damping = damping.map_or(Ok(0.0), |c| float(c, "damping"))?;
-        w.add_spring(i, j, stiffness, rest_length, damping).map_err(py_err)
-    }
-
-    /// Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2).
-    #[pyo3(signature = (linear=None, quadratic=None))]
-    fn add_drag(
-        &self,
-        linear: Option<&Bound<'_, PyAny>>,
-        quadratic: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
-        let linear = linear.map_or(Ok(0.0), |c| float(c, "linear"))?;
-        let quadratic = quadratic.map_or(Ok(0.0), |c| float(c, "quadratic"))?;
-        let mut g = self.lock()?;
-        g.flush()?.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
-    }
-
-    /// Adds gravity towards a fixed `center` with parameter `gm` (m^3/s^2): a = -gm r / |r|^3.
-    fn add_central_gravity(&self, center: &Bound<'_, PyAny>, gm: &Bound<'_, PyAny>) -> PyResult<()> {
-        let gm = float(gm, "gm")?;
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let center = vector(center, "center", w.dim())?;
-        w.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
-    }
-
-    /// Adds mutual gravity between all particles (constant `g`, `softening` length m).
-    #[pyo3(signature = (g=None, softening=None))]
-    fn add_nbody_gravity(
-        &self,
-        g: Option<&Bound<'_, PyAny>>,
-        softening: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
-        let gval = g.map_or(Ok(1.0), |g| float(g, "g"))?;
-        let softening = softening.map_or(Ok(0.0), |s| float(s, "softening"))?;
-        let mut guard = self.lock()?;
-        guard.flush()?.add_force(Force::NBody { g: gval, softening }).map_err(py_err)
-    }
-
-    /// Adds the notes' force-based rod from particle `i` to `j_or_anchor` (a particle or an
-    /// anchor point); it holds the current distance (`length`, when given, must equal it).
-    #[pyo3(signature = (i, j_or_anchor, length=None))]
-    fn add_rod(
-        &self,
-        i: &Bound<'_, PyAny>,
-        j_or_anchor: &Bound<'_, PyAny>,
-        length: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
-        let mut guard = self.lock()?;
-        let w = guard.flush()?;
-        let i = index(i, "i")?;
-        let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
-        let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
-        w.add_rod(i, j, length).map_err(py_err)
-    }
-
     /// Takes n fixed steps. Raises DivergedError/ConvergenceError if a step fails (that step
     /// is rolled back, the steps before it stay taken); Ctrl-C stops after a whole step.
     #[pyo3(signature = (n=None))]
@@ -482,210 +332,5 @@ impl World {
         let mut g = self.lock()?;
         let slot = g.slot.clone();
         Ok(g.flush()?.advance(frame_time).map_err(|e| raise(&slot, e))?.plan.steps)
-    }
-
-    /// Render interpolation factor in [0, 1).
-    #[getter]
-    fn alpha(&self) -> PyResult<f64> {
-        Ok(self.lock()?.engine.alpha())
-    }
-
-    /// Totals of the game loop: frames, steps, clamped and dropped time (s).
-    #[getter]
-    fn clock_stats(&self) -> PyResult<(u64, u64, f64, f64)> {
-        let s = self.lock()?.engine.clock().stats();
-        Ok((s.frames, s.steps, s.clamped, s.dropped))
-    }
-
-    /// Positions to draw (n, dim): previous + alpha (current - previous) over the last step
-    /// of the latest `advance()`.
-    fn interpolated_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        matrix(py, w.interpolated_positions(), w.dim())
-    }
-
-    /// Positions (n, dim), m: a copy; assign an array to move the particles.
-    #[getter]
-    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        matrix(py, w.positions().to_vec(), w.dim())
-    }
-
-    #[setter(positions)]
-    fn set_positions(&self, x: &Bound<'_, PyAny>) -> PyResult<()> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let x = array(x, "positions", Some(w.len()), Some(w.dim()))?;
-        w.set_positions(&x).map_err(py_err)
-    }
-
-    /// Velocities (n, dim), m/s: a copy; assign an array to change them.
-    #[getter]
-    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        matrix(py, w.velocities().to_vec(), w.dim())
-    }
-
-    #[setter(velocities)]
-    fn set_velocities(&self, v: &Bound<'_, PyAny>) -> PyResult<()> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let v = array(v, "velocities", Some(w.len()), Some(w.dim()))?;
-        w.set_velocities(&v).map_err(py_err)
-    }
-
-    /// Accelerations at the current state (n, dim), m/s^2.
-    #[getter]
-    fn accelerations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let mut g = self.lock()?;
-        let slot = g.slot.clone();
-        let w = g.flush()?;
-        let dim = w.dim();
-        let a = w.accelerations().map_err(|e| raise(&slot, e))?.to_vec();
-        matrix(py, a, dim)
-    }
-
-    /// Physics time, s.
-    #[getter]
-    fn time(&self) -> PyResult<f64> {
-        Ok(self.lock()?.engine.time())
-    }
-
-    /// Steps taken.
-    #[getter]
-    fn steps(&self) -> PyResult<u64> {
-        Ok(self.lock()?.engine.steps())
-    }
-
-    /// Force evaluations made.
-    #[getter]
-    fn evals(&self) -> PyResult<u64> {
-        Ok(self.lock()?.engine.evals())
-    }
-
-    /// Kinetic plus potential energy, J; None when a user force has no potential.
-    fn energy(&self) -> PyResult<Option<f64>> {
-        let mut g = self.lock()?;
-        let slot = g.slot.clone();
-        let w = g.flush()?;
-        let e = w.energy();
-        if let Some(err) = slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take() {
-            return Err(err);
-        }
-        let Some(e) = e else { return Ok(None) };
-        if !e.is_finite() {
-            return Err(py_err(physstep::Error::NonFinite {
-                method: w.integrator().info().name.into(),
-                quantity: "energy".into(),
-                value: e,
-                step: w.steps(),
-                t: w.time(),
-            }));
-        }
-        Ok(Some(e))
-    }
-
-    /// Total momentum of the dynamic particles (dim,), kg m/s.
-    fn momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let mut g = self.lock()?;
-        Ok(PyArray1::from_vec(py, g.flush()?.momentum()))
-    }
-
-    /// The whole dynamic state as checksummed bytes (restore() puts it back bitwise).
-    fn snapshot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        let mut g = self.lock()?;
-        Ok(PyBytes::new(py, &g.flush()?.snapshot()))
-    }
-
-    /// Restores a snapshot() of this world (bytes, bytearray or memoryview); a damaged or
-    /// foreign one is a ValueError and the world is unchanged.
-    fn restore(&self, data: &Bound<'_, PyAny>) -> PyResult<()> {
-        let data = bytes(data, "data")?;
-        let mut g = self.lock()?;
-        let slot = g.slot.clone();
-        g.flush()?.restore(&data).map_err(|e| raise(&slot, e))
-    }
-
-    /// A 64-bit hash of the dynamic state: equal for bitwise-equal states.
-    fn state_hash(&self) -> PyResult<u64> {
-        let mut g = self.lock()?;
-        Ok(g.flush()?.state_hash())
-    }
-
-    /// The vector the step map acts on: positions and velocities (flat), then the vector
-    /// part of the integrator's memory (Verlet's previous positions, leapfrog's half-step
-    /// velocities). For linearising a step, as `physstep.lab.stability` does.
-    fn phase_state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let mut g = self.lock()?;
-        Ok(PyArray1::from_vec(py, g.flush()?.phase()))
-    }
-
-    /// Sets what `phase_state()` returns, without restarting the integrator.
-    fn set_phase_state(&self, z: &Bound<'_, PyAny>) -> PyResult<()> {
-        let z = array(z, "phase", None, None)?;
-        let mut g = self.lock()?;
-        let slot = g.slot.clone();
-        g.flush()?.set_phase(&z).map_err(|e| raise(&slot, e))
-    }
-
-    /// Adds a force written in Python: `func(t, x, v)` gets the time and the positions and
-    /// velocities of all particles as (n, dim) arrays and returns the forces (n, dim), N. It
-    /// is called once per force evaluation. `potential(x)` (J) makes the energy known;
-    /// `jacobian(t, x, v)` returns (dF/dx, dF/dv), each (n dim, n dim), for the implicit
-    /// methods; `velocity_dependent=False` saves re-evaluations when the force ignores v.
-    /// An exception raised inside propagates unchanged, with the step rolled back. Returns
-    /// the force's index among the user forces.
-    #[pyo3(signature = (func, *, potential=None, jacobian=None, velocity_dependent=None, name=None))]
-    fn add_force(
-        &self,
-        py: Python<'_>,
-        func: &Bound<'_, PyAny>,
-        potential: Option<&Bound<'_, PyAny>>,
-        jacobian: Option<&Bound<'_, PyAny>>,
-        velocity_dependent: Option<&Bound<'_, PyAny>>,
-        name: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let callable = |o: Option<&Bound<'_, PyAny>>, field: &str| -> PyResult<Option<Py<PyAny>>> {
-            match o.filter(|o| !o.is_none()) {
-                Some(o) if o.is_callable() => Ok(Some(o.clone().unbind())),
-                Some(o) => Err(crate::convert::invalid(field, o, "callable")),
-                None => Ok(None),
-            }
-        };
-        let func = callable(Some(func), "func")?
-            .ok_or_else(|| PyValueError::new_err("invalid func = None: must be callable"))?;
-        let potential = callable(potential, "potential")?;
-        let jacobian = callable(jacobian, "jacobian")?;
-        let velocity_dependent =
-            velocity_dependent.map_or(Ok(true), |v| crate::convert::flag(v, "velocity_dependent"))?;
-        let mut g = self.lock()?;
-        let k = g.engine.model().user_forces();
-        let name = match name {
-            Some(n) => text(n, "name")?,
-            None => func
-                .bind(py)
-                .getattr("__name__")
-                .and_then(|n| n.extract::<String>())
-                .unwrap_or_else(|_| format!("force {k}")),
-        };
-        let spec = (
-            func.bind(py),
-            potential.as_ref().map(|p| p.bind(py)),
-            jacobian.as_ref().map(|j| j.bind(py)),
-            velocity_dependent,
-            &name,
-        )
-            .into_pyobject(py)?
-            .into_any()
-            .unbind();
-        let slot = g.slot.clone();
-        let w = g.flush()?;
-        let force = PyForce { name, dim: w.dim(), func, potential, jacobian, velocity_dependent, slot };
-        let k = w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
-        g.user.push(spec);
-        Ok(k)
     }
 }
