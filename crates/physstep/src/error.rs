@@ -77,6 +77,9 @@ pub enum Error {
         name: String,
         /// What went wrong.
         reason: String,
+        /// Whether the force returned a non-finite value (the state ran away under it: a
+        /// divergence) rather than failing by itself (an error, a wrong shape).
+        non_finite: bool,
     },
     /// Serialised state that cannot be read back (snapshot from another world or corrupted).
     Corrupt {
@@ -108,7 +111,13 @@ impl Error {
     /// derived quantity), as opposed to bad input.
     #[must_use]
     pub fn is_step_failure(&self) -> bool {
-        matches!(self, Self::Diverged { .. } | Self::NotConverged { .. } | Self::NonFinite { .. })
+        matches!(
+            self,
+            Self::Diverged { .. }
+                | Self::NotConverged { .. }
+                | Self::NonFinite { .. }
+                | Self::Force { non_finite: true, .. }
+        )
     }
 }
 
@@ -144,7 +153,7 @@ impl fmt::Display for Error {
                 f,
                 "method '{method}' diverged: the {quantity} is {value} after step {step} (t = {t}); the run stops there"
             ),
-            Self::Force { name, reason } => {
+            Self::Force { name, reason, .. } => {
                 write!(f, "force '{}' failed: {}; step rolled back", one_line(name), one_line(reason))
             }
             Self::Corrupt { reason } => write!(f, "corrupt snapshot: {reason}"),

@@ -171,14 +171,16 @@ impl FirstOrder for FlowModel {
                 dy[2] = y[0].sin() - b * y[2];
             }
             Flow::User { generator, .. } => {
-                let r =
-                    generator.deriv(t, y, dy).and_then(|()| match dy.iter().position(|c| !c.is_finite()) {
+                let r = generator.deriv(t, y, dy).map_err(|reason| (reason, false)).and_then(|()| {
+                    match dy.iter().position(|c| !c.is_finite()) {
                         None => Ok(()),
-                        Some(i) => Err(format!("dy[{i}] = {} is not finite", dy[i])),
-                    });
-                if let Err(reason) = r {
+                        Some(i) => Err((format!("dy[{i}] = {} is not finite", dy[i]), true)),
+                    }
+                });
+                if let Err((reason, non_finite)) = r {
                     if self.failure.is_none() {
-                        self.failure = Some(Error::Force { name: generator.name().to_string(), reason });
+                        let name = generator.name().to_string();
+                        self.failure = Some(Error::Force { name, reason, non_finite });
                     }
                     dy.fill(f64::NAN);
                 }

@@ -14,17 +14,14 @@ from __future__ import annotations
 
 import contextlib
 import math
-import re
 from typing import Any
 
 import numpy as np
 
 import physstep
 from physstep import Trajectory
-from physstep.lab.common import REFERENCE_METHOD, positive, steps
+from physstep.lab.common import REFERENCE_METHOD, positive
 
-#: How the engine words a user force or flow that returned a non-finite value (a ValueError).
-NON_FINITE_FORCE = re.compile(r"failed: (force\[\d+\]\[\d+\]|dy\[\d+\]) = \S+ is not finite")
 #: The time scale, s, of a system whose initial state gives none (all zero, or at rest with
 #: no acceleration): pass ``time_scale=`` instead.
 FALLBACK_TIME_SCALE = 1.0
@@ -116,33 +113,14 @@ class Subject:
     ) -> Trajectory:
         """:func:`physstep.simulate` of this scene or system.
 
-        With ``stop_on_diverge`` a run that blows up is data, not an error: numpy's
-        floating-point warnings inside Python forces are silenced, and a user force (or flow)
-        that turns non-finite ends the run as a divergence does. (The engine raises
-        ValueError for that, as it cannot tell a state run away from a broken force, so the
-        failing step is found on a fresh World and the run is made again up to the step
-        before, ``diverged`` naming the force. A force broken from the start still raises:
-        the lab's reference run has no ``stop_on_diverge``.)
+        With ``stop_on_diverge`` a run that blows up is data, not an error (a user force or
+        flow that turns non-finite ends it as a divergence does, ``diverged`` naming the
+        force), and numpy's floating-point warnings inside Python forces are silenced.
         """
-        try:
-            with np.errstate(all="ignore") if stop_on_diverge else contextlib.nullcontext():
-                return physstep.simulate(
-                    self.target, method, dt, until, self.params, every=every, stop_on_diverge=stop_on_diverge
-                )
-        except ValueError as e:
-            if not (stop_on_diverge and self.is_system and NON_FINITE_FORCE.search(str(e))):
-                raise
-            failure = str(e)
-        world = self.world(method, dt)
-        with np.errstate(all="ignore"):
-            try:
-                world.step(steps(dt, until))
-            except (ValueError, physstep.StepError):
-                pass
-            k = int(world.steps)
-            traj = physstep.simulate(self.target, method, dt, k * dt, every=min(every, max(k, 1)))
-        traj.diverged = f"method '{method}' diverged at step {k + 1} (t = {(k + 1) * dt:g}): {failure}"
-        return traj
+        with np.errstate(all="ignore") if stop_on_diverge else contextlib.nullcontext():
+            return physstep.simulate(
+                self.target, method, dt, until, self.params, every=every, stop_on_diverge=stop_on_diverge
+            )
 
     def world(self, method: str, dt: float) -> physstep.World:
         """A fresh World of this scene or system with ``method`` and ``dt``."""

@@ -111,13 +111,18 @@ impl Model {
         f.clear();
         f.resize(x.len(), 0.0);
         for g in &self.user {
-            let r = g.0.add_forces(t, x, v, f).and_then(|()| match f.iter().position(|c| !c.is_finite()) {
-                None => Ok(()),
-                Some(i) => Err(format!("force[{}][{}] = {} is not finite", i / self.dim, i % self.dim, f[i])),
+            let r = g.0.add_forces(t, x, v, f).map_err(|reason| (reason, false)).and_then(|()| {
+                match f.iter().position(|c| !c.is_finite()) {
+                    None => Ok(()),
+                    Some(i) => Err((
+                        format!("force[{}][{}] = {} is not finite", i / self.dim, i % self.dim, f[i]),
+                        true,
+                    )),
+                }
             });
-            if let Err(reason) = r {
+            if let Err((reason, non_finite)) = r {
                 if self.failure.is_none() {
-                    self.failure = Some(Error::Force { name: g.0.name().to_string(), reason });
+                    self.failure = Some(Error::Force { name: g.0.name().to_string(), reason, non_finite });
                 }
                 a.fill(f64::NAN);
                 return;
