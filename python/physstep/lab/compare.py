@@ -9,7 +9,6 @@ from typing import Any
 import physstep
 from physstep import Trajectory
 from physstep.lab.common import (
-    ENERGY_ERROR,
     REFERENCE_REFINE,
     check_run,
     drift,
@@ -17,10 +16,9 @@ from physstep.lab.common import (
     max_abs,
     positive,
     timed,
-    timing_note,
 )
 from physstep.lab.reference import error_against, final_error, reference
-from physstep.lab.system import Subject, skipped_note
+from physstep.lab.system import Subject, table
 
 
 def run_args(subject: Subject, dt: Any, until: Any, dt_name: str = "dt") -> tuple[float, float]:
@@ -82,22 +80,10 @@ def compare(
         ref = reference(scene, dt, until, params, every=REFERENCE_REFINE)
     rows = [_row(subject, m, dt, until, ref) for m in names]
     t_end = next((r["t_end"] for r in rows if not r["diverged"]), steps * dt)
-    return {
-        "scene": subject.name,
-        "kind": subject.kind,
-        "dt": dt,
-        "until": until,
-        "until_requested": until,
-        "steps": steps,
-        "t_end": t_end,
-        "params": subject.full_params,
-        "error_against": error_against(subject.has_exact, None if ref is None else dt / REFERENCE_REFINE),
-        "energy_error": ENERGY_ERROR,
-        "timing": timing_note(),
-        "skipped": skipped,
-        "note": skipped_note(subject, skipped),
-        "rows": rows,
-    }
+    against = error_against(subject.has_exact, None if ref is None else dt / REFERENCE_REFINE)
+    out = table(subject, until, against, skipped, rows)
+    # compare runs one dt: the table says it, with the steps it takes and the time they reach.
+    return {**out, "dt": dt, "steps": steps, "t_end": t_end}
 
 
 def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:

@@ -7,16 +7,14 @@ from typing import Any
 
 from physstep import Trajectory
 from physstep.lab.common import (
-    ENERGY_ERROR,
     REFERENCE_REFINE,
     check_run,
     max_abs,
     positive,
     timed,
-    timing_note,
 )
 from physstep.lab.reference import error_against, final_error, max_error, reference
-from physstep.lab.system import Subject, skipped_note
+from physstep.lab.system import Subject, table
 
 
 def _check_dts(dts: Sequence[float]) -> list[float]:
@@ -87,19 +85,9 @@ def sweep(
             rows.append(_row(subject, m, d, until, ref))
             if progress is not None:
                 progress(len(rows), total, f"{m} dt={d:g}")
-    return {
-        "scene": subject.name,
-        "kind": subject.kind,
-        "until": until,
-        "until_requested": until,
-        "params": subject.full_params,
-        "error_against": error_against(subject.has_exact, None if ref is None else ref.dt),
-        "energy_error": ENERGY_ERROR,
-        "timing": timing_note(),
-        "skipped": skipped,
-        "note": skipped_note(subject, skipped),
-        "rows": rows,
-    }
+    return table(
+        subject, until, error_against(subject.has_exact, None if ref is None else ref.dt), skipped, rows
+    )
 
 
 def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:

@@ -20,7 +20,7 @@ import numpy as np
 
 import physstep
 from physstep import Trajectory
-from physstep.lab.common import REFERENCE_METHOD, positive
+from physstep.lab.common import ENERGY_ERROR, REFERENCE_METHOD, positive, timing_note
 
 #: The time scale, s, of a system whose initial state gives none (all zero, or at rest with
 #: no acceleration): pass ``time_scale=`` instead.
@@ -243,3 +243,23 @@ def time_scale(scene: Any, params: dict[str, float] | None = None) -> float:
     :func:`estimated_time_scale`.
     """
     return Subject(scene, params).time_scale()
+
+
+def table(
+    subject: Subject, until: float, error_against: str, skipped: list[str], rows: list[dict[str, Any]]
+) -> dict[str, Any]:
+    """The keys every table of runs (compare, sweep) shares: what was measured, against what,
+    how, and its rows."""
+    return {
+        "scene": subject.name,
+        "kind": subject.kind,
+        "until": until,
+        "until_requested": until,
+        "params": subject.full_params,
+        "error_against": error_against,
+        "energy_error": ENERGY_ERROR,
+        "timing": timing_note(),
+        "skipped": skipped,
+        "note": skipped_note(subject, skipped),
+        "rows": rows,
+    }
