@@ -131,20 +131,20 @@ pub(crate) fn array(
         (None, None) => "(n,)".into(),
     };
     // Only real numbers: numpy would cast a complex array to its real part with a warning.
+    // One conversion: `asarray` keeps the dtype so that only real numbers pass (numpy
+    // would cast a complex array to its real part with a mere warning), then float64.
+    let not_numbers = || {
+        PyValueError::new_err(format!("invalid {field}: must be an array of real numbers of shape {want}"))
+    };
     let np = py.import("numpy")?;
-    if let Ok(raw) = np.call_method1("asarray", (obj,)) {
-        let kind: String = raw.getattr("dtype")?.getattr("kind")?.extract()?;
-        if !matches!(kind.as_str(), "i" | "u" | "f") && raw.getattr("size")?.extract::<usize>()? > 0 {
-            return Err(PyValueError::new_err(format!(
-                "invalid {field}: must be an array of real numbers of shape {want}"
-            )));
-        }
+    let raw = np.call_method1("asarray", (obj,)).map_err(|_| not_numbers())?;
+    let kind: String = raw.getattr("dtype")?.getattr("kind")?.extract()?;
+    if !matches!(kind.as_str(), "i" | "u" | "f") && raw.getattr("size")?.extract::<usize>()? > 0 {
+        return Err(not_numbers());
     }
     let kwargs = PyDict::new(py);
     kwargs.set_item("dtype", "float64")?;
-    let arr = py.import("numpy")?.call_method("ascontiguousarray", (obj,), Some(&kwargs)).map_err(|_| {
-        PyValueError::new_err(format!("invalid {field}: must be an array of numbers of shape {want}"))
-    })?;
+    let arr = np.call_method("ascontiguousarray", (raw,), Some(&kwargs)).map_err(|_| not_numbers())?;
     let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
     let ok = match cols {
         Some(c) => shape.len() == 2 && shape[1] == c,
