@@ -1,14 +1,23 @@
-//! The interface integrators see.
+//! What methods see of a world: its parts as one [`System`], and a [`Step`] to run a recipe
+//! on.
 //!
-//! A second-order system `x'' = a(t, x, v)` fills accelerations from `(t, x, v)`; a first-order
-//! flow `y' = f(t, y)` fills `dy` from `(t, y)`. Both work on flat `f64` slices: how many
-//! particles and dimensions hide behind a slice is the system's business, never the
-//! integrator's.
+//! A world's state is one flat vector `y` with its derivative `f`. Where the world is
+//! mechanical, `y = [X; V]` splits into positions `X` (particles' x; later, bodies' x and
+//! orientation) and velocities `V` (particles' v; bodies' momenta), and `f = [dX; A]` with
+//! `A` what a kick adds to `V` per second (particles' accelerations; bodies' forces and
+//! torques). Methods are written once against this view:
 //!
-//! Integrators that do not need the split into position and velocity (Euler, midpoint, Heun,
-//! RK4, the implicit methods) see a second-order system as the first-order flow of
-//! `y = [x; v]`, `y' = [v; a(t, x, v)]` through [`Split`]; the split (symplectic) methods use
-//! `accel` directly.
+//! - *split* methods (symplectic Euler, Verlet, leapfrog, velocity Verlet, Yoshida) are
+//!   recipes of [`Step::eval`] (`A` at the current state), [`Step::kick`] (`V += h A`) and
+//!   [`Step::drift`] (`X` moved by `V` over `h`, as each part defines it);
+//! - *flow* methods (Euler, midpoint, Heun, RK4, the implicit ones) see the flat `y` and its
+//!   derivative through [`Step::deriv`]; the system's [`System::project`] runs after every
+//!   step (a quaternion renormalised).
+//!
+//! Users write a system as a [`SecondOrder`] (`x'' = a(t, x, v)`) or a [`FirstOrder`]
+//! (`y' = f(t, y)`); [`Second`] and [`First`] make them [`System`]s.
+
+use crate::integrators::{Log, StageRow};
 
 /// A second-order system `x'' = a(t, x, v)` on `n` coordinates.
 pub trait SecondOrder {
@@ -59,79 +68,88 @@ pub trait FirstOrder {
     }
 }
 
-/// What the non-split integrators integrate: a flow on `y` that counts its evaluations.
-pub trait Flow {
-    /// Length of `y`.
+/// A world's parts as one system, as methods see it (see the module docs).
+///
+/// The split view ([`System::split`], [`System::accel`], [`System::drift`],
+/// [`System::rate`]) is used only when `split()` is `Some`; a first-order flow returns `None`
+/// and split methods refuse it.
+pub trait System {
+    /// Length of the flat state `y` (and of `f`).
     fn dim(&self) -> usize;
-    /// Fills `dy = f(t, y)`.
-    fn deriv(&mut self, t: f64, y: &[f64], dy: &mut [f64]);
-    /// Fills `df/dy` (row-major, zeroed by the caller); `false` when there is no analytic one.
-    /// `work` is scratch the flow may resize.
-    fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], work: &mut Vec<f64>) -> bool;
-}
 
-/// A [`FirstOrder`] flow seen as a [`Flow`], counting its evaluations.
-pub struct Plain<'a, F: ?Sized> {
-    /// The flow.
-    pub sys: &'a mut F,
-    /// Incremented on every evaluation of `f`.
-    pub evals: &'a mut u64,
-}
+    /// Length of the positions `X` where `y = [X; V]`; `None` for a first-order flow.
+    fn split(&self) -> Option<usize>;
 
-impl<F: FirstOrder + ?Sized> Flow for Plain<'_, F> {
-    #[inline]
-    fn dim(&self) -> usize {
-        self.sys.len()
-    }
-    #[inline]
+    /// Fills `dy = f(t, y)`. For a split system: `[dX; A]` from [`System::rate`] and
+    /// [`System::accel`].
     fn deriv(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
-        *self.evals += 1;
-        self.sys.deriv(t, y, dy);
-    }
-    fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], _work: &mut Vec<f64>) -> bool {
-        self.sys.jacobian(t, y, j)
-    }
-}
-
-/// A [`SecondOrder`] system seen as the flow of `y = [x; v]`, `y' = [v; a]`, counting its
-/// acceleration evaluations.
-pub struct Split<'a, S: ?Sized> {
-    /// The system.
-    pub sys: &'a mut S,
-    /// Incremented on every evaluation of `a`.
-    pub evals: &'a mut u64,
-}
-
-impl<S: SecondOrder + ?Sized> Split<'_, S> {
-    /// Evaluates `a(t, x, v)`, counting it.
-    #[inline]
-    pub fn accel(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
-        *self.evals += 1;
-        self.sys.accel(t, x, v, a);
-    }
-}
-
-impl<S: SecondOrder + ?Sized> Flow for Split<'_, S> {
-    #[inline]
-    fn dim(&self) -> usize {
-        2 * self.sys.len()
-    }
-    #[inline]
-    fn deriv(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let n = self.sys.len();
+        let n = self.split().unwrap_or(0);
         let (x, v) = y.split_at(n);
-        let (dx, dv) = dy.split_at_mut(n);
-        dx.copy_from_slice(v);
-        self.accel(t, x, v, dv);
+        let (dx, a) = dy.split_at_mut(n);
+        self.rate(x, v, dx);
+        self.accel(t, x, v, a);
+    }
+
+    /// Fills `df/dy` (row-major, zeroed by the caller) and returns `true`, or `false` when
+    /// there is no analytic one (the implicit methods then use finite differences). `work` is
+    /// scratch the system may resize.
+    fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], work: &mut Vec<f64>) -> bool;
+
+    /// Fills `A` at time `t`, positions `x` and velocities `w`.
+    fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]);
+
+    /// Moves positions `x` by velocities `w` over `h` (which may be negative): particles
+    /// `x += h w`.
+    fn drift(&mut self, x: &mut [f64], w: &[f64], h: f64);
+
+    /// Fills `dx`, the rate of the positions at `(x, v)`: particles `dx = v`.
+    fn rate(&self, x: &[f64], v: &[f64], dx: &mut [f64]);
+
+    /// Whether `A` depends on `V` (methods skip re-evaluating it when it does not).
+    fn velocity_dependent(&self) -> bool;
+
+    /// A kick `v += h a`, a drift of `x` by the new `v` over `h`, and `dx` = the new rate:
+    /// the whole of a symplectic Euler step but its evaluation. Parts fuse it into one pass
+    /// over memory where they can; the result must be what the three would give.
+    fn kick_drift(&mut self, x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
+        crate::integrators::axpy(v, h, a);
+        self.drift(x, v, h);
+        self.rate(x, v, dx);
+    }
+
+    /// Whether the positions are plain vectors, so a method may do arithmetic on them
+    /// (Verlet's `2 x - x_prev`); `false` for orientations.
+    fn vector_positions(&self) -> bool {
+        true
+    }
+
+    /// Brings `y` (and `f`) back onto the state space after a step (a quaternion
+    /// renormalised); nothing for particles and flows.
+    fn project(&mut self, y: &mut [f64], f: &mut [f64]) {
+        let _ = (y, f);
+    }
+}
+
+/// A [`SecondOrder`] system as a [`System`] on `y = [x; v]`.
+pub struct Second<'a, S: ?Sized>(pub &'a mut S);
+
+impl<S: SecondOrder + ?Sized> System for Second<'_, S> {
+    #[inline]
+    fn dim(&self) -> usize {
+        2 * self.0.len()
+    }
+    #[inline]
+    fn split(&self) -> Option<usize> {
+        Some(self.0.len())
     }
     fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], work: &mut Vec<f64>) -> bool {
         // d[v; a]/d[x; v] = [[0, I], [da/dx, da/dv]]
-        let n = self.sys.len();
+        let n = self.0.len();
         let (x, v) = y.split_at(n);
         work.clear();
         work.resize(2 * n * n, 0.0);
         let (dadx, dadv) = work.split_at_mut(n * n);
-        if !self.sys.jacobian(t, x, v, dadx, dadv) {
+        if !self.0.jacobian(t, x, v, dadx, dadv) {
             return false;
         }
         let m = 2 * n;
@@ -141,5 +159,236 @@ impl<S: SecondOrder + ?Sized> Flow for Split<'_, S> {
             j[(n + i) * m + n..(n + i + 1) * m].copy_from_slice(&dadv[i * n..(i + 1) * n]);
         }
         true
+    }
+    #[inline]
+    fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {
+        self.0.accel(t, x, w, a);
+    }
+    #[inline]
+    fn drift(&mut self, x: &mut [f64], w: &[f64], h: f64) {
+        crate::integrators::axpy(x, h, w);
+    }
+    #[inline]
+    fn rate(&self, _x: &[f64], v: &[f64], dx: &mut [f64]) {
+        dx.copy_from_slice(v);
+    }
+    #[inline]
+    fn velocity_dependent(&self) -> bool {
+        self.0.velocity_dependent()
+    }
+    #[inline]
+    fn kick_drift(&mut self, x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
+        crate::integrators::kick_drift(x, v, dx, a, h);
+    }
+}
+
+/// A [`FirstOrder`] flow as a [`System`] (no split: split methods refuse it).
+pub struct First<'a, F: ?Sized>(pub &'a mut F);
+
+impl<F: FirstOrder + ?Sized> System for First<'_, F> {
+    #[inline]
+    fn dim(&self) -> usize {
+        self.0.len()
+    }
+    #[inline]
+    fn split(&self) -> Option<usize> {
+        None
+    }
+    #[inline]
+    fn deriv(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
+        self.0.deriv(t, y, dy);
+    }
+    fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], _work: &mut Vec<f64>) -> bool {
+        self.0.jacobian(t, y, j)
+    }
+    // A flow has no split view; the registry never runs a split method on it.
+    fn accel(&mut self, _t: f64, _x: &[f64], _w: &[f64], _a: &mut [f64]) {}
+    fn drift(&mut self, _x: &mut [f64], _w: &[f64], _h: f64) {}
+    fn rate(&self, _x: &[f64], _v: &[f64], _dx: &mut [f64]) {}
+    fn velocity_dependent(&self) -> bool {
+        true
+    }
+}
+
+/// One step in progress: the state a method advances, the system, and the operations a
+/// recipe is made of. Every evaluation is counted; stages are logged when asked.
+pub struct Step<'a, S: ?Sized> {
+    /// Time at the start of the step, s.
+    pub t: f64,
+    /// The step, s.
+    pub h: f64,
+    /// The state at `t`, moved to `t + h` by the method.
+    pub y: &'a mut [f64],
+    /// The derivative at `(t, y)`; at the end of the step, at the new state.
+    pub f: &'a mut [f64],
+    sys: &'a mut S,
+    evals: &'a mut u64,
+    log: Log<'a>,
+}
+
+impl<'a, S: System + ?Sized> Step<'a, S> {
+    /// A step of `h` from `(t, y, f)` of `sys`, counting evaluations in `evals`.
+    pub fn new(
+        sys: &'a mut S,
+        t: f64,
+        h: f64,
+        y: &'a mut [f64],
+        f: &'a mut [f64],
+        evals: &'a mut u64,
+        log: Log<'a>,
+    ) -> Self {
+        Self { t, h, y, f, sys, evals, log }
+    }
+
+    /// The system.
+    pub fn system(&mut self) -> &mut S {
+        self.sys
+    }
+
+    // ----- the flow view -----
+
+    /// `dy = f(t, y)` at a state of the method's own (a stage), counted.
+    #[inline]
+    pub fn deriv(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
+        *self.evals += 1;
+        self.sys.deriv(t, y, dy);
+    }
+
+    /// A stage: `y_out = y + c h k` and `f_out = f(t + c h, y_out)`, counted; `k` is the
+    /// state's own derivative `f` when `None` (an Euler stage).
+    #[inline]
+    pub fn stage(&mut self, c: f64, k: Option<&[f64]>, y_out: &mut [f64], f_out: &mut [f64]) {
+        crate::integrators::axpy_to(y_out, self.y, c * self.h, k.unwrap_or(self.f));
+        self.deriv(self.t + c * self.h, y_out, f_out);
+    }
+
+    /// The derivative of the step's own state at `t`: `f = f(t, y)`, counted.
+    #[inline]
+    pub fn refresh(&mut self, t: f64) {
+        *self.evals += 1;
+        self.sys.deriv(t, self.y, self.f);
+    }
+
+    /// Records an intermediate evaluation point (the notes' `half`, `xa`, `xb`, `xc`).
+    #[inline]
+    pub fn record(&mut self, stage: &'static str, t: f64, y: &[f64], f: &[f64]) {
+        if let Some(log) = self.log.as_deref_mut() {
+            log.rows.push(StageRow { stage, t, y: y.to_vec(), f: f.to_vec() });
+        }
+    }
+
+    /// The state, its derivative and the system as a counted flow, apart (for a solver that
+    /// evaluates while it reads the state).
+    pub fn flow(&mut self) -> (&[f64], &[f64], Counted<'_, S>) {
+        (self.y, self.f, Counted { sys: self.sys, evals: self.evals })
+    }
+
+    // ----- the split view -----
+
+    /// Positions, velocities and `A`: `(X, V, A)` of `y = [X; V]`, `f = [dX; A]`.
+    #[inline]
+    pub fn xva(&mut self) -> (&mut [f64], &mut [f64], &mut [f64]) {
+        let n = self.split();
+        let (x, v) = self.y.split_at_mut(n);
+        (x, v, &mut self.f[n..])
+    }
+
+    /// Length of the velocities `V` (the size of a method's velocity memory).
+    #[inline]
+    #[must_use]
+    pub fn vel_len(&self) -> usize {
+        self.y.len() - self.split()
+    }
+
+    #[inline]
+    fn split(&self) -> usize {
+        self.sys.split().unwrap_or(0)
+    }
+
+    /// Whether `A` depends on the velocities.
+    #[inline]
+    pub fn velocity_dependent(&self) -> bool {
+        self.sys.velocity_dependent()
+    }
+
+    /// Eval: `A = a(t, X, V)`, counted.
+    #[inline]
+    pub fn eval(&mut self, t: f64) {
+        *self.evals += 1;
+        let n = self.split();
+        let (x, v) = self.y.split_at(n);
+        self.sys.accel(t, x, v, &mut self.f[n..]);
+    }
+
+    /// `A = a(t, X, W)` at velocities `w` of the method's own (a half-step velocity), counted.
+    #[inline]
+    pub fn eval_at(&mut self, t: f64, w: &[f64]) {
+        *self.evals += 1;
+        let n = self.split();
+        self.sys.accel(t, &self.y[..n], w, &mut self.f[n..]);
+    }
+
+    /// Kick: `V += h A`.
+    #[inline]
+    pub fn kick(&mut self, h: f64) {
+        let (_, v, a) = self.xva();
+        crate::integrators::axpy(v, h, a);
+    }
+
+    /// Drift: `X` moved by `V` over `h`.
+    #[inline]
+    pub fn drift(&mut self, h: f64) {
+        let n = self.split();
+        let (x, v) = self.y.split_at_mut(n);
+        self.sys.drift(x, v, h);
+    }
+
+    /// Kick then drift (`V += h A`, then `X` moved by the new `V` over `h`), `dX` synced:
+    /// fused into one pass where the part can.
+    #[inline]
+    pub fn kick_drift(&mut self, h: f64) {
+        let n = self.split();
+        let (x, v) = self.y.split_at_mut(n);
+        let (dx, a) = self.f.split_at_mut(n);
+        self.sys.kick_drift(x, v, dx, a, h);
+    }
+
+    /// `X` moved by velocities `w` of the method's own over `h`.
+    #[inline]
+    pub fn drift_by(&mut self, w: &[f64], h: f64) {
+        let n = self.split();
+        self.sys.drift(&mut self.y[..n], w, h);
+    }
+
+    /// Restores `dX` (the first part of `f`) from the new `(X, V)` after a split recipe.
+    #[inline]
+    pub fn sync(&mut self) {
+        let n = self.split();
+        let (x, v) = self.y.split_at(n);
+        self.sys.rate(x, v, &mut self.f[..n]);
+    }
+}
+
+/// A system seen as a flow whose evaluations are counted: what a solver (Newton) calls.
+pub struct Counted<'a, S: ?Sized> {
+    sys: &'a mut S,
+    evals: &'a mut u64,
+}
+
+impl<S: System + ?Sized> Counted<'_, S> {
+    /// Length of `y`.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.sys.dim()
+    }
+    /// `dy = f(t, y)`, counted.
+    #[inline]
+    pub fn deriv(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
+        *self.evals += 1;
+        self.sys.deriv(t, y, dy);
+    }
+    /// `df/dy` as [`System::jacobian`].
+    pub fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], work: &mut Vec<f64>) -> bool {
+        self.sys.jacobian(t, y, j, work)
     }
 }

@@ -1,8 +1,8 @@
 //! Backward (implicit) Euler, solved by Newton iteration.
 
 use super::newton::Newton;
-use super::{flow_method, ImplicitParams, Info, Log, Method};
-use crate::dynamics::Flow;
+use super::{ImplicitParams, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Backward Euler: `x[n+1] = x[n] + v[n+1] dt`, `v[n+1] = v[n] + a[n+1] dt`, i.e.
@@ -30,23 +30,16 @@ impl Method for BackwardEuler {
         implicit: true,
         evals: 2,
         split: false,
+        vector_positions: false,
         doc: "x += v_new dt; v += a_new dt, solved by Newton iteration; loses energy, stable at any dt",
     };
 
-    flow_method!();
-
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        self.newton.solve(flow, Self::INFO.name, t + h, h, y, f)?;
-        y.copy_from_slice(&self.newton.z);
-        f.copy_from_slice(&self.newton.fz);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let (y, f, mut flow) = s.flow();
+        self.newton.solve(&mut flow, Self::INFO.name, t + h, h, y, f)?;
+        s.y.copy_from_slice(&self.newton.z);
+        s.f.copy_from_slice(&self.newton.fz);
         Ok(())
     }
 }

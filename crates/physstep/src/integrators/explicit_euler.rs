@@ -1,8 +1,8 @@
 //! Explicit (forward) Euler, as in the notes' code: `x += v dt; v += a dt`, both from the
 //! old state.
 
-use super::{axpy, flow_method, Info, Log, Method};
-use crate::dynamics::Flow;
+use super::{axpy, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Explicit Euler: `y[n+1] = y[n] + dt f(t[n], y[n])`. First order; gains energy on every
@@ -18,22 +18,14 @@ impl Method for ExplicitEuler {
         implicit: false,
         evals: 1,
         split: false,
+        vector_positions: false,
         doc: "x += v dt; v += a dt, both from the old state (the notes' code); gains energy",
     };
 
-    flow_method!();
-
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        axpy(y, h, f);
-        flow.deriv(t + h, y, f);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        axpy(s.y, h, s.f);
+        s.refresh(t + h);
         Ok(())
     }
 }

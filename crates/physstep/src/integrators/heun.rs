@@ -1,7 +1,7 @@
 //! Heun's method: the trapezoid rule with an explicit-Euler predictor (RK2).
 
-use super::{axpy_to, flow_method, scratch, Info, Log, Method};
-use crate::dynamics::Flow;
+use super::{scratch, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Heun: `y_p = y + dt f(y)`, then `y += dt (f(y) + f(y_p)) / 2`. Second order.
@@ -19,29 +19,20 @@ impl Method for Heun {
         implicit: false,
         evals: 2,
         split: false,
+        vector_positions: false,
         doc: "Euler predictor y_p = y + f dt, then y += (f(y) + f(y_p)) dt/2 (trapezoid RK2)",
     };
 
-    flow_method!();
-
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        let y_p = scratch(&mut self.y_p, y.len());
-        let f_p = scratch(&mut self.f_p, y.len());
-        axpy_to(y_p, y, h, f);
-        flow.deriv(t + h, y_p, f_p);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let y_p = scratch(&mut self.y_p, s.y.len());
+        let f_p = scratch(&mut self.f_p, s.y.len());
+        s.stage(1.0, None, y_p, f_p);
         let h2 = 0.5 * h;
-        for ((yi, fi), fp) in y.iter_mut().zip(f.iter()).zip(f_p.iter()) {
+        for ((yi, fi), fp) in s.y.iter_mut().zip(s.f.iter()).zip(f_p.iter()) {
             *yi += h2 * (fi + fp);
         }
-        flow.deriv(t + h, y, f);
+        s.refresh(t + h);
         Ok(())
     }
 }

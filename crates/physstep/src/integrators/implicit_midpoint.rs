@@ -1,8 +1,8 @@
 //! The implicit midpoint rule: symplectic, second order, stable at every dt.
 
 use super::newton::Newton;
-use super::{flow_method, ImplicitParams, Info, Log, Method};
-use crate::dynamics::Flow;
+use super::{ImplicitParams, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Implicit midpoint: `y[n+1] = y[n] + dt f(t + dt/2, (y[n] + y[n+1]) / 2)`. Solved for the
@@ -30,25 +30,18 @@ impl Method for ImplicitMidpoint {
         implicit: true,
         evals: 3,
         split: false,
+        vector_positions: false,
         doc: "y += f((y + y_new)/2) dt, solved by Newton iteration; symplectic, stable at any dt",
     };
 
-    flow_method!();
-
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        self.newton.solve(flow, Self::INFO.name, t + 0.5 * h, 0.5 * h, y, f)?;
-        for (yi, m) in y.iter_mut().zip(self.newton.z.iter()) {
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let (y, f, mut flow) = s.flow();
+        self.newton.solve(&mut flow, Self::INFO.name, t + 0.5 * h, 0.5 * h, y, f)?;
+        for (yi, m) in s.y.iter_mut().zip(self.newton.z.iter()) {
             *yi = 2.0 * m - *yi;
         }
-        flow.deriv(t + h, y, f);
+        s.refresh(t + h);
         Ok(())
     }
 }

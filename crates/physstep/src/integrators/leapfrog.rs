@@ -1,9 +1,7 @@
 //! Leapfrog: half-step velocities kept inside, synchronised velocity reported.
 
-use super::{
-    axpy_to, carried_memory, drift, kick, scratch, split_method, sync_f, xva, Carried, Info, Log, Method,
-};
-use crate::dynamics::{SecondOrder, Split};
+use super::{axpy, axpy_to, carried_memory, scratch, Carried, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Leapfrog: `v[n+1/2] = v[n-1/2] + a[n] dt; x[n+1] = x[n] + v[n+1/2] dt`.
@@ -27,38 +25,32 @@ impl Method for Leapfrog {
         implicit: false,
         evals: 1,
         split: true,
+        vector_positions: false,
         doc: "v_half += a dt; x += v_half dt (half-step velocity inside; synchronised v reported)",
     };
 
-    split_method!();
-
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        let again = sys.sys.velocity_dependent();
-        let (x, v, a) = xva(y, f);
-        let half = scratch(&mut self.half.v, x.len());
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let again = s.velocity_dependent();
+        let half = scratch(&mut self.half.v, s.vel_len());
         if !self.half.started || h != self.half.h {
+            let (_, v, a) = s.xva();
             axpy_to(half, v, 0.5 * h, a);
         }
-        drift(x, half, h);
-        sys.accel(t + h, x, half, a);
+        s.drift_by(half, h);
+        s.eval_at(t + h, half);
         if again {
+            let (_, v, a) = s.xva();
             axpy_to(v, half, 0.5 * h, a);
-            sys.accel(t + h, x, v, a);
+            s.eval(t + h);
         }
+        let (_, v, a) = s.xva();
         axpy_to(v, half, 0.5 * h, a);
-        kick(half, a, h);
-        sync_f(y, f);
+        axpy(half, h, a);
+        s.sync();
         self.half.keep(h);
         Ok(())
     }
 
-    carried_memory!(half);
+    carried_memory!(half, v);
 }

@@ -1,7 +1,7 @@
 //! The explicit midpoint method (RK2) with its half-step state written out, as the notes do.
 
-use super::{axpy, axpy_to, flow_method, record, scratch, Info, Log, Method};
-use crate::dynamics::Flow;
+use super::{axpy, scratch, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Midpoint: `x_half = x + v dt/2, v_half = v + a dt/2, a_half = a(x_half, v_half)`, then
@@ -20,27 +20,18 @@ impl Method for Midpoint {
         implicit: false,
         evals: 2,
         split: false,
+        vector_positions: false,
         doc: "x_half = x + v dt/2, v_half = v + a dt/2; x += v_half dt, v += a(x_half, v_half) dt (RK2)",
     };
 
-    flow_method!();
-
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        mut log: Log<'_>,
-    ) -> Result<()> {
-        let y_half = scratch(&mut self.y_half, y.len());
-        let f_half = scratch(&mut self.f_half, y.len());
-        axpy_to(y_half, y, 0.5 * h, f);
-        flow.deriv(t + 0.5 * h, y_half, f_half);
-        record(&mut log, "half", t + 0.5 * h, y_half, f_half);
-        axpy(y, h, f_half);
-        flow.deriv(t + h, y, f);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let y_half = scratch(&mut self.y_half, s.y.len());
+        let f_half = scratch(&mut self.f_half, s.y.len());
+        s.stage(0.5, None, y_half, f_half);
+        s.record("half", t + 0.5 * h, y_half, f_half);
+        axpy(s.y, h, f_half);
+        s.refresh(t + h);
         Ok(())
     }
 }

@@ -1,17 +1,18 @@
 //! Integrators: one file per method, all behind the [`Method`] trait, chosen by name through
 //! the [`registry`].
 //!
-//! Every method advances a [`State`] by one step of `h` seconds. The state keeps the
-//! derivative at its own time (`f = [v; a]` for a second-order system), so a method that
-//! needs the acceleration at the start of a step reuses it instead of evaluating it again,
-//! and a table row `(t, x, v, a)` is always self-consistent.
+//! Every method advances a state by one step of `h` seconds through a
+//! [`Step`](crate::dynamics::Step). The state keeps the derivative at its own time
+//! (`f = [v; a]` for particles), so a method that needs the acceleration at the start of a
+//! step reuses it instead of evaluating it again, and a table row `(t, x, v, a)` is always
+//! self-consistent.
 //!
-//! Methods come in two families:
+//! Methods are written once against the parts of a world (see [`crate::dynamics`]):
 //! - *flow* methods (explicit Euler, midpoint, Heun, RK4, backward Euler,
-//!   predictor-corrector, implicit midpoint) integrate any first-order flow; a second-order
-//!   system is the flow of `y = [x; v]` (see [`crate::dynamics::Split`]);
-//! - *split* methods (the symplectic Eulers, Verlet, velocity Verlet, leapfrog, Yoshida)
-//!   need positions and velocities apart and integrate second-order systems only.
+//!   predictor-corrector, implicit midpoint) integrate the flat state and its derivative, so
+//!   they apply to every part, first-order flows included;
+//! - *split* methods (the symplectic Eulers, Verlet, velocity Verlet, leapfrog, Yoshida) are
+//!   recipes of eval, kick and drift, and need positions and velocities apart.
 
 mod backward_euler;
 mod explicit_euler;
@@ -41,7 +42,7 @@ pub use symplectic_euler::{SymplecticEuler, SymplecticEulerAlternating, Symplect
 pub use verlet::{VelocityVerlet, Verlet};
 pub use yoshida::Yoshida4;
 
-use crate::dynamics::{Flow, SecondOrder, Split};
+use crate::dynamics::{Step, System};
 use crate::error::{Error, Result};
 
 /// What a method is, read by the registry, the CLI's method list, Python's docs and the
@@ -62,6 +63,9 @@ pub struct Info {
     pub evals: u32,
     /// Whether the method needs positions and velocities apart (second-order systems only).
     pub split: bool,
+    /// Whether the method does arithmetic on positions as vectors (Verlet's
+    /// `2 x - x_prev`), so it applies to particles but not to orientations.
+    pub vector_positions: bool,
     /// One-line description with the update rule.
     pub doc: &'static str,
 }
@@ -90,51 +94,22 @@ pub struct StageRow {
 /// Where a method reports its stages; `None` on the hot path.
 pub type Log<'a> = Option<&'a mut StageLog>;
 
-#[inline]
-pub(crate) fn record(log: &mut Log<'_>, stage: &'static str, t: f64, y: &[f64], f: &[f64]) {
-    if let Some(log) = log.as_deref_mut() {
-        log.rows.push(StageRow { stage, t, y: y.to_vec(), f: f.to_vec() });
-    }
-}
-
-/// One integration method.
+/// One integration method: a recipe run on a [`Step`].
 ///
-/// `y` is the state at time `t` and `f` the derivative there; the method advances both to
-/// `t + h`. For a second-order system `y = [x; v]` and `f = [v; a]`. Methods keep any state
-/// of their own (Verlet's previous position, leapfrog's half-step velocity) and drop it on
-/// [`Method::reset`].
+/// The step holds the state `y` at time `t` and its derivative `f`; the method advances both
+/// to `t + h`. Methods keep any state of their own (Verlet's previous position, leapfrog's
+/// half-step velocity) and drop it on [`Method::reset`].
 pub trait Method {
     /// What the method is.
     const INFO: Info;
 
-    /// One step of a second-order system.
+    /// One step. Split methods are run only on systems with a split view (the registry
+    /// refuses the others), and Verlet-like ones only where positions are vectors.
     ///
     /// # Errors
-    /// [`Error::NotConverged`] when an implicit method's Newton iteration fails.
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        log: Log<'_>,
-    ) -> Result<()>;
-
-    /// One step of a first-order flow.
-    ///
-    /// # Errors
-    /// [`Error::Unsupported`] for split methods; [`Error::NotConverged`] for a failed Newton
-    /// iteration.
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        log: Log<'_>,
-    ) -> Result<()>;
+    /// [`Error::NotConverged`] when an implicit method's Newton iteration fails;
+    /// [`Error::Unsupported`] when the system is too large for the dense solver.
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()>;
 
     /// Forgets internal state (after the user moved the system or a rollback); the next
     /// step starts afresh from `(x, v)`.
@@ -152,12 +127,23 @@ pub trait Method {
         let _ = out;
     }
 
-    /// Restores what [`Method::memory`] returned for a state of `n` coordinates; `false`
+    /// Restores what [`Method::memory`] returned for a state of the given `sizes`; `false`
     /// when `m` does not fit (wrong length, a flag that is not 0 or 1, a non-finite value).
-    fn recall(&mut self, m: &[f64], n: usize) -> bool {
-        let _ = n;
+    fn recall(&mut self, m: &[f64], sizes: Sizes) -> bool {
+        let _ = sizes;
         m.is_empty()
     }
+}
+
+/// The lengths of a state's positions and velocities (`y = [X; V]`), which a method's memory
+/// vector must match: Verlet keeps a vector of positions, leapfrog one of velocities. A
+/// first-order flow's state counts as positions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sizes {
+    /// Length of the positions `X`.
+    pub x: usize,
+    /// Length of the velocities `V`.
+    pub v: usize,
 }
 
 /// The memory of a method that carries one vector from step to step (Verlet's previous
@@ -216,9 +202,9 @@ impl Carried {
 }
 
 /// Implements the memory items of [`Method`] for a method whose memory is the [`Carried`]
-/// field `$field`.
+/// field `$field`, a vector as long as the state's `$kind` (`x` or `v` of [`Sizes`]).
 macro_rules! carried_memory {
-    ($field:ident) => {
+    ($field:ident, $kind:ident) => {
         const MEMORY_FLAGS: usize = 2;
 
         fn reset(&mut self) {
@@ -229,8 +215,8 @@ macro_rules! carried_memory {
             self.$field.memory(out);
         }
 
-        fn recall(&mut self, m: &[f64], n: usize) -> bool {
-            self.$field.recall(m, n)
+        fn recall(&mut self, m: &[f64], sizes: $crate::integrators::Sizes) -> bool {
+            self.$field.recall(m, sizes.$kind)
         }
     };
 }
@@ -245,45 +231,19 @@ pub(crate) fn split_only(info: &Info) -> Error {
     }
 }
 
-/// Implements [`Method::step_split`] of a flow method by integrating the flow of `[x; v]`.
-macro_rules! flow_method {
-    () => {
-        fn step_split<S: $crate::dynamics::SecondOrder + ?Sized>(
-            &mut self,
-            sys: &mut $crate::dynamics::Split<'_, S>,
-            t: f64,
-            h: f64,
-            y: &mut [f64],
-            f: &mut [f64],
-            log: $crate::integrators::Log<'_>,
-        ) -> $crate::error::Result<()> {
-            self.step_flow(sys, t, h, y, f, log)
-        }
-    };
+/// The answer of a method that does arithmetic on positions (Verlet) asked to move
+/// orientations.
+pub(crate) fn vectors_only(info: &Info) -> Error {
+    Error::Unsupported {
+        method: info.name.into(),
+        reason: "does arithmetic on positions as vectors (2 x - x_prev), which orientations are not; use velocity-verlet or leapfrog".into(),
+    }
 }
-pub(crate) use flow_method;
 
-/// Implements [`Method::step_flow`] of a split method: it refuses.
-macro_rules! split_method {
-    () => {
-        fn step_flow<F: $crate::dynamics::Flow>(
-            &mut self,
-            _flow: &mut F,
-            _t: f64,
-            _h: f64,
-            _y: &mut [f64],
-            _f: &mut [f64],
-            _log: $crate::integrators::Log<'_>,
-        ) -> $crate::error::Result<()> {
-            Err($crate::integrators::split_only(&Self::INFO))
-        }
-    };
-}
-pub(crate) use split_method;
-
-/// `y += s * x`, elementwise: the one update every method is made of.
+/// `y += s * x`, elementwise: the one update every method is made of (in parallel for long
+/// arrays, bitwise the same for any thread count).
 #[inline]
-pub(crate) fn axpy(y: &mut [f64], s: f64, x: &[f64]) {
+pub fn axpy(y: &mut [f64], s: f64, x: &[f64]) {
     if y.len() >= PAR_MIN {
         use rayon::prelude::*;
         y.par_chunks_mut(PAR_CHUNK).zip(x.par_chunks(PAR_CHUNK)).for_each(|(y, x)| axpy_serial(y, s, x));
@@ -306,9 +266,9 @@ pub(crate) const PAR_MIN: usize = 1 << 16;
 /// Elements per parallel task (256 KiB of f64).
 pub(crate) const PAR_CHUNK: usize = 1 << 15;
 
-/// `out = y + s * x`.
+/// `out = y + s * x` (in parallel for long arrays, like [`axpy`]).
 #[inline]
-pub(crate) fn axpy_to(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
+pub fn axpy_to(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
     if out.len() >= PAR_MIN {
         use rayon::prelude::*;
         out.par_chunks_mut(PAR_CHUNK)
@@ -327,9 +287,10 @@ fn axpy_to_serial(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
     }
 }
 
-/// Kick then drift in one pass, the whole of a velocity-first symplectic Euler update:
-/// `v += h a; x += h v; dx = v` (the last keeps `f = [v; a]` without another pass). The same
-/// operations per element as [`kick`] then [`drift`], so bitwise the same result.
+/// Kick then drift in one pass, the whole of a velocity-first symplectic Euler update of
+/// particles: `v += h a; x += h v; dx = v` (the last keeps `f = [v; a]` without another
+/// pass). The same operations per element as a kick then a drift, so bitwise the same
+/// result.
 #[inline]
 pub(crate) fn kick_drift(x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
     if x.len() >= PAR_MIN {
@@ -353,18 +314,6 @@ fn kick_drift_serial(x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h:
     }
 }
 
-/// Kick: `v += h a`.
-#[inline]
-pub(crate) fn kick(v: &mut [f64], a: &[f64], h: f64) {
-    axpy(v, h, a);
-}
-
-/// Drift: `x += h v`.
-#[inline]
-pub(crate) fn drift(x: &mut [f64], v: &[f64], h: f64) {
-    axpy(x, h, v);
-}
-
 /// A scratch buffer of length `n`, reallocated only when the length changes.
 #[inline]
 pub(crate) fn scratch(buf: &mut Vec<f64>, n: usize) -> &mut [f64] {
@@ -373,19 +322,4 @@ pub(crate) fn scratch(buf: &mut Vec<f64>, n: usize) -> &mut [f64] {
         buf.resize(n, 0.0);
     }
     buf.as_mut_slice()
-}
-
-/// Splits `y = [x; v]` and `f = [v; a]` of a second-order system into `(x, v, a)`.
-#[inline]
-pub(crate) fn xva<'a>(y: &'a mut [f64], f: &'a mut [f64]) -> (&'a mut [f64], &'a mut [f64], &'a mut [f64]) {
-    let n = y.len() / 2;
-    let (x, v) = y.split_at_mut(n);
-    (x, v, &mut f[n..])
-}
-
-/// Restores the invariant `f[..n] = v` of a second-order state after a split method moved `v`.
-#[inline]
-pub(crate) fn sync_f(y: &[f64], f: &mut [f64]) {
-    let n = y.len() / 2;
-    f[..n].copy_from_slice(&y[n..]);
 }

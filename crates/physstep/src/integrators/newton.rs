@@ -1,7 +1,7 @@
 //! Newton iteration for the implicit methods: solves `z = y0 + c f(tau, z)`.
 
 use super::{axpy_to, scratch};
-use crate::dynamics::Flow;
+use crate::dynamics::{Counted, System};
 use crate::error::{Error, Result};
 
 /// Settings of the implicit methods' Newton iteration.
@@ -50,9 +50,9 @@ impl Newton {
     /// # Errors
     /// [`Error::Unsupported`] when the system is too large for the dense solver (refused
     /// before anything is allocated); [`Error::NotConverged`] when the iteration fails.
-    pub fn solve<F: Flow>(
+    pub fn solve<S: System + ?Sized>(
         &mut self,
-        flow: &mut F,
+        flow: &mut Counted<'_, S>,
         method: &str,
         tau: f64,
         c: f64,

@@ -1,7 +1,7 @@
 //! Explicit predictor, implicit corrector (the notes' way around solving backward Euler).
 
-use super::{axpy_to, flow_method, record, scratch, Info, Log, Method};
-use crate::dynamics::Flow;
+use super::{scratch, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Predict the end of the step with explicit Euler, `y* = y + dt f(y)`, then plug the
@@ -23,29 +23,20 @@ impl Method for PredictorCorrector {
         implicit: false,
         evals: 2,
         split: false,
+        vector_positions: false,
         doc: "explicit Euler predictor y* = y + f dt fed into backward Euler: y += f(y*) dt",
     };
 
-    flow_method!();
-
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        mut log: Log<'_>,
-    ) -> Result<()> {
-        let y_p = scratch(&mut self.y_p, y.len());
-        let f_p = scratch(&mut self.f_p, y.len());
-        axpy_to(y_p, y, h, f);
-        flow.deriv(t + h, y_p, f_p);
-        record(&mut log, "predicted", t + h, y_p, f_p);
-        for (yi, fp) in y.iter_mut().zip(f_p.iter()) {
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let y_p = scratch(&mut self.y_p, s.y.len());
+        let f_p = scratch(&mut self.f_p, s.y.len());
+        s.stage(1.0, None, y_p, f_p);
+        s.record("predicted", t + h, y_p, f_p);
+        for (yi, fp) in s.y.iter_mut().zip(f_p.iter()) {
             *yi += h * fp;
         }
-        flow.deriv(t + h, y, f);
+        s.refresh(t + h);
         Ok(())
     }
 }

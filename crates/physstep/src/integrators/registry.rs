@@ -1,7 +1,7 @@
 //! Names to methods: the one place that lists every integrator.
 
 use super::*;
-use crate::dynamics::{FirstOrder, Plain, SecondOrder, Split};
+use crate::dynamics::{First, FirstOrder, Second, SecondOrder, Step, System};
 use crate::error::{Error, Result};
 
 /// Every method's [`Info`], in registry order (the order of the notes, then the extras).
@@ -121,9 +121,8 @@ impl State {
         y.extend_from_slice(x);
         y.extend_from_slice(v);
         let mut f = vec![0.0; 2 * n];
-        let mut evals = 0;
-        Split { sys, evals: &mut evals }.deriv(t, &y, &mut f);
-        Ok(Self { t, y, f, steps: 0, evals })
+        Second(sys).deriv(t, &y, &mut f);
+        Ok(Self { t, y, f, steps: 0, evals: 1 })
     }
 
     /// The state of a first-order flow at `t`, evaluating the derivative once.
@@ -142,9 +141,8 @@ impl State {
         }
         crate::error::all_finite("y", y)?;
         let mut f = vec![0.0; y.len()];
-        let mut evals = 0;
-        Plain { sys, evals: &mut evals }.deriv(t, y, &mut f);
-        Ok(Self { t, y: y.to_vec(), f, steps: 0, evals })
+        First(sys).deriv(t, y, &mut f);
+        Ok(Self { t, y: y.to_vec(), f, steps: 0, evals: 1 })
     }
 
     /// Positions of a second-order state.
@@ -191,6 +189,20 @@ fn first_non_finite(v: &[f64]) -> Option<usize> {
     })
 }
 
+/// Whether the method `info` applies to `sys` (see [`Integrator::applies`]).
+///
+/// # Errors
+/// As [`Integrator::applies`].
+pub fn applies<S: System + ?Sized>(info: &Info, sys: &S) -> Result<()> {
+    if info.split && sys.split().is_none() {
+        return Err(split_only(info));
+    }
+    if info.vector_positions && !sys.vector_positions() {
+        return Err(vectors_only(info));
+    }
+    Ok(())
+}
+
 impl Integrator {
     /// The integrator registered as `name`, with default settings.
     ///
@@ -217,7 +229,7 @@ impl Integrator {
             "symplectic-euler-x" => Kind::SymplecticEulerX(SymplecticEulerX),
             "symplectic-euler-alternating" => Kind::SymplecticEulerAlternating(Default::default()),
             "verlet" => Kind::Verlet(Verlet::default()),
-            "velocity-verlet" => Kind::VelocityVerlet(VelocityVerlet),
+            "velocity-verlet" => Kind::VelocityVerlet(VelocityVerlet::default()),
             "leapfrog" => Kind::Leapfrog(Leapfrog::default()),
             "midpoint" => Kind::Midpoint(Midpoint::default()),
             "heun" => Kind::Heun(Heun::default()),
@@ -264,13 +276,12 @@ impl Integrator {
         dispatch!(&self.kind, m => of(m))
     }
 
-    /// Restores what [`Integrator::memory`] returned for a system of `n` coordinates (the
-    /// length of `x`, half that of `y`).
+    /// Restores what [`Integrator::memory`] returned for a state of the given sizes.
     ///
     /// # Errors
     /// [`Error::Corrupt`] when `memory` does not fit this method and state size.
-    pub fn recall(&mut self, memory: &[f64], n: usize) -> Result<()> {
-        if dispatch!(&mut self.kind, m => m.recall(memory, n)) {
+    pub fn recall(&mut self, memory: &[f64], sizes: Sizes) -> Result<()> {
+        if dispatch!(&mut self.kind, m => m.recall(memory, sizes)) {
             Ok(())
         } else {
             Err(Error::Corrupt {
@@ -300,13 +311,7 @@ impl Integrator {
         dt: f64,
         log: Log<'_>,
     ) -> Result<()> {
-        crate::error::positive("dt", dt)?;
-        let mut checkpoint = std::mem::take(&mut self.checkpoint);
-        checkpoint.save(state, self, Layout::Second);
-        let r = self.advance(sys, state, dt, log).and_then(|()| self.check(state, Layout::Second));
-        let r = self.finish(state, dt, r, &checkpoint, Layout::Second);
-        self.checkpoint = checkpoint;
-        r
+        self.step_system(&mut Second(sys), state, dt, log, Layout::Second)
     }
 
     /// Advances a first-order flow's `state` by `dt` seconds.
@@ -319,53 +324,60 @@ impl Integrator {
         state: &mut State,
         dt: f64,
     ) -> Result<()> {
+        self.step_system(&mut First(sys), state, dt, None, Layout::First)
+    }
+
+    /// One checked step of any system: validate `dt`, checkpoint, advance, check, and count
+    /// the step or roll it back.
+    fn step_system<S: System + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        state: &mut State,
+        dt: f64,
+        log: Log<'_>,
+        layout: Layout,
+    ) -> Result<()> {
         crate::error::positive("dt", dt)?;
         let mut checkpoint = std::mem::take(&mut self.checkpoint);
-        checkpoint.save(state, self, Layout::First);
-        let State { t, y, f, evals, .. } = &mut *state;
-        let mut plain = Plain { sys, evals };
-        let r = dispatch!(&mut self.kind, m => m.step_flow(&mut plain, *t, dt, y, f, None));
-        let r = r.and_then(|()| self.check(state, Layout::First));
-        let r = self.finish(state, dt, r, &checkpoint, Layout::First);
+        checkpoint.save(state, self, layout);
+        let r = self.advance(sys, state, dt, log).and_then(|()| self.check(state, layout));
+        let r = self.finish(state, dt, r, &checkpoint, layout);
         self.checkpoint = checkpoint;
         r
     }
 
-    /// Runs the method once on a second-order system: `state.y` and `state.f` move to the
-    /// end of the step and evaluations are counted, nothing else (no validation of `h`, no
-    /// check, no rollback, time and step count untouched). The building block of a staged
-    /// step: the caller checkpoints, checks and finishes (see [`Checkpoint`]).
+    /// Whether this method applies to `sys`.
     ///
     /// # Errors
-    /// [`Error::NotConverged`] when an implicit solve failed (the state is then partly
-    /// moved: restore the checkpoint).
-    pub fn advance<S: SecondOrder + ?Sized>(
+    /// [`Error::Unsupported`] for a split method on a system without positions and velocities
+    /// (a first-order flow), or a method that does arithmetic on positions (Verlet) where
+    /// positions are not vectors (orientations).
+    pub fn applies<S: System + ?Sized>(&self, sys: &S) -> Result<()> {
+        applies(self.info(), sys)
+    }
+
+    /// Runs the method once: `state.y` and `state.f` move to the end of the step (and onto
+    /// the state space, by the system's `project`) and evaluations are counted, nothing else
+    /// (no validation of `h`, no check, no rollback, time and step count untouched). The
+    /// building block of a staged step: the caller checkpoints, checks and finishes (see
+    /// [`Checkpoint`]).
+    ///
+    /// # Errors
+    /// As [`Integrator::applies`] (nothing moved); [`Error::NotConverged`] when an implicit
+    /// solve failed (the state is then partly moved: restore the checkpoint).
+    pub fn advance<S: System + ?Sized>(
         &mut self,
         sys: &mut S,
         state: &mut State,
         h: f64,
         log: Log<'_>,
     ) -> Result<()> {
+        self.applies(sys)?;
         let State { t, y, f, evals, .. } = state;
-        let mut split = Split { sys, evals };
-        dispatch!(&mut self.kind, m => m.step_split(&mut split, *t, h, y, f, log))
-    }
-
-    /// [`Integrator::advance`] for a first-order flow.
-    ///
-    /// # Errors
-    /// [`Error::Unsupported`] for the split methods; [`Error::NotConverged`] as
-    /// [`Integrator::advance`].
-    pub fn advance_flow<F: FirstOrder + ?Sized>(
-        &mut self,
-        sys: &mut F,
-        state: &mut State,
-        h: f64,
-        log: Log<'_>,
-    ) -> Result<()> {
-        let State { t, y, f, evals, .. } = state;
-        let mut plain = Plain { sys, evals };
-        dispatch!(&mut self.kind, m => m.step_flow(&mut plain, *t, h, y, f, log))
+        let mut step = Step::new(sys, *t, h, y, f, evals, log);
+        dispatch!(&mut self.kind, m => m.step(&mut step))?;
+        sys.project(y, f);
+        Ok(())
     }
 
     /// [`Error::Diverged`] when the state or its derivative holds a NaN, an infinity or a
@@ -422,6 +434,15 @@ pub enum Layout {
 }
 
 impl Layout {
+    /// The sizes of the positions and velocities of a state of length `n`.
+    #[must_use]
+    pub fn sizes(self, n: usize) -> Sizes {
+        match self {
+            Self::Second => Sizes { x: n / 2, v: n / 2 },
+            Self::First => Sizes { x: n, v: 0 },
+        }
+    }
+
     /// How much of `f` is a copy of `y` (and need not be kept or checked).
     #[must_use]
     pub fn skip(self, state: &State) -> usize {
@@ -460,11 +481,8 @@ impl Checkpoint {
         state.f[skip..].copy_from_slice(&self.f);
         let n = state.y.len() - skip;
         state.f[..skip].copy_from_slice(&state.y[n..]);
-        let coords = match layout {
-            Layout::Second => state.y.len() / 2,
-            Layout::First => state.y.len(),
-        };
-        let restored = dispatch!(&mut integrator.kind, m => m.recall(&self.memory, coords));
+        let restored =
+            dispatch!(&mut integrator.kind, m => m.recall(&self.memory, layout.sizes(state.y.len())));
         debug_assert!(restored, "a method's own memory is always recallable");
         if !restored {
             integrator.reset();

@@ -1,7 +1,7 @@
 //! The classic fourth-order Runge-Kutta method.
 
-use super::{axpy_to, flow_method, record, scratch, Info, Log, Method};
-use crate::dynamics::Flow;
+use super::{scratch, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// RK4 with the notes' names for the evaluation points: `k1 = f(y)`, `xa = y + k1 dt/2`,
@@ -24,40 +24,29 @@ impl Method for Rk4 {
         implicit: false,
         evals: 4,
         split: false,
+        vector_positions: false,
         doc: "classic Runge-Kutta: evaluation points xa, xb (half step), xc (full step), weights 1/6 1/3 1/3 1/6",
     };
 
-    flow_method!();
-
-    fn step_flow<F: Flow>(
-        &mut self,
-        flow: &mut F,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        mut log: Log<'_>,
-    ) -> Result<()> {
-        let n = y.len();
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let n = s.y.len();
         let stage = scratch(&mut self.stage, n);
         let ka = scratch(&mut self.ka, n);
         let kb = scratch(&mut self.kb, n);
         let kc = scratch(&mut self.kc, n);
         let th = t + 0.5 * h;
-        axpy_to(stage, y, 0.5 * h, f);
-        flow.deriv(th, stage, ka);
-        record(&mut log, "xa", th, stage, ka);
-        axpy_to(stage, y, 0.5 * h, ka);
-        flow.deriv(th, stage, kb);
-        record(&mut log, "xb", th, stage, kb);
-        axpy_to(stage, y, h, kb);
-        flow.deriv(t + h, stage, kc);
-        record(&mut log, "xc", t + h, stage, kc);
+        s.stage(0.5, None, stage, ka);
+        s.record("xa", th, stage, ka);
+        s.stage(0.5, Some(ka), stage, kb);
+        s.record("xb", th, stage, kb);
+        s.stage(1.0, Some(kb), stage, kc);
+        s.record("xc", t + h, stage, kc);
         let h6 = h / 6.0;
         for i in 0..n {
-            y[i] += h6 * (f[i] + 2.0 * ka[i] + 2.0 * kb[i] + kc[i]);
+            s.y[i] += h6 * (s.f[i] + 2.0 * ka[i] + 2.0 * kb[i] + kc[i]);
         }
-        flow.deriv(t + h, y, f);
+        s.refresh(t + h);
         Ok(())
     }
 }

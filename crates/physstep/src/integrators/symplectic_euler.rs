@@ -1,7 +1,7 @@
 //! Symplectic (semi-implicit) Euler in both orders, and the two alternated.
 
-use super::{axpy_to, drift, kick, kick_drift, split_method, sync_f, Info, Log, Method};
-use crate::dynamics::{SecondOrder, Split};
+use super::{axpy_to, scratch, Info, Method, Sizes};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Velocity first: `v[n+1] = v[n] + a[n] dt; x[n+1] = x[n] + v[n+1] dt`.
@@ -18,57 +18,43 @@ pub struct SymplecticEulerX;
 #[derive(Debug, Clone, Default)]
 pub struct SymplecticEulerAlternating {
     odd: bool,
+    /// Scratch: the velocities before the closing kick.
+    v_old: Vec<f64>,
 }
 
-/// Velocity-first step on `(x, v, a)`, leaving `a` at the new state.
+/// Velocity-first step: kick, drift, then `A` at the new state.
 #[inline]
-fn velocity_first<S: SecondOrder + ?Sized>(
-    sys: &mut Split<'_, S>,
-    t: f64,
-    h: f64,
-    y: &mut [f64],
-    f: &mut [f64],
-) {
-    let n = y.len() / 2;
-    let (x, v) = y.split_at_mut(n);
-    let (dx, a) = f.split_at_mut(n);
-    kick_drift(x, v, dx, a, h);
-    sys.accel(t + h, x, v, a);
+fn velocity_first<S: System + ?Sized>(s: &mut Step<'_, S>) {
+    s.kick_drift(s.h);
+    s.eval(s.t + s.h);
 }
 
 /// Position-first step; with velocity-dependent forces the kick uses `a(x[n+1], v[n])` and
 /// the acceleration is evaluated once more at the new state. With `predict` (the alternating
-/// method, whose odd step is the closing kick of a velocity-Verlet step of `2 dt`), the kick
-/// instead uses the acceleration at the predicted `v[n] + a(x[n+1], v[n]) dt`, as velocity
-/// Verlet does, which keeps the pair second order.
+/// method, whose odd step is the closing kick of a velocity-Verlet step of `2 dt`; the
+/// buffer keeps `v[n]`), the kick instead uses the acceleration at the predicted
+/// `v[n] + a(x[n+1], v[n]) dt`, as velocity Verlet does, which keeps the pair second order.
 #[inline]
-fn position_first<S: SecondOrder + ?Sized>(
-    sys: &mut Split<'_, S>,
-    t: f64,
-    h: f64,
-    y: &mut [f64],
-    f: &mut [f64],
-    predict: bool,
-) {
-    let again = sys.sys.velocity_dependent();
-    let n = y.len() / 2;
-    let (x, v) = y.split_at_mut(n);
-    // f[..n] (the dx part) is free until sync_f: it holds v[n] meanwhile.
-    let (v_old, a) = f.split_at_mut(n);
-    drift(x, v, h);
-    sys.accel(t + h, x, v, a);
-    if again && predict {
-        v_old.copy_from_slice(v);
-        kick(v, a, h);
-        sys.accel(t + h, x, v, a);
-        axpy_to(v, v_old, h, a);
-    } else {
-        kick(v, a, h);
+fn position_first<S: System + ?Sized>(s: &mut Step<'_, S>, predict: Option<&mut Vec<f64>>) {
+    let (t, h) = (s.t, s.h);
+    let again = s.velocity_dependent();
+    s.drift(h);
+    s.eval(t + h);
+    match predict {
+        Some(buf) if again => {
+            let v_old = scratch(buf, s.vel_len());
+            v_old.copy_from_slice(s.xva().1);
+            s.kick(h);
+            s.eval(t + h);
+            let (_, v, a) = s.xva();
+            axpy_to(v, v_old, h, a);
+        }
+        _ => s.kick(h),
     }
     if again {
-        sys.accel(t + h, x, v, a);
+        s.eval(t + h);
     }
-    sync_f(y, f);
+    s.sync();
 }
 
 impl Method for SymplecticEuler {
@@ -79,21 +65,12 @@ impl Method for SymplecticEuler {
         implicit: false,
         evals: 1,
         split: true,
+        vector_positions: false,
         doc: "v += a dt, then x += v dt with the new v (semi-implicit Euler); bounded energy",
     };
 
-    split_method!();
-
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        velocity_first(sys, t, h, y, f);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        velocity_first(s);
         Ok(())
     }
 }
@@ -106,21 +83,12 @@ impl Method for SymplecticEulerX {
         implicit: false,
         evals: 1,
         split: true,
+        vector_positions: false,
         doc: "x += v dt, then v += a(x_new) dt (the other order of symplectic Euler)",
     };
 
-    split_method!();
-
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        position_first(sys, t, h, y, f, false);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        position_first(s, None);
         Ok(())
     }
 }
@@ -133,24 +101,15 @@ impl Method for SymplecticEulerAlternating {
         implicit: false,
         evals: 1,
         split: true,
+        vector_positions: false,
         doc: "the two symplectic Euler orders alternated (velocity first on even steps); a pair of steps is velocity Verlet at 2 dt",
     };
 
-    split_method!();
-
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
         if self.odd {
-            position_first(sys, t, h, y, f, true);
+            position_first(s, Some(&mut self.v_old));
         } else {
-            velocity_first(sys, t, h, y, f);
+            velocity_first(s);
         }
         self.odd = !self.odd;
         Ok(())
@@ -166,7 +125,7 @@ impl Method for SymplecticEulerAlternating {
         out.push(if self.odd { 1.0 } else { 0.0 });
     }
 
-    fn recall(&mut self, m: &[f64], _n: usize) -> bool {
+    fn recall(&mut self, m: &[f64], _sizes: Sizes) -> bool {
         let [odd] = m else { return false };
         if *odd != 0.0 && *odd != 1.0 {
             return false;

@@ -1,9 +1,7 @@
 //! Velocityless (Stormer) Verlet and velocity Verlet.
 
-use super::{
-    axpy_to, carried_memory, drift, kick, scratch, split_method, sync_f, xva, Carried, Info, Log, Method,
-};
-use crate::dynamics::{SecondOrder, Split};
+use super::{axpy_to, carried_memory, scratch, Carried, Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Velocityless Verlet: `x[n+1] = 2 x[n] - x[n-1] + a[n] dt^2`, started with
@@ -27,21 +25,13 @@ impl Method for Verlet {
         implicit: false,
         evals: 1,
         split: true,
+        vector_positions: true,
         doc: "velocityless Stormer Verlet x' = 2x - x_prev + a dt^2, x_prev = x0 - v0 dt; v by backward difference",
     };
 
-    split_method!();
-
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        let (x, v, a) = xva(y, f);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let (x, v, a) = s.xva();
         let prev = scratch(&mut self.prev.v, x.len());
         if !self.prev.started {
             for ((p, xi), vi) in prev.iter_mut().zip(x.iter()).zip(v.iter()) {
@@ -61,59 +51,58 @@ impl Method for Verlet {
             *vi = (next - *xi) * inv_h;
             *xi = next;
         }
-        sys.accel(t + h, x, v, a);
-        sync_f(y, f);
+        s.eval(t + h);
+        s.sync();
         self.prev.keep(h);
         Ok(())
     }
 
-    carried_memory!(prev);
+    carried_memory!(prev, x);
 }
 
 /// Velocity Verlet: `v += a dt/2; x += v dt; a = a(x); v += a dt/2`. Second order,
 /// symplectic, one evaluation per step.
 #[derive(Debug, Clone, Default)]
-pub struct VelocityVerlet;
+pub struct VelocityVerlet {
+    /// Scratch of the velocity correction.
+    v_half: Vec<f64>,
+}
 
-/// One velocity-Verlet substep of `h` (kick, drift, kick); shared with Yoshida's composition.
+/// One velocity-Verlet substep of `h` from time `t` (kick, drift, kick); shared with
+/// Yoshida's composition, whose substeps have their own `t` and `h`.
 ///
 /// Velocity-dependent forces: the second kick needs `a(x[n+1], v[n+1])`, an implicit
 /// equation in `v[n+1]` (which keeps the step symmetric). It is solved by `corrections`
-/// fixed-point passes from `v[n+1/2]`: each evaluates the acceleration at the latest
-/// prediction `v[n+1/2] + a dt/2`, and each gains one power of `dt` in the kick. One pass is
-/// enough for velocity Verlet's second order (kicking with `a(x[n+1], v[n+1/2])` alone
-/// would make it first order); Yoshida's composition needs the step symmetric to
+/// fixed-point passes from `v[n+1/2]` (kept in `v_half`): each evaluates the acceleration at
+/// the latest prediction `v[n+1/2] + a dt/2`, and each gains one power of `dt` in the kick.
+/// One pass is enough for velocity Verlet's second order (kicking with `a(x[n+1], v[n+1/2])`
+/// alone would make it first order); Yoshida's composition needs the step symmetric to
 /// `O(dt^5)`, three passes. The acceleration is then evaluated once more at the new state.
 /// Velocity-independent forces take one evaluation whatever `corrections` is.
 #[inline]
-pub(crate) fn velocity_verlet<S: SecondOrder + ?Sized>(
-    sys: &mut Split<'_, S>,
+pub(crate) fn velocity_verlet<S: System + ?Sized>(
+    s: &mut Step<'_, S>,
     t: f64,
     h: f64,
-    y: &mut [f64],
-    f: &mut [f64],
     corrections: u32,
+    v_half: &mut Vec<f64>,
 ) {
-    let again = sys.sys.velocity_dependent();
-    let n = y.len() / 2;
-    let (x, v) = y.split_at_mut(n);
-    // f[..n] (the dx part) is free until sync_f: it holds v[n+1/2] meanwhile.
-    let (v_half, a) = f.split_at_mut(n);
-    kick(v, a, 0.5 * h);
-    drift(x, v, h);
-    sys.accel(t + h, x, v, a);
+    let again = s.velocity_dependent();
+    s.kick(0.5 * h);
+    s.drift(h);
+    s.eval(t + h);
     if again {
-        v_half.copy_from_slice(v);
-        for _ in 0..corrections {
+        let v_half = scratch(v_half, s.vel_len());
+        v_half.copy_from_slice(s.xva().1);
+        for _ in 0..=corrections {
+            let (_, v, a) = s.xva();
             axpy_to(v, v_half, 0.5 * h, a);
-            sys.accel(t + h, x, v, a);
+            s.eval(t + h);
         }
-        axpy_to(v, v_half, 0.5 * h, a);
-        sys.accel(t + h, x, v, a);
     } else {
-        kick(v, a, 0.5 * h);
+        s.kick(0.5 * h);
     }
-    sync_f(y, f);
+    s.sync();
 }
 
 impl Method for VelocityVerlet {
@@ -124,21 +113,12 @@ impl Method for VelocityVerlet {
         implicit: false,
         evals: 1,
         split: true,
+        vector_positions: false,
         doc: "v += a dt/2; x += v dt; a = a(x); v += a dt/2",
     };
 
-    split_method!();
-
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        velocity_verlet(sys, t, h, y, f, 1);
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        velocity_verlet(s, s.t, s.h, 1, &mut self.v_half);
         Ok(())
     }
 }

@@ -1,8 +1,8 @@
 //! Yoshida's fourth-order symplectic composition of velocity Verlet (Forest-Ruth).
 
 use super::verlet::velocity_verlet;
-use super::{split_method, Info, Log, Method};
-use crate::dynamics::{SecondOrder, Split};
+use super::{Info, Method};
+use crate::dynamics::{Step, System};
 use crate::error::Result;
 
 /// Three velocity-Verlet substeps of `w1 dt, w0 dt, w1 dt` with
@@ -14,13 +14,15 @@ use crate::error::Result;
 #[derive(Debug, Clone)]
 pub struct Yoshida4 {
     w: [f64; 3],
+    /// Scratch of the substeps' velocity corrections.
+    v_half: Vec<f64>,
 }
 
 impl Default for Yoshida4 {
     fn default() -> Self {
         let c = 2f64.cbrt();
         let w1 = 1.0 / (2.0 - c);
-        Self { w: [w1, -c * w1, w1] }
+        Self { w: [w1, -c * w1, w1], v_half: Vec::new() }
     }
 }
 
@@ -32,25 +34,16 @@ impl Method for Yoshida4 {
         implicit: false,
         evals: 3,
         split: true,
+        vector_positions: false,
         doc:
             "velocity Verlet composed over w1 dt, w0 dt, w1 dt (Yoshida / Forest-Ruth), 4th order symplectic",
     };
 
-    split_method!();
-
-    fn step_split<S: SecondOrder + ?Sized>(
-        &mut self,
-        sys: &mut Split<'_, S>,
-        t: f64,
-        h: f64,
-        y: &mut [f64],
-        f: &mut [f64],
-        _log: Log<'_>,
-    ) -> Result<()> {
-        let mut ts = t;
+    fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
+        let mut ts = s.t;
         for w in self.w {
-            velocity_verlet(sys, ts, w * h, y, f, 3);
-            ts += w * h;
+            velocity_verlet(s, ts, w * s.h, 3, &mut self.v_half);
+            ts += w * s.h;
         }
         Ok(())
     }

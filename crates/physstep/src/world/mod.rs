@@ -181,11 +181,14 @@ impl World {
         self.flow.as_ref().map(|f| &f.flow)
     }
 
-    fn refuse_split(&self, info: &crate::integrators::Info) -> Result<()> {
-        if info.split && self.flow.is_some() {
-            return Err(crate::integrators::split_only(info));
+    /// Refuses a method that does not apply to the world's parts, when it is configured.
+    fn refuse_split(&mut self, info: &crate::integrators::Info) -> Result<()> {
+        use crate::dynamics::{First, Second};
+        use crate::integrators::registry::applies;
+        match self.flow.as_mut() {
+            Some(flow) => applies(info, &First(flow)),
+            None => applies(info, &Second(&mut self.model)),
         }
-        Ok(())
     }
 
     fn refuse_flow(&self, what: &str) -> Result<()> {

@@ -166,7 +166,7 @@ impl World {
             }
         }
         let mut integrator = self.integrator.clone();
-        integrator.recall(memory, if self.flow.is_some() { ny } else { nx })?;
+        integrator.recall(memory, self.layout().sizes(ny))?;
         // Everything checked: commit.
         self.integrator = integrator;
         self.state.t = *t;
@@ -232,7 +232,7 @@ impl World {
             ));
         }
         memory[flags..].copy_from_slice(&z[ny..]);
-        self.integrator.recall(&memory, if self.flow.is_some() { ny } else { ny / 2 })?;
+        self.integrator.recall(&memory, self.layout().sizes(ny))?;
         self.state.y.copy_from_slice(&z[..ny]);
         self.stale = true;
         self.refresh()

@@ -10,6 +10,7 @@
 //! ```
 
 use super::{Epoch, World};
+use crate::dynamics::{First, Second};
 use crate::error::{Error, Result};
 use crate::integrators::Log;
 
@@ -89,13 +90,13 @@ impl World {
     /// Integrate: the method's recipe over the world's parts.
     fn integrate(&mut self, ctx: &StepContext, log: Log<'_>) -> Result<()> {
         if let Some(flow) = self.flow.as_mut() {
-            let r = self.integrator.advance_flow(flow, &mut self.state, ctx.h, log);
+            let r = self.integrator.advance(&mut First(flow), &mut self.state, ctx.h, log);
             return match flow.failure.take() {
                 Some(e) => Err(e),
                 None => r,
             };
         }
-        let r = self.integrator.advance(&mut self.model, &mut self.state, ctx.h, log);
+        let r = self.integrator.advance(&mut Second(&mut self.model), &mut self.state, ctx.h, log);
         // A user force that failed poisoned the accelerations; its own error is the news.
         match self.model.failure.take() {
             Some(e) => Err(e),
