@@ -46,6 +46,8 @@ pub enum Error {
         index: usize,
         /// The particle that entry belongs to, where the system is a world of particles.
         particle: Option<usize>,
+        /// The rigid body that entry belongs to.
+        body: Option<usize>,
     },
     /// An implicit method's Newton iteration did not converge; the state was rolled back.
     NotConverged {
@@ -132,14 +134,18 @@ impl fmt::Display for Error {
                 write!(f, "unknown {kind} '{}'; valid {kind}s: {}", one_line(name), valid.join(", "))
             }
             Self::Unsupported { method, reason } => write!(f, "method '{method}' {reason}"),
-            Self::Diverged { method, step, t, index, particle } => {
+            Self::Diverged { method, step, t, index, particle, body } => {
                 write!(f, "method '{method}' diverged at step {step} (t = {t}): ")?;
-                match particle {
-                    Some(p) => write!(
+                match (particle, body) {
+                    (Some(p), _) => write!(
                         f,
                         "particle {p} became non-finite or ran away (|value| > 1e100); state rolled back"
                     ),
-                    None => write!(
+                    (None, Some(b)) => write!(
+                        f,
+                        "body {b} became non-finite or ran away (|value| > 1e100); state rolled back"
+                    ),
+                    (None, None) => write!(
                         f,
                         "coordinate {index} became non-finite or ran away (|value| > 1e100); state rolled back"
                     ),

@@ -25,6 +25,7 @@ pub mod flows;
 pub mod forces;
 pub mod integrators;
 pub mod record;
+pub mod rigid;
 pub mod scenes;
 pub mod world;
 

@@ -194,10 +194,19 @@ fn first_non_finite(v: &[f64]) -> Option<usize> {
 /// # Errors
 /// As [`Integrator::applies`].
 pub fn applies<S: System + ?Sized>(info: &Info, sys: &S) -> Result<()> {
-    if info.split && sys.split().is_none() {
+    applies_to(info, sys.split().is_some(), sys.vector_positions())
+}
+
+/// Whether the method `info` applies to a system with (`split`) or without a split view,
+/// whose positions are or are not vectors.
+///
+/// # Errors
+/// As [`Integrator::applies`].
+pub fn applies_to(info: &Info, split: bool, vector_positions: bool) -> Result<()> {
+    if info.split && !split {
         return Err(split_only(info));
     }
-    if info.vector_positions && !sys.vector_positions() {
+    if info.vector_positions && !vector_positions {
         return Err(vectors_only(info));
     }
     Ok(())
@@ -395,6 +404,7 @@ impl Integrator {
                 t: state.t,
                 index: i % state.y.len(),
                 particle: None,
+                body: None,
             }),
         }
     }
@@ -431,6 +441,12 @@ pub enum Layout {
     Second,
     /// `y` and `f = y'`.
     First,
+    /// `y = [X; V]` with `X` of length `x`, `f = [dX; A]` (no part of `f` a copy of `y`:
+    /// particles with rigid bodies).
+    Mixed {
+        /// Length of `X`.
+        x: usize,
+    },
 }
 
 impl Layout {
@@ -440,6 +456,7 @@ impl Layout {
         match self {
             Self::Second => Sizes { x: n / 2, v: n / 2 },
             Self::First => Sizes { x: n, v: 0 },
+            Self::Mixed { x } => Sizes { x, v: n - x },
         }
     }
 
@@ -448,7 +465,7 @@ impl Layout {
     pub fn skip(self, state: &State) -> usize {
         match self {
             Self::Second => state.y.len() / 2,
-            Self::First => 0,
+            Self::First | Self::Mixed { .. } => 0,
         }
     }
 }

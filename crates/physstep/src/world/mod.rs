@@ -16,12 +16,15 @@ use crate::integrators::registry::RUNAWAY;
 use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
+mod bodies;
 mod model;
+mod parts;
 mod rules;
 mod snapshot;
 mod state;
 mod step;
 
+pub use bodies::BodyParams;
 pub use model::Model;
 pub use rules::ParticleBatch;
 pub use step::{Stage, StepContext};
@@ -96,6 +99,8 @@ pub struct World {
     /// A first-order flow, when the world is one (then it has no particles and `y` is the
     /// flow's state).
     flow: Option<FlowModel>,
+    /// Rigid bodies (their state follows the particles' in `y`).
+    bodies: crate::rigid::body::Bodies,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -148,6 +153,7 @@ impl World {
             implicit: params.implicit,
             checkpoint: Checkpoint::default(),
             flow: None,
+            bodies: crate::rigid::body::Bodies::default(),
         })
     }
 
@@ -183,12 +189,19 @@ impl World {
 
     /// Refuses a method that does not apply to the world's parts, when it is configured.
     fn refuse_split(&mut self, info: &crate::integrators::Info) -> Result<()> {
-        use crate::dynamics::{First, Second};
+        use crate::dynamics::First;
         use crate::integrators::registry::applies;
         match self.flow.as_mut() {
             Some(flow) => applies(info, &First(flow)),
-            None => applies(info, &Second(&mut self.model)),
+            None => applies(info, &self.parts()),
         }
+    }
+
+    /// Particles and bodies as the system methods see.
+    fn parts(&mut self) -> parts::Parts<'_> {
+        let loads = parts::loads(&self.model);
+        let np = self.model.len();
+        parts::Parts { model: &mut self.model, bodies: &self.bodies, loads, np }
     }
 
     fn refuse_flow(&self, what: &str) -> Result<()> {
@@ -201,13 +214,21 @@ impl World {
         }
     }
 
-    /// The state's layout: `[x; v]` of particles, or a flow's `y`.
+    /// The state's layout: `[x; v]` of particles, with bodies `[X; V]`, or a flow's `y`.
     fn layout(&self) -> Layout {
         if self.flow.is_some() {
             Layout::First
-        } else {
+        } else if self.bodies.is_empty() {
             Layout::Second
+        } else {
+            Layout::Mixed { x: self.nx() }
         }
+    }
+
+    /// Length of the positions `X` of the state (particles' and bodies'); where the
+    /// particles' velocities start.
+    fn nx(&self) -> usize {
+        self.model.len() + crate::rigid::body::X_LEN * self.bodies.len()
     }
 
     /// Coordinates of the positions (a flow's whole state).
@@ -276,19 +297,22 @@ impl World {
         let k = positions.len() / d;
         let first = self.len();
         let n_old = self.model.len();
-        // y = [x; v] and f = [v; a] grow in place: the new positions go between the old
-        // positions and the velocities, so only the velocity half moves.
-        self.state.y.splice(n_old..n_old, positions.iter().copied());
+        // y = [x, bodies' X; v, bodies' V] grows in place: the new positions go after the
+        // old particles' positions, the new velocities after the old particles' velocities.
+        let mut vel = Vec::with_capacity(k * d);
         for p in 0..k {
             let m = masses.map_or(1.0, |m| m[p]);
             let fixed = is_static || m.is_infinite();
             match velocities {
-                Some(v) if !fixed => self.state.y.extend_from_slice(&v[p * d..(p + 1) * d]),
-                _ => self.state.y.extend(std::iter::repeat_n(0.0, d)),
+                Some(v) if !fixed => vel.extend_from_slice(&v[p * d..(p + 1) * d]),
+                _ => vel.extend(std::iter::repeat_n(0.0, d)),
             }
             self.model.mass.push(m);
             self.model.inv_mass.push(if fixed { 0.0 } else { 1.0 / m });
         }
+        self.state.y.splice(n_old..n_old, positions.iter().copied());
+        let at = self.nx() + n_old;
+        self.state.y.splice(at..at, vel);
         self.state.f.resize(self.state.y.len(), 0.0);
         self.touch();
         Ok(first)

@@ -160,7 +160,7 @@ impl World {
                     if *w == 0.0 { "static" } else { "dynamic" }
                 )));
             }
-            let v = &y[nx + p * self.dim()..nx + (p + 1) * self.dim()];
+            let v = &y[self.nx() + p * self.dim()..self.nx() + (p + 1) * self.dim()];
             if *w == 0.0 && v.iter().any(|c| *c != 0.0) {
                 return Err(corrupt(format!("static particle {p} has a velocity")));
             }
@@ -222,9 +222,9 @@ impl World {
             return Err(Error::invalid("len(phase)", z.len(), format!("{want}")));
         }
         crate::error::all_finite("phase", z)?;
-        let nx = self.model.len();
+        let (np, nx) = (self.model.len(), self.nx());
         let d = self.dim();
-        if let Some(i) = (0..nx).find(|&i| self.model.inv_mass[i / d] == 0.0 && z[nx + i] != 0.0) {
+        if let Some(i) = (0..np).find(|&i| self.model.inv_mass[i / d] == 0.0 && z[nx + i] != 0.0) {
             return Err(Error::invalid(
                 format!("phase[{}]", nx + i),
                 z[nx + i],

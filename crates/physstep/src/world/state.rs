@@ -2,7 +2,7 @@
 //! changed, and checked), time, energy and momentum, and setting the state by hand.
 
 use super::World;
-use crate::dynamics::{FirstOrder, SecondOrder};
+use crate::dynamics::{FirstOrder, SecondOrder, System};
 use crate::error::{bounded, Error, Result};
 use crate::integrators::registry::RUNAWAY;
 
@@ -32,7 +32,8 @@ impl World {
             // A flow's velocity is its derivative at the current state.
             return &self.state.f;
         }
-        &self.state.y[self.model.len()..]
+        let (np, nx) = (self.model.len(), self.nx());
+        &self.state.y[nx..nx + np]
     }
 
     /// Accelerations at the current state, m/s^2 (flat, `n * dim`).
@@ -44,7 +45,8 @@ impl World {
         if self.flow.is_some() {
             return Ok(&[]);
         }
-        Ok(&self.state.f[self.model.len()..])
+        let (np, nx) = (self.model.len(), self.nx());
+        Ok(&self.state.f[nx..nx + np])
     }
 
     /// Sets every position (flat, `n * dim`).
@@ -74,7 +76,8 @@ impl World {
         }
         bounded("velocity", v, RUNAWAY)?;
         let d = self.dim();
-        for (i, (dst, src)) in self.state.y[n..].iter_mut().zip(v).enumerate() {
+        let nx = self.nx();
+        for (i, (dst, src)) in self.state.y[nx..nx + n].iter_mut().zip(v).enumerate() {
             *dst = if self.model.inv_mass[i / d] > 0.0 { *src } else { 0.0 };
         }
         self.touch();
@@ -106,7 +109,13 @@ impl World {
         if self.flow.is_some() {
             return None;
         }
-        Some(self.model.kinetic(self.velocities()) + self.model.potential(self.positions())?)
+        let particles = self.model.kinetic(self.velocities()) + self.model.potential(self.positions())?;
+        if self.bodies.is_empty() {
+            return Some(particles);
+        }
+        let (bx, bv) = self.body_state();
+        let loads = super::parts::loads(&self.model);
+        Some(particles + self.bodies.kinetic(bx, bv) + self.bodies.potential(&loads, bx))
     }
 
     /// Total momentum of the dynamic particles, kg m/s (`dim` components).
@@ -120,6 +129,11 @@ impl World {
         for (i, vi) in self.velocities().iter().enumerate() {
             if self.model.inv_mass[i / d] > 0.0 {
                 p[i % d] += self.model.mass[i / d] * vi;
+            }
+        }
+        for pb in self.body_state().1.chunks_exact(crate::rigid::body::V_LEN) {
+            for (pk, bk) in p.iter_mut().zip(pb) {
+                *pk += bk;
             }
         }
         p
@@ -141,11 +155,12 @@ impl World {
             self.stale = false;
         }
         if self.stale {
-            let n = self.model.len();
-            let (x, v) = self.state.y.split_at(n);
-            let (dx, a) = self.state.f.split_at_mut(n);
-            dx.copy_from_slice(v);
-            self.model.accel(self.state.t, x, v, a);
+            let mut y = std::mem::take(&mut self.state.y);
+            let mut f = std::mem::take(&mut self.state.f);
+            let t = self.state.t;
+            self.parts().deriv(t, &y, &mut f);
+            std::mem::swap(&mut self.state.y, &mut y);
+            std::mem::swap(&mut self.state.f, &mut f);
             self.state.evals += 1;
             if let Some(e) = self.model.failure.take() {
                 return Err(e);

@@ -10,7 +10,7 @@
 //! ```
 
 use super::{Epoch, World};
-use crate::dynamics::{First, Second};
+use crate::dynamics::{First, Second, SecondOrder};
 use crate::error::{Error, Result};
 use crate::integrators::Log;
 
@@ -96,7 +96,14 @@ impl World {
                 None => r,
             };
         }
-        let r = self.integrator.advance(&mut Second(&mut self.model), &mut self.state, ctx.h, log);
+        let r = if self.bodies.is_empty() {
+            self.integrator.advance(&mut Second(&mut self.model), &mut self.state, ctx.h, log)
+        } else {
+            let np = self.model.len();
+            let loads = super::parts::loads(&self.model);
+            let mut parts = super::parts::Parts { model: &mut self.model, bodies: &self.bodies, loads, np };
+            self.integrator.advance(&mut parts, &mut self.state, ctx.h, log)
+        };
         // A user force that failed poisoned the accelerations; its own error is the news.
         match self.model.failure.take() {
             Some(e) => Err(e),
@@ -117,23 +124,37 @@ impl World {
     }
 
     /// Check: a NaN, an infinity or a runaway value anywhere is a divergence, named by the
-    /// particle it belongs to.
+    /// particle or body it belongs to.
     fn check(&self, ctx: &StepContext) -> Result<()> {
-        let particles = self.flow.is_none();
         self.integrator.check(&self.state, self.layout()).map_err(|e| match e {
             Error::Diverged { method, index, .. } => {
-                let n = self.model_len().max(1);
-                let particle = particles.then(|| (index % n) / self.dim());
-                Error::Diverged { method, step: ctx.step, t: ctx.t, index, particle }
+                let (particle, body) = self.owner(index);
+                Error::Diverged { method, step: ctx.step, t: ctx.t, index, particle, body }
             }
             other => other,
         })
+    }
+
+    /// The particle or body entry `index` of the state belongs to.
+    fn owner(&self, index: usize) -> (Option<usize>, Option<usize>) {
+        use crate::rigid::body::{V_LEN, X_LEN};
+        if self.flow.is_some() {
+            return (None, None);
+        }
+        let (np, nx) = (self.model.len(), self.nx());
+        let (j, per) = if index < nx { (index, X_LEN) } else { (index - nx, V_LEN) };
+        if j < np {
+            (Some(j / self.dim()), None)
+        } else {
+            (None, Some((j - np) / per))
+        }
     }
 
     /// Finish: count the step and set the time once; or restore the checkpoint.
     fn finish(&mut self, ctx: &StepContext, r: Result<()>) -> Result<()> {
         match r {
             Ok(()) => {
+                self.clear_loads();
                 self.epoch = ctx.epoch;
                 self.state.steps += 1;
                 self.state.t = ctx.t_end;
@@ -145,9 +166,5 @@ impl World {
                 Err(e)
             }
         }
-    }
-
-    fn model_len(&self) -> usize {
-        self.positions().len()
     }
 }

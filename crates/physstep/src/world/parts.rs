@@ -1,0 +1,89 @@
+//! The world's parts as the one [`System`] methods see: particles first, then rigid bodies,
+//! in `y = [x_particles, (c, q)_bodies; v_particles, (P, L)_bodies]`.
+
+use super::Model;
+use crate::dynamics::{Second, SecondOrder, System};
+use crate::rigid::body::{Bodies, Loads, V_LEN, X_LEN};
+
+/// Particles and bodies together.
+pub(crate) struct Parts<'a> {
+    pub model: &'a mut Model,
+    pub bodies: &'a Bodies,
+    pub loads: Loads,
+    /// Particle coordinates.
+    pub np: usize,
+}
+
+impl Parts<'_> {
+    fn nx(&self) -> usize {
+        self.np + X_LEN * self.bodies.len()
+    }
+}
+
+impl System for Parts<'_> {
+    fn dim(&self) -> usize {
+        2 * self.np + (X_LEN + V_LEN) * self.bodies.len()
+    }
+
+    fn split(&self) -> Option<usize> {
+        Some(self.nx())
+    }
+
+    fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], work: &mut Vec<f64>) -> bool {
+        // Bodies have no analytic Jacobian (implicit methods difference them).
+        self.bodies.is_empty() && Second(&mut *self.model).jacobian(t, y, j, work)
+    }
+
+    fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {
+        let np = self.np;
+        self.model.accel(t, &x[..np], &w[..np], &mut a[..np]);
+        self.bodies.accel(&self.loads, &x[np..], &w[np..], &mut a[np..]);
+    }
+
+    fn drift(&mut self, x: &mut [f64], w: &[f64], h: f64) {
+        let np = self.np;
+        crate::integrators::axpy(&mut x[..np], h, &w[..np]);
+        self.bodies.drift(&mut x[np..], &w[np..], h);
+    }
+
+    fn rate(&self, x: &[f64], v: &[f64], dx: &mut [f64]) {
+        let np = self.np;
+        dx[..np].copy_from_slice(&v[..np]);
+        self.bodies.rate(&x[np..], &v[np..], &mut dx[np..]);
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        self.model.velocity_dependent()
+            || (!self.bodies.is_empty() && (self.loads.linear != 0.0 || self.loads.quadratic != 0.0))
+    }
+
+    fn vector_positions(&self) -> bool {
+        self.bodies.is_empty()
+    }
+
+    fn project(&mut self, y: &mut [f64], f: &mut [f64]) {
+        if self.bodies.is_empty() {
+            return;
+        }
+        let (np, nx) = (self.np, self.nx());
+        let (x, v) = y.split_at_mut(nx);
+        self.bodies.project(&mut x[np..], &v[np..], &mut f[np..nx]);
+    }
+}
+
+/// The world's forces as they act on bodies: uniform gravity and drag on the centre of mass
+/// (the other forces join particles only).
+pub(crate) fn loads(model: &Model) -> Loads {
+    let mut l = Loads::default();
+    for f in model.forces.iter() {
+        match *f {
+            crate::forces::Force::Gravity { g } => l.g += glam::DVec3::from_array(g),
+            crate::forces::Force::Drag { linear, quadratic } => {
+                l.linear += linear;
+                l.quadratic += quadratic;
+            }
+            _ => {}
+        }
+    }
+    l
+}
