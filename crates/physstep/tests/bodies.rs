@@ -214,3 +214,129 @@ fn particles_and_bodies_share_a_world_and_a_snapshot_continues_bitwise() {
     let t = w.time();
     assert!((w.positions()[0] - t.cos()).abs() < 1e-3, "{} vs {}", w.positions()[0], t.cos());
 }
+
+fn l_norm(w: &World) -> f64 {
+    norm(w.angular_momentum())
+}
+
+#[test]
+fn the_velocity_form_without_gyroscopic_term_never_flips_and_loses_angular_momentum() {
+    use physstep::rigid::body::AngularForm;
+    let run = |form| {
+        let mut w = racket("symplectic-euler", Rule::Splitting);
+        w.set_angular_form(form);
+        let l0 = l_norm(&w);
+        let mut min_along = f64::INFINITY;
+        for _ in 0..60 {
+            w.step(120).unwrap();
+            let omega = w.body_angular_velocity(0).unwrap();
+            min_along = min_along.min(body_y(w.body_orientation(0).unwrap(), omega));
+        }
+        ((l_norm(&w) - l0).abs() / l0, min_along)
+    };
+    let (dl_momentum, along_momentum) = run(AngularForm::Momentum);
+    let (dl_velocity, along_velocity) = run(AngularForm::Velocity);
+    let (dl_gyro, along_gyro) = run(AngularForm::VelocityGyroscopic);
+    assert!(dl_momentum < 1e-13, "momentum form |L| error {dl_momentum:e}");
+    // Without the gyroscopic term omega is frozen: the spin about the intermediate axis
+    // never reverses, while |L| = |I omega| changes as the body turns.
+    assert!(along_velocity > 0.0, "the velocity form flipped ({along_velocity})");
+    assert!(along_momentum < 0.0 && along_gyro < 0.0, "no flip: {along_momentum}, {along_gyro}");
+    assert!(dl_velocity > 1e3 * dl_momentum.max(1e-16), "velocity form |L| error {dl_velocity:e}");
+    assert!(dl_gyro > 1e3 * dl_momentum.max(1e-16), "gyroscopic velocity form |L| error {dl_gyro:e}");
+}
+
+#[test]
+fn switching_the_angular_form_keeps_the_state_and_rk4_agrees_in_both() {
+    use physstep::rigid::body::AngularForm;
+    let mut a = racket("rk4", Rule::Splitting);
+    let mut b = racket("rk4", Rule::Splitting);
+    b.set_angular_form(AngularForm::VelocityGyroscopic);
+    let (la, lb) = (a.angular_momentum(), b.angular_momentum());
+    for k in 0..3 {
+        assert!((la[k] - lb[k]).abs() < 1e-12 * norm(la), "{la:?} vs {lb:?}");
+    }
+    a.step(1200).unwrap();
+    b.step(1200).unwrap();
+    let (qa, qb) = (a.body_orientation(0).unwrap(), b.body_orientation(0).unwrap());
+    let dot: f64 = qa.iter().zip(qb).map(|(x, y)| x * y).sum();
+    assert!(dot.abs() > 1.0 - 1e-8, "{qa:?} vs {qb:?}");
+}
+
+#[test]
+fn a_spring_from_a_particle_to_a_body_point_conserves_total_momentum() {
+    let mut w = world("velocity-verlet", 0.01);
+    w.add_body(&BodyParams {
+        shape: Shape::Box { half_extents: [0.5, 0.2, 0.1] },
+        mass: Some(3.0),
+        velocity: [0.1, 0.0, 0.0],
+        ..BodyParams::default()
+    })
+    .unwrap();
+    w.add_particle(&[2.0, 1.0, 0.0], &[0.0, -0.5, 0.3], 0.7, false).unwrap();
+    w.add_body_spring(0, [0.5, 0.2, 0.0], Endpoint::Particle(0), 20.0, Some(1.0), 0.5).unwrap();
+    let p0 = w.momentum();
+    let e0 = w.energy().unwrap();
+    w.step(2000).unwrap();
+    let p = w.momentum();
+    for k in 0..3 {
+        assert!((p[k] - p0[k]).abs() < 1e-12, "momentum {p0:?} -> {p:?}");
+    }
+    // The body turned: the spring pulled off its centre.
+    assert!(norm(w.body_angular_velocity(0).unwrap()) > 1e-3);
+    // Damped: the energy went down, never up.
+    assert!(w.energy().unwrap() < e0);
+    let undamped = {
+        let mut w = world("velocity-verlet", 0.001);
+        w.add_body(&BodyParams {
+            shape: Shape::Sphere { radius: 0.3 },
+            mass: Some(2.0),
+            ..BodyParams::default()
+        })
+        .unwrap();
+        w.add_body_spring(0, [0.3, 0.0, 0.0], Endpoint::Anchor([1.0, 0.5, 0.0]), 10.0, Some(0.2), 0.0)
+            .unwrap();
+        let e0 = w.energy().unwrap();
+        w.step(5000).unwrap();
+        (w.energy().unwrap() - e0).abs() / e0
+    };
+    assert!(undamped < 1e-4, "energy error of an undamped body spring {undamped:e}");
+}
+
+#[test]
+fn a_pinned_top_keeps_its_tip_and_precesses_at_the_gyroscopic_rate() {
+    // A cylinder (r = 0.1, h = 0.4, m = 1) pinned at the centre of its bottom face, tilted
+    // 0.3 rad from vertical, spun fast about its axis. Fast-top precession rate:
+    // Omega = m g l / (I3 omega3), l = 0.2 the pin-to-centre distance.
+    let (r, h, m, g, spin, tilt) = (0.1, 0.4, 1.0, 9.81, 200.0, 0.3f64);
+    let mut w = world("velocity-verlet", 1e-4);
+    w.add_force(Force::Gravity { g: [0.0, 0.0, -g] }).unwrap();
+    let q = [(tilt / 2.0).cos(), (tilt / 2.0).sin(), 0.0, 0.0]; // about x
+    let axis = [0.0, -tilt.sin(), tilt.cos()];
+    w.add_body(&BodyParams {
+        shape: Shape::Cylinder { radius: r, height: h },
+        mass: Some(m),
+        orientation: q,
+        angular_velocity: [spin * axis[0], spin * axis[1], spin * axis[2]],
+        pivot: Some([0.0, 0.0, -h / 2.0]),
+        // The shape's origin where the pin ends up at the world's origin.
+        position: [0.0, -tilt.sin() * h / 2.0, tilt.cos() * h / 2.0],
+        ..BodyParams::default()
+    })
+    .unwrap();
+    let e0 = w.energy().unwrap();
+    let c0 = w.body_position(0).unwrap();
+    let t_end = 0.5;
+    w.step((t_end / 1e-4) as u64).unwrap();
+    let c = w.body_position(0).unwrap();
+    // The centre stays at l = 0.2 from the pin (the origin).
+    assert!((norm(c) - h / 2.0).abs() < 1e-9, "|c| = {}", norm(c));
+    let i3 = 0.5 * m * r * r;
+    let omega_p = m * g * (h / 2.0) / (i3 * spin);
+    let azimuth = |c: [f64; 3]| c[1].atan2(c[0]);
+    let turned = (azimuth(c) - azimuth(c0)).rem_euclid(std::f64::consts::TAU);
+    let expected = omega_p * t_end;
+    assert!((turned - expected).abs() < 0.05 * expected, "precessed {turned}, fast-top theory {expected}");
+    let de = (w.energy().unwrap() - e0).abs() / e0;
+    assert!(de < 1e-6, "energy error {de:e}");
+}

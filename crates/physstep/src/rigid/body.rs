@@ -7,10 +7,70 @@
 //! momentum `L` (kg m^2/s, world frame) among the velocities `V`, 6 numbers. What a kick
 //! adds to `V` per second is the force and the torque. The drift moves the centre by
 //! `P / m h` and the orientation by the body's [`Rule`] with `L` held.
+//!
+//! The angular slot of `V` holds what the world's [`AngularForm`] says: the angular momentum
+//! `L` (the notes' form, the default) or the angular velocity `omega` (the velocity forms of
+//! game engines, to compare). A pinned body (a top on its tip) holds a point fixed: its
+//! position slot is that point, `P` stays zero, and `L` is taken about the point.
 
 use glam::{DQuat, DVec3};
 
 use super::orientation::{self, Rule};
+use crate::error::{Error, Result};
+
+/// What the angular slot of a body's velocities holds, and so what a kick integrates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AngularForm {
+    /// The notes' form: angular momentum `L`, kicked by the torque (`L' = tau`); `omega` is
+    /// derived from `L` at the current orientation, so gyroscopic motion is exact by
+    /// construction. The default.
+    #[default]
+    Momentum,
+    /// Angular velocity `omega`, kicked by `I^-1 tau` with the gyroscopic term ignored, as
+    /// many game engines do: a free body spins about a fixed axis forever (no precession,
+    /// no tennis-racket flip).
+    Velocity,
+    /// Angular velocity `omega`, kicked by `I^-1 (tau - omega x I omega)` (Euler's
+    /// equations, the gyroscopic term explicit).
+    VelocityGyroscopic,
+}
+
+/// Every angular form, in order.
+pub const FORMS: [AngularForm; 3] =
+    [AngularForm::Momentum, AngularForm::Velocity, AngularForm::VelocityGyroscopic];
+
+impl AngularForm {
+    /// Its name: `momentum`, `velocity`, `velocity-gyroscopic`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Momentum => "momentum",
+            Self::Velocity => "velocity",
+            Self::VelocityGyroscopic => "velocity-gyroscopic",
+        }
+    }
+
+    /// The form named `name`.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] listing the valid names.
+    pub fn from_name(name: &str) -> Result<Self> {
+        FORMS
+            .into_iter()
+            .find(|f| f.name() == name)
+            .ok_or_else(|| Error::unknown("angular form", name, FORMS.iter().map(|f| f.name())))
+    }
+
+    /// One line on what it is.
+    #[must_use]
+    pub fn doc(self) -> &'static str {
+        match self {
+            Self::Momentum => "integrate L from torque, omega = I^-1 L (the notes; gyroscopic motion exact)",
+            Self::Velocity => "integrate omega from I^-1 tau, gyroscopic term ignored (many engines)",
+            Self::VelocityGyroscopic => "integrate omega from I^-1 (tau - omega x I omega), explicit",
+        }
+    }
+}
 
 /// Numbers of a body among the positions: centre (3), orientation (4).
 pub const X_LEN: usize = 7;
@@ -28,6 +88,11 @@ pub struct Bodies {
     pub(crate) inv_inertia: Vec<DVec3>,
     /// The rotation from a body's principal frame to the frame its shape was given in.
     pub(crate) frame: Vec<DQuat>,
+    /// The centre of mass relative to the body's reference point (its position slot), in
+    /// the principal frame: zero for a free body, the offset from the pin for a pinned one.
+    pub(crate) offset: Vec<DVec3>,
+    /// Whether the reference point is pinned to the world (a top on its tip).
+    pub(crate) pinned: Vec<bool>,
     /// The shape's centre of mass in the shape's frame, m.
     pub(crate) center: Vec<DVec3>,
     /// Forces applied by hand for the next step, N (world frame).
@@ -36,6 +101,27 @@ pub struct Bodies {
     pub(crate) torque: Vec<DVec3>,
     /// How a drift moves orientations.
     pub(crate) rule: Rule,
+    /// What the angular slot holds.
+    pub(crate) form: AngularForm,
+    /// Springs from body points to particles or anchors.
+    pub(crate) springs: Vec<BodySpring>,
+}
+
+/// A damped spring from a point of a body to a particle or a fixed point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodySpring {
+    /// The body.
+    pub body: usize,
+    /// The point, from the body's reference point, in its principal frame, m.
+    pub point: DVec3,
+    /// The other end.
+    pub other: crate::forces::Endpoint,
+    /// Stiffness, N/m.
+    pub stiffness: f64,
+    /// Rest length, m.
+    pub rest_length: f64,
+    /// Damping along the spring, N s/m.
+    pub damping: f64,
 }
 
 /// Reads three numbers as a vector.
@@ -109,29 +195,98 @@ impl Bodies {
         self.inertia[b].to_array()
     }
 
-    /// `A` of the bodies (force and torque per body) at positions `x` and momenta `w`.
-    pub(crate) fn accel(&self, loads: &Loads, x: &[f64], w: &[f64], a: &mut [f64]) {
-        let _ = x;
-        for (b, (wb, ab)) in w.chunks_exact(V_LEN).zip(a.chunks_exact_mut(V_LEN)).enumerate() {
-            let m = self.mass[b];
-            let p = vec3(&wb[..3]);
-            let mut f = self.force[b] + loads.g * m;
-            if loads.linear != 0.0 || loads.quadratic != 0.0 {
-                let v = p / m;
-                f -= v * (loads.linear + loads.quadratic * v.length());
-            }
-            put_vec3(&mut ab[..3], f);
-            put_vec3(&mut ab[3..], self.torque[b]);
+    /// The world angular velocity of body `b` at orientation `q` with angular slot `w`.
+    #[inline]
+    pub(crate) fn omega(&self, b: usize, q: DQuat, w: DVec3) -> DVec3 {
+        match self.form {
+            AngularForm::Momentum => orientation::omega(q, self.inv_inertia[b], w),
+            AngularForm::Velocity | AngularForm::VelocityGyroscopic => w,
         }
     }
 
-    /// Drift: centres by `P / m h`, orientations by the rule with `L` held.
+    /// The angular momentum of body `b` (about its reference point) at `q` with slot `w`.
+    #[inline]
+    pub(crate) fn momentum(&self, b: usize, q: DQuat, w: DVec3) -> DVec3 {
+        match self.form {
+            AngularForm::Momentum => w,
+            AngularForm::Velocity | AngularForm::VelocityGyroscopic => {
+                q * (self.inertia[b] * (q.conjugate() * w))
+            }
+        }
+    }
+
+    /// What the angular slot holds for angular momentum `l` at `q` under `form`.
+    pub(crate) fn slot(&self, form: AngularForm, b: usize, q: DQuat, l: DVec3) -> DVec3 {
+        match form {
+            AngularForm::Momentum => l,
+            AngularForm::Velocity | AngularForm::VelocityGyroscopic => {
+                orientation::omega(q, self.inv_inertia[b], l)
+            }
+        }
+    }
+
+    /// The centre of mass of body `b` whose position slot is `xb`, and its velocity.
+    pub(crate) fn center(&self, b: usize, xb: &[f64], vb: &[f64]) -> (DVec3, DVec3) {
+        let q = quat(&xb[3..]);
+        let r = q * self.offset[b];
+        let c = vec3(&xb[..3]) + r;
+        let v = if self.pinned[b] {
+            self.omega(b, q, vec3(&vb[3..])).cross(r)
+        } else {
+            vec3(&vb[..3]) / self.mass[b]
+        };
+        (c, v)
+    }
+
+    /// `A` of the bodies at positions `x` and velocities `w`: per body what a kick adds to
+    /// `P` (the force; zero when pinned) and to the angular slot (the torque about the
+    /// reference point, or what it makes of `omega`). `extra` holds loads from springs.
+    pub(crate) fn accel(&self, loads: &Loads, x: &[f64], w: &[f64], a: &mut [f64], extra: &[(DVec3, DVec3)]) {
+        for (b, ((xb, wb), ab)) in
+            x.chunks_exact(X_LEN).zip(w.chunks_exact(V_LEN)).zip(a.chunks_exact_mut(V_LEN)).enumerate()
+        {
+            let m = self.mass[b];
+            let q = quat(&xb[3..]);
+            let mut f = self.force[b] + loads.g * m;
+            if loads.linear != 0.0 || loads.quadratic != 0.0 {
+                let v = self.center(b, xb, wb).1;
+                f -= v * (loads.linear + loads.quadratic * v.length());
+            }
+            // Spring loads come with their torque about the reference point already.
+            let (fs, ts) = extra.get(b).copied().unwrap_or_default();
+            let mut tau = self.torque[b] + ts;
+            let fe = if self.pinned[b] {
+                // The pin takes the forces; about it, those at the centre turn the body.
+                tau += (q * self.offset[b]).cross(f);
+                DVec3::ZERO
+            } else {
+                f + fs
+            };
+            put_vec3(&mut ab[..3], fe);
+            let spin = vec3(&wb[3..]);
+            let da = match self.form {
+                AngularForm::Momentum => tau,
+                AngularForm::Velocity => orientation::omega(q, self.inv_inertia[b], tau),
+                AngularForm::VelocityGyroscopic => {
+                    let l = self.momentum(b, q, spin);
+                    orientation::omega(q, self.inv_inertia[b], tau - spin.cross(l))
+                }
+            };
+            put_vec3(&mut ab[3..], da);
+        }
+    }
+
+    /// Drift: reference points by `P / m h`, orientations by the rule with the angular
+    /// momentum (momentum form) or the angular velocity (velocity forms) held.
     pub(crate) fn drift(&self, x: &mut [f64], w: &[f64], h: f64) {
         for (b, (xb, wb)) in x.chunks_exact_mut(X_LEN).zip(w.chunks_exact(V_LEN)).enumerate() {
-            let c = vec3(&xb[..3]) + vec3(&wb[..3]) * (h / self.mass[b]);
-            put_vec3(&mut xb[..3], c);
-            let q = orientation::drift(self.rule, quat(&xb[3..]), self.inv_inertia[b], vec3(&wb[3..]), h);
-            put_quat(&mut xb[3..], q);
+            if !self.pinned[b] {
+                let c = vec3(&xb[..3]) + vec3(&wb[..3]) * (h / self.mass[b]);
+                put_vec3(&mut xb[..3], c);
+            }
+            let q = quat(&xb[3..]);
+            let l = self.momentum(b, q, vec3(&wb[3..]));
+            put_quat(&mut xb[3..], orientation::drift(self.rule, q, self.inv_inertia[b], l, h));
         }
     }
 
@@ -142,7 +297,7 @@ impl Bodies {
         {
             put_vec3(&mut db[..3], vec3(&vb[..3]) / self.mass[b]);
             let q = quat(&xb[3..]);
-            let omega = orientation::omega(q.normalize(), self.inv_inertia[b], vec3(&vb[3..]));
+            let omega = self.omega(b, q.normalize(), vec3(&vb[3..]));
             let dq = DQuat::from_xyzw(omega.x, omega.y, omega.z, 0.0) * q * 0.5;
             put_quat(&mut db[3..], dq);
         }
@@ -158,21 +313,82 @@ impl Bodies {
         self.rate(x, v, dx);
     }
 
-    /// Kinetic energy of momenta `v` at positions `x`: `P^2 / 2m + L . omega / 2`, J.
+    /// Kinetic energy at positions `x`, velocities `v`: `P^2 / 2m + L . omega / 2` (about the
+    /// pin for a pinned body), J.
     pub(crate) fn kinetic(&self, x: &[f64], v: &[f64]) -> f64 {
         x.chunks_exact(X_LEN)
             .zip(v.chunks_exact(V_LEN))
             .enumerate()
             .map(|(b, (xb, vb))| {
-                let p = vec3(&vb[..3]);
-                p.length_squared() / (2.0 * self.mass[b])
-                    + orientation::kinetic(quat(&xb[3..]), self.inv_inertia[b], vec3(&vb[3..]))
+                let q = quat(&xb[3..]);
+                let w = vec3(&vb[3..]);
+                let rot = 0.5 * self.omega(b, q, w).dot(self.momentum(b, q, w));
+                vec3(&vb[..3]).length_squared() / (2.0 * self.mass[b]) + rot
             })
             .sum()
     }
 
-    /// Gravitational potential energy `-m g . x` of the bodies at positions `x`, J.
-    pub(crate) fn potential(&self, loads: &Loads, x: &[f64]) -> f64 {
-        x.chunks_exact(X_LEN).enumerate().map(|(b, xb)| -self.mass[b] * loads.g.dot(vec3(&xb[..3]))).sum()
+    /// Gravitational potential energy `-m g . c` of the bodies' centres, J.
+    pub(crate) fn potential(&self, loads: &Loads, x: &[f64], v: &[f64]) -> f64 {
+        x.chunks_exact(X_LEN)
+            .zip(v.chunks_exact(V_LEN))
+            .enumerate()
+            .map(|(b, (xb, vb))| -self.mass[b] * loads.g.dot(self.center(b, xb, vb).0))
+            .sum()
+    }
+
+    /// The angular form.
+    #[must_use]
+    pub fn form(&self) -> AngularForm {
+        self.form
+    }
+}
+
+impl BodySpring {
+    /// The force on the body's point (its opposite acts on the other end) and the point's
+    /// arm from the body's reference point, world frame, at positions `x` and velocities
+    /// `v` of the whole world (`np` particle coordinates first, 3 per particle).
+    pub(crate) fn force(&self, bodies: &Bodies, np: usize, x: &[f64], v: &[f64]) -> (DVec3, DVec3) {
+        let b = self.body;
+        let (xb, vb) = (&x[np + b * X_LEN..], &v[np + b * V_LEN..]);
+        let q = quat(&xb[3..]);
+        let arm = q * self.point;
+        let v_ref = if bodies.pinned[b] { DVec3::ZERO } else { vec3(&vb[..3]) / bodies.mass[b] };
+        let p = vec3(&xb[..3]) + arm;
+        let vp = v_ref + bodies.omega(b, q, vec3(&vb[3..])).cross(arm);
+        let (xo, vo) = match self.other {
+            crate::forces::Endpoint::Particle(i) => (vec3(&x[3 * i..]), vec3(&v[3 * i..])),
+            crate::forces::Endpoint::Anchor(a) => (DVec3::from_array(a), DVec3::ZERO),
+        };
+        let (d, w) = (xo - p, vo - vp);
+        let f = if self.rest_length == 0.0 {
+            d * self.stiffness + w * self.damping
+        } else {
+            let r = d.length();
+            if r == 0.0 {
+                DVec3::ZERO
+            } else {
+                let u = d / r;
+                u * (self.stiffness * (r - self.rest_length) + self.damping * w.dot(u))
+            }
+        };
+        (f, arm)
+    }
+
+    /// Its length `|d|` at positions `x`, m.
+    pub(crate) fn length(&self, np: usize, x: &[f64]) -> f64 {
+        let xb = &x[np + self.body * X_LEN..];
+        let p = vec3(&xb[..3]) + quat(&xb[3..]) * self.point;
+        let xo = match self.other {
+            crate::forces::Endpoint::Particle(i) => vec3(&x[3 * i..]),
+            crate::forces::Endpoint::Anchor(a) => DVec3::from_array(a),
+        };
+        (xo - p).length()
+    }
+
+    /// Its potential energy `k (|d| - rest)^2 / 2` at positions `x`, J.
+    pub(crate) fn potential(&self, np: usize, x: &[f64]) -> f64 {
+        let stretch = self.length(np, x) - self.rest_length;
+        0.5 * self.stiffness * stretch * stretch
     }
 }

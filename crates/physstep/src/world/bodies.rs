@@ -7,7 +7,7 @@ use super::World;
 use crate::dynamics::SecondOrder;
 use crate::error::{bounded, Error, Result};
 use crate::integrators::registry::RUNAWAY;
-use crate::rigid::body::{put_quat, put_vec3, quat, vec3, V_LEN, X_LEN};
+use crate::rigid::body::{put_quat, put_vec3, quat, vec3, AngularForm, BodySpring, V_LEN, X_LEN};
 use crate::rigid::inertia::Shape;
 use crate::rigid::orientation::{self, Rule};
 
@@ -28,6 +28,10 @@ pub struct BodyParams {
     pub velocity: [f64; 3],
     /// Angular velocity, rad/s, world frame.
     pub angular_velocity: [f64; 3],
+    /// A point of the shape (shape frame, m) pinned to the world where it starts: a ball
+    /// joint to the world, a top on its tip. The body then turns about it (its velocity
+    /// follows from its spin: `velocity` must be zero).
+    pub pivot: Option<[f64; 3]>,
 }
 
 impl Default for BodyParams {
@@ -40,6 +44,7 @@ impl Default for BodyParams {
             orientation: [1.0, 0.0, 0.0, 0.0],
             velocity: [0.0; 3],
             angular_velocity: [0.0; 3],
+            pivot: None,
         }
     }
 }
@@ -65,7 +70,31 @@ impl World {
         bounded("velocity", &p.velocity, RUNAWAY)?;
         bounded("angular_velocity", &p.angular_velocity, RUNAWAY)?;
         let user = orientation::validate_quaternion("orientation", p.orientation)?;
-        let axes = props.principal_axes;
+        let mut inertia_m = props.inertia;
+        let center_s = DVec3::from_array(props.center);
+        let reference = match p.pivot {
+            None => center_s,
+            Some(pin) => {
+                bounded("pivot", &pin, RUNAWAY)?;
+                if p.velocity.iter().any(|v| *v != 0.0) {
+                    return Err(Error::invalid(
+                        "velocity",
+                        format!("{:?}", p.velocity),
+                        "[0, 0, 0] for a pinned body (its centre moves with its spin)",
+                    ));
+                }
+                // Inertia about the pin: I_c + m (|d|^2 1 - d d^T), d from the pin to the centre.
+                let d = center_s - DVec3::from_array(pin);
+                let (da, m) = (d.to_array(), props.mass);
+                for (i, row) in inertia_m.iter_mut().enumerate() {
+                    for (j, e) in row.iter_mut().enumerate() {
+                        *e += m * (if i == j { d.length_squared() } else { 0.0 } - da[i] * da[j]);
+                    }
+                }
+                DVec3::from_array(pin)
+            }
+        };
+        let (moments, axes) = crate::rigid::inertia::symmetric_eigen(&inertia_m);
         let frame_m = DMat3::from_cols(
             DVec3::from_array(axes[0]),
             DVec3::from_array(axes[1]),
@@ -73,33 +102,34 @@ impl World {
         );
         let frame = DQuat::from_mat3(&frame_m).normalize();
         let q = (user * frame).normalize();
-        let inertia = DVec3::from_array(props.principal_moments);
+        let inertia = DVec3::from_array(moments);
         if !(inertia.min_element() > 0.0 && inertia.is_finite()) {
-            return Err(Error::invalid(
-                "inertia",
-                format!("{:?}", props.principal_moments),
-                "positive principal moments",
-            ));
+            return Err(Error::invalid("inertia", format!("{moments:?}"), "positive principal moments"));
         }
-        let center = user * DVec3::from_array(props.center) + DVec3::from_array(p.position);
-        let momentum = DVec3::from_array(p.velocity) * props.mass;
+        let offset = frame.inverse() * (center_s - reference);
+        let origin = user * reference + DVec3::from_array(p.position);
+        let momentum =
+            if p.pivot.is_some() { DVec3::ZERO } else { DVec3::from_array(p.velocity) * props.mass };
         let omega = DVec3::from_array(p.angular_velocity);
-        // L = R diag(I) R^T omega.
+        // L = R diag(I) R^T omega (about the reference point).
         let l = q * (inertia * (q.inverse() * omega));
         let b = &mut self.bodies;
         b.mass.push(props.mass);
         b.inertia.push(inertia);
         b.inv_inertia.push(inertia.recip());
         b.frame.push(frame);
-        b.center.push(DVec3::from_array(props.center));
+        b.center.push(reference);
+        b.offset.push(offset);
+        b.pinned.push(p.pivot.is_some());
         b.force.push(DVec3::ZERO);
         b.torque.push(DVec3::ZERO);
+        let slot = b.slot(b.form, b.len() - 1, q, l);
         let mut xb = [0.0; X_LEN];
-        put_vec3(&mut xb[..3], center);
+        put_vec3(&mut xb[..3], origin);
         put_quat(&mut xb[3..], q);
         let mut vb = [0.0; V_LEN];
         put_vec3(&mut vb[..3], momentum);
-        put_vec3(&mut vb[3..], l);
+        put_vec3(&mut vb[3..], slot);
         let at = self.nx() - X_LEN;
         self.state.y.splice(at..at, xb);
         self.state.y.extend_from_slice(&vb);
@@ -133,9 +163,14 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `body` for an index out of range.
     pub fn body_position(&self, b: usize) -> Result<[f64; 3]> {
+        Ok(self.body_center(b)?.0.to_array())
+    }
+
+    /// Centre of mass of body `b` and its velocity.
+    fn body_center(&self, b: usize) -> Result<(DVec3, DVec3)> {
         self.body_index(b)?;
-        let x = &self.body_state().0[b * X_LEN..];
-        Ok([x[0], x[1], x[2]])
+        let (x, v) = self.body_state();
+        Ok(self.bodies.center(b, &x[b * X_LEN..], &v[b * V_LEN..]))
     }
 
     /// Orientation of body `b`'s shape frame, `(w, x, y, z)`.
@@ -153,18 +188,19 @@ impl World {
     /// # Errors
     /// As [`World::body_position`].
     pub fn body_velocity(&self, b: usize) -> Result<[f64; 3]> {
-        self.body_index(b)?;
-        let p = vec3(&self.body_state().1[b * V_LEN..]);
-        Ok((p / self.bodies.mass[b]).to_array())
+        Ok(self.body_center(b)?.1.to_array())
     }
 
-    /// Angular momentum of body `b` about its centre of mass, kg m^2/s, world frame.
+    /// Angular momentum of body `b` about its reference point (its centre of mass, or its
+    /// pin), kg m^2/s, world frame.
     ///
     /// # Errors
     /// As [`World::body_position`].
     pub fn body_angular_momentum(&self, b: usize) -> Result<[f64; 3]> {
         self.body_index(b)?;
-        Ok(vec3(&self.body_state().1[b * V_LEN + 3..]).to_array())
+        let (x, v) = self.body_state();
+        let q = quat(&x[b * X_LEN + 3..]);
+        Ok(self.bodies.momentum(b, q, vec3(&v[b * V_LEN + 3..])).to_array())
     }
 
     /// Angular velocity of body `b`, rad/s, world frame.
@@ -175,7 +211,7 @@ impl World {
         self.body_index(b)?;
         let (x, v) = self.body_state();
         let q = quat(&x[b * X_LEN + 3..]);
-        Ok(orientation::omega(q, self.bodies.inv_inertia[b], vec3(&v[b * V_LEN + 3..])).to_array())
+        Ok(self.bodies.omega(b, q, vec3(&v[b * V_LEN + 3..])).to_array())
     }
 
     /// Total angular momentum about the origin, kg m^2/s: particles' `m x x v` (3D worlds;
@@ -193,8 +229,12 @@ impl World {
             }
         }
         let (x, v) = self.body_state();
-        for (xb, vb) in x.chunks_exact(X_LEN).zip(v.chunks_exact(V_LEN)) {
-            total += vec3(xb).cross(vec3(vb)) + vec3(&vb[3..]);
+        for (b, (xb, vb)) in x.chunks_exact(X_LEN).zip(v.chunks_exact(V_LEN)).enumerate() {
+            // About the origin: L about the reference point plus the reference point's arm
+            // times the momentum of the centre (m v_c; P for a free body).
+            let q = quat(&xb[3..]);
+            let (_, vc) = self.bodies.center(b, xb, vb);
+            total += self.bodies.momentum(b, q, vec3(&vb[3..])) + vec3(xb).cross(vc * self.bodies.mass[b]);
         }
         total.to_array()
     }
@@ -240,6 +280,97 @@ impl World {
             self.bodies.force.fill(DVec3::ZERO);
             self.bodies.torque.fill(DVec3::ZERO);
             self.stale = true;
+        }
+    }
+
+    /// Chooses what the angular slot of bodies holds and so what kicks integrate (see
+    /// [`AngularForm`]); the bodies' state is converted (their angular momentum kept).
+    pub fn set_angular_form(&mut self, form: AngularForm) {
+        let np = self.model.len();
+        let nx = self.nx();
+        for b in 0..self.bodies.len() {
+            let q = quat(&self.state.y[np + b * X_LEN + 3..]);
+            let at = nx + np + b * V_LEN + 3;
+            let l = self.bodies.momentum(b, q, vec3(&self.state.y[at..]));
+            put_vec3(&mut self.state.y[at..at + 3], self.bodies.slot(form, b, q, l));
+        }
+        self.bodies.form = form;
+        self.touch();
+    }
+
+    /// Adds a damped spring from `point` of body `body` (in the shape's frame, m) to
+    /// `other` (a particle or a fixed point): the force `k (|d| - rest) u + c (w . u) u` on
+    /// the point, its opposite on the other end (`rest = 0`: the linear `k d + c w`).
+    /// `rest_length` defaults to the current distance.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `body`, `point`, `other`, `stiffness`, `rest_length`
+    /// or `damping`; the world is unchanged.
+    pub fn add_body_spring(
+        &mut self,
+        body: usize,
+        point: [f64; 3],
+        other: crate::forces::Endpoint,
+        stiffness: f64,
+        rest_length: Option<f64>,
+        damping: f64,
+    ) -> Result<()> {
+        self.body_index(body)?;
+        bounded("point", &point, RUNAWAY)?;
+        match other {
+            crate::forces::Endpoint::Particle(i) if i >= self.len() => {
+                return Err(Error::invalid("other", i, format!("a particle index below {}", self.len())));
+            }
+            crate::forces::Endpoint::Anchor(a) => bounded("other", &a, RUNAWAY)?,
+            crate::forces::Endpoint::Particle(_) => {}
+        }
+        for (name, v) in [("stiffness", stiffness), ("damping", damping)] {
+            if !(v.is_finite() && (0.0..=crate::scenes::PARAM_MAX).contains(&v)) {
+                return Err(Error::invalid(name, crate::error::num(v), "a number in [0, 1e12]"));
+            }
+        }
+        let b = &self.bodies;
+        let arm = b.frame[body].inverse() * (DVec3::from_array(point) - b.center[body]);
+        let mut spring = BodySpring { body, point: arm, other, stiffness, rest_length: 0.0, damping };
+        let np = self.model.len();
+        let x = &self.state.y[..self.nx()];
+        let rest = match rest_length {
+            Some(r) => r,
+            None => spring.length(np, x),
+        };
+        if !(rest.is_finite() && (0.0..=crate::scenes::PARAM_MAX).contains(&rest)) {
+            return Err(Error::invalid("rest_length", crate::error::num(rest), "a number in [0, 1e12]"));
+        }
+        spring.rest_length = rest;
+        self.bodies.springs.push(spring);
+        self.touch();
+        Ok(())
+    }
+
+    /// Body orientations to draw, `(w, x, y, z)`: slerped between the state before the last
+    /// step of the latest `advance` and the current one by `alpha`.
+    #[must_use]
+    pub fn interpolated_body_orientations(&self) -> Vec<[f64; 4]> {
+        let alpha = self.alpha();
+        (0..self.bodies.len())
+            .map(|b| {
+                let now = self.body_orientation(b).unwrap_or([1.0, 0.0, 0.0, 0.0]);
+                let Some(before) = self.prev_q.get(b).filter(|_| self.prev_q.len() == self.bodies.len())
+                else {
+                    return now;
+                };
+                let q = orientation::slerp(quat(before), quat(&now), alpha);
+                [q.w, q.x, q.y, q.z]
+            })
+            .collect()
+    }
+
+    /// Keeps the body orientations before a frame's last step (for interpolation).
+    pub(super) fn keep_orientations(&mut self) {
+        self.prev_q.clear();
+        for b in 0..self.bodies.len() {
+            let q = self.body_orientation(b).unwrap_or([1.0, 0.0, 0.0, 0.0]);
+            self.prev_q.push(q);
         }
     }
 

@@ -101,6 +101,10 @@ pub struct World {
     flow: Option<FlowModel>,
     /// Rigid bodies (their state follows the particles' in `y`).
     bodies: crate::rigid::body::Bodies,
+    /// Scratch: spring loads on bodies during an evaluation.
+    body_loads: Vec<(glam::DVec3, glam::DVec3)>,
+    /// Body orientations before the latest step of a frame, for render interpolation.
+    prev_q: Vec<[f64; 4]>,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -154,6 +158,8 @@ impl World {
             checkpoint: Checkpoint::default(),
             flow: None,
             bodies: crate::rigid::body::Bodies::default(),
+            body_loads: Vec::new(),
+            prev_q: Vec::new(),
         })
     }
 
@@ -199,9 +205,7 @@ impl World {
 
     /// Particles and bodies as the system methods see.
     fn parts(&mut self) -> parts::Parts<'_> {
-        let loads = parts::loads(&self.model);
-        let np = self.model.len();
-        parts::Parts { model: &mut self.model, bodies: &self.bodies, loads, np }
+        parts::of(&mut self.model, &self.bodies, &mut self.body_loads)
     }
 
     fn refuse_flow(&self, what: &str) -> Result<()> {
@@ -499,6 +503,7 @@ impl World {
             let mut prev = std::mem::take(&mut self.prev_x);
             prev.clear();
             prev.extend_from_slice(self.positions());
+            self.keep_orientations();
             self.step_inner(plan.dt, None)?;
             self.prev_x = prev;
         }

@@ -1,8 +1,11 @@
 //! The world's parts as the one [`System`] methods see: particles first, then rigid bodies,
 //! in `y = [x_particles, (c, q)_bodies; v_particles, (P, L)_bodies]`.
 
+use glam::DVec3;
+
 use super::Model;
 use crate::dynamics::{Second, SecondOrder, System};
+use crate::forces::Endpoint;
 use crate::rigid::body::{Bodies, Loads, V_LEN, X_LEN};
 
 /// Particles and bodies together.
@@ -12,6 +15,8 @@ pub(crate) struct Parts<'a> {
     pub loads: Loads,
     /// Particle coordinates.
     pub np: usize,
+    /// Scratch: spring loads per body.
+    pub extra: &'a mut Vec<(DVec3, DVec3)>,
 }
 
 impl Parts<'_> {
@@ -37,7 +42,26 @@ impl System for Parts<'_> {
     fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {
         let np = self.np;
         self.model.accel(t, &x[..np], &w[..np], &mut a[..np]);
-        self.bodies.accel(&self.loads, &x[np..], &w[np..], &mut a[np..]);
+        let (nx, bodies) = (self.nx(), self.bodies);
+        // Springs between body points and particles or anchors: the force on the particle
+        // is an acceleration now; the body's share (force and torque about its reference
+        // point) is added with its other loads.
+        self.extra.clear();
+        self.extra.resize(bodies.len(), (DVec3::ZERO, DVec3::ZERO));
+        let (xs, vs) = (&x[..nx], w);
+        for s in &bodies.springs {
+            let (f, arm) = s.force(bodies, np, xs, vs);
+            let e = &mut self.extra[s.body];
+            e.0 += f;
+            e.1 += arm.cross(f);
+            if let Endpoint::Particle(i) = s.other {
+                let k = self.model.inv_mass()[i];
+                for (ak, fk) in a[3 * i..3 * i + 3].iter_mut().zip(f.to_array()) {
+                    *ak -= k * fk;
+                }
+            }
+        }
+        bodies.accel(&self.loads, &x[np..], &w[np..], &mut a[np..], self.extra);
     }
 
     fn drift(&mut self, x: &mut [f64], w: &[f64], h: f64) {
@@ -53,8 +77,13 @@ impl System for Parts<'_> {
     }
 
     fn velocity_dependent(&self) -> bool {
+        let b = self.bodies;
         self.model.velocity_dependent()
-            || (!self.bodies.is_empty() && (self.loads.linear != 0.0 || self.loads.quadratic != 0.0))
+            || (!b.is_empty()
+                && (self.loads.linear != 0.0
+                    || self.loads.quadratic != 0.0
+                    || b.springs.iter().any(|s| s.damping != 0.0)
+                    || b.form == crate::rigid::body::AngularForm::VelocityGyroscopic))
     }
 
     fn vector_positions(&self) -> bool {
@@ -69,6 +98,17 @@ impl System for Parts<'_> {
         let (x, v) = y.split_at_mut(nx);
         self.bodies.project(&mut x[np..], &v[np..], &mut f[np..nx]);
     }
+}
+
+/// Particles and bodies of a world as one system.
+pub(crate) fn of<'a>(
+    model: &'a mut Model,
+    bodies: &'a Bodies,
+    extra: &'a mut Vec<(DVec3, DVec3)>,
+) -> Parts<'a> {
+    let loads = loads(model);
+    let np = model.len();
+    Parts { model, bodies, loads, np, extra }
 }
 
 /// The world's forces as they act on bodies: uniform gravity and drag on the centre of mass

@@ -115,7 +115,10 @@ impl World {
         }
         let (bx, bv) = self.body_state();
         let loads = super::parts::loads(&self.model);
-        Some(particles + self.bodies.kinetic(bx, bv) + self.bodies.potential(&loads, bx))
+        let np = self.model.len();
+        let springs: f64 =
+            self.bodies.springs.iter().map(|s| s.potential(np, &self.state.y[..self.nx()])).sum();
+        Some(particles + self.bodies.kinetic(bx, bv) + self.bodies.potential(&loads, bx, bv) + springs)
     }
 
     /// Total momentum of the dynamic particles, kg m/s (`dim` components).

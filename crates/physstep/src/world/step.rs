@@ -99,9 +99,7 @@ impl World {
         let r = if self.bodies.is_empty() {
             self.integrator.advance(&mut Second(&mut self.model), &mut self.state, ctx.h, log)
         } else {
-            let np = self.model.len();
-            let loads = super::parts::loads(&self.model);
-            let mut parts = super::parts::Parts { model: &mut self.model, bodies: &self.bodies, loads, np };
+            let mut parts = super::parts::of(&mut self.model, &self.bodies, &mut self.body_loads);
             self.integrator.advance(&mut parts, &mut self.state, ctx.h, log)
         };
         // A user force that failed poisoned the accelerations; its own error is the news.
