@@ -34,6 +34,12 @@ pub struct Recording {
     /// Kinetic energy of every row, J (the scale of the energy error where the total energy
     /// is near zero).
     pub kinetic: Vec<f64>,
+    /// Total angular momentum about the origin of every row (3 per row), kg m^2/s, where
+    /// the world has rigid bodies; empty otherwise.
+    pub angular_momentum: Vec<f64>,
+    /// Every body's angular velocity in its principal frame (3 per body per row), rad/s,
+    /// where the world has rigid bodies: the tennis-racket flips are seen here.
+    pub body_spin: Vec<f64>,
     /// The intermediate evaluation points, when asked for.
     pub stages: Vec<StageRow>,
     /// The failure that ended the run early (with `stop_on_diverge`).
@@ -108,7 +114,9 @@ impl Recorder {
         }
         let n = world.positions().len() as u64;
         let rows = steps / params.every + 2;
-        let values = rows.saturating_mul(3 * n + 2);
+        let nb = world.bodies().len() as u64;
+        let per_row = 3 * n + 2 + if nb > 0 { 3 + 3 * nb } else { 0 };
+        let values = rows.saturating_mul(per_row);
         if values > MAX_RECORDED {
             let (field, value) = if params.every == 1 {
                 ("until", params.until.to_string())
@@ -238,6 +246,12 @@ fn record(w: &mut World, rec: &mut Recording) -> Result<()> {
     if let Some(e) = e {
         rec.energy.push(e);
     }
-    rec.kinetic.push(w.model().kinetic(w.velocities()));
+    rec.kinetic.push(w.kinetic());
+    if !w.bodies().is_empty() {
+        rec.angular_momentum.extend_from_slice(&w.angular_momentum());
+        for b in 0..w.bodies().len() {
+            rec.body_spin.extend_from_slice(&w.body_spin(b)?);
+        }
+    }
     Ok(())
 }

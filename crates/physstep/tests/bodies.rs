@@ -4,6 +4,7 @@
 use physstep::prelude::*;
 use physstep::rigid::inertia::Shape;
 use physstep::rigid::orientation::Rule;
+use physstep::scenes;
 use physstep::world::BodyParams;
 
 fn world(method: &str, dt: f64) -> World {
@@ -339,4 +340,59 @@ fn a_pinned_top_keeps_its_tip_and_precesses_at_the_gyroscopic_rate() {
     assert!((turned - expected).abs() < 0.05 * expected, "precessed {turned}, fast-top theory {expected}");
     let de = (w.energy().unwrap() - e0).abs() / e0;
     assert!(de < 1e-6, "energy error {de:e}");
+}
+
+/// The complete elliptic integral of the first kind K(k), by the arithmetic-geometric mean.
+fn elliptic_k(k: f64) -> f64 {
+    let (mut a, mut b) = (1.0, (1.0 - k * k).sqrt());
+    for _ in 0..60 {
+        (a, b) = (0.5 * (a + b), (a * b).sqrt());
+    }
+    std::f64::consts::PI / (2.0 * a)
+}
+
+#[test]
+fn the_racket_flips_at_the_period_of_the_exact_solution() {
+    // Euler's equations of the free body have Jacobi elliptic solutions: with moments
+    // I1 < I2 < I3, energy E and |L| = L, when L^2 < 2 E I2 the body-frame angular velocity
+    // has period T = 4 K(k) / lambda with
+    //   lambda = sqrt((I2 - I1)(2 E I3 - L^2) / (I1 I2 I3)),
+    //   k^2 = (I3 - I2)(L^2 - 2 E I1) / ((I2 - I1)(2 E I3 - L^2))
+    // (Landau & Lifshitz, Mechanics, section 37; the other case swaps I1 and I3), and the
+    // intermediate component changes sign twice per period.
+    let mut scene = scenes::build("racket", &[], "symplectic-euler", 1.0 / 120.0).unwrap();
+    let w = &mut scene.world;
+    let [i1, i2, i3] = w.bodies().inertia(0);
+    let s = w.body_spin(0).unwrap();
+    let e = 0.5 * (i1 * s[0] * s[0] + i2 * s[1] * s[1] + i3 * s[2] * s[2]);
+    let l2 = (i1 * s[0]).powi(2) + (i2 * s[1]).powi(2) + (i3 * s[2]).powi(2);
+    let (lambda, k2) = if l2 < 2.0 * e * i2 {
+        (
+            ((i2 - i1) * (2.0 * e * i3 - l2) / (i1 * i2 * i3)).sqrt(),
+            (i3 - i2) * (l2 - 2.0 * e * i1) / ((i2 - i1) * (2.0 * e * i3 - l2)),
+        )
+    } else {
+        (
+            ((i3 - i2) * (l2 - 2.0 * e * i1) / (i1 * i2 * i3)).sqrt(),
+            (i2 - i1) * (2.0 * e * i3 - l2) / ((i3 - i2) * (l2 - 2.0 * e * i1)),
+        )
+    };
+    let period = 4.0 * elliptic_k(k2.sqrt()) / lambda;
+    let mut crossings = Vec::new();
+    let mut last = s[1];
+    for _ in 0..144_000 {
+        w.step(1).unwrap();
+        let now = w.body_spin(0).unwrap()[1];
+        if now * last < 0.0 {
+            // Linear interpolation of the crossing time within the step.
+            crossings.push(w.time() - w.dt() * now / (now - last));
+        }
+        last = now;
+    }
+    assert!(crossings.len() >= 10, "{} flips in 1200 s", crossings.len());
+    let half = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    // Measured at dt = 1/120: 21.95589 s against the exact 21.95578 s (5e-6).
+    assert!((2.0 * half - period).abs() < 1e-4 * period, "measured period {}, exact {period}", 2.0 * half);
+    let l = w.angular_momentum();
+    assert!((norm(l) - l2.sqrt()).abs() < 1e-12 * l2.sqrt());
 }

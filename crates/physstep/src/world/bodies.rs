@@ -214,6 +214,17 @@ impl World {
         Ok(self.bodies.omega(b, q, vec3(&v[b * V_LEN + 3..])).to_array())
     }
 
+    /// Angular velocity of body `b` in its principal frame (the axes of its principal moments,
+    /// ascending), rad/s.
+    ///
+    /// # Errors
+    /// As [`World::body_position`].
+    pub fn body_spin(&self, b: usize) -> Result<[f64; 3]> {
+        let omega = DVec3::from_array(self.body_angular_velocity(b)?);
+        let q = quat(&self.body_state().0[b * X_LEN + 3..]);
+        Ok((q.conjugate() * omega).to_array())
+    }
+
     /// Total angular momentum about the origin, kg m^2/s: particles' `m x x v` (3D worlds;
     /// zero otherwise) plus bodies' `c x P + L`.
     #[must_use]

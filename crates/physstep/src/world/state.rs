@@ -121,6 +121,16 @@ impl World {
         Some(particles + self.bodies.kinetic(bx, bv) + self.bodies.potential(&loads, bx, bv) + springs)
     }
 
+    /// Kinetic energy, J: the dynamic particles' and the bodies' (translation and rotation).
+    #[must_use]
+    pub fn kinetic(&self) -> f64 {
+        if self.flow.is_some() {
+            return 0.0;
+        }
+        let (bx, bv) = self.body_state();
+        self.model.kinetic(self.velocities()) + self.bodies.kinetic(bx, bv)
+    }
+
     /// Total momentum of the dynamic particles, kg m/s (`dim` components).
     #[must_use]
     pub fn momentum(&self) -> Vec<f64> {

@@ -2,6 +2,8 @@
 //! benchmarks, each a [`World`] with named parameters, its energy and, where one is known,
 //! its exact solution.
 
+mod bodies;
+
 use crate::error::{Error, Result};
 use crate::flows::Flow;
 use crate::forces::{Endpoint, Force};
@@ -64,7 +66,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 }
 
 /// Every built-in scene, in registry order.
-pub const SCENES: [SceneSpec; 11] = [
+pub const SCENES: [SceneSpec; 14] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -210,6 +212,43 @@ pub const SCENES: [SceneSpec; 11] = [
         ],
         dt: 0.05,
         until: 500.0,
+    },
+    SceneSpec {
+        name: "racket",
+        doc: "free thin plate, principal inertia 1 : 2 : 3, spun about its intermediate axis: the tennis-racket flip",
+        dim: 3,
+        params: &[
+            p("spin", 2.0, "angular velocity about the intermediate axis, rad/s", Rule::Any),
+            p("wobble", 0.01, "angular velocity about the other two axes, rad/s", Rule::Any),
+        ],
+        dt: 1.0 / 120.0,
+        until: 1200.0,
+    },
+    SceneSpec {
+        name: "top",
+        doc: "spinning top: a cylinder pinned at its tip under gravity, tilted, precessing",
+        dim: 3,
+        params: &[
+            p("radius", 0.1, "cylinder radius, m", Rule::Positive),
+            p("height", 0.4, "cylinder height, m", Rule::Positive),
+            p("m", 1.0, "mass, kg", Rule::Positive),
+            p("tilt", 0.3, "initial tilt from vertical, rad", Rule::Any),
+            p("spin", 100.0, "spin about its axis, rad/s", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+        ],
+        dt: 1.0 / 1200.0,
+        until: 5.0,
+    },
+    SceneSpec {
+        name: "tumble",
+        doc: "a 0.8 x 0.4 x 0.2 m box of 2 kg pushed up at a corner, tumbling as it flies under gravity",
+        dim: 3,
+        params: &[
+            p("impulse", 6.0, "upward impulse at the corner, N s", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+        ],
+        dt: 1.0 / 120.0,
+        until: 1.0,
     },
 ];
 
@@ -433,7 +472,10 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
         let world = World::with_flow(flow, &[v("x0"), v("y0"), v("z0")], params)?;
         return Ok(Scene { spec, values, world, exact: None });
     }
-    let world = World::new(params)?;
+    let mut world = World::new(params)?;
+    if bodies::build(spec.name, &v, &mut world)? {
+        return Ok(Scene { spec, values, world, exact: None });
+    }
     let mut scene = Scene { spec, values: values.clone(), world, exact: None };
     let w = &mut scene.world;
     scene.exact = match spec.name {
