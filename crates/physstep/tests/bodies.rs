@@ -221,7 +221,7 @@ fn l_norm(w: &World) -> f64 {
 }
 
 #[test]
-fn the_velocity_form_without_gyroscopic_term_never_flips_and_loses_angular_momentum() {
+fn the_velocity_form_without_gyroscopic_term_never_flips() {
     use physstep::rigid::body::AngularForm;
     let run = |form| {
         let mut w = racket("symplectic-euler", Rule::Splitting);
@@ -236,14 +236,13 @@ fn the_velocity_form_without_gyroscopic_term_never_flips_and_loses_angular_momen
         ((l_norm(&w) - l0).abs() / l0, min_along)
     };
     let (dl_momentum, along_momentum) = run(AngularForm::Momentum);
-    let (dl_velocity, along_velocity) = run(AngularForm::Velocity);
+    let (_, along_velocity) = run(AngularForm::Velocity);
     let (dl_gyro, along_gyro) = run(AngularForm::VelocityGyroscopic);
     assert!(dl_momentum < 1e-13, "momentum form |L| error {dl_momentum:e}");
-    // Without the gyroscopic term omega is frozen: the spin about the intermediate axis
-    // never reverses, while |L| = |I omega| changes as the body turns.
+    // Without the gyroscopic term omega is frozen: the body turns steadily about it and the
+    // spin about the intermediate axis never reverses (wrong physics that conserves |L|).
     assert!(along_velocity > 0.0, "the velocity form flipped ({along_velocity})");
     assert!(along_momentum < 0.0 && along_gyro < 0.0, "no flip: {along_momentum}, {along_gyro}");
-    assert!(dl_velocity > 1e3 * dl_momentum.max(1e-16), "velocity form |L| error {dl_velocity:e}");
     assert!(dl_gyro > 1e3 * dl_momentum.max(1e-16), "gyroscopic velocity form |L| error {dl_gyro:e}");
 }
 

@@ -286,7 +286,7 @@ impl Bodies {
             }
             let q = quat(&xb[3..]);
             let l = self.momentum(b, q, vec3(&wb[3..]));
-            put_quat(&mut xb[3..], orientation::drift(self.rule, q, self.inv_inertia[b], l, h));
+            put_quat(&mut xb[3..], orientation::drift(self.drift_rule(), q, self.inv_inertia[b], l, h));
         }
     }
 
@@ -341,6 +341,17 @@ impl Bodies {
     #[must_use]
     pub fn form(&self) -> AngularForm {
         self.form
+    }
+
+    /// The rule a drift uses: the chosen one, except that the splitting (a free-body motion
+    /// in which `omega` changes) needs the momentum form; with `omega` held by a velocity
+    /// form a drift is the exact rotation at that `omega` (the exponential map).
+    #[must_use]
+    pub fn drift_rule(&self) -> Rule {
+        match (self.rule, self.form) {
+            (Rule::Splitting, AngularForm::Velocity | AngularForm::VelocityGyroscopic) => Rule::Exponential,
+            (rule, _) => rule,
+        }
     }
 }
 
