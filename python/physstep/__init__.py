@@ -1,9 +1,9 @@
 """physstep: a game-physics integration engine.
 
 Every integrator of the game-physics lecture notes behind one interface, particles with
-composable forces, the fixed-timestep game loop, and a lab that measures how each method
-behaves on your system. The engine is Rust (``physstep._core``); this package is the
-Python face.
+composable forces, rigid bodies, the fixed-timestep game loop, and a lab that measures how
+each method behaves on your system. The engine is Rust (``physstep._core``); this package
+is the Python face.
 
 >>> import physstep
 >>> traj = physstep.simulate("spring", "symplectic-euler", dt=1.0, until=2.0)
@@ -22,19 +22,43 @@ from typing import Any
 import numpy as np
 
 from physstep import _core
-from physstep._core import ConvergenceError, DivergedError, StepError, World, WorldBusyError
+from physstep._core import (
+    Box,
+    Capsule,
+    ConvergenceError,
+    Cylinder,
+    DivergedError,
+    MassProperties,
+    Mesh,
+    Shape,
+    Sphere,
+    StepError,
+    World,
+    WorldBusyError,
+    angular_forms,
+    orientation_rules,
+)
 
 __all__ = [
+    "Box",
+    "Capsule",
     "ConvergenceError",
+    "Cylinder",
     "DivergedError",
     "Flow",
+    "MassProperties",
+    "Mesh",
     "MethodInfo",
+    "Shape",
+    "Sphere",
     "StepError",
     "Trajectory",
     "World",
     "WorldBusyError",
+    "angular_forms",
     "method",
     "methods",
+    "orientation_rules",
     "scene",
     "scenes",
     "simulate",
@@ -153,7 +177,10 @@ class Trajectory:
 
     ``x``, ``v`` and ``a`` have shape (rows, coordinates): coordinate ``p * dim + k`` is axis
     ``k`` of particle ``p``. ``exact_x``/``exact_v`` hold the exact solution at the same
-    times where the scene has one.
+    times where the scene has one. Where the world has rigid bodies (``kind == "bodies"``),
+    ``angular_momentum`` (rows, 3) is the total about the origin and ``body_spin``
+    (rows, bodies, 3) each body's angular velocity in its principal frame (ascending
+    moments), where the tennis-racket flips show.
     """
 
     scene: str
@@ -175,6 +202,8 @@ class Trajectory:
     exact_v: np.ndarray | None = None
     stages: list[tuple[int, str, float, list[float], list[float], list[float]]] | None = None
     diverged: str | None = None
+    angular_momentum: np.ndarray | None = None
+    body_spin: np.ndarray | None = None
 
     @property
     def ns_per_step(self) -> float:
@@ -315,6 +344,14 @@ def summarize(traj: Trajectory) -> dict[str, Any]:
             "final": float(e[-1]),
             "max_rel_error": float(np.max(np.abs(e - e0)) / scale),
             "scale": scale,
+        }
+    if traj.angular_momentum is not None:
+        ang = traj.angular_momentum
+        l0 = float(np.linalg.norm(ang[0]))
+        out["angular_momentum"] = {
+            "initial": ang[0].tolist(),
+            "final": ang[-1].tolist(),
+            "max_rel_error": float(np.max(np.linalg.norm(ang - ang[0], axis=1)) / (l0 if l0 > 0 else 1.0)),
         }
     if traj.exact_x is not None:
         err = traj.position_error

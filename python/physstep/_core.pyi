@@ -10,16 +10,26 @@ from typing import Any, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import disjoint_base
 
 __all__ = [
+    "Box",
+    "Capsule",
     "ConvergenceError",
+    "Cylinder",
     "DivergedError",
+    "MassProperties",
+    "Mesh",
+    "Shape",
+    "Sphere",
     "StepError",
     "World",
     "WorldBusyError",
     "_world_from_parts",
+    "angular_forms",
     "method_info",
     "methods",
+    "orientation_rules",
     "scenes",
     "simulate",
 ]
@@ -51,6 +61,148 @@ def method_info(name: str) -> dict[str, Any]:
 def scenes() -> list[dict[str, Any]]:
     """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``dt`` (s), ``until`` (s)
     and ``params`` (dicts with ``name``, ``default``, ``doc``)."""
+
+def orientation_rules() -> dict[str, str]:
+    """The orientation rules of rigid bodies (how a drift turns a body), in order: a dict of
+    name to a one-line doc (``matrix``, ``quaternion``, ``exponential``, ``splitting``)."""
+
+def angular_forms() -> dict[str, str]:
+    """The angular forms of rigid bodies (what a kick integrates), in order: a dict of name to
+    a one-line doc (``momentum``, ``velocity``, ``velocity-gyroscopic``)."""
+
+@final
+class MassProperties:
+    """The mass properties of a shape of constant density (:meth:`Shape.mass_properties`).
+
+    Every array is a fresh copy.
+    """
+
+    @property
+    def mass(self) -> float:
+        """Mass, kg."""
+
+    @property
+    def volume(self) -> float:
+        """Volume, m^3."""
+
+    @property
+    def center(self) -> npt.NDArray[np.float64]:
+        """Centre of mass in the shape's frame (3,), m."""
+
+    @property
+    def inertia(self) -> npt.NDArray[np.float64]:
+        """Inertia tensor about the centre of mass (3, 3), in the shape's axes, kg m^2."""
+
+    @property
+    def principal_moments(self) -> npt.NDArray[np.float64]:
+        """The eigenvalues of :attr:`inertia`, ascending (3,), kg m^2."""
+
+    @property
+    def principal_axes(self) -> npt.NDArray[np.float64]:
+        """The principal axes as rows (3, 3), orthonormal and right-handed: with
+        ``R = principal_axes``, ``R @ inertia @ R.T == diag(principal_moments)``."""
+
+@disjoint_base
+class Shape:
+    """A rigid-body shape in its own frame (sizes in m): :class:`Sphere`, :class:`Box`,
+    :class:`Cylinder`, :class:`Capsule` or :class:`Mesh`.
+
+    Shapes are immutable values: checked when made (ValueError naming the bad field), equal
+    when their sizes are, hashable, and they pickle.
+    """
+
+    def mass_properties(self, mass: float | None = None, density: float | None = None) -> MassProperties:
+        """The mass properties for a ``mass`` (kg) or a ``density`` (kg/m^3), at most one of
+        them; with neither the density is 1 (mass = volume). ValueError naming ``mass`` or
+        ``density`` (out of [1e-12, 1e12], or both given)."""
+
+    @property
+    def volume(self) -> float:
+        """Volume, m^3."""
+
+    def __eq__(self, other: object, /) -> bool:
+        """Equal to a shape of the same kind and sizes (a mesh: the same vertices and triangles)."""
+
+    def __hash__(self) -> int:
+        """A hash consistent with ``==``."""
+
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
+        """Pickles as the class and the constructor's arguments."""
+
+@final
+class Sphere(Shape):
+    """A solid ball of ``radius`` (m) centred on the origin."""
+
+    def __new__(cls, radius: float) -> Sphere:
+        """ValueError naming ``radius`` unless it is in [1e-12, 1e12]."""
+
+    @property
+    def radius(self) -> float:
+        """Radius, m."""
+
+@final
+class Box(Shape):
+    """A solid box centred on the origin, its edges along the axes."""
+
+    def __new__(cls, hx: float, hy: float, hz: float) -> Box:
+        """Half edge lengths ``hx``, ``hy``, ``hz`` (m); ValueError naming ``half_extents[k]``
+        unless each is in [1e-12, 1e12]."""
+
+    @property
+    def half_extents(self) -> tuple[float, float, float]:
+        """Half the edge lengths along x, y and z, m."""
+
+@final
+class Cylinder(Shape):
+    """A solid circular cylinder along its local z axis, centred on the origin."""
+
+    def __new__(cls, radius: float, height: float) -> Cylinder:
+        """``radius`` and length ``height`` (m); ValueError naming the one out of [1e-12, 1e12]."""
+
+    @property
+    def radius(self) -> float:
+        """Radius, m."""
+
+    @property
+    def height(self) -> float:
+        """Length along local z, m."""
+
+@final
+class Capsule(Shape):
+    """A capsule along local z centred on the origin: a cylinder closed by two hemispheres
+    of its radius (total length ``height + 2 radius``)."""
+
+    def __new__(cls, radius: float, height: float) -> Capsule:
+        """``radius`` of the cylinder and caps, ``height`` of the cylindrical part alone (m);
+        ValueError naming the one out of [1e-12, 1e12]."""
+
+    @property
+    def radius(self) -> float:
+        """Radius of the cylinder and of the caps, m."""
+
+    @property
+    def height(self) -> float:
+        """Length of the cylindrical part alone, m."""
+
+@final
+class Mesh(Shape):
+    """A closed, consistently oriented triangle mesh bounding a solid; its mass properties
+    are exact (divergence theorem)."""
+
+    def __new__(cls, vertices: npt.ArrayLike, triangles: npt.ArrayLike) -> Mesh:
+        """``vertices`` (n, 3), m, and ``triangles`` (m, 3) vertex indices, each wound
+        counter-clockwise seen from outside, every edge shared by exactly two triangles in
+        opposite directions. ValueError naming the bad field: ``vertices[3][2]``,
+        ``triangles[5][1]``, ``triangles[5]`` (a hole, a flipped triangle, a non-manifold
+        edge), ``triangles`` (inside out or flat)."""
+
+    @property
+    def vertices(self) -> npt.NDArray[np.float64]:
+        """Vertex positions (n, 3), m: a copy."""
+
+    @property
+    def triangles(self) -> npt.NDArray[np.int64]:
+        """Triangles (m, 3), vertex indices: a copy."""
 
 def _world_from_parts(parts: dict[str, Any], snapshot: bytes) -> World:
     """Rebuilds a World pickled by ``World.__reduce__``."""
@@ -306,3 +458,91 @@ class World:
     def set_phase_state(self, z: npt.ArrayLike) -> None:
         """Sets what :meth:`phase_state` returns, without restarting the integrator
         (ValueError for a wrong length or a non-finite value)."""
+
+    # Rigid bodies (3D worlds).
+    def add_body(
+        self,
+        shape: Shape,
+        *,
+        mass: float | None = None,
+        density: float | None = None,
+        position: npt.ArrayLike | None = None,
+        orientation: npt.ArrayLike | None = None,
+        velocity: npt.ArrayLike | None = None,
+        angular_velocity: npt.ArrayLike | None = None,
+        pivot: npt.ArrayLike | None = None,
+    ) -> int:
+        """Adds a rigid body of ``shape`` and returns its index. ``mass`` (kg) or ``density``
+        (kg/m^3), at most one (neither: density 1); ``position`` of the shape's origin (m,
+        default the origin); ``orientation`` of the shape's frame, a quaternion (w, x, y, z),
+        normalised (default the identity); ``velocity`` of the centre of mass (m/s);
+        ``angular_velocity`` (rad/s, world frame); ``pivot``, a point of the shape (shape
+        frame, m) pinned to the world where it starts (a top on its tip; ``velocity`` must
+        then be zero). ValueError naming the bad field (``dim`` in a world that is not 3D);
+        the world is then unchanged."""
+
+    @property
+    def body_count(self) -> int:
+        """Number of rigid bodies."""
+
+    def body_positions(self) -> npt.NDArray[np.float64]:
+        """Centres of mass of the bodies (nb, 3), m."""
+
+    def body_orientations(self) -> npt.NDArray[np.float64]:
+        """Orientations of the bodies' shape frames (nb, 4), unit quaternions (w, x, y, z)."""
+
+    def body_velocities(self) -> npt.NDArray[np.float64]:
+        """Velocities of the bodies' centres of mass (nb, 3), m/s."""
+
+    def body_angular_velocities(self) -> npt.NDArray[np.float64]:
+        """Angular velocities of the bodies (nb, 3), rad/s, world frame."""
+
+    def body_angular_momenta(self) -> npt.NDArray[np.float64]:
+        """Angular momenta of the bodies about their centres of mass (nb, 3), kg m^2/s."""
+
+    def angular_momentum(self) -> npt.NDArray[np.float64]:
+        """Total angular momentum about the origin (3,), kg m^2/s: the particles' (3D worlds)
+        and the bodies' ``c x P + L``."""
+
+    def apply_force(self, body: int, force: npt.ArrayLike, at: npt.ArrayLike | None = None) -> None:
+        """Applies ``force`` (N, world frame) to ``body`` for the next step, at the world point
+        ``at`` (m; default the centre of mass), which adds the torque ``(at - c) x force``.
+        Loads add up until a step takes them. ValueError naming ``body``, ``force`` or ``at``."""
+
+    def apply_torque(self, body: int, torque: npt.ArrayLike) -> None:
+        """Applies ``torque`` (N m, world frame) to ``body`` for the next step. ValueError
+        naming ``body`` or ``torque``."""
+
+    @property
+    def orientation_rule(self) -> str:
+        """How drifts turn the bodies: ``matrix``, ``quaternion``, ``exponential`` or
+        ``splitting`` (default); assign a name to switch (ValueError listing the valid names)."""
+
+    @orientation_rule.setter
+    def orientation_rule(self, name: str) -> None: ...
+    @property
+    def angular_form(self) -> str:
+        """What the bodies' angular state holds, so what a kick integrates: ``momentum`` (the
+        notes' form, default), ``velocity`` (gyroscopic term ignored, as many engines do) or
+        ``velocity-gyroscopic``; assign a name to switch (angular momentum kept; ValueError
+        listing the valid names)."""
+
+    @angular_form.setter
+    def angular_form(self, name: str) -> None: ...
+    def add_body_spring(
+        self,
+        body: int,
+        point: npt.ArrayLike,
+        other: Any,
+        stiffness: float,
+        rest_length: float | None = None,
+        damping: float | None = None,
+    ) -> None:
+        """Adds a damped spring (``stiffness`` N/m, ``damping`` N s/m) from ``point`` of
+        ``body`` (shape frame, m) to ``other``, a particle index or an anchor point (3 numbers,
+        m); ``rest_length`` (m) defaults to the current distance. ValueError naming the bad
+        field."""
+
+    def interpolated_body_orientations(self) -> npt.NDArray[np.float64]:
+        """Body orientations to draw (nb, 4), (w, x, y, z): slerped by :attr:`alpha` between
+        the state before the last step of the latest :meth:`advance` and the current one."""

@@ -49,6 +49,11 @@ pub(crate) fn index(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
     whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|_| invalid(field, o, "a particle index >= 0"))
 }
 
+/// A body index (`field` is `body` and the like); the engine checks it against the count.
+pub(crate) fn body(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
+    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|_| invalid(field, o, "a body index >= 0"))
+}
+
 /// A flag (bool or numpy bool).
 pub(crate) fn flag(o: &Bound<'_, PyAny>, field: &str) -> PyResult<bool> {
     o.extract::<bool>().map_err(|_| invalid(field, o, "True or False"))
@@ -169,4 +174,53 @@ pub(crate) fn matrix(py: Python<'_>, data: Vec<f64>, cols: usize) -> PyResult<Bo
     let rows = data.len().checked_div(cols).unwrap_or(0);
     let arr = Array2::from_shape_vec((rows, cols), data).map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(arr.into_pyarray(py))
+}
+
+/// Rows of `cols` indices from any array-like of whole numbers (numpy integer arrays, nested
+/// lists of ints), shape `(m, cols)`; a negative entry names its place (`triangles[4][1]`).
+/// The engine checks them against what they index.
+pub(crate) fn indices<const N: usize>(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<Vec<[usize; N]>> {
+    let py = obj.py();
+    let not_indices = || {
+        PyValueError::new_err(format!("invalid {field}: must be an array of whole numbers of shape (m, {N})"))
+    };
+    let np = py.import("numpy")?;
+    let raw = np.call_method1("asarray", (obj,)).map_err(|_| not_indices())?;
+    let kind: String = raw.getattr("dtype")?.getattr("kind")?.extract()?;
+    let size: usize = raw.getattr("size")?.extract()?;
+    let unsigned = kind == "u";
+    if !(kind == "i" || unsigned || size == 0) {
+        return Err(not_indices());
+    }
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", if unsigned { "uint64" } else { "int64" })?;
+    let arr = np.call_method("ascontiguousarray", (raw,), Some(&kwargs)).map_err(|_| not_indices())?;
+    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+    let rows = shape.len() == 2 && shape[1] == N;
+    if !(rows || (size == 0 && shape.len() == 1)) {
+        return Err(PyValueError::new_err(format!(
+            "invalid {field} shape {}: must be (m, {N})",
+            shape_text(&shape)
+        )));
+    }
+    let flat: Vec<usize> = if size == 0 {
+        Vec::new()
+    } else if unsigned {
+        let a = arr.extract::<numpy::PyReadonlyArray2<'_, u64>>()?;
+        let flat: Vec<u64> = a.as_array().iter().copied().collect();
+        flat.into_iter().map(|v| usize::try_from(v).unwrap_or(usize::MAX)).collect()
+    } else {
+        let a = arr.extract::<numpy::PyReadonlyArray2<'_, i64>>()?;
+        let flat: Vec<i64> = a.as_array().iter().copied().collect();
+        if let Some(at) = flat.iter().position(|v| *v < 0) {
+            return Err(PyValueError::new_err(format!(
+                "invalid {field}[{}][{}] = {}: must be an index >= 0",
+                at / N,
+                at % N,
+                flat[at]
+            )));
+        }
+        flat.into_iter().map(|v| v as usize).collect()
+    };
+    Ok(flat.chunks_exact(N).map(|c| std::array::from_fn(|k| c[k])).collect())
 }

@@ -2,8 +2,10 @@
 //!
 //! One file per concern: `errors` (exception types and the mapping of engine errors),
 //! `convert` (arguments in, arrays out), `registry` (methods and scenes), `record`
-//! (`simulate`), `world` (`World`). Nothing panics across the boundary: every engine call
-//! returns a `Result`, and every bad argument is a `ValueError` that names it.
+//! (`simulate`), `world` (`World`; `world_build`, `world_state`, `world_bodies` hold its
+//! methods by concern), `shapes` (rigid-body shapes and their mass properties). Nothing
+//! panics across the boundary: every engine call returns a `Result`, and every bad argument
+//! is a `ValueError` that names it.
 
 mod convert;
 mod errors;
@@ -11,7 +13,9 @@ mod force;
 mod pickle;
 mod record;
 mod registry;
+mod shapes;
 mod world;
+mod world_bodies;
 mod world_build;
 mod world_state;
 
@@ -25,6 +29,15 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     registry::register(m)?;
     m.add_function(wrap_pyfunction!(record::simulate, m)?)?;
     m.add_class::<world::World>()?;
+    m.add_class::<shapes::Shape>()?;
+    m.add_class::<shapes::Sphere>()?;
+    m.add_class::<shapes::BoxShape>()?;
+    m.add_class::<shapes::Cylinder>()?;
+    m.add_class::<shapes::Capsule>()?;
+    m.add_class::<shapes::Mesh>()?;
+    m.add_class::<shapes::MassProperties>()?;
+    m.add_function(wrap_pyfunction!(world_bodies::orientation_rules, m)?)?;
+    m.add_function(wrap_pyfunction!(world_bodies::angular_forms, m)?)?;
     m.add_function(wrap_pyfunction!(pickle::_world_from_parts, m)?)?;
     errors::register(m)?;
     Ok(())

@@ -15,14 +15,14 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
-fn end(py: Python<'_>, j: Endpoint, dim: usize) -> PyResult<Py<PyAny>> {
+pub(crate) fn end(py: Python<'_>, j: Endpoint, dim: usize) -> PyResult<Py<PyAny>> {
     Ok(match j {
         Endpoint::Particle(j) => j.into_pyobject(py)?.into_any().unbind(),
         Endpoint::Anchor(p) => PyList::new(py, &p[..dim])?.into_any().unbind(),
     })
 }
 
-fn parse_end(o: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
+pub(crate) fn parse_end(o: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
     if let Ok(j) = o.extract::<usize>() {
         return Ok(Endpoint::Particle(j));
     }
@@ -200,7 +200,11 @@ pub(crate) fn _world_from_parts(
             user.push(spec.unbind());
         }
     }
+    let mut bodies = crate::world_bodies::BodyLog::default();
+    crate::world_bodies::rebuild(&mut engine, &mut bodies, parts)?;
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let _ = py;
-    Ok(World::with_parts(engine, slot, user, flow_spec))
+    let world = World::with_parts(engine, slot, user, flow_spec);
+    world.lock()?.bodies = bodies;
+    Ok(world)
 }

@@ -121,6 +121,18 @@ pub(crate) fn run(
     Ok((rec, elapsed))
 }
 
+/// A (rows, cols) array of `data` (rows given: a world without particles has no columns).
+fn table(
+    py: Python<'_>,
+    data: Vec<f64>,
+    rows: usize,
+    cols: usize,
+) -> PyResult<Bound<'_, numpy::PyArray2<f64>>> {
+    numpy::ndarray::Array2::from_shape_vec((rows, cols), data)
+        .map(|a| a.into_pyarray(py))
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+}
+
 /// The recording's arrays and counts in `d` (the keys of `physstep.Trajectory`).
 pub(crate) fn fill(
     d: &Bound<'_, PyDict>,
@@ -142,15 +154,32 @@ pub(crate) fn fill(
     let energy_known = rec.energy.len() == rec.t.len();
     let is_flow = w.flow().is_some();
     let rows = rec.t.len();
-    d.set_item("kind", if is_flow { "flow" } else { "particles" })?;
+    let nb = w.bodies().len();
+    let kind = if is_flow {
+        "flow"
+    } else if nb > 0 {
+        "bodies"
+    } else {
+        "particles"
+    };
+    d.set_item("kind", kind)?;
     d.set_item("t", numpy::PyArray1::from_vec(py, rec.t))?;
-    d.set_item("x", matrix(py, rec.x, n)?)?;
-    d.set_item("v", matrix(py, rec.v, n)?)?;
+    d.set_item("x", table(py, rec.x, rows, n)?)?;
+    d.set_item("v", table(py, rec.v, rows, n)?)?;
     if is_flow {
         // A flow has a state and its derivative (`x`, `v` here), no accelerations.
-        d.set_item("a", numpy::ndarray::Array2::<f64>::zeros((rows, 0)).into_pyarray(py))?;
+        d.set_item("a", table(py, Vec::new(), rows, 0)?)?;
     } else {
-        d.set_item("a", matrix(py, rec.a, n)?)?;
+        d.set_item("a", table(py, rec.a, rows, n)?)?;
+    }
+    if nb > 0 {
+        d.set_item("angular_momentum", table(py, rec.angular_momentum, rows, 3)?)?;
+        let spin = numpy::ndarray::Array3::from_shape_vec((rows, nb, 3), rec.body_spin)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        d.set_item("body_spin", spin.into_pyarray(py))?;
+    } else {
+        d.set_item("angular_momentum", py.None())?;
+        d.set_item("body_spin", py.None())?;
     }
     if energy_known {
         d.set_item("energy", numpy::PyArray1::from_vec(py, rec.energy))?;

@@ -42,6 +42,8 @@ pub(crate) struct Inner {
     /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
     /// state flushes them first.
     pub(crate) pending: ParticleBatch,
+    /// The rigid bodies as added, for pickling.
+    pub(crate) bodies: crate::world_bodies::BodyLog,
 }
 
 impl Inner {
@@ -92,7 +94,8 @@ impl World {
         user: Vec<Py<PyAny>>,
         flow: Option<Py<PyAny>>,
     ) -> Self {
-        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending: ParticleBatch::default() }) }
+        let (pending, bodies) = (ParticleBatch::default(), crate::world_bodies::BodyLog::default());
+        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending, bodies }) }
     }
 }
 
@@ -229,7 +232,9 @@ impl World {
         let engine = g.flush()?.clone();
         let user = g.user.iter().map(|u| u.clone_ref(py)).collect();
         let flow = g.flow.as_ref().map(|f| f.clone_ref(py));
-        Ok(Self::with_parts(engine, g.slot.clone(), user, flow))
+        let copy = Self::with_parts(engine, g.slot.clone(), user, flow);
+        copy.lock()?.bodies = g.bodies.clone();
+        Ok(copy)
     }
 
     /// As `__copy__`: the engine's data is copied, Python callables are shared.
@@ -243,6 +248,7 @@ impl World {
         let mut g = self.lock()?;
         let snapshot = g.flush()?.snapshot();
         let parts = crate::pickle::parts(py, &g.engine, &g.user, g.flow.as_ref())?;
+        crate::world_bodies::parts(py, &g.engine, &g.bodies, &parts)?;
         let rebuild = py.import("physstep._core")?.getattr("_world_from_parts")?;
         Ok((rebuild, (parts.into_any(), PyBytes::new(py, &snapshot).into_any())))
     }
@@ -258,12 +264,16 @@ impl World {
         Ok(self.lock()?.count())
     }
 
-    /// `World(dim=..., particles=..., method=..., dt=..., time=...)`.
+    /// `World(dim=..., particles=..., [bodies=...,] method=..., dt=..., time=...)`.
     fn __repr__(&self) -> PyResult<String> {
         let g = self.lock()?;
         let w = &g.engine;
+        let bodies = match w.bodies().len() {
+            0 => String::new(),
+            n => format!("bodies={n}, "),
+        };
         Ok(format!(
-            "World(dim={}, particles={}, method='{}', dt={}, time={})",
+            "World(dim={}, particles={}, {bodies}method='{}', dt={}, time={})",
             w.dim(),
             g.count(),
             w.integrator().info().name,

@@ -10,7 +10,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 /// The other end of a spring or rod: a particle index or an anchor point.
-fn endpoint(o: &Bound<'_, PyAny>, field: &str, dim: usize) -> PyResult<Endpoint> {
+pub(crate) fn endpoint(o: &Bound<'_, PyAny>, field: &str, dim: usize) -> PyResult<Endpoint> {
     if o.extract::<i64>().is_ok() && !o.is_instance_of::<pyo3::types::PyBool>() {
         return Ok(Endpoint::Particle(index(o, field)?));
     }

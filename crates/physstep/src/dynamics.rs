@@ -123,10 +123,12 @@ pub trait System {
         true
     }
 
-    /// Brings `y` (and `f`) back onto the state space after a step (a quaternion
-    /// renormalised); nothing for particles and flows.
-    fn project(&mut self, y: &mut [f64], f: &mut [f64]) {
-        let _ = (y, f);
+    /// Brings `y` back onto the state space after a step (a quaternion renormalised) and
+    /// says whether it changed anything (then the derivative is evaluated again there, so a
+    /// state's `f` is always `f(t, y)`); nothing for particles and flows.
+    fn project(&mut self, y: &mut [f64]) -> bool {
+        let _ = y;
+        false
     }
 }
 

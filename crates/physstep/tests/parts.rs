@@ -46,10 +46,11 @@ impl System for Rotor {
     fn vector_positions(&self) -> bool {
         false
     }
-    fn project(&mut self, y: &mut [f64], _f: &mut [f64]) {
+    fn project(&mut self, y: &mut [f64]) -> bool {
         let r = y[0].hypot(y[1]);
         y[0] /= r;
         y[1] /= r;
+        r != 1.0
     }
 }
 

@@ -7,6 +7,7 @@ handler returns the exit status: 0, or 1 when the run diverged.
 from __future__ import annotations
 
 import argparse
+import math
 import statistics
 import sys
 from typing import Any
@@ -178,8 +179,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if note:
         table.add_row("note", note)
     table.add_row("params", ", ".join(f"{k}={v:g}" for k, v in summary["params"].items()))
-    table.add_row("final x", ", ".join(f"{c:.6g}" for c in summary["final"]["x"]))
-    table.add_row("final v", ", ".join(f"{c:.6g}" for c in summary["final"]["v"]))
+    if summary["final"]["x"]:
+        table.add_row("final x", ", ".join(f"{c:.6g}" for c in summary["final"]["x"]))
+        table.add_row("final v", ", ".join(f"{c:.6g}" for c in summary["final"]["v"]))
     en = summary["energy"]
     if en is None:
         why = "a flow has none" if traj.kind == "flow" else "a force has no potential"
@@ -187,6 +189,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
     else:
         table.add_row(
             "energy", f"{en['initial']:.6g} -> {en['final']:.6g} J (max rel. error {en['max_rel_error']:.3g})"
+        )
+    if "angular_momentum" in summary:
+        ang = summary["angular_momentum"]
+        table.add_row(
+            "angular momentum",
+            f"|L| {math.hypot(*ang['initial']):.6g} -> {math.hypot(*ang['final']):.6g} kg m^2/s "
+            f"(max rel. error {ang['max_rel_error']:.3g})",
         )
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")

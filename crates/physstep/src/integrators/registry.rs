@@ -385,7 +385,10 @@ impl Integrator {
         let State { t, y, f, evals, .. } = state;
         let mut step = Step::new(sys, *t, h, y, f, evals, log);
         dispatch!(&mut self.kind, m => m.step(&mut step))?;
-        sys.project(y, f);
+        if sys.project(y) {
+            *evals += 1;
+            sys.deriv(*t + h, y, f);
+        }
         Ok(())
     }
 

@@ -303,14 +303,19 @@ impl Bodies {
         }
     }
 
-    /// Renormalises every orientation (after a flow method moved `q` off the unit sphere)
-    /// and the rates with it.
-    pub(crate) fn project(&self, x: &mut [f64], v: &[f64], dx: &mut [f64]) {
+    /// Renormalises every orientation that left the unit sphere by more than rounding (a
+    /// flow method's step; a drift's rules return unit quaternions, which are left alone:
+    /// normalising is not idempotent in the last bit); whether any changed.
+    pub(crate) fn project(&self, x: &mut [f64]) -> bool {
+        let mut changed = false;
         for xb in x.chunks_exact_mut(X_LEN) {
-            let q = quat(&xb[3..]).normalize();
-            put_quat(&mut xb[3..], q);
+            let q = quat(&xb[3..]);
+            if (q.length_squared() - 1.0).abs() > 8.0 * f64::EPSILON {
+                put_quat(&mut xb[3..], q.normalize());
+                changed = true;
+            }
         }
-        self.rate(x, v, dx);
+        changed
     }
 
     /// Kinetic energy at positions `x`, velocities `v`: `P^2 / 2m + L . omega / 2` (about the

@@ -90,13 +90,9 @@ impl System for Parts<'_> {
         self.bodies.is_empty()
     }
 
-    fn project(&mut self, y: &mut [f64], f: &mut [f64]) {
-        if self.bodies.is_empty() {
-            return;
-        }
+    fn project(&mut self, y: &mut [f64]) -> bool {
         let (np, nx) = (self.np, self.nx());
-        let (x, v) = y.split_at_mut(nx);
-        self.bodies.project(&mut x[np..], &v[np..], &mut f[np..nx]);
+        self.bodies.project(&mut y[np..nx])
     }
 }
 

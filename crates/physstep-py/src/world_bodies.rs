@@ -1,0 +1,356 @@
+//! `World`'s rigid bodies: adding them and their springs, reading their state, loads for the
+//! next step, the orientation rule and the angular form, and the bodies as added (for
+//! pickles).
+
+use crate::convert::{array, float, matrix, text, vector};
+use crate::py_err;
+use crate::world::World;
+use numpy::{PyArray1, PyArray2};
+use physstep::forces::Endpoint;
+use physstep::rigid::body::{AngularForm, FORMS};
+use physstep::rigid::orientation::{Rule, RULES};
+use physstep::world::{BodyParams, World as Engine};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+/// A body spring as added: body, point (shape frame), other end, stiffness, rest length
+/// (`None`: the distance when it was added), damping.
+pub(crate) type SpringSpec = (usize, [f64; 3], Endpoint, f64, Option<f64>, f64);
+
+/// The bodies of a World and their springs as they were added, in order: a pickle rebuilds
+/// them from this before it restores the snapshot (which holds their state, not their
+/// shapes).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct BodyLog {
+    pub(crate) bodies: Vec<BodyParams>,
+    pub(crate) springs: Vec<SpringSpec>,
+}
+
+/// `[w, x, y, z]` from a 4-vector argument (the engine checks finiteness and length).
+fn quaternion(o: &Bound<'_, PyAny>, field: &str) -> PyResult<[f64; 4]> {
+    let q = array(o, field, Some(4), None)?;
+    Ok([q[0], q[1], q[2], q[3]])
+}
+
+/// A 3-vector argument, `default` when absent or None.
+fn vec3(o: Option<&Bound<'_, PyAny>>, field: &str, default: [f64; 3]) -> PyResult<[f64; 3]> {
+    o.filter(|o| !o.is_none()).map_or(Ok(default), |o| vector(o, field, 3))
+}
+
+/// One `(nb, k)` array of a per-body reading.
+fn per_body<'py, const N: usize>(
+    py: Python<'py>,
+    w: &Engine,
+    read: impl Fn(&Engine, usize) -> physstep::Result<[f64; N]>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = w.bodies().len();
+    let mut data = Vec::with_capacity(n * N);
+    for b in 0..n {
+        data.extend_from_slice(&read(w, b).map_err(py_err)?);
+    }
+    matrix(py, data, N)
+}
+
+/// Adds a body to `w` and logs it.
+pub(crate) fn add(w: &mut Engine, log: &mut BodyLog, p: BodyParams) -> PyResult<usize> {
+    let b = w.add_body(&p).map_err(py_err)?;
+    log.bodies.push(p);
+    Ok(b)
+}
+
+/// The bodies of `w` as pickle parts: `bodies`, `[(shape, mass, density, position,
+/// orientation, velocity, angular_velocity, pivot), ...]`; `body_springs`, `[(body, point,
+/// other, stiffness, rest_length, damping), ...]`; the orientation rule and angular form.
+pub(crate) fn parts(py: Python<'_>, w: &Engine, log: &BodyLog, d: &Bound<'_, PyDict>) -> PyResult<()> {
+    // The engine does not show a body's shape and parameters: only those added here are
+    // known (a scene's bodies are not).
+    if log.bodies.len() != w.bodies().len() {
+        return Err(PyValueError::new_err(format!(
+            "this World cannot be pickled: {} of its {} bodies were not added by World.add_body \
+             (a scene's bodies; a copy works)",
+            w.bodies().len() - log.bodies.len().min(w.bodies().len()),
+            w.bodies().len()
+        )));
+    }
+    let bodies = PyList::empty(py);
+    for p in &log.bodies {
+        let item = (
+            crate::shapes::to_py(py, &p.shape)?,
+            p.mass,
+            p.density,
+            p.position.to_vec(),
+            p.orientation.to_vec(),
+            p.velocity.to_vec(),
+            p.angular_velocity.to_vec(),
+            p.pivot.map(|v| v.to_vec()),
+        );
+        bodies.append(item)?;
+    }
+    let springs = PyList::empty(py);
+    for (k, &(body, point, other, stiffness, rest_length, damping)) in log.springs.iter().enumerate() {
+        // The engine keeps the rest length it chose but does not show it: a spring added
+        // without one cannot be rebuilt as it was.
+        if rest_length.is_none() {
+            return Err(PyValueError::new_err(format!(
+                "this World cannot be pickled: body spring {k} was added without rest_length \
+                 (give rest_length to add_body_spring to pickle it)"
+            )));
+        }
+        let other = crate::pickle::end(py, other, 3)?;
+        springs.append((body, point.to_vec(), other, stiffness, rest_length, damping))?;
+    }
+    d.set_item("bodies", bodies)?;
+    d.set_item("body_springs", springs)?;
+    d.set_item("orientation_rule", w.bodies().rule().name())?;
+    d.set_item("angular_form", w.bodies().form().name())?;
+    Ok(())
+}
+
+/// A parts list of N numbers.
+fn numbers<const N: usize>(o: &Bound<'_, PyAny>) -> PyResult<[f64; N]> {
+    let v: Vec<f64> = o.extract()?;
+    v.try_into().map_err(|_| PyValueError::new_err(format!("invalid parts: a body vector of {N} numbers")))
+}
+
+/// Adds the bodies and body springs of pickle `parts` to `w`, with its orientation rule and
+/// angular form (before its snapshot is restored).
+pub(crate) fn rebuild(w: &mut Engine, log: &mut BodyLog, parts: &Bound<'_, PyDict>) -> PyResult<()> {
+    if let Some(rule) = parts.get_item("orientation_rule")? {
+        w.set_orientation_rule(Rule::from_name(&text(&rule, "orientation_rule")?).map_err(py_err)?);
+    }
+    if let Some(list) = parts.get_item("bodies")? {
+        for item in list.try_iter()? {
+            let item = item?;
+            let pivot = item.get_item(7)?;
+            let p = BodyParams {
+                shape: crate::shapes::from_py(&item.get_item(0)?, "shape")?,
+                mass: item.get_item(1)?.extract()?,
+                density: item.get_item(2)?.extract()?,
+                position: numbers(&item.get_item(3)?)?,
+                orientation: numbers(&item.get_item(4)?)?,
+                velocity: numbers(&item.get_item(5)?)?,
+                angular_velocity: numbers(&item.get_item(6)?)?,
+                pivot: if pivot.is_none() { None } else { Some(numbers(&pivot)?) },
+            };
+            add(w, log, p)?;
+        }
+    }
+    if let Some(list) = parts.get_item("body_springs")? {
+        for item in list.try_iter()? {
+            let item = item?;
+            let spec: SpringSpec = (
+                item.get_item(0)?.extract()?,
+                numbers(&item.get_item(1)?)?,
+                crate::pickle::parse_end(&item.get_item(2)?)?,
+                item.get_item(3)?.extract()?,
+                item.get_item(4)?.extract()?,
+                item.get_item(5)?.extract()?,
+            );
+            add_spring(w, log, spec)?;
+        }
+    }
+    // Last: the form converts the angular slots of the bodies there are.
+    if let Some(form) = parts.get_item("angular_form")? {
+        w.set_angular_form(AngularForm::from_name(&text(&form, "angular_form")?).map_err(py_err)?);
+    }
+    Ok(())
+}
+
+/// Adds a body spring to `w` and logs it.
+fn add_spring(w: &mut Engine, log: &mut BodyLog, spec: SpringSpec) -> PyResult<()> {
+    let (body, point, other, stiffness, rest_length, damping) = spec;
+    w.add_body_spring(body, point, other, stiffness, rest_length, damping).map_err(py_err)?;
+    log.springs.push(spec);
+    Ok(())
+}
+
+#[pymethods]
+impl World {
+    /// Adds a rigid body of `shape` (a physstep.Sphere, Box, Cylinder, Capsule or Mesh) in a
+    /// 3D world; returns its index. `mass` (kg) or `density` (kg/m^3), at most one (neither:
+    /// density 1); `position` of the shape's origin (m, default the origin), `orientation`
+    /// of the shape's frame as a quaternion (w, x, y, z) (normalised; default the identity),
+    /// `velocity` of the centre of mass (m/s), `angular_velocity` (rad/s, world frame);
+    /// `pivot`, a point of the shape (shape frame, m) pinned to the world where it starts (a
+    /// ball joint: a top on its tip; `velocity` must then be zero). ValueError naming the bad
+    /// field (`dim` in a world that is not 3D); the world is then unchanged.
+    #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None, velocity=None, angular_velocity=None, pivot=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_body(
+        &self,
+        shape: &Bound<'_, PyAny>,
+        mass: Option<&Bound<'_, PyAny>>,
+        density: Option<&Bound<'_, PyAny>>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        pivot: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let shape = crate::shapes::from_py(shape, "shape")?;
+        let mass = mass.filter(|m| !m.is_none()).map(|m| float(m, "mass")).transpose()?;
+        let density = density.filter(|d| !d.is_none()).map(|d| float(d, "density")).transpose()?;
+        let position = vec3(position, "position", [0.0; 3])?;
+        let orientation = match orientation.filter(|o| !o.is_none()) {
+            Some(o) => quaternion(o, "orientation")?,
+            None => [1.0, 0.0, 0.0, 0.0],
+        };
+        let velocity = vec3(velocity, "velocity", [0.0; 3])?;
+        let angular_velocity = vec3(angular_velocity, "angular_velocity", [0.0; 3])?;
+        let pivot = pivot.filter(|p| !p.is_none()).map(|p| vector(p, "pivot", 3)).transpose()?;
+        let p = BodyParams { shape, mass, density, position, orientation, velocity, angular_velocity, pivot };
+        let mut g = self.lock()?;
+        g.flush()?;
+        let crate::world::Inner { engine, bodies, .. } = &mut *g;
+        add(engine, bodies, p)
+    }
+
+    /// Number of rigid bodies.
+    #[getter]
+    fn body_count(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.bodies().len())
+    }
+
+    /// Centres of mass of the bodies (nb, 3), m.
+    fn body_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        per_body(py, &self.lock()?.engine, Engine::body_position)
+    }
+
+    /// Orientations of the bodies' shape frames (nb, 4), unit quaternions (w, x, y, z).
+    fn body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        per_body(py, &self.lock()?.engine, Engine::body_orientation)
+    }
+
+    /// Velocities of the bodies' centres of mass (nb, 3), m/s.
+    fn body_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        per_body(py, &self.lock()?.engine, Engine::body_velocity)
+    }
+
+    /// Angular velocities of the bodies (nb, 3), rad/s, world frame.
+    fn body_angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        per_body(py, &self.lock()?.engine, Engine::body_angular_velocity)
+    }
+
+    /// Angular momenta of the bodies about their centres of mass (nb, 3), kg m^2/s, world
+    /// frame.
+    fn body_angular_momenta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        per_body(py, &self.lock()?.engine, Engine::body_angular_momentum)
+    }
+
+    /// Total angular momentum about the origin (3,), kg m^2/s: the particles' m x x v (3D
+    /// worlds) plus the bodies' c x P + L.
+    fn angular_momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let mut g = self.lock()?;
+        Ok(PyArray1::from_slice(py, &g.flush()?.angular_momentum()))
+    }
+
+    /// Applies `force` (N, world frame) to body `body` for the next step, at the world point
+    /// `at` (m; the centre of mass when None, else adding the torque (at - c) x force).
+    /// Loads add up until a step takes them. ValueError naming `body`, `force` or `at`.
+    #[pyo3(signature = (body, force, at=None))]
+    fn apply_force(
+        &self,
+        body: &Bound<'_, PyAny>,
+        force: &Bound<'_, PyAny>,
+        at: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let b = crate::convert::body(body, "body")?;
+        let force = vector(force, "force", 3)?;
+        let at = at.filter(|a| !a.is_none()).map(|a| vector(a, "at", 3)).transpose()?;
+        self.lock()?.engine.apply_force(b, force, at).map_err(py_err)
+    }
+
+    /// Applies `torque` (N m, world frame) to body `body` for the next step. ValueError
+    /// naming `body` or `torque`.
+    fn apply_torque(&self, body: &Bound<'_, PyAny>, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+        let b = crate::convert::body(body, "body")?;
+        let torque = vector(torque, "torque", 3)?;
+        self.lock()?.engine.apply_torque(b, torque).map_err(py_err)
+    }
+
+    /// How drifts move the bodies' orientations: "matrix", "quaternion", "exponential" or
+    /// "splitting" (the default); assign a name to switch (ValueError listing the valid
+    /// names otherwise).
+    #[getter]
+    fn orientation_rule(&self) -> PyResult<&'static str> {
+        Ok(self.lock()?.engine.bodies().rule().name())
+    }
+
+    #[setter]
+    fn set_orientation_rule(&self, name: &Bound<'_, PyAny>) -> PyResult<()> {
+        let rule = Rule::from_name(&text(name, "orientation_rule")?).map_err(py_err)?;
+        self.lock()?.engine.set_orientation_rule(rule);
+        Ok(())
+    }
+
+    /// What the bodies' angular state holds and so what a kick integrates: "momentum" (the
+    /// angular momentum, the notes' form and the default), "velocity" (the angular velocity,
+    /// gyroscopic term ignored, as many game engines do) or "velocity-gyroscopic" (Euler's
+    /// equations, explicit); assign a name to switch (the bodies keep their angular
+    /// momentum; ValueError listing the valid names otherwise).
+    #[getter]
+    fn angular_form(&self) -> PyResult<&'static str> {
+        Ok(self.lock()?.engine.bodies().form().name())
+    }
+
+    #[setter]
+    fn set_angular_form(&self, name: &Bound<'_, PyAny>) -> PyResult<()> {
+        let form = AngularForm::from_name(&text(name, "angular_form")?).map_err(py_err)?;
+        self.lock()?.engine.set_angular_form(form);
+        Ok(())
+    }
+
+    /// Adds a damped spring (`stiffness` N/m, `damping` N s/m) from `point` of body `body`
+    /// (shape frame, m) to `other`, a particle index or a fixed anchor point (3 numbers, m);
+    /// `rest_length` (m) defaults to the current distance. ValueError naming the bad field.
+    #[pyo3(signature = (body, point, other, stiffness, rest_length=None, damping=None))]
+    fn add_body_spring(
+        &self,
+        body: &Bound<'_, PyAny>,
+        point: &Bound<'_, PyAny>,
+        other: &Bound<'_, PyAny>,
+        stiffness: &Bound<'_, PyAny>,
+        rest_length: Option<&Bound<'_, PyAny>>,
+        damping: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let b = crate::convert::body(body, "body")?;
+        let point = vector(point, "point", 3)?;
+        let other = crate::world_build::endpoint(other, "other", 3)?;
+        let stiffness = float(stiffness, "stiffness")?;
+        let rest_length =
+            rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
+        let damping = damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?;
+        let mut g = self.lock()?;
+        g.flush()?;
+        let crate::world::Inner { engine, bodies, .. } = &mut *g;
+        add_spring(engine, bodies, (b, point, other, stiffness, rest_length, damping))
+    }
+
+    /// Body orientations to draw (nb, 4), (w, x, y, z): slerped by `alpha` between the
+    /// state before the last step of the latest advance() and the current one.
+    fn interpolated_body_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let q = self.lock()?.engine.interpolated_body_orientations();
+        matrix(py, q.into_iter().flatten().collect(), 4)
+    }
+}
+
+/// The angular forms of rigid bodies, in order: a dict of name to a one-line doc.
+#[pyfunction]
+pub(crate) fn angular_forms(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    for f in FORMS {
+        d.set_item(f.name(), f.doc())?;
+    }
+    Ok(d)
+}
+
+/// The orientation rules of rigid bodies, in order: a dict of name to a one-line doc.
+#[pyfunction]
+pub(crate) fn orientation_rules(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    for r in RULES {
+        d.set_item(r.name(), r.doc())?;
+    }
+    Ok(d)
+}
