@@ -471,6 +471,7 @@ class World:
         velocity: npt.ArrayLike | None = None,
         angular_velocity: npt.ArrayLike | None = None,
         pivot: npt.ArrayLike | None = None,
+        angular_drag: float | None = None,
     ) -> int:
         """Adds a rigid body of ``shape`` and returns its index. ``mass`` (kg) or ``density``
         (kg/m^3), at most one (neither: density 1); ``position`` of the shape's origin (m,
@@ -478,8 +479,9 @@ class World:
         normalised (default the identity); ``velocity`` of the centre of mass (m/s);
         ``angular_velocity`` (rad/s, world frame); ``pivot``, a point of the shape (shape
         frame, m) pinned to the world where it starts (a top on its tip; ``velocity`` must
-        then be zero). ValueError naming the bad field (``dim`` in a world that is not 3D);
-        the world is then unchanged."""
+        then be zero); ``angular_drag``, a torque ``-c omega`` (N m s, default 0). ValueError
+        naming the bad field (``dim`` in a world that is not 3D); the world is then
+        unchanged."""
 
     @property
     def body_count(self) -> int:

@@ -60,7 +60,7 @@ pub(crate) fn add(w: &mut Engine, log: &mut BodyLog, p: BodyParams) -> PyResult<
 }
 
 /// The bodies of `w` as pickle parts: `bodies`, `[(shape, mass, density, position,
-/// orientation, velocity, angular_velocity, pivot), ...]`; `body_springs`, `[(body, point,
+/// orientation, velocity, angular_velocity, pivot, angular_drag), ...]`; `body_springs`, `[(body, point,
 /// other, stiffness, rest_length, damping), ...]`; the orientation rule and angular form.
 pub(crate) fn parts(py: Python<'_>, w: &Engine, log: &BodyLog, d: &Bound<'_, PyDict>) -> PyResult<()> {
     // The engine does not show a body's shape and parameters: only those added here are
@@ -84,6 +84,7 @@ pub(crate) fn parts(py: Python<'_>, w: &Engine, log: &BodyLog, d: &Bound<'_, PyD
             p.velocity.to_vec(),
             p.angular_velocity.to_vec(),
             p.pivot.map(|v| v.to_vec()),
+            p.angular_drag,
         );
         bodies.append(item)?;
     }
@@ -132,6 +133,7 @@ pub(crate) fn rebuild(w: &mut Engine, log: &mut BodyLog, parts: &Bound<'_, PyDic
                 velocity: numbers(&item.get_item(5)?)?,
                 angular_velocity: numbers(&item.get_item(6)?)?,
                 pivot: if pivot.is_none() { None } else { Some(numbers(&pivot)?) },
+                angular_drag: item.get_item(8)?.extract()?,
             };
             add(w, log, p)?;
         }
@@ -173,9 +175,10 @@ impl World {
     /// of the shape's frame as a quaternion (w, x, y, z) (normalised; default the identity),
     /// `velocity` of the centre of mass (m/s), `angular_velocity` (rad/s, world frame);
     /// `pivot`, a point of the shape (shape frame, m) pinned to the world where it starts (a
-    /// ball joint: a top on its tip; `velocity` must then be zero). ValueError naming the bad
-    /// field (`dim` in a world that is not 3D); the world is then unchanged.
-    #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None, velocity=None, angular_velocity=None, pivot=None))]
+    /// ball joint: a top on its tip; `velocity` must then be zero); `angular_drag`, a torque
+    /// `-c omega` (N m s, default 0). ValueError naming the bad field (`dim` in a world that
+    /// is not 3D); the world is then unchanged.
+    #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None, velocity=None, angular_velocity=None, pivot=None, angular_drag=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
         &self,
@@ -187,6 +190,7 @@ impl World {
         velocity: Option<&Bound<'_, PyAny>>,
         angular_velocity: Option<&Bound<'_, PyAny>>,
         pivot: Option<&Bound<'_, PyAny>>,
+        angular_drag: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
         let shape = crate::shapes::from_py(shape, "shape")?;
         let mass = mass.filter(|m| !m.is_none()).map(|m| float(m, "mass")).transpose()?;
@@ -199,7 +203,19 @@ impl World {
         let velocity = vec3(velocity, "velocity", [0.0; 3])?;
         let angular_velocity = vec3(angular_velocity, "angular_velocity", [0.0; 3])?;
         let pivot = pivot.filter(|p| !p.is_none()).map(|p| vector(p, "pivot", 3)).transpose()?;
-        let p = BodyParams { shape, mass, density, position, orientation, velocity, angular_velocity, pivot };
+        let angular_drag =
+            angular_drag.filter(|c| !c.is_none()).map(|c| float(c, "angular_drag")).transpose()?;
+        let p = BodyParams {
+            shape,
+            mass,
+            density,
+            position,
+            orientation,
+            velocity,
+            angular_velocity,
+            pivot,
+            angular_drag: angular_drag.unwrap_or(0.0),
+        };
         let mut g = self.lock()?;
         g.flush()?;
         let crate::world::Inner { engine, bodies, .. } = &mut *g;

@@ -395,3 +395,28 @@ fn the_racket_flips_at_the_period_of_the_exact_solution() {
     let l = w.angular_momentum();
     assert!((norm(l) - l2.sqrt()).abs() < 1e-12 * l2.sqrt());
 }
+
+#[test]
+fn angular_drag_slows_a_spinning_sphere_exponentially() {
+    // A sphere (I = 2/5 m r^2 about every axis) with angular drag c: omega = omega0 exp(-c t / I).
+    let (m, r, c) = (2.0, 0.5, 0.3);
+    let i = 0.4 * m * r * r;
+    let mut w = world("rk4", 0.01);
+    w.add_body(&BodyParams {
+        shape: Shape::Sphere { radius: r },
+        mass: Some(m),
+        angular_velocity: [1.0, -2.0, 0.5],
+        angular_drag: c,
+        ..BodyParams::default()
+    })
+    .unwrap();
+    w.step(300).unwrap();
+    let decay = (-c * w.time() / i).exp();
+    let omega = w.body_angular_velocity(0).unwrap();
+    for (got, start) in omega.iter().zip([1.0, -2.0, 0.5]) {
+        assert!((got - start * decay).abs() < 1e-9, "{omega:?} vs decay {decay}");
+    }
+    let msg =
+        w.add_body(&BodyParams { angular_drag: -1.0, ..BodyParams::default() }).unwrap_err().to_string();
+    assert!(msg.contains("angular_drag"), "{msg}");
+}

@@ -93,6 +93,8 @@ pub struct Bodies {
     pub(crate) offset: Vec<DVec3>,
     /// Whether the reference point is pinned to the world (a top on its tip).
     pub(crate) pinned: Vec<bool>,
+    /// Angular drag coefficients: a torque `-c omega`, N m s.
+    pub(crate) angular_drag: Vec<f64>,
     /// The shape's centre of mass in the shape's frame, m.
     pub(crate) center: Vec<DVec3>,
     /// Forces applied by hand for the next step, N (world frame).
@@ -255,6 +257,9 @@ impl Bodies {
             // Spring loads come with their torque about the reference point already.
             let (fs, ts) = extra.get(b).copied().unwrap_or_default();
             let mut tau = self.torque[b] + ts;
+            if self.angular_drag[b] != 0.0 {
+                tau -= self.omega(b, q, vec3(&wb[3..])) * self.angular_drag[b];
+            }
             let fe = if self.pinned[b] {
                 // The pin takes the forces; about it, those at the centre turn the body.
                 tau += (q * self.offset[b]).cross(f);

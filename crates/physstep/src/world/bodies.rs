@@ -32,6 +32,9 @@ pub struct BodyParams {
     /// joint to the world, a top on its tip. The body then turns about it (its velocity
     /// follows from its spin: `velocity` must be zero).
     pub pivot: Option<[f64; 3]>,
+    /// Angular drag: a torque `-c omega`, N m s (0 for none), like a game engine's per-body
+    /// angular damping; the world's `Drag` force acts on the centre's velocity.
+    pub angular_drag: f64,
 }
 
 impl Default for BodyParams {
@@ -45,6 +48,7 @@ impl Default for BodyParams {
             velocity: [0.0; 3],
             angular_velocity: [0.0; 3],
             pivot: None,
+            angular_drag: 0.0,
         }
     }
 }
@@ -70,6 +74,13 @@ impl World {
         bounded("velocity", &p.velocity, RUNAWAY)?;
         bounded("angular_velocity", &p.angular_velocity, RUNAWAY)?;
         let user = orientation::validate_quaternion("orientation", p.orientation)?;
+        if !(p.angular_drag.is_finite() && (0.0..=crate::scenes::PARAM_MAX).contains(&p.angular_drag)) {
+            return Err(Error::invalid(
+                "angular_drag",
+                crate::error::num(p.angular_drag),
+                "a number in [0, 1e12]",
+            ));
+        }
         let mut inertia_m = props.inertia;
         let center_s = DVec3::from_array(props.center);
         let reference = match p.pivot {
@@ -121,6 +132,7 @@ impl World {
         b.center.push(reference);
         b.offset.push(offset);
         b.pinned.push(p.pivot.is_some());
+        b.angular_drag.push(p.angular_drag);
         b.force.push(DVec3::ZERO);
         b.torque.push(DVec3::ZERO);
         let slot = b.slot(b.form, b.len() - 1, q, l);

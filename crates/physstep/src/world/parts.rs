@@ -83,6 +83,7 @@ impl System for Parts<'_> {
                 && (self.loads.linear != 0.0
                     || self.loads.quadratic != 0.0
                     || b.springs.iter().any(|s| s.damping != 0.0)
+                    || b.angular_drag.iter().any(|c| *c != 0.0)
                     || b.form == crate::rigid::body::AngularForm::VelocityGyroscopic))
     }
 
