@@ -531,6 +531,23 @@ class World:
 
     @angular_form.setter
     def angular_form(self, name: str) -> None: ...
+    def add_body_force(
+        self,
+        body: int,
+        func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
+        *,
+        point: npt.ArrayLike | None = None,
+        potential: Callable[[npt.NDArray[np.float64]], float] | None = None,
+        velocity_dependent: bool | None = None,
+        name: str | None = None,
+    ) -> int:
+        """Adds a force written in Python acting at ``point`` of ``body`` (shape frame, m;
+        default the shape's origin): ``func(t, x, v)`` gets the point's world position and
+        velocity as (1, 3) arrays and returns the force on it (1, 3), N, which also turns the
+        body. ``potential(x)`` (J) keeps the energy known; ``velocity_dependent=False`` saves
+        re-evaluations. An exception raised inside propagates unchanged, with the step rolled
+        back. Returns the force's index among the body forces."""
+
     def add_body_spring(
         self,
         body: int,

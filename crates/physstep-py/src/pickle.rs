@@ -162,7 +162,7 @@ pub(crate) fn builtin_flow(item: &Bound<'_, PyAny>) -> PyResult<Option<(Flow, us
 pub(crate) type Reduce<'py> = (Bound<'py, PyAny>, (Bound<'py, PyAny>, Bound<'py, PyAny>));
 
 /// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name.
-type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String);
+pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String);
 
 /// Rebuilds a World pickled by `World.__reduce__`.
 #[pyfunction]
@@ -201,7 +201,7 @@ pub(crate) fn _world_from_parts(
         }
     }
     let mut bodies = crate::world_bodies::BodyLog::default();
-    crate::world_bodies::rebuild(&mut engine, &mut bodies, parts)?;
+    crate::world_bodies::rebuild(&mut engine, &mut bodies, parts, &slot)?;
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let _ = py;
     let world = World::with_parts(engine, slot, user, flow_spec);

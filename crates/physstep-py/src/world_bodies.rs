@@ -25,6 +25,35 @@ pub(crate) type SpringSpec = (usize, [f64; 3], Endpoint, f64, Option<f64>, f64);
 pub(crate) struct BodyLog {
     pub(crate) bodies: Vec<BodyParams>,
     pub(crate) springs: Vec<SpringSpec>,
+    /// Python forces at body points: body, point (shape frame), and the force's spec
+    /// `(func, potential, None, velocity_dependent, name)`.
+    pub(crate) forces: Vec<(usize, [f64; 3], std::sync::Arc<Py<PyAny>>)>,
+}
+
+/// Adds a Python force at a body point to `w` (from its spec) and logs it.
+fn add_force(
+    py: Python<'_>,
+    w: &mut Engine,
+    log: &mut BodyLog,
+    body: usize,
+    point: [f64; 3],
+    spec: Py<PyAny>,
+    slot: &crate::force::Slot,
+) -> PyResult<usize> {
+    let (func, potential, jacobian, velocity_dependent, name): crate::pickle::ForceSpec =
+        spec.bind(py).extract()?;
+    let force = crate::force::PyForce {
+        name,
+        dim: 3,
+        func,
+        potential,
+        jacobian,
+        velocity_dependent,
+        slot: slot.clone(),
+    };
+    let k = w.add_body_force(body, point, std::sync::Arc::new(force)).map_err(py_err)?;
+    log.forces.push((body, point, std::sync::Arc::new(spec)));
+    Ok(k)
 }
 
 /// `[w, x, y, z]` from a 4-vector argument (the engine checks finiteness and length).
@@ -101,8 +130,13 @@ pub(crate) fn parts(py: Python<'_>, w: &Engine, log: &BodyLog, d: &Bound<'_, PyD
         let other = crate::pickle::end(py, other, 3)?;
         springs.append((body, point.to_vec(), other, stiffness, rest_length, damping))?;
     }
+    let forces = PyList::empty(py);
+    for (body, point, spec) in &log.forces {
+        forces.append((*body, point.to_vec(), spec.bind(py)))?;
+    }
     d.set_item("bodies", bodies)?;
     d.set_item("body_springs", springs)?;
+    d.set_item("body_forces", forces)?;
     d.set_item("orientation_rule", w.bodies().rule().name())?;
     d.set_item("angular_form", w.bodies().form().name())?;
     Ok(())
@@ -116,7 +150,12 @@ fn numbers<const N: usize>(o: &Bound<'_, PyAny>) -> PyResult<[f64; N]> {
 
 /// Adds the bodies and body springs of pickle `parts` to `w`, with its orientation rule and
 /// angular form (before its snapshot is restored).
-pub(crate) fn rebuild(w: &mut Engine, log: &mut BodyLog, parts: &Bound<'_, PyDict>) -> PyResult<()> {
+pub(crate) fn rebuild(
+    w: &mut Engine,
+    log: &mut BodyLog,
+    parts: &Bound<'_, PyDict>,
+    slot: &crate::force::Slot,
+) -> PyResult<()> {
     if let Some(rule) = parts.get_item("orientation_rule")? {
         w.set_orientation_rule(Rule::from_name(&text(&rule, "orientation_rule")?).map_err(py_err)?);
     }
@@ -152,6 +191,17 @@ pub(crate) fn rebuild(w: &mut Engine, log: &mut BodyLog, parts: &Bound<'_, PyDic
             add_spring(w, log, spec)?;
         }
     }
+    if let Some(list) = parts.get_item("body_forces")? {
+        for item in list.try_iter()? {
+            let item = item?;
+            let (body, point): (usize, Vec<f64>) =
+                (item.get_item(0)?.extract()?, item.get_item(1)?.extract()?);
+            let point: [f64; 3] = point
+                .try_into()
+                .map_err(|_| PyValueError::new_err("invalid parts: a body force point of 3 numbers"))?;
+            add_force(parts.py(), w, log, body, point, item.get_item(2)?.unbind(), slot)?;
+        }
+    }
     // Last: the form converts the angular slots of the bodies there are.
     if let Some(form) = parts.get_item("angular_form")? {
         w.set_angular_form(AngularForm::from_name(&text(&form, "angular_form")?).map_err(py_err)?);
@@ -169,6 +219,53 @@ fn add_spring(w: &mut Engine, log: &mut BodyLog, spec: SpringSpec) -> PyResult<(
 
 #[pymethods]
 impl World {
+    /// Adds a force written in Python acting at `point` of body `body` (shape frame, m; the
+    /// default is the shape's origin): `func(t, x, v)` gets the point's world position and
+    /// velocity as (1, 3) arrays and returns the force on it (1, 3), N, which also turns the
+    /// body. `potential(x)` (J) keeps the energy known; `velocity_dependent=False` saves
+    /// re-evaluations. An exception raised inside propagates unchanged, with the step rolled
+    /// back. Returns the force's index among the body forces.
+    #[pyo3(signature = (body, func, *, point=None, potential=None, velocity_dependent=None, name=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_body_force(
+        &self,
+        py: Python<'_>,
+        body: &Bound<'_, PyAny>,
+        func: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+        potential: Option<&Bound<'_, PyAny>>,
+        velocity_dependent: Option<&Bound<'_, PyAny>>,
+        name: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let body = crate::convert::index(body, "body")?;
+        if !func.is_callable() {
+            return Err(crate::convert::invalid("func", func, "callable"));
+        }
+        let potential = match potential.filter(|p| !p.is_none()) {
+            Some(p) if p.is_callable() => Some(p.clone().unbind()),
+            Some(p) => return Err(crate::convert::invalid("potential", p, "callable")),
+            None => None,
+        };
+        let velocity_dependent =
+            velocity_dependent.map_or(Ok(true), |v| crate::convert::flag(v, "velocity_dependent"))?;
+        let point = vec3(point, "point", [0.0; 3])?;
+        let name = match name {
+            Some(n) => text(n, "name")?,
+            None => func
+                .getattr("__name__")
+                .and_then(|n| n.extract::<String>())
+                .unwrap_or_else(|_| "body force".into()),
+        };
+        let spec = (func, potential.as_ref().map(|p| p.bind(py)), py.None(), velocity_dependent, &name)
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
+        let mut g = self.lock()?;
+        g.flush()?;
+        let crate::world::Inner { engine, bodies, slot, .. } = &mut *g;
+        add_force(py, engine, bodies, body, point, spec, slot)
+    }
+
     /// Adds a rigid body of `shape` (a physstep.Sphere, Box, Cylinder, Capsule or Mesh) in a
     /// 3D world; returns its index. `mass` (kg) or `density` (kg/m^3), at most one (neither:
     /// density 1); `position` of the shape's origin (m, default the origin), `orientation`

@@ -436,3 +436,63 @@ fn angular_drag_slows_a_spinning_sphere_exponentially() {
         w.add_body(&BodyParams { angular_drag: -1.0, ..BodyParams::default() }).unwrap_err().to_string();
     assert!(msg.contains("angular_drag"), "{msg}");
 }
+
+/// A zero-rest spring to an anchor written as a user force at a body point.
+struct Tether {
+    anchor: [f64; 3],
+    k: f64,
+}
+
+impl physstep::forces::ForceGenerator for Tether {
+    fn name(&self) -> &str {
+        "tether"
+    }
+    fn add_forces(&self, _t: f64, x: &[f64], _v: &[f64], f: &mut [f64]) -> std::result::Result<(), String> {
+        if x[0].abs() > 100.0 {
+            return Err("the tether snapped".into());
+        }
+        for k in 0..3 {
+            f[k] += self.k * (self.anchor[k] - x[k]);
+        }
+        Ok(())
+    }
+    fn velocity_dependent(&self) -> bool {
+        false
+    }
+    fn potential(&self, x: &[f64]) -> Option<f64> {
+        Some(0.5 * self.k * (0..3).map(|k| (x[k] - self.anchor[k]).powi(2)).sum::<f64>())
+    }
+}
+
+#[test]
+fn a_user_force_at_a_body_point_acts_like_the_same_built_in_spring() {
+    let body = || BodyParams {
+        shape: Shape::Box { half_extents: [0.3, 0.2, 0.1] },
+        mass: Some(1.5),
+        angular_velocity: [0.2, 0.0, 0.5],
+        ..BodyParams::default()
+    };
+    let (anchor, point, k) = ([1.0, 0.5, 0.0], [0.3, 0.2, 0.1], 8.0);
+    let mut a = world("velocity-verlet", 0.01);
+    a.add_body(&body()).unwrap();
+    a.add_body_spring(0, point, Endpoint::Anchor(anchor), k, Some(0.0), 0.0).unwrap();
+    let mut b = world("velocity-verlet", 0.01);
+    b.add_body(&body()).unwrap();
+    b.add_body_force(0, point, std::sync::Arc::new(Tether { anchor, k })).unwrap();
+    assert!((a.energy().unwrap() - b.energy().unwrap()).abs() < 1e-12);
+    a.step(500).unwrap();
+    b.step(500).unwrap();
+    for (pa, pb) in a.body_position(0).unwrap().iter().zip(b.body_position(0).unwrap()) {
+        assert!((pa - pb).abs() < 1e-12, "{pa} vs {pb}");
+    }
+    assert!((a.energy().unwrap() - b.energy().unwrap()).abs() < 1e-12);
+    // A failing force fails the step, names itself, and leaves the world as it was.
+    let mut c = world("rk4", 0.01);
+    c.add_body(&BodyParams { position: [150.0, 0.0, 0.0], ..body() }).unwrap();
+    c.add_body_force(0, point, std::sync::Arc::new(Tether { anchor, k })).unwrap();
+    let before = (c.state_hash(), c.body_position(0).unwrap());
+    let err = c.step(1).unwrap_err();
+    assert!(matches!(&err, Error::Force { name, .. } if name == "tether"), "{err}");
+    assert!(err.to_string().contains("snapped"), "{err}");
+    assert_eq!((c.state_hash(), c.body_position(0).unwrap()), before);
+}

@@ -107,6 +107,20 @@ pub struct Bodies {
     pub(crate) form: AngularForm,
     /// Springs from body points to particles or anchors.
     pub(crate) springs: Vec<BodySpring>,
+    /// User forces at body points.
+    pub(crate) forces: Vec<BodyForce>,
+}
+
+/// A user force acting at a point of a body: the generator sees that point as one particle
+/// (position and velocity, 3 numbers each) and returns the force on it.
+#[derive(Debug, Clone)]
+pub struct BodyForce {
+    /// The body.
+    pub body: usize,
+    /// The point, from the body's reference point, in its principal frame, m.
+    pub point: DVec3,
+    /// The force law.
+    pub generator: crate::forces::UserForce,
 }
 
 /// A damped spring from a point of a body to a particle or a fixed point.
@@ -365,18 +379,32 @@ impl Bodies {
     }
 }
 
+impl Bodies {
+    /// World position and velocity of the point `point` (from body `b`'s reference point, in
+    /// its principal frame) at the world's positions `x` and velocities `v` (`np` particle
+    /// coordinates first), and its arm from the reference point.
+    pub(crate) fn point(
+        &self,
+        b: usize,
+        point: DVec3,
+        np: usize,
+        x: &[f64],
+        v: &[f64],
+    ) -> (DVec3, DVec3, DVec3) {
+        let (xb, vb) = (&x[np + b * X_LEN..], &v[np + b * V_LEN..]);
+        let q = quat(&xb[3..]);
+        let arm = q * point;
+        let v_ref = if self.pinned[b] { DVec3::ZERO } else { vec3(&vb[..3]) / self.mass[b] };
+        (vec3(&xb[..3]) + arm, v_ref + self.omega(b, q, vec3(&vb[3..])).cross(arm), arm)
+    }
+}
+
 impl BodySpring {
     /// The force on the body's point (its opposite acts on the other end) and the point's
     /// arm from the body's reference point, world frame, at positions `x` and velocities
     /// `v` of the whole world (`np` particle coordinates first, 3 per particle).
     pub(crate) fn force(&self, bodies: &Bodies, np: usize, x: &[f64], v: &[f64]) -> (DVec3, DVec3) {
-        let b = self.body;
-        let (xb, vb) = (&x[np + b * X_LEN..], &v[np + b * V_LEN..]);
-        let q = quat(&xb[3..]);
-        let arm = q * self.point;
-        let v_ref = if bodies.pinned[b] { DVec3::ZERO } else { vec3(&vb[..3]) / bodies.mass[b] };
-        let p = vec3(&xb[..3]) + arm;
-        let vp = v_ref + bodies.omega(b, q, vec3(&vb[3..])).cross(arm);
+        let (p, vp, arm) = bodies.point(self.body, self.point, np, x, v);
         let (xo, vo) = match self.other {
             crate::forces::Endpoint::Particle(i) => (vec3(&x[3 * i..]), vec3(&v[3 * i..])),
             crate::forces::Endpoint::Anchor(a) => (DVec3::from_array(a), DVec3::ZERO),

@@ -370,6 +370,30 @@ impl World {
         Ok(())
     }
 
+    /// Adds a user force acting at `point` of body `body` (in the shape's frame, m): the
+    /// generator sees that point as one particle (its world position and velocity) and
+    /// returns the force on it, which also turns the body (`arm x F`). Its potential, if it
+    /// has one, joins the energy; without one the energy is unknown. Returns its index
+    /// among the body forces.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `body` or `point`; the world is unchanged.
+    pub fn add_body_force(
+        &mut self,
+        body: usize,
+        point: [f64; 3],
+        generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
+    ) -> Result<usize> {
+        self.body_index(body)?;
+        bounded("point", &point, RUNAWAY)?;
+        let b = &self.bodies;
+        let arm = b.frame[body].inverse() * (DVec3::from_array(point) - b.center[body]);
+        let generator = crate::forces::UserForce(generator);
+        self.bodies.forces.push(crate::rigid::body::BodyForce { body, point: arm, generator });
+        self.touch();
+        Ok(self.bodies.forces.len() - 1)
+    }
+
     /// Body orientations to draw, `(w, x, y, z)`: slerped between the state before the last
     /// step of the latest `advance` and the current one by `alpha`.
     #[must_use]

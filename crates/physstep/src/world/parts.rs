@@ -61,6 +61,29 @@ impl System for Parts<'_> {
                 }
             }
         }
+        for g in &bodies.forces {
+            let (p, vp, arm) = bodies.point(g.body, g.point, np, xs, vs);
+            let mut f = [0.0; 3];
+            let r =
+                g.generator.0.add_forces(t, &p.to_array(), &vp.to_array(), &mut f).map_err(|r| (r, false));
+            let r = r.and_then(|()| match f.iter().position(|c| !c.is_finite()) {
+                None => Ok(()),
+                Some(k) => Err((format!("force[0][{k}] = {} is not finite", f[k]), true)),
+            });
+            if let Err((reason, non_finite)) = r {
+                // Poisoned: the step fails and is rolled back, and the world reports this.
+                if self.model.failure.is_none() {
+                    let name = g.generator.0.name().to_string();
+                    self.model.failure = Some(crate::Error::Force { name, reason, non_finite });
+                }
+                a.fill(f64::NAN);
+                return;
+            }
+            let f = DVec3::from_array(f);
+            let e = &mut self.extra[g.body];
+            e.0 += f;
+            e.1 += arm.cross(f);
+        }
         bodies.accel(&self.loads, &x[np..], &w[np..], &mut a[np..], self.extra);
     }
 
@@ -84,6 +107,7 @@ impl System for Parts<'_> {
                     || self.loads.quadratic != 0.0
                     || b.springs.iter().any(|s| s.damping != 0.0)
                     || b.angular_drag.iter().any(|c| *c != 0.0)
+                    || b.forces.iter().any(|g| g.generator.0.velocity_dependent())
                     || b.form == crate::rigid::body::AngularForm::VelocityGyroscopic))
     }
 

@@ -118,7 +118,15 @@ impl World {
         let np = self.model.len();
         let springs: f64 =
             self.bodies.springs.iter().map(|s| s.potential(np, &self.state.y[..self.nx()])).sum();
-        Some(particles + self.bodies.kinetic(bx, bv) + self.bodies.potential(&loads, bx, bv) + springs)
+        let (x, v) = self.state.y.split_at(self.nx());
+        let mut users = 0.0;
+        for g in &self.bodies.forces {
+            let (p, _, _) = self.bodies.point(g.body, g.point, np, x, v);
+            users += g.generator.0.potential(&p.to_array())?;
+        }
+        Some(
+            particles + self.bodies.kinetic(bx, bv) + self.bodies.potential(&loads, bx, bv) + springs + users,
+        )
     }
 
     /// Kinetic energy, J: the dynamic particles' and the bodies' (translation and rotation).
