@@ -278,7 +278,7 @@ def test_a_body_spring_pulls_at_its_point() -> None:
 def test_orientation_rule_and_angular_form_switch_by_name() -> None:
     rules, forms = physstep.orientation_rules(), physstep.angular_forms()
     assert list(rules) == ["matrix", "quaternion", "exponential", "splitting"]
-    assert list(forms) == ["momentum", "velocity", "velocity-gyroscopic"]
+    assert list(forms) == ["momentum", "velocity", "velocity-gyroscopic", "velocity-implicit"]
     assert all(doc and "\n" not in doc for doc in [*rules.values(), *forms.values()])
     w = physstep.World(3, method="symplectic-euler", dt=1 / 120)
     assert (w.orientation_rule, w.angular_form) == ("splitting", "momentum")
@@ -555,6 +555,8 @@ def _restored_twin_continues_bitwise(method: str, form: str, damping: float) -> 
         ("velocity-verlet", "velocity-gyroscopic", 0.5),
         ("implicit-midpoint", "velocity-gyroscopic", 0.0),
         ("yoshida4", "velocity-gyroscopic", 0.5),
+        ("symplectic-euler", "velocity-implicit", 0.5),
+        ("rk4", "velocity-implicit", 0.0),
     ],
 )
 def test_restoring_a_world_with_a_body_spring_continues_bitwise(

@@ -68,7 +68,8 @@ def orientation_rules() -> dict[str, str]:
 
 def angular_forms() -> dict[str, str]:
     """The angular forms of rigid bodies (what a kick integrates), in order: a dict of name to
-    a one-line doc (``momentum``, ``velocity``, ``velocity-gyroscopic``)."""
+    a one-line doc (``momentum``, ``velocity``, ``velocity-gyroscopic``,
+    ``velocity-implicit``)."""
 
 @final
 class MassProperties:
@@ -525,8 +526,9 @@ class World:
     @property
     def angular_form(self) -> str:
         """What the bodies' angular state holds, so what a kick integrates: ``momentum`` (the
-        notes' form, default), ``velocity`` (gyroscopic term ignored, as many engines do) or
-        ``velocity-gyroscopic``; assign a name to switch (angular momentum kept; ValueError
+        notes' form, default), ``velocity`` (gyroscopic term ignored, as many engines do),
+        ``velocity-gyroscopic`` (explicit) or ``velocity-implicit`` (Catto's one Newton
+        step); assign a name to switch (angular momentum kept; ValueError
         listing the valid names)."""
 
     @angular_form.setter

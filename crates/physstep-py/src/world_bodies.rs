@@ -399,8 +399,9 @@ impl World {
 
     /// What the bodies' angular state holds and so what a kick integrates: "momentum" (the
     /// angular momentum, the notes' form and the default), "velocity" (the angular velocity,
-    /// gyroscopic term ignored, as many game engines do) or "velocity-gyroscopic" (Euler's
-    /// equations, explicit); assign a name to switch (the bodies keep their angular
+    /// gyroscopic term ignored, as many game engines do), "velocity-gyroscopic" (Euler's
+    /// equations, explicit) or "velocity-implicit" (the gyroscopic term by Catto's one
+    /// Newton step); assign a name to switch (the bodies keep their angular
     /// momentum; ValueError listing the valid names otherwise).
     #[getter]
     fn angular_form(&self) -> PyResult<&'static str> {

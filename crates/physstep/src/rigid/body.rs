@@ -33,20 +33,30 @@ pub enum AngularForm {
     /// Angular velocity `omega`, kicked by `I^-1 (tau - omega x I omega)` (Euler's
     /// equations, the gyroscopic term explicit).
     VelocityGyroscopic,
+    /// Angular velocity `omega` with the gyroscopic term implicit, as Catto's one Newton
+    /// step does for semi-implicit Euler (Box2D, Bullet): in the body frame
+    /// `d omega = -h J^-1 (omega x I omega)` with `J = I + h (skew(omega) I - skew(I omega))`
+    /// at the world's step `h`. Stable at any spin, and it dissipates energy.
+    VelocityImplicit,
 }
 
 /// Every angular form, in order.
-pub const FORMS: [AngularForm; 3] =
-    [AngularForm::Momentum, AngularForm::Velocity, AngularForm::VelocityGyroscopic];
+pub const FORMS: [AngularForm; 4] = [
+    AngularForm::Momentum,
+    AngularForm::Velocity,
+    AngularForm::VelocityGyroscopic,
+    AngularForm::VelocityImplicit,
+];
 
 impl AngularForm {
-    /// Its name: `momentum`, `velocity`, `velocity-gyroscopic`.
+    /// Its name: `momentum`, `velocity`, `velocity-gyroscopic`, `velocity-implicit`.
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Self::Momentum => "momentum",
             Self::Velocity => "velocity",
             Self::VelocityGyroscopic => "velocity-gyroscopic",
+            Self::VelocityImplicit => "velocity-implicit",
         }
     }
 
@@ -68,6 +78,9 @@ impl AngularForm {
             Self::Momentum => "integrate L from torque, omega = I^-1 L (the notes; gyroscopic motion exact)",
             Self::Velocity => "integrate omega from I^-1 tau, gyroscopic term ignored (many engines)",
             Self::VelocityGyroscopic => "integrate omega from I^-1 (tau - omega x I omega), explicit",
+            Self::VelocityImplicit => {
+                "integrate omega, the gyroscopic term by one implicit Newton step (Catto; Box2D, Bullet)"
+            }
         }
     }
 }
@@ -105,6 +118,9 @@ pub struct Bodies {
     pub(crate) rule: Rule,
     /// What the angular slot holds.
     pub(crate) form: AngularForm,
+    /// The world's fixed step, s: the implicit gyroscopic form takes its Newton step there
+    /// (whatever step a method's kick makes).
+    pub(crate) h: f64,
     /// Springs from body points to particles or anchors.
     pub(crate) springs: Vec<BodySpring>,
     /// User forces at body points.
@@ -216,7 +232,7 @@ impl Bodies {
     pub(crate) fn omega(&self, b: usize, q: DQuat, w: DVec3) -> DVec3 {
         match self.form {
             AngularForm::Momentum => orientation::omega(q, self.inv_inertia[b], w),
-            AngularForm::Velocity | AngularForm::VelocityGyroscopic => w,
+            _ => w,
         }
     }
 
@@ -225,9 +241,7 @@ impl Bodies {
     pub(crate) fn momentum(&self, b: usize, q: DQuat, w: DVec3) -> DVec3 {
         match self.form {
             AngularForm::Momentum => w,
-            AngularForm::Velocity | AngularForm::VelocityGyroscopic => {
-                q * (self.inertia[b] * (q.conjugate() * w))
-            }
+            _ => q * (self.inertia[b] * (q.conjugate() * w)),
         }
     }
 
@@ -235,9 +249,7 @@ impl Bodies {
     pub(crate) fn slot(&self, form: AngularForm, b: usize, q: DQuat, l: DVec3) -> DVec3 {
         match form {
             AngularForm::Momentum => l,
-            AngularForm::Velocity | AngularForm::VelocityGyroscopic => {
-                orientation::omega(q, self.inv_inertia[b], l)
-            }
+            _ => orientation::omega(q, self.inv_inertia[b], l),
         }
     }
 
@@ -290,9 +302,32 @@ impl Bodies {
                     let l = self.momentum(b, q, spin);
                     orientation::omega(q, self.inv_inertia[b], tau - spin.cross(l))
                 }
+                AngularForm::VelocityImplicit => {
+                    orientation::omega(q, self.inv_inertia[b], tau) + self.implicit_gyroscopic(b, q, spin)
+                }
             };
             put_vec3(&mut ab[3..], da);
         }
+    }
+
+    /// Catto's implicit gyroscopic rate of body `b` at `q` with angular velocity `spin`
+    /// (world frame): one Newton step on `I (w - w1) + h w x I w = 0` from `w1` in the body
+    /// frame, `d w = -h J^-1 (w1 x I w1)` with `J = I + h (skew(w1) I - skew(I w1))`,
+    /// divided by `h`, the world's step (before the first step `h = 0`: the explicit term).
+    fn implicit_gyroscopic(&self, b: usize, q: DQuat, spin: DVec3) -> DVec3 {
+        let (inertia, h) = (self.inertia[b], self.h);
+        let w = q.conjugate() * spin;
+        let iw = inertia * w;
+        let skew = |v: DVec3| {
+            glam::DMat3::from_cols(
+                DVec3::new(0.0, v.z, -v.y),
+                DVec3::new(-v.z, 0.0, v.x),
+                DVec3::new(v.y, -v.x, 0.0),
+            )
+        };
+        let i = glam::DMat3::from_diagonal(inertia);
+        let j = i + (skew(w) * i - skew(iw)) * h;
+        q * -(j.inverse() * w.cross(iw))
     }
 
     /// Drift: reference points by `P / m h`, orientations by the rule with the angular
@@ -373,7 +408,7 @@ impl Bodies {
     #[must_use]
     pub fn drift_rule(&self) -> Rule {
         match (self.rule, self.form) {
-            (Rule::Splitting, AngularForm::Velocity | AngularForm::VelocityGyroscopic) => Rule::Exponential,
+            (Rule::Splitting, form) if form != AngularForm::Momentum => Rule::Exponential,
             (rule, _) => rule,
         }
     }

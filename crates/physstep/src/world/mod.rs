@@ -157,7 +157,7 @@ impl World {
             implicit: params.implicit,
             checkpoint: Checkpoint::default(),
             flow: None,
-            bodies: crate::rigid::body::Bodies::default(),
+            bodies: crate::rigid::body::Bodies { h: params.dt, ..Default::default() },
             body_loads: Vec::new(),
             prev_q: Vec::new(),
         })
@@ -453,7 +453,11 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `dt`.
     pub fn set_dt(&mut self, dt: f64) -> Result<()> {
-        self.clock.retime(dt)
+        self.clock.retime(dt)?;
+        // The implicit gyroscopic form's Newton step is taken at the fixed step.
+        self.bodies.h = dt;
+        self.stale = true;
+        Ok(())
     }
 
     /// Takes `n` steps of the fixed dt.
