@@ -351,7 +351,9 @@ impl Bodies {
         {
             put_vec3(&mut db[..3], vec3(&vb[..3]) / self.mass[b]);
             let q = quat(&xb[3..]);
-            let omega = self.omega(b, q.normalize(), vec3(&vb[3..]));
+            // A flow method's stage leaves q off the unit sphere; omega is of the rotation.
+            let unit = if (q.length_squared() - 1.0).abs() > 8.0 * f64::EPSILON { q.normalize() } else { q };
+            let omega = self.omega(b, unit, vec3(&vb[3..]));
             let dq = DQuat::from_xyzw(omega.x, omega.y, omega.z, 0.0) * q * 0.5;
             put_quat(&mut db[3..], dq);
         }

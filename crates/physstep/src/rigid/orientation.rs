@@ -316,8 +316,15 @@ fn splitting(q: DQuat, inv_inertia: DVec3, l: DVec3, h: f64, axes: [usize; 3]) -
     // The middle body piece and the turn about L commute (the turn about L leaves Pi
     // unchanged): apply both at once.
     let pi = q.conjugate() * l;
-    let about_l = exp_pure(l * (0.5 * a * h));
-    let q = (about_l * q * exp_pure(axis(middle) * (0.5 * h * c_middle * pi[middle]))).normalize();
+    let length = l.length();
+    let about_l = if length > 0.0 {
+        let (s, c) = (0.5 * a * h * length).sin_cos();
+        let u = l * (s / length);
+        DQuat::from_xyzw(u.x, u.y, u.z, c)
+    } else {
+        DQuat::IDENTITY
+    };
+    let q = (about_l * turn(q, middle, h * c_middle * pi[middle])).normalize();
     body_turn(q, l, outer, c_outer, 0.5 * h).normalize()
 }
 
@@ -327,13 +334,18 @@ fn body_turn(q: DQuat, l: DVec3, i: usize, c: f64, h: f64) -> DQuat {
         return q;
     }
     let pi_i = (q.conjugate() * l)[i];
-    q * exp_pure(axis(i) * (0.5 * h * c * pi_i))
+    turn(q, i, h * c * pi_i)
 }
 
-/// The body axis `e_i`.
-fn axis(i: usize) -> DVec3 {
-    DVec3::AXES[i]
+/// `q exp(e_i angle / 2)`: `q` turned about its own axis `i` by `angle` (one `sin_cos`).
+#[inline]
+fn turn(q: DQuat, i: usize, angle: f64) -> DQuat {
+    let (s, c) = (0.5 * angle).sin_cos();
+    let mut e = [0.0; 3];
+    e[i] = s;
+    q * DQuat::from_xyzw(e[0], e[1], e[2], c)
 }
+
 
 #[cfg(test)]
 #[path = "orientation_tests.rs"]
