@@ -174,3 +174,54 @@ def test_version_prints_the_package_version_and_exits_0(capsys) -> None:
     assert capsys.readouterr().out == f"physstep {physstep.__version__}\n"
     res = run_cli("--version")
     assert (res.returncode, res.stdout, res.stderr) == (0, f"physstep {physstep.__version__}\n", "")
+
+
+# -- rigid bodies --------------------------------------------------------------------------
+
+
+def test_run_racket_json_reports_an_exact_angular_momentum() -> None:
+    res = run_cli("run", "racket", "--until", "120", "--format", "json")
+    assert res.returncode == 0, res.stderr
+    s = json.loads(res.stdout)
+    assert s["method"] == "symplectic-euler" and s["steps"] == 14400
+    ang = s["angular_momentum"]
+    assert set(ang) == {"initial", "final", "max_rel_error"}
+    assert ang["max_rel_error"] < 1e-12
+    assert abs(ang["initial"][1] - 4.0) < 1e-3  # 2 rad/s about the intermediate axis (moment 2)
+    assert 0 < s["energy"]["max_rel_error"] < 1e-5  # bounded, not exact: L's column is its own
+    text = run_cli("run", "racket", "--until", "10")
+    assert text.returncode == 0 and "angular momentum" in text.stdout
+
+
+@pytest.mark.parametrize("command", ["run", "table"])
+def test_verlet_on_a_body_scene_is_one_line_and_status_2(command: str) -> None:
+    res = run_cli(command, "racket", "--method", "verlet", "--until", "1")
+    assert res.returncode == 2, res.stderr
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("physstep: error: ") and "'verlet'" in lines[0]
+    assert "Traceback" not in res.stderr and res.stdout == ""
+
+
+def test_compare_top_with_two_methods() -> None:
+    res = run_cli("compare", "top", "--methods", "rk4,velocity-verlet", "--until", "0.5")
+    assert res.returncode == 0, res.stderr
+    assert "max |dL|/|L|" in res.stdout and "final spin error" in res.stdout
+    rows = [line for line in res.stdout.splitlines() if line.startswith("│")]
+    assert [r.split("│")[1].strip() for r in rows] == ["rk4", "velocity-verlet"]
+    res = run_cli("compare", "top", "--methods", "rk4,velocity-verlet", "--until", "0.5", "--format", "json")
+    assert res.returncode == 0, res.stderr
+    data = json.loads(res.stdout)
+    assert data["kind"] == "bodies" and data["steps"] == 600 and data["skipped"] == []
+    for r in data["rows"]:
+        assert r["diverged"] is None and r["energy_max_rel_error"] < 1e-5
+        # gravity turns the top's L: the column measures that change, the same for both
+        assert 0.1 < r["angular_momentum_max_rel_error"] < 10
+    a, b = (r["angular_momentum_max_rel_error"] for r in data["rows"])
+    assert a == pytest.approx(b, rel=1e-3)
+
+
+def test_compare_racket_names_verlet_in_one_line() -> None:
+    res = run_cli("compare", "racket", "--methods", "rk4,verlet", "--until", "1")
+    assert res.returncode == 2
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1 and "'verlet'" in lines[0] and "Traceback" not in res.stderr

@@ -343,6 +343,53 @@ def test_compare_energy_errors_on_the_chain_are_meaningful() -> None:
     assert rows["rk4"]["energy_scale"] > 1.0  # J: the chain's kinetic energy, not |E0|
 
 
+# -- compare on rigid bodies: the |L| column ------------------------------------------
+
+
+def test_compare_on_the_racket_has_an_angular_momentum_column() -> None:
+    res = lab.compare("racket", ["rk4", "symplectic-euler"], until=30.0)
+    rows = {r["method"]: r for r in res["rows"]}
+    assert set(rows) == {"rk4", "symplectic-euler"} and res["kind"] == "bodies"
+    # the default keeps L exact (drifts never change it, a free body has no torque) ...
+    assert rows["symplectic-euler"]["angular_momentum_max_rel_error"] < 1e-12
+    assert isinstance(rows["rk4"]["angular_momentum_max_rel_error"], float)
+    # ... while its energy error is bounded but not zero: the column is not the energy's
+    assert 1e-8 < rows["symplectic-euler"]["energy_max_rel_error"] < 1e-5
+    assert "|L - L0| / |L0|" in res["angular_momentum_error"]
+    assert res["skipped"] == [] and res["note"] == ""
+
+
+def test_the_angular_momentum_column_sees_an_angular_form_that_breaks_l() -> None:
+    # the same racket with the explicit gyroscopic term (velocity form): symplectic Euler's L
+    # drifts, and the column says by how much, against the scene run's exact L
+    def gyroscopic() -> physstep.World:
+        w = physstep.World.from_scene("racket", "symplectic-euler", 1 / 120)
+        w.angular_form = "velocity-gyroscopic"
+        return w
+
+    res = lab.compare(gyroscopic, ["symplectic-euler"], dt=1 / 120, until=30.0)
+    assert res["kind"] == "bodies" and "angular_momentum_error" in res
+    assert res["rows"][0]["angular_momentum_max_rel_error"] > 1e-3
+
+
+def test_compare_all_on_a_body_scene_skips_verlet_with_a_note() -> None:
+    res = lab.compare("racket", "all", until=0.5)
+    ran = [r["method"] for r in res["rows"]]
+    assert "verlet" not in ran and res["skipped"] == ["verlet"]
+    assert ran == [m for m in METHODS if m != "verlet"]
+    assert "verlet" in res["note"] and "rigid bodies" in res["note"]
+    assert all(r["angular_momentum_max_rel_error"] is not None for r in res["rows"])
+    with pytest.raises(ValueError, match=r"method 'verlet' .*orientations"):
+        lab.compare("racket", ["rk4", "verlet"], until=0.5)
+
+
+def test_particle_and_flow_tables_have_no_angular_momentum_description() -> None:
+    for scene in ("spring", "lorenz"):
+        res = lab.compare(scene, ["rk4"], dt=0.01, until=0.1)
+        assert "angular_momentum_error" not in res
+        assert res["rows"][0]["angular_momentum_max_rel_error"] is None
+
+
 # -- CLI -------------------------------------------------------------------------------
 
 
@@ -433,3 +480,34 @@ def test_cli_bad_values_exit_2_with_one_line(args: tuple[str, ...], needle: str)
     assert res.returncode == 2
     lines = res.stderr.strip().splitlines()
     assert len(lines) == 1 and needle in lines[0], res.stderr
+
+
+def test_cli_compare_on_a_body_scene_shows_the_l_column_in_text_and_json() -> None:
+    res = run_cli("compare", "racket", "--methods", "rk4,symplectic-euler", "--until", "5")
+    assert res.returncode == 0, res.stderr
+    assert "max |dL|/|L|" in res.stdout and "|L - L0| / |L0|" in res.stdout
+    header = next(line for line in res.stdout.splitlines() if "order" in line)
+    assert header.index("max |dE|/scale") < header.index("max |dL|/|L|")  # beside the energy
+    res = run_cli(
+        "compare", "racket", "--methods", "rk4,symplectic-euler", "--until", "5", "--format", "json"
+    )
+    assert res.returncode == 0, res.stderr
+    data = json.loads(res.stdout)
+    rows = {r["method"]: r for r in data["rows"]}
+    assert rows["symplectic-euler"]["angular_momentum_max_rel_error"] < 1e-12
+    assert "angular_momentum_error" in data
+    spring = run_cli("compare", "spring", "--methods", "rk4", "--until", "1")
+    assert spring.returncode == 0 and "|dL|" not in spring.stdout and "L0" not in spring.stdout
+
+
+def test_cli_compare_plot_of_a_body_scene_is_the_spin_figure(tmp_path) -> None:
+    out = tmp_path / "racket.png"
+    res = run_cli(
+        "compare", "racket", "--methods", "rk4,symplectic-euler", "--until", "5", "--plot", str(out)
+    )
+    assert res.returncode == 0, res.stderr
+    import matplotlib.image as mpimg
+
+    h, w = mpimg.imread(out).shape[:2]
+    # spin: two omega panels above the energy and |L| panels, 10 in wide (x(t) would be 8 x 5)
+    assert w == 1000 and h > 900

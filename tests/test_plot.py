@@ -222,3 +222,106 @@ def test_save_failure_keeps_the_old_file(tmp_path, monkeypatch, spring_run) -> N
     with pytest.raises(ValueError, match=f"invalid plot file '{target}': No space left on device"):
         plot.save(fig, target)
     assert target.read_bytes() == b"old" and [p.name for p in tmp_path.iterdir()] == ["x.png"]
+
+
+# -- spin: rigid bodies ------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def racket_run() -> physstep.Trajectory:
+    return physstep.simulate("racket", "symplectic-euler", until=60.0, every=4)
+
+
+def test_spin_draws_the_body_frame_axes_then_the_energy_and_l_errors(tmp_path, racket_run) -> None:
+    fig = plot.spin(racket_run)
+    omega, energy, ang = fig.axes
+    assert len(omega.lines) == 3
+    labels = [t.get_text() for t in omega.get_legend().get_texts()]
+    assert labels == ["axis 1 (smallest moment)", "axis 2 (intermediate moment)", "axis 3 (largest moment)"]
+    for k, line in enumerate(omega.lines):
+        np.testing.assert_array_equal(line.get_xdata(), racket_run.t)
+        np.testing.assert_array_equal(line.get_ydata(), racket_run.body_spin[:, 0, k])
+    # the flip: the intermediate axis's spin changes sign within the minute
+    w2 = racket_run.body_spin[:, 0, 1]
+    assert w2.max() > 1.9 and w2.min() < -1.9
+    assert omega.get_xlabel() == "" and ang.get_xlabel() == "t (s)"
+    # the energy error spans decades: |error| on a log axis, the zero start left out
+    assert energy.get_yscale() == "log" and "|E - E0|" in energy.get_ylabel()
+    e = energy.lines[0].get_ydata()
+    np.testing.assert_allclose(e, np.maximum(np.abs(racket_run.energy_error[1:]), plot.LOG_FLOOR))
+    # L is exact: zero throughout, drawn on a linear axis, and the legend says so
+    assert ang.get_yscale() == "linear" and ang.get_ylabel() == "|L - L0| / |L0|"
+    assert np.all(ang.lines[0].get_ydata() == 0)
+    assert ang.get_legend().get_texts()[0].get_text() == "symplectic-euler (0 throughout)"
+    img = mpimg.imread(plot.save(fig, tmp_path / "spin.png"))
+    w, h = fig.get_size_inches() * fig.dpi
+    assert img.shape[:2] == (round(h), round(w))
+
+
+def test_spin_puts_an_l_error_that_spans_decades_on_a_zero_safe_log_axis(racket_run) -> None:
+    ang = racket_run.angular_momentum.copy()
+    ang[5:, 1] *= 1 + np.geomspace(1e-15, 1e-3, len(ang) - 5)  # a drift over 12 decades
+    ang[50] = ang[0]  # an exact zero in the middle: drawn at the floor, no -inf, no warning
+    drifting = dataclasses.replace(racket_run, angular_momentum=ang, method="rk4")
+    exact = dataclasses.replace(racket_run, angular_momentum=np.repeat(ang[:1], len(ang), axis=0))
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = plot.spin([drifting, exact])
+    assert len(fig.axes) == 2 + 2 and len(fig.axes[0].lines) == 3
+    ang_ax = fig.axes[-1]
+    assert ang_ax.get_yscale() == "log"
+    drawn = ang_ax.lines[0].get_ydata()
+    assert np.isfinite(drawn).all() and drawn.min() == plot.LOG_FLOOR
+    want = np.linalg.norm(ang[1:] - ang[0], axis=1) / np.linalg.norm(ang[0])
+    np.testing.assert_allclose(drawn, np.maximum(want, plot.LOG_FLOOR))
+    assert drawn.max() == pytest.approx(1e-3, rel=1e-3)
+    texts = [t.get_text() for t in ang_ax.get_legend().get_texts()]
+    assert texts == ["rk4", f"symplectic-euler (below {plot.LOG_FLOOR:g} throughout)"]
+    assert [ax.get_title() for ax in fig.axes[:2]] == ["rk4", "symplectic-euler"]
+
+
+def test_spin_refuses_runs_without_bodies_and_bodies_out_of_range(racket_run) -> None:
+    spring = physstep.simulate("spring", "rk4", 0.1, 1.0)
+    with pytest.raises(
+        ValueError, match=r"invalid trajectories\[0\] \(spring, rk4\): a particles run has no rigid"
+    ):
+        plot.spin(spring)
+    lorenz = physstep.simulate("lorenz", "rk4", 0.01, 0.1)
+    with pytest.raises(
+        ValueError, match=r"invalid trajectories\[1\] \(lorenz, rk4\): a flow run has no rigid"
+    ):
+        plot.spin([racket_run, lorenz])
+    for body in (1, -1):
+        with pytest.raises(
+            ValueError, match=rf"invalid body = {body}: the racket run of symplectic-euler has 1 body"
+        ):
+            plot.spin(racket_run, body=body)
+    with pytest.raises(ValueError, match="invalid body = 0.5: must be an integer"):
+        plot.spin(racket_run, body=0.5)
+    with pytest.raises(ValueError, match=r"invalid trajectories = \[\]"):
+        plot.spin([])
+
+
+def test_the_readme_racket_figure_shows_the_flips_go_on_and_die_out() -> None:
+    import importlib.util
+
+    from conftest import ROOT
+
+    spec = importlib.util.spec_from_file_location("make_figures", ROOT / "scripts" / "make_figures.py")
+    assert spec is not None and spec.loader is not None
+    figures = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(figures)
+    fig = figures.racket()
+    default, quaternion, energy, ang = fig.axes
+    assert "default" in default.get_title() and "quaternion" in quaternion.get_title()
+    late = default.lines[1].get_xdata() > 1000.0
+    # the default still flips at the end: the intermediate axis swings from +2 to -2 rad/s
+    w2 = default.lines[1].get_ydata()[late]
+    assert w2.max() > 1.9 and w2.min() < -1.9
+    # the quaternion rule: no flip left, the body spins about its smallest moment
+    assert np.abs(quaternion.lines[1].get_ydata()[late]).max() < 0.05
+    assert np.abs(quaternion.lines[0].get_ydata()[late]).min() > 3.5
+    # as its energy drifts up by half the scale, while the default's stays below 1e-5
+    assert energy.lines[0].get_ydata().max() < 1e-5 and energy.lines[1].get_ydata()[-1] > 0.4

@@ -80,7 +80,11 @@ def __getattr__(name: str) -> Any:
 
 @dataclass(frozen=True)
 class MethodInfo:
-    """What an integrator is: its registry name, order, properties and one-line doc."""
+    """What an integrator is: its registry name, order, properties and one-line doc.
+
+    ``split``: it needs positions and velocities apart (not for first-order flows);
+    ``vector_positions``: it does arithmetic on positions as vectors (Verlet's
+    ``2 x - x_prev``), so it does not apply to rigid bodies' orientations."""
 
     name: str
     order: int
@@ -89,6 +93,7 @@ class MethodInfo:
     evals: int
     split: bool
     doc: str
+    vector_positions: bool = False
 
 
 def methods() -> list[MethodInfo]:

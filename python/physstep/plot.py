@@ -5,7 +5,9 @@ headless and never pop up a window; :func:`save` writes PNG or SVG by the file's
 Every function takes one trajectory or several (overlaid, one legend entry per method).
 Flows (``Trajectory.kind == "flow"``: the attractors, your own :class:`physstep.Flow`) plot
 their state ``y`` and its rate ``dy/dt``, without units; :func:`path3d` draws three
-coordinates in 3D; :func:`energy` refuses a run whose energy is unknown.
+coordinates in 3D; :func:`energy` refuses a run whose energy is unknown. Rigid bodies
+(``Trajectory.kind == "bodies"``) have :func:`spin`: the body-frame angular velocity, the
+energy error and the change of the angular momentum.
 
 >>> import physstep
 >>> from physstep import plot
@@ -28,7 +30,7 @@ from matplotlib.figure import Figure
 
 from physstep import Trajectory
 
-__all__ = ["energy", "orbit", "path3d", "phase", "save", "trajectory", "work_precision"]
+__all__ = ["LOG_FLOOR", "energy", "orbit", "path3d", "phase", "save", "spin", "trajectory", "work_precision"]
 
 _EXACT_STYLE: dict[str, Any] = {"color": "black", "linestyle": "--", "linewidth": 1.2, "alpha": 0.7}
 
@@ -342,6 +344,151 @@ def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> 
     ax.set_title(_title("relative energy error" if relative else "energy", runs))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="best", fontsize="small")
+    return fig
+
+
+#: The principal axes of a rigid body, moments ascending (``Trajectory.body_spin``'s order).
+_PRINCIPAL = ("smallest", "intermediate", "largest")
+#: Relative errors below this (the rounding of doubles) are drawn at it on a log axis.
+LOG_FLOOR = 1e-16
+
+
+def _spin_label(run: Trajectory, runs: Sequence[Trajectory]) -> str:
+    """``scene: method`` (the scene only where the runs mix scenes or systems), with the dt
+    where the runs mix step sizes, and where the run stopped early."""
+    label = f"{run.scene}: {run.method}" if len({r.scene for r in runs}) > 1 else run.method
+    if len({r.dt for r in runs}) > 1:
+        label += f" (dt = {run.dt:g} s)"
+    if run.diverged:
+        label += f" (failed at t = {run.t[-1]:.3g} s)"
+    return label
+
+
+def _l_change(run: Trajectory) -> np.ndarray | None:
+    """``|L - L0| / |L0|`` of the total angular momentum at every row (``|L - L0|`` when
+    ``L0 = 0``), or None without it."""
+    ang = run.angular_momentum
+    if ang is None:
+        return None
+    ang = np.asarray(ang, dtype=float)
+    l0 = float(np.linalg.norm(ang[0])) if np.isfinite(ang[0]).all() else 0.0
+    with np.errstate(all="ignore"):
+        return np.linalg.norm(ang - ang[0], axis=1) / (l0 if l0 > 0 else 1.0)
+
+
+def _legend_on_top(ax: Any, drawn: list[np.ndarray], entries: int, ncols: int, log: bool = False) -> None:
+    """The legend of ``ax`` at its top, in headroom above the ``drawn`` values (y limits
+    widened to make it, in log space on a log axis), so it never hides a line."""
+    vals = [d[np.isfinite(d) & (d > 0 if log else True)] for d in drawn]
+    vals = np.concatenate(vals) if vals else np.empty(0)
+    rows = -(-entries // ncols)
+    frac = min(0.65, 0.12 + 0.11 * rows)  # the part of the axis the legend takes
+    if len(vals):
+        lo, hi = float(vals.min()), float(vals.max())
+        if log:
+            lo, hi = math.log10(lo), math.log10(hi)
+        span = (hi - lo) or max(abs(hi), 1.0)
+        bottom, top = lo - 0.05 * span, hi + span * frac / (1 - frac)
+        ax.set_ylim(*((10**bottom, 10**top) if log else (bottom, top)))
+    ax.legend(loc="upper center", ncols=ncols, fontsize="small", framealpha=0.9)
+
+
+def _errors(
+    ax: Any,
+    runs: Sequence[Trajectory],
+    labels: list[str],
+    values: list[np.ndarray | None],
+    name: str,
+    signed: str,
+) -> None:
+    """The relative errors ``values`` (one per run, None: unknown) against time on ``ax``.
+
+    A log axis of ``|error|`` where the errors span two decades or more (the first row, zero
+    by definition, left out; other values below :data:`LOG_FLOOR`, exact zeros included,
+    drawn at it), else a linear axis of the error itself (``signed`` names it). The legend
+    says which runs are unknown, below the floor throughout, or have non-finite rows."""
+    mags = [np.abs(v[1:][np.isfinite(v[1:])]) for v in values if v is not None]
+    pos = np.concatenate([m[m > 0] for m in mags]) if mags else np.empty(0)
+    log = len(pos) > 0 and float(pos.max()) >= 100 * max(float(pos.min()), LOG_FLOOR)
+    drawn = []
+    for r, label, v in zip(runs, labels, values, strict=True):
+        if v is None:
+            ax.plot([], [], label=f"{label} (unknown)")
+            continue
+        (t, y), note = _finite([r.t, v], None)
+        if log and len(y) > 1:
+            t, y = t[1:], y[1:]  # the start, zero by definition: no dip to the floor
+            if bool(np.all((np.abs(y) < LOG_FLOOR) | ~np.isfinite(y))):
+                note += f" (below {LOG_FLOOR:g} throughout)"
+            y = np.maximum(np.abs(y), LOG_FLOOR)
+        elif len(y) and bool(np.all(y[np.isfinite(y)] == 0)):
+            note += " (0 throughout)"
+        ax.plot(t, y, label=label + note, lw=1.2)
+        drawn.append(y)
+    if log:
+        ax.set_yscale("log")
+    ax.set_ylabel(name if log else signed)
+    ax.grid(True, which="major", alpha=0.3)
+    _legend_on_top(ax, drawn, len(runs), 1 if len(runs) <= 3 else 2, log=log)
+
+
+def spin(trajs: Trajectory | Iterable[Trajectory], body: int = 0) -> Figure:
+    """Rigid bodies: the body-frame angular velocity of ``body`` against time, then the
+    relative energy error and the relative change of the total angular momentum.
+
+    One panel per run (the first is run 0's) with a line per principal axis, moments
+    ascending (axis 1 the smallest moment, 2 the intermediate, 3 the largest): the
+    tennis-racket flips show as the intermediate axis's line changing sign. Below, every
+    run's relative energy error (see :attr:`physstep.Trajectory.energy_scale`) and
+    ``|L - L0| / |L0|`` of its total angular momentum about the origin (an error where no
+    external torque acts, as on the racket; under gravity, as on the top, it is the physics).
+    Each of the two is drawn as ``|error|`` on a log axis where the values span two decades or
+    more (values below :data:`LOG_FLOOR`, exact zeros included, are drawn at it, and the
+    legend says which runs stay below it), else linearly.
+
+    Raises ValueError for no runs, a run with no rows or without rigid bodies (a particle or
+    flow run: nothing to plot), a ``body`` out of range, or a run with no finite spin.
+    """
+    runs = _runs(trajs)
+    b = _index(body, "body")
+    for i, r in enumerate(runs):
+        if r.body_spin is None:
+            raise ValueError(
+                f"invalid trajectories[{i}] ({r.scene}, {r.method}): a {r.kind} run has no rigid bodies: "
+                "nothing to plot (spin plots body scenes such as racket)"
+            )
+        n = r.body_spin.shape[1]
+        if not 0 <= b < n:
+            raise ValueError(
+                f"invalid body = {b}: the {r.scene} run of {r.method} has {n} bod"
+                + (f"ies (0 ... {n - 1})" if n != 1 else "y (0)")
+            )
+    labels = [_spin_label(r, runs) for r in runs]
+    err = 0.9 + 0.12 * max(0, -(-len(runs) // (1 if len(runs) <= 3 else 2)) - 2)  # room for the legends
+    heights = [1.0] * len(runs) + [err, err]
+    fig = _figure((10.0, 2.4 * sum(heights) + 0.6))
+    axes = fig.subplots(len(runs) + 2, 1, sharex=True, gridspec_kw={"height_ratios": heights})
+    for ax, r, label in zip(axes, runs, labels, strict=False):
+        cols, note = _finite([r.t, *(r.body_spin[:, b, k] for k in range(3))], r.method)
+        for k, name in enumerate(_PRINCIPAL):
+            ax.plot(cols[0], cols[k + 1], label=f"axis {k + 1} ({name} moment)", lw=1.0)
+        ax.set_ylabel("omega, body frame (rad/s)")
+        ax.set_title(label + note, fontsize="medium")
+        ax.grid(True, alpha=0.3)
+        _legend_on_top(ax, cols[1:], 3, 3)
+    _errors(
+        axes[-2],
+        runs,
+        labels,
+        [r.energy_error for r in runs],
+        "|E - E0| / energy scale",
+        "(E - E0) / energy scale",
+    )
+    _errors(axes[-1], runs, labels, [_l_change(r) for r in runs], "|L - L0| / |L0|", "|L - L0| / |L0|")
+    axes[-1].set_xlabel("t (s)")
+    fig.suptitle(
+        f"body-frame angular velocity of body {b}, energy and angular momentum: dt = {_fmt_dt(runs)}"
+    )
     return fig
 
 

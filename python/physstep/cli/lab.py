@@ -110,17 +110,36 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     note = None if steps is None or t_end is None else output.reached(until, steps, res["dt"], t_end)
     span = note or f"until = {until:.10g} s" + ("" if steps is None else f" ({steps} steps)")
     unknown = all(r.get("energy_scale") is None for r in res["rows"])
-    table = Table(
-        title=f"{res['scene']}: dt = {res['dt']:g} s, {span}",
-        caption=f"final error against the {res['error_against']}; energy error relative to the energy "
-        "scale max(|E0|, max kinetic energy), drift = its least-squares slope per second",
+    caption = (
+        f"final error against the {res['error_against']}; energy error relative to the energy "
+        "scale max(|E0|, max kinetic energy), drift = its least-squares slope per second"
     )
+    if res.get("kind") == "bodies":
+        caption += (
+            "; |dL|/|L| = max |L - L0| / |L0| of the total angular momentum (an error unless a torque acts)"
+        )
+    table = Table(title=f"{res['scene']}: dt = {res['dt']:g} s, {span}", caption=caption)
     repeats = res.get("ns_per_step_runs", res.get("repeats"))
     timing = "ns/step" if repeats in (None, 1) else f"ns/step (median of {repeats})"
-    error = "final error" if res.get("kind") == "flow" else "final error (m)"
-    cols = ("method", "order", "evals/step", "max |dE|/scale", "drift (1/s)", error, timing)
+    kind = res.get("kind")
+    error = {"flow": "final error", "bodies": "final spin error (rad/s)"}.get(kind, "final error (m)")
+    bodies = kind == "bodies"
+    cols = (
+        "method",
+        "order",
+        "evals/step",
+        "max |dE|/scale",
+        "drift (1/s)",
+        *(["max |dL|/|L|"] if bodies else []),
+        error,
+        timing,
+    )
+    widest = max((len(r["method"]) for r in res["rows"]), default=6)
     for col in cols:
-        table.add_column(col, justify="left" if col == "method" else "right")
+        if col == "method":  # names whole: the numeric headers fold instead
+            table.add_column(col, justify="left", no_wrap=True, min_width=widest)
+        else:
+            table.add_column(col, justify="right")
     g = output.number
     for r in res["rows"]:
         where = f" at t = {r['t_end']:g} s" if r.get("t_end") is not None else ""
@@ -130,6 +149,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
             g(r["evals_per_step"], ".2f"),
             g(r["energy_max_rel_error"], ".3e"),
             g(r["energy_drift"], ".2e"),
+            *([g(r["angular_momentum_max_rel_error"], ".2e")] if bodies else []),
             g(r["final_error"], ".3e"),
             g(r["ns_per_step"], ".0f"),
         )
@@ -155,12 +175,15 @@ def _compare_plot(
     scene: str, methods: list[str], dt: float, until: float, params: dict[str, float] | None, path: str
 ) -> None:
     """The runs of ``compare`` plotted to ``path``: orbits for the 2-D orbit scenes, the path in
-    3D for a flow of three or more coordinates (the attractors), else x(t)."""
+    3D for a flow of three or more coordinates (the attractors), the body-frame spin with the
+    energy and angular-momentum errors for rigid bodies, else x(t)."""
     from physstep import plot
 
     runs = [physstep.simulate(scene, m, dt, until, params, stop_on_diverge=True) for m in methods]
     first = runs[0]
-    if first.dim >= 2 and scene in ("orbit", "kepler"):
+    if first.kind == "bodies":
+        fig = plot.spin(runs)
+    elif first.dim >= 2 and scene in ("orbit", "kepler"):
         fig = plot.orbit(runs)
     elif first.kind == "flow" and first.x.shape[1] >= 3:
         fig = plot.path3d(runs)

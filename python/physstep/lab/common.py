@@ -35,6 +35,11 @@ ENERGY_ERROR = (
     "(E - E0) / energy scale, the scale = max(|E0|, max kinetic energy of the run); "
     "None where the energy is unknown (a flow, or a force without a potential)"
 )
+#: What the angular-momentum errors of rigid-body runs are (compare's |L| column).
+ANGULAR_MOMENTUM_ERROR = (
+    "max over the run of |L - L0| / |L0|, L the total angular momentum about the origin (|L - L0| "
+    "when L0 = 0): an error where no external torque acts (racket), the physics where one does (top)"
+)
 
 EPS = float(np.finfo(float).eps)
 

@@ -6,9 +6,12 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+
 import physstep
 from physstep import Trajectory
 from physstep.lab.common import (
+    ANGULAR_MOMENTUM_ERROR,
     REFERENCE_REFINE,
     check_run,
     drift,
@@ -52,14 +55,19 @@ def compare(
     rows), ``energy_scale`` (J: what the energy error is relative to, :data:`ENERGY_ERROR`),
     the three None where the energy is unknown (a flow, or a force without a potential),
     ``final_error`` (max coordinate distance of the final position from the exact solution,
-    or from the reference: see ``error_against``), ``ns_per_step`` (median of
+    or from the reference: see ``error_against``; for rigid bodies, of the final body-frame
+    angular velocities, rad/s), ``angular_momentum_max_rel_error`` (rigid bodies: max
+    relative error of the total angular momentum, ``max |L - L0| / |L0|``, from
+    ``Trajectory.angular_momentum``; None otherwise), ``ns_per_step`` (median of
     ``ns_per_step_runs`` timed runs), ``steps`` and ``t_end`` (what the run took and reached)
     and ``diverged`` (message or None; a diverged run reports its errors up to the step
     before).
 
     The result also has ``until_requested`` (= ``until``), ``steps`` and ``t_end`` (the run
     takes until / dt steps rounded down: ``t_end`` can fall short of ``until``),
-    ``energy_error``, ``timing`` (how the numbers were made), ``skipped`` and ``note``.
+    ``energy_error``, ``timing`` (how the numbers were made), ``skipped`` and ``note``; on a
+    rigid-body scene also ``angular_momentum_error`` (what the |L| column measures). Verlet does
+    not apply to rigid bodies: ``"all"`` skips it with a note, naming it is refused.
     ValueError naming ``dt`` or ``until`` before anything runs if a run would be refused (no
     whole step, too many steps, too large a recording).
     """
@@ -82,8 +90,19 @@ def compare(
     t_end = next((r["t_end"] for r in rows if not r["diverged"]), steps * dt)
     against = error_against(subject.has_exact, None if ref is None else dt / REFERENCE_REFINE)
     out = table(subject, until, against, skipped, rows)
+    if subject.kind == "bodies":  # the |L| column's meaning, beside energy_error's
+        out["angular_momentum_error"] = ANGULAR_MOMENTUM_ERROR
     # compare runs one dt: the table says it, with the steps it takes and the time they reach.
     return {**out, "dt": dt, "steps": steps, "t_end": t_end}
+
+
+def _l_error(traj: Trajectory) -> float | None:
+    """Max relative error of the total angular momentum over the run (rigid bodies), or None."""
+    ang = traj.angular_momentum
+    if ang is None or not len(ang):
+        return None
+    l0 = float(np.linalg.norm(ang[0]))
+    return float(np.max(np.linalg.norm(ang - ang[0], axis=1)) / (l0 if l0 > 0 else 1.0))
 
 
 def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:
@@ -97,6 +116,7 @@ def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory
         "energy_drift": drift(traj),
         "energy_scale": energy_scale(traj),
         "final_error": final_error(traj, ref) if len(traj.t) else math.nan,
+        "angular_momentum_max_rel_error": _l_error(traj),
         "ns_per_step": ns,
         "ns_per_step_runs": runs,
         "steps": int(traj.steps),

@@ -51,8 +51,26 @@ def hermite(traj: Trajectory, times: np.ndarray) -> np.ndarray:
     return out
 
 
+def _body_spin_at(ref: Trajectory, t: np.ndarray) -> np.ndarray:
+    """The reference's body-frame angular velocities at times ``t`` (rows, bodies, 3),
+    interpolated linearly between its rows (recorded at a step far finer than the runs')."""
+    assert ref.body_spin is not None
+    flat = ref.body_spin.reshape(len(ref.t), -1)
+    cols = [np.interp(t, ref.t, flat[:, k]) for k in range(flat.shape[1])]
+    return np.stack(cols, axis=-1).reshape(len(t), *ref.body_spin.shape[1:])
+
+
+def _is_bodies(traj: Trajectory) -> bool:
+    """Whether the run's state is its rigid bodies' (no particles to measure)."""
+    return traj.body_spin is not None and traj.x.shape[1] == 0
+
+
 def final_error(traj: Trajectory, ref: Trajectory | None) -> float:
-    """Max-coordinate distance of the final position from the exact or reference one."""
+    """Max-coordinate distance of the final position from the exact or reference one; for
+    rigid bodies, of the final body-frame angular velocities (rad/s) from the reference's."""
+    if _is_bodies(traj):
+        assert ref is not None and traj.body_spin is not None
+        return float(np.abs(traj.body_spin[-1] - _body_spin_at(ref, traj.t[-1:])[0]).max())
     if traj.exact_x is not None:
         return float(np.abs(traj.x[-1] - traj.exact_x[-1]).max())
     assert ref is not None
@@ -61,7 +79,11 @@ def final_error(traj: Trajectory, ref: Trajectory | None) -> float:
 
 
 def max_error(traj: Trajectory, ref: Trajectory | None) -> float:
-    """Max over the run (and over coordinates) of the distance from the exact/reference path."""
+    """Max over the run (and over coordinates) of the distance from the exact/reference path;
+    for rigid bodies, of the body-frame angular velocities from the reference's."""
+    if _is_bodies(traj):
+        assert ref is not None and traj.body_spin is not None
+        return float(np.abs(traj.body_spin - _body_spin_at(ref, traj.t)).max())
     if traj.exact_x is not None:
         return float(np.abs(traj.x - traj.exact_x).max())
     assert ref is not None

@@ -89,6 +89,7 @@ def amplification(scene: Any, method: str, dt: float, params: dict[str, float] |
     """
     subject = Subject(scene, params)
     subject.check_method(method)
+    subject.refuse_bodies("amplification")
     return _amplification(subject, method, positive("dt", dt))
 
 
@@ -408,6 +409,7 @@ def stability(
     """
     subject = Subject(scene, params)
     subject.check_method(method)
+    subject.refuse_bodies("stability")
     scale = subject.time_scale(time_scale)
     linear = not subject.is_system and scene in LINEAR_SCENES
     rtol = _check_rtol(rtol, linear)

@@ -142,6 +142,28 @@ class Subject:
                 f"method '{name}' needs a second-order system (positions and velocities); "
                 f"{self.name} is a first-order flow: use a flow method such as rk4"
             )
+        if self.kind == "bodies" and physstep.method(name).vector_positions:
+            raise ValueError(
+                f"method '{name}' does arithmetic on positions as vectors (2 x - x_prev), which "
+                f"the orientations of {self.name}'s rigid bodies are not: use velocity-verlet or leapfrog"
+            )
+
+    def refuse_bodies(self, what: str) -> None:
+        """ValueError for a lab measure that reads particles' and flows' states only (its
+        criterion would see nothing of the bodies and call every dt stable)."""
+        if self.kind == "bodies":
+            raise ValueError(
+                f"invalid scene = {self.name!r}: {what} is not measured on rigid bodies yet (its criterion "
+                "reads particles' and flows' states); use compare, sweep or order"
+            )
+
+    def applies(self, name: str) -> bool:
+        """Whether method ``name`` applies: not a split method on a flow, not Verlet on
+        rigid bodies."""
+        info = physstep.method(name)
+        return not (self.kind == "flow" and info.split) and not (
+            self.kind == "bodies" and info.vector_positions
+        )
 
     def methods(self, methods: Any) -> tuple[list[str], list[str]]:
         """The methods to run and those skipped: ``"all"`` is every method that applies (a
@@ -149,7 +171,7 @@ class Subject:
         apply is refused); a bare string other than "all" is refused."""
         if isinstance(methods, str) and methods == "all":
             names = [m.name for m in physstep.methods()]
-            skipped = [m for m in names if self.kind == "flow" and physstep.method(m).split]
+            skipped = [m for m in names if not self.applies(m)]
             return [m for m in names if m not in skipped], skipped
         if isinstance(methods, str | bytes):
             raise ValueError(
@@ -180,6 +202,11 @@ def skipped_note(subject: Subject, skipped: list[str]) -> str:
     """The note saying which methods "all" left out, or ""."""
     if not skipped:
         return ""
+    if subject.kind == "bodies":
+        return (
+            f"skipped {', '.join(skipped)}: arithmetic on positions as vectors does not apply to "
+            f"the orientations of {subject.name}'s rigid bodies"
+        )
     return (
         f"skipped {', '.join(skipped)}: split methods need a second-order system and "
         f"{subject.name} is a first-order flow"

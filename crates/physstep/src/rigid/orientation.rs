@@ -346,7 +346,6 @@ fn turn(q: DQuat, i: usize, angle: f64) -> DQuat {
     q * DQuat::from_xyzw(e[0], e[1], e[2], c)
 }
 
-
 #[cfg(test)]
 #[path = "orientation_tests.rs"]
 mod tests;
