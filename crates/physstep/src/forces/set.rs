@@ -57,7 +57,7 @@ impl ForceSet {
     /// vector components (gravity, center, anchor) beyond `dim` are stored as zero.
     ///
     /// # Errors
-    /// [`Error::InvalidValue`] naming the field: `dim`; `i`, `j` (a particle index `< n`, and
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming the field: `dim`; `i`, `j` (a particle index `< n`, and
     /// `j != i`); `stiffness`, `rest_length`, `damping`, `linear`, `quadratic`, `softening`
     /// (finite, >= 0); `length` (finite, > 0); `gm`, `g` (finite); `g`, `center`, `anchor`
     /// (every component within `dim` finite).
@@ -91,7 +91,7 @@ impl ForceSet {
     /// particle's mass must be finite (no static particles).
     ///
     /// # Errors
-    /// [`Error::InvalidValue`] naming `mass[i]` of the first offending particle.
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `mass[i]` of the first offending particle.
     pub fn validate_masses(&self, mass: &[f64]) -> Result<()> {
         if self.needs_finite_masses() {
             finite_masses(mass, 0)?;

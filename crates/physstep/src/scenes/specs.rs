@@ -1,0 +1,295 @@
+//! The catalogue of built-in scenes: their names, parameters with their rules and defaults,
+//! default step and run length, and the resolution of a user's parameter overrides.
+
+use crate::error::{Error, Result};
+
+/// Largest magnitude of a scene parameter. Bounds keep every accepted scene representable:
+/// squares, cubes and products of parameters (r^2 in gravity, k x^2 in an energy) neither
+/// overflow nor underflow to zero, so no accepted value drops physics in silence.
+pub const PARAM_MAX: f64 = 1e12;
+/// Smallest magnitude of a nonzero size parameter (mass, length, stiffness).
+pub const PARAM_MIN: f64 = 1e-12;
+
+/// What a parameter may be.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// A number in [-1e12, 1e12].
+    Any,
+    /// A number in [1e-12, 1e12].
+    Positive,
+    /// 0, or a number in [1e-12, 1e12].
+    NonNegative,
+    /// A whole number >= 1.
+    Count,
+    /// A number in [0, 1).
+    Fraction,
+}
+
+/// One named parameter of a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamSpec {
+    /// Name, as given to `--param NAME=VALUE`.
+    pub name: &'static str,
+    /// Default value.
+    pub default: f64,
+    /// What it is, with units.
+    pub doc: &'static str,
+    /// What it may be.
+    pub rule: Rule,
+}
+
+/// A scene in the registry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneSpec {
+    /// Registry name.
+    pub name: &'static str,
+    /// One line on what it is.
+    pub doc: &'static str,
+    /// Spatial dimensions.
+    pub dim: usize,
+    /// Its parameters.
+    pub params: &'static [ParamSpec],
+    /// A step that shows the scene well, s (the command line's default).
+    pub dt: f64,
+    /// A run length that shows the scene well, s (the command line's default).
+    pub until: f64,
+}
+
+const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> ParamSpec {
+    ParamSpec { name, default, doc, rule }
+}
+
+/// Every built-in scene, in registry order.
+pub const SCENES: [SceneSpec; 14] = [
+    SceneSpec {
+        name: "spring",
+        doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
+        dim: 1,
+        params: &[
+            p("m", 10.0, "mass, kg", Rule::Positive),
+            p("k", 5.0, "stiffness, N/m", Rule::NonNegative),
+            p("c", 0.0, "damping, N s/m", Rule::NonNegative),
+            p("x0", 20.0, "initial position, m", Rule::Any),
+            p("v0", 0.0, "initial velocity, m/s", Rule::Any),
+        ],
+        dt: 0.1,
+        until: 20.0,
+    },
+    SceneSpec {
+        name: "projectile",
+        doc: "2D throw under uniform gravity (the notes' fetch); exact x0 + v0 t + g t^2/2",
+        dim: 2,
+        params: &[
+            p("g", 9.81, "gravity, m/s^2 (pointing down)", Rule::Any),
+            p("vx", 10.0, "initial horizontal velocity, m/s", Rule::Any),
+            p("vy", 10.0, "initial vertical velocity, m/s", Rule::Any),
+            p("x0", 0.0, "initial x, m", Rule::Any),
+            p("y0", 0.0, "initial y, m", Rule::Any),
+            p("m", 1.0, "mass, kg", Rule::Positive),
+        ],
+        dt: 0.01,
+        until: 2.0,
+    },
+    SceneSpec {
+        name: "drag",
+        doc: "1D particle slowed by linear drag F = -c v; exact v = v0 exp(-c t / m)",
+        dim: 1,
+        params: &[
+            p("m", 1.0, "mass, kg", Rule::Positive),
+            p("c", 0.5, "drag coefficient, N s/m", Rule::NonNegative),
+            p("x0", 0.0, "initial position, m", Rule::Any),
+            p("v0", 10.0, "initial velocity, m/s", Rule::Any),
+        ],
+        dt: 0.01,
+        until: 5.0,
+    },
+    SceneSpec {
+        name: "orbit",
+        doc: "2D circular orbit around a fixed centre, GM = 1, r = 1, period 2 pi",
+        dim: 2,
+        params: &[
+            p("gm", 1.0, "gravitational parameter GM, m^3/s^2", Rule::Positive),
+            p("r", 1.0, "orbit radius, m", Rule::Positive),
+        ],
+        dt: 0.01,
+        until: 2.0 * std::f64::consts::TAU,
+    },
+    SceneSpec {
+        name: "kepler",
+        doc: "2D Kepler ellipse, GM = 1, a = 1, from the pericentre (1 - e, 0); period 2 pi",
+        dim: 2,
+        params: &[p("e", 0.6, "eccentricity, in [0, 1)", Rule::Fraction)],
+        dt: 0.01,
+        until: std::f64::consts::TAU,
+    },
+    SceneSpec {
+        name: "pendulum",
+        doc: "2D particle on a rigid rod to a fixed point (the notes' dog tied to a tree); exact when g = 0",
+        dim: 2,
+        params: &[
+            p("length", 1.0, "rod length, m", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+            p("theta0", 0.5, "initial angle from straight down, rad", Rule::Any),
+            p("omega0", 0.0, "initial angular velocity, rad/s", Rule::Any),
+            p("m", 1.0, "mass, kg", Rule::Positive),
+        ],
+        dt: 0.01,
+        until: 5.0,
+    },
+    SceneSpec {
+        name: "nbody",
+        doc: "2D softened n-body gravity, G = 1, N bodies of total mass 1 in a unit disc (seeded)",
+        dim: 2,
+        params: &[
+            p("n", 16.0, "number of bodies", Rule::Count),
+            p("seed", 1.0, "random seed", Rule::NonNegative),
+            p("softening", 0.05, "softening length, m", Rule::NonNegative),
+        ],
+        dt: 0.001,
+        until: 1.0,
+    },
+    SceneSpec {
+        name: "chain",
+        doc: "2D chain of particles joined by springs, hanging from a fixed point under gravity",
+        dim: 2,
+        params: &[
+            p("n", 10.0, "number of moving particles", Rule::Count),
+            p("k", 500.0, "spring stiffness, N/m", Rule::NonNegative),
+            p("c", 0.0, "spring damping, N s/m", Rule::NonNegative),
+            p("spacing", 0.1, "rest length of each link, m", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+            p("m", 0.1, "mass of each particle, kg", Rule::Positive),
+        ],
+        dt: 0.001,
+        until: 2.0,
+    },
+    SceneSpec {
+        name: "lorenz",
+        doc:
+            "Lorenz attractor, a first-order flow x' = sigma (y - x), y' = x (rho - z) - y, z' = x y - beta z",
+        dim: 3,
+        params: &[
+            p("sigma", 10.0, "Prandtl number", Rule::Any),
+            p("rho", 28.0, "Rayleigh number", Rule::Any),
+            p("beta", 8.0 / 3.0, "geometry factor", Rule::Any),
+            p("x0", 1.0, "initial x", Rule::Any),
+            p("y0", 1.0, "initial y", Rule::Any),
+            p("z0", 1.0, "initial z", Rule::Any),
+        ],
+        dt: 0.005,
+        until: 40.0,
+    },
+    SceneSpec {
+        name: "rossler",
+        doc: "Rossler attractor, a first-order flow x' = -y - z, y' = x + a y, z' = b + z (x - c)",
+        dim: 3,
+        params: &[
+            p("a", 0.2, "", Rule::Any),
+            p("b", 0.2, "", Rule::Any),
+            p("c", 5.7, "", Rule::Any),
+            p("x0", 1.0, "initial x", Rule::Any),
+            p("y0", 1.0, "initial y", Rule::Any),
+            p("z0", 0.0, "initial z", Rule::Any),
+        ],
+        dt: 0.01,
+        until: 200.0,
+    },
+    SceneSpec {
+        name: "thomas",
+        doc: "Thomas' cyclically symmetric attractor, x' = sin y - b x (and cyclic)",
+        dim: 3,
+        params: &[
+            p("b", 0.208_186, "dissipation", Rule::Any),
+            p("x0", 0.1, "initial x", Rule::Any),
+            p("y0", 0.0, "initial y", Rule::Any),
+            p("z0", 0.0, "initial z", Rule::Any),
+        ],
+        dt: 0.05,
+        until: 500.0,
+    },
+    SceneSpec {
+        name: "racket",
+        doc: "free thin plate, principal inertia 1 : 2 : 3, spun about its intermediate axis: the tennis-racket flip",
+        dim: 3,
+        params: &[
+            p("spin", 2.0, "angular velocity about the intermediate axis, rad/s", Rule::Any),
+            p("wobble", 0.01, "angular velocity about the other two axes, rad/s", Rule::Any),
+        ],
+        dt: 1.0 / 120.0,
+        until: 1200.0,
+    },
+    SceneSpec {
+        name: "top",
+        doc: "spinning top: a cylinder pinned at its tip under gravity, tilted, precessing",
+        dim: 3,
+        params: &[
+            p("radius", 0.1, "cylinder radius, m", Rule::Positive),
+            p("height", 0.4, "cylinder height, m", Rule::Positive),
+            p("m", 1.0, "mass, kg", Rule::Positive),
+            p("tilt", 0.3, "initial tilt from vertical, rad", Rule::Any),
+            p("spin", 100.0, "spin about its axis, rad/s", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+        ],
+        dt: 1.0 / 1200.0,
+        until: 5.0,
+    },
+    SceneSpec {
+        name: "tumble",
+        doc: "a 0.8 x 0.4 x 0.2 m box of 2 kg pushed up at a corner, tumbling as it flies under gravity",
+        dim: 3,
+        params: &[
+            p("impulse", 6.0, "upward impulse at the corner, N s", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+        ],
+        dt: 1.0 / 120.0,
+        until: 1.0,
+    },
+];
+
+/// The spec of a scene by name.
+///
+/// # Errors
+/// [`Error::UnknownName`] listing the valid scenes.
+pub fn spec(name: &str) -> Result<&'static SceneSpec> {
+    SCENES
+        .iter()
+        .find(|s| s.name == name)
+        .ok_or_else(|| Error::unknown("scene", name, SCENES.iter().map(|s| s.name)))
+}
+
+/// Resolves `overrides` against a scene's defaults, validating each.
+///
+/// # Errors
+/// [`Error::UnknownName`] for a parameter the scene does not have (listing those it has);
+/// [`Error::InvalidValue`] for a value that breaks its rule.
+pub fn resolve(spec: &SceneSpec, overrides: &[(&str, f64)]) -> Result<Vec<f64>> {
+    let mut values: Vec<f64> = spec.params.iter().map(|p| p.default).collect();
+    for (name, value) in overrides {
+        let i = spec
+            .params
+            .iter()
+            .position(|p| p.name == *name)
+            .ok_or_else(|| Error::unknown("param", name, spec.params.iter().map(|p| p.name)))?;
+        let rule = spec.params[i].rule;
+        let size = (PARAM_MIN..=PARAM_MAX).contains(value);
+        let ok = match rule {
+            Rule::Any => value.abs() <= PARAM_MAX,
+            Rule::Positive => size,
+            Rule::NonNegative => *value == 0.0 || size,
+            Rule::Count => *value >= 1.0 && value.fract() == 0.0 && *value <= 1e6,
+            Rule::Fraction => (0.0..1.0).contains(value),
+        };
+        if !ok {
+            let expected = match rule {
+                Rule::Any => "a number in [-1e12, 1e12]",
+                Rule::Positive => "a number in [1e-12, 1e12]",
+                Rule::NonNegative => "0 or a number in [1e-12, 1e12]",
+                Rule::Count => "a whole number from 1 to 1000000",
+                Rule::Fraction => "in [0, 1)",
+            };
+            return Err(Error::invalid(*name, crate::error::num(*value), expected));
+        }
+        values[i] = *value;
+    }
+    Ok(values)
+}
