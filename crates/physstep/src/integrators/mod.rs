@@ -2,7 +2,7 @@
 //! the [`registry`].
 //!
 //! Every method advances a state by one step of `h` seconds through a
-//! [`Step`](crate::dynamics::Step). The state keeps the derivative at its own time
+//! [`crate::dynamics::Step`]. The state keeps the derivative at its own time
 //! (`f = [v; a]` for particles), so a method that needs the acceleration at the start of a
 //! step reuses it instead of evaluating it again, and a table row `(t, x, v, a)` is always
 //! self-consistent.

@@ -167,8 +167,8 @@ fn oscillator(w0: f64, zeta: f64, x0: f64, v0: f64, t: f64) -> (f64, f64) {
 /// Builds scene `name` with parameter `overrides`, integrated by `method` at step `dt`.
 ///
 /// # Errors
-/// [`Error::UnknownName`] for an unknown scene, parameter or method;
-/// [`Error::InvalidValue`] for a bad parameter value or `dt`.
+/// [`Error::UnknownName`](crate::Error::UnknownName) for an unknown scene, parameter or method;
+/// [`Error::InvalidValue`](crate::Error::InvalidValue) for a bad parameter value or `dt`.
 pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Result<Scene> {
     let spec = spec(name)?;
     let values = resolve(spec, overrides)?;
