@@ -108,8 +108,8 @@ pub struct Bodies {
     pub(crate) pinned: Vec<bool>,
     /// Angular drag coefficients: a torque `-c omega`, N m s.
     pub(crate) angular_drag: Vec<f64>,
-    /// The shape's centre of mass in the shape's frame, m.
-    pub(crate) center: Vec<DVec3>,
+    /// The body's reference point (its centre of mass, or its pin) in its shape's frame, m.
+    pub(crate) reference: Vec<DVec3>,
     /// Forces applied by hand for the next step, N (world frame).
     pub(crate) force: Vec<DVec3>,
     /// Torques applied by hand for the next step, N m (world frame).
@@ -417,6 +417,12 @@ impl Bodies {
 }
 
 impl Bodies {
+    /// A point of body `b` given in its shape's frame, as an arm from the body's reference
+    /// point in its principal frame (what springs and forces at a point keep).
+    pub(crate) fn arm(&self, b: usize, point: [f64; 3]) -> DVec3 {
+        self.frame[b].inverse() * (DVec3::from_array(point) - self.reference[b])
+    }
+
     /// World position and velocity of the point `point` (from body `b`'s reference point, in
     /// its principal frame) at the world's positions `x` and velocities `v` (`np` particle
     /// coordinates first), and its arm from the reference point.

@@ -129,7 +129,7 @@ impl World {
         b.inertia.push(inertia);
         b.inv_inertia.push(inertia.recip());
         b.frame.push(frame);
-        b.center.push(reference);
+        b.reference.push(reference);
         b.offset.push(offset);
         b.pinned.push(p.pivot.is_some());
         b.angular_drag.push(p.angular_drag);
@@ -352,8 +352,7 @@ impl World {
                 return Err(Error::invalid(name, crate::error::num(v), "a number in [0, 1e12]"));
             }
         }
-        let b = &self.bodies;
-        let arm = b.frame[body].inverse() * (DVec3::from_array(point) - b.center[body]);
+        let arm = self.bodies.arm(body, point);
         let mut spring = BodySpring { body, point: arm, other, stiffness, rest_length: 0.0, damping };
         let np = self.model.len();
         let x = &self.state.y[..self.nx()];
@@ -386,8 +385,7 @@ impl World {
     ) -> Result<usize> {
         self.body_index(body)?;
         bounded("point", &point, RUNAWAY)?;
-        let b = &self.bodies;
-        let arm = b.frame[body].inverse() * (DVec3::from_array(point) - b.center[body]);
+        let arm = self.bodies.arm(body, point);
         let generator = crate::forces::UserForce(generator);
         self.bodies.forces.push(crate::rigid::body::BodyForce { body, point: arm, generator });
         self.touch();

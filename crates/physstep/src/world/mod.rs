@@ -180,7 +180,7 @@ impl World {
         let dim = if y0.len() <= 3 { y0.len() } else { 1 };
         let mut w = Self::new(WorldParams { dim, ..params })?;
         w.flow = Some(FlowModel::new(flow));
-        w.refuse_split(w.integrator.info())?;
+        w.refuse_method(w.integrator.info())?;
         w.state.y = y0.to_vec();
         w.state.f = vec![0.0; y0.len()];
         w.stale = true;
@@ -194,7 +194,7 @@ impl World {
     }
 
     /// Refuses a method that does not apply to the world's parts, when it is configured.
-    fn refuse_split(&mut self, info: &crate::integrators::Info) -> Result<()> {
+    fn refuse_method(&mut self, info: &crate::integrators::Info) -> Result<()> {
         use crate::dynamics::First;
         use crate::integrators::registry::applies;
         match self.flow.as_mut() {
@@ -437,7 +437,7 @@ impl World {
     /// [`Error::UnknownName`] listing the valid names.
     pub fn set_method(&mut self, name: &str) -> Result<()> {
         let integrator = Integrator::with_params(name, self.implicit)?;
-        self.refuse_split(integrator.info())?;
+        self.refuse_method(integrator.info())?;
         self.integrator = integrator;
         Ok(())
     }
