@@ -1,23 +1,5 @@
 //! Gravity toward a fixed center.
 
-/// Adds `-gm d / |d|^3`, `d = x - center`, to every dynamic particle (0 at `d = 0`).
-#[inline]
-pub(super) fn accel(dim: usize, center: [f64; 3], gm: f64, x: &[f64], inv_mass: &[f64], a: &mut [f64]) {
-    for ((ap, xp), &im) in a.chunks_exact_mut(dim).zip(x.chunks_exact(dim)).zip(inv_mass) {
-        let mut d = [0.0; 3];
-        for k in 0..dim {
-            d[k] = xp[k] - center[k];
-        }
-        let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        if im > 0.0 && r2 > 0.0 {
-            let s = -gm / (r2 * r2.sqrt());
-            for (ak, dk) in ap.iter_mut().zip(d) {
-                *ak += s * dk;
-            }
-        }
-    }
-}
-
 /// `-gm m / r` over particles of finite mass (0 at `r = 0`), J.
 pub(super) fn potential(dim: usize, center: [f64; 3], gm: f64, x: &[f64], mass: &[f64]) -> f64 {
     let mut u = 0.0;

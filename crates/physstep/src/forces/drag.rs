@@ -1,18 +1,5 @@
 //! Linear and quadratic drag.
 
-/// Adds `F = -(c1 + c2 |v|) v`, N, on every particle to `f` (static ones are zeroed by
-/// `inv_mass` afterwards).
-#[inline]
-pub(super) fn force(dim: usize, v: &[f64], c1: f64, c2: f64, f: &mut [f64]) {
-    for (vp, fp) in v.chunks_exact(dim).zip(f.chunks_exact_mut(dim)) {
-        let speed = vp.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let s = -(c1 + c2 * speed);
-        for (fk, vk) in fp.iter_mut().zip(vp) {
-            *fk += s * vk;
-        }
-    }
-}
-
 /// Adds `da/dv = -inv_m (c1 I + c2 (|v| I + v v^T / |v|))` per particle to `dadv`.
 pub(super) fn jacobian(dim: usize, v: &[f64], c1: f64, c2: f64, inv_mass: &[f64], dadv: &mut [f64]) {
     let len = inv_mass.len() * dim;

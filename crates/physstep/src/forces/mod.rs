@@ -10,9 +10,11 @@
 //! depend on the thread count either.
 //!
 //! [`ForceSet::accel`] runs in four phases:
-//! 1. forces (springs, drag) accumulated into the scratch `f`;
-//! 2. `a = f * inv_mass`;
-//! 3. accelerations added directly on dynamic particles (gravity, central gravity, n-body);
+//! 1. the per-particle forces (gravity, drag, central gravity, springs to anchors), particle
+//!    by particle, by the same function the fused particle kernels run (`local.rs`):
+//!    `a = (F_drag + F_springs) / m + g + a_central`;
+//! 2. springs between particles accumulated into the scratch `f`, then `a += f / m`;
+//! 3. n-body gravity added on dynamic particles;
 //! 4. rod constraints, one at a time in canonical order.
 
 pub use generator::{ForceGenerator, UserForce};
@@ -22,6 +24,7 @@ mod central;
 mod drag;
 mod generator;
 mod gravity;
+pub(crate) mod local;
 mod nbody;
 mod rod;
 mod set;

@@ -1,7 +1,8 @@
 //! The forces of a world as one set in canonical order: what the integrators evaluate
 //! (accelerations in four phases), the potential energy and the analytic Jacobians.
 
-use super::{central, drag, finite_masses, gravity, nbody, rod, spring, Force};
+use super::local::Local;
+use super::{central, drag, finite_masses, gravity, nbody, rod, spring, Endpoint, Force};
 use crate::error::Result;
 
 /// The forces of a world, kept in canonical order.
@@ -10,12 +11,15 @@ pub struct ForceSet {
     forces: Vec<Force>,
     /// What the list holds, kept on `add` so the hot path does not scan for it.
     kinds: Kinds,
+    /// The per-particle forces, gathered on `add`.
+    local: Local,
 }
 
 /// Which phases of [`ForceSet::accel`] have work, and whether any force reads velocity.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 struct Kinds {
-    forces: bool,
+    /// Springs between two particles.
+    pairs: bool,
     rods: bool,
     velocity: bool,
     nbody: bool,
@@ -26,12 +30,11 @@ impl Kinds {
     fn with(self, f: &Force) -> Self {
         let mut k = self;
         match *f {
-            Force::Spring { damping, .. } => {
-                k.forces = true;
+            Force::Spring { damping, j, .. } => {
+                k.pairs |= matches!(j, Endpoint::Particle(_));
                 k.velocity |= damping != 0.0;
             }
             Force::Drag { linear, quadratic } => {
-                k.forces = true;
                 k.velocity |= linear != 0.0 || quadratic != 0.0;
             }
             Force::Rod { .. } => {
@@ -67,6 +70,7 @@ impl ForceSet {
         let at = self.forces.partition_point(|f| f.key() <= key);
         self.forces.insert(at, force);
         self.kinds = self.kinds.with(&force);
+        self.local = Local::of(self.forces.iter());
         Ok(())
     }
 
@@ -105,10 +109,19 @@ impl ForceSet {
         self.kinds.nbody
     }
 
+    /// The per-particle forces (gravity, drag, central gravity, springs to anchors).
+    pub(crate) fn local(&self) -> &Local {
+        &self.local
+    }
+
     /// Fills `a` (length `n * dim`, m/s^2) with the total acceleration at time `t` (s),
     /// positions `x` (m) and velocities `v` (m/s). `mass` (kg) and `inv_mass` (1/kg, 0 for
-    /// static particles) have length `n`; `f` is scratch of length `n * dim` (left holding
-    /// the accumulated spring and drag forces, N). Allocates nothing.
+    /// static particles) have length `n`; `f` is scratch of length `n * dim`. Allocates
+    /// nothing.
+    ///
+    /// The per-particle forces come first, particle by particle, as the fused kernels compute
+    /// them ([`Local`]); then the springs between particles (`a += F / m`), n-body gravity,
+    /// and the rods, each in canonical order.
     #[allow(clippy::too_many_arguments)]
     pub fn accel(
         &self,
@@ -125,46 +138,34 @@ impl ForceSet {
         debug_assert!(x.len() == len && v.len() == len && f.len() == len && a.len() == len);
         debug_assert_eq!(mass.len(), inv_mass.len());
 
-        if self.kinds.forces {
+        let springs = self.local.anchors(0, inv_mass.len());
+        match dim {
+            1 => self.local.accel::<1>(0, x, v, inv_mass, springs, a),
+            2 => self.local.accel::<2>(0, x, v, inv_mass, springs, a),
+            _ => self.local.accel::<3>(0, x, v, inv_mass, springs, a),
+        }
+        if self.kinds.pairs {
             f.fill(0.0);
             for force in &self.forces {
-                match *force {
-                    Force::Spring { i, j, stiffness, rest_length, damping } => {
-                        spring::force(dim, x, v, i, j, [stiffness, rest_length, damping], f);
-                    }
-                    Force::Drag { linear, quadratic } => drag::force(dim, v, linear, quadratic, f),
-                    _ => {}
+                if let Force::Spring { i, j: j @ Endpoint::Particle(_), stiffness, rest_length, damping } =
+                    *force
+                {
+                    spring::force(dim, x, v, i, j, [stiffness, rest_length, damping], f);
                 }
             }
             for ((ap, fp), &im) in a.chunks_exact_mut(dim).zip(f.chunks_exact(dim)).zip(inv_mass) {
                 for (ak, fk) in ap.iter_mut().zip(fp) {
-                    *ak = fk * im;
+                    *ak += fk * im;
                 }
             }
         }
-        let mut accels = &self.forces[..];
-        if !self.kinds.forces {
-            // No forces, only accelerations: 0 * inv_mass is 0 for every particle. Gravity
-            // sorts first; when present it writes 0 + g in the same pass instead of adding
-            // to zeros in a second one.
-            match self.forces.split_first() {
-                Some((Force::Gravity { g }, rest)) => {
-                    gravity::set(dim, *g, inv_mass, a);
-                    accels = rest;
+        if self.kinds.nbody {
+            for force in &self.forces {
+                if let Force::NBody { g, softening } = *force {
+                    nbody::accel(dim, g, softening, x, mass, inv_mass, a);
                 }
-                _ => a.fill(0.0),
             }
         }
-
-        for force in accels {
-            match *force {
-                Force::Gravity { g } => gravity::accel(dim, g, inv_mass, a),
-                Force::CentralGravity { center, gm } => central::accel(dim, center, gm, x, inv_mass, a),
-                Force::NBody { g, softening } => nbody::accel(dim, g, softening, x, mass, inv_mass, a),
-                _ => {}
-            }
-        }
-
         if self.kinds.rods {
             for force in &self.forces {
                 if let Force::Rod { i, j, .. } = *force {

@@ -84,6 +84,14 @@ macro_rules! dispatch {
     };
 }
 
+/// Work generic over the concrete method, for [`Integrator::visit`].
+pub(crate) trait Visit {
+    /// What the work gives.
+    type Out;
+    /// The work on method `m`.
+    fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> Self::Out;
+}
+
 /// Time and state of an integrated system, advanced by [`Integrator::step`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct State {
@@ -259,6 +267,39 @@ impl Integrator {
             &M::INFO
         }
         dispatch!(&self.kind, m => of(m))
+    }
+
+    /// A fresh instance of this method when its step is *local*: element by element over
+    /// particles (no sum across them, no solve of the whole state) and with no memory from
+    /// step to step, so running it on any part of the particles at a time gives bitwise what
+    /// running it on all of them gives. `None` for Verlet and leapfrog (memory), the
+    /// alternating symplectic Euler (a flag that flips per step) and the implicit methods
+    /// (one Newton solve of the whole state). The fused particle kernels run these.
+    #[must_use]
+    pub fn fresh_local(&self) -> Option<Self> {
+        let kind = match &self.kind {
+            Kind::ExplicitEuler(_) => Kind::ExplicitEuler(ExplicitEuler),
+            Kind::SymplecticEuler(_) => Kind::SymplecticEuler(SymplecticEuler),
+            Kind::SymplecticEulerX(_) => Kind::SymplecticEulerX(SymplecticEulerX),
+            Kind::VelocityVerlet(_) => Kind::VelocityVerlet(VelocityVerlet::default()),
+            Kind::Midpoint(_) => Kind::Midpoint(Midpoint::default()),
+            Kind::Heun(_) => Kind::Heun(Heun::default()),
+            Kind::Rk4(_) => Kind::Rk4(Rk4::default()),
+            Kind::PredictorCorrector(_) => Kind::PredictorCorrector(PredictorCorrector::default()),
+            Kind::Yoshida4(_) => Kind::Yoshida4(Yoshida4::default()),
+            Kind::SymplecticEulerAlternating(_)
+            | Kind::Verlet(_)
+            | Kind::Leapfrog(_)
+            | Kind::BackwardEuler(_)
+            | Kind::ImplicitMidpoint(_) => return None,
+        };
+        Some(Self { kind, checkpoint: Checkpoint::default() })
+    }
+
+    /// Runs `v` on the concrete method: a kernel dispatches once and then calls the
+    /// method's recipe statically (inlined), tile after tile.
+    pub(crate) fn visit<V: Visit>(&mut self, v: V) -> V::Out {
+        dispatch!(&mut self.kind, m => v.visit(m))
     }
 
     /// Forgets internal state (Verlet's previous position, leapfrog's half-step velocity):

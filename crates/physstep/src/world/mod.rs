@@ -17,6 +17,8 @@ use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
 mod bodies;
+mod flat;
+mod kernel;
 mod model;
 mod parts;
 mod rules;
@@ -90,6 +92,11 @@ pub struct World {
     prev_x: Vec<f64>,
     /// Whether `state.f` must be re-evaluated (after particles, forces or state changed).
     stale: bool,
+    /// Whether `state.f` was not stored by the fused kernel: computing it again is not a new
+    /// evaluation (the kernel counted it).
+    deferred: bool,
+    /// The fused kernel's checkpoint of a call (`y` at its start).
+    replay: Vec<f64>,
     /// Time and step count at the latest change of dt.
     epoch: Epoch,
     /// Newton settings for implicit methods, kept across [`World::set_method`].
@@ -153,6 +160,8 @@ impl World {
             clock,
             prev_x: Vec::new(),
             stale: false,
+            deferred: false,
+            replay: Vec::new(),
             epoch: Epoch::default(),
             implicit: params.implicit,
             checkpoint: Checkpoint::default(),
@@ -466,11 +475,7 @@ impl World {
     /// [`Error::Diverged`] or [`Error::NotConverged`]: the failing step is rolled back, the
     /// steps before it stay taken.
     pub fn step(&mut self, n: u64) -> Result<()> {
-        let dt = self.dt();
-        for _ in 0..n {
-            self.step_by(dt)?;
-        }
-        Ok(())
+        self.run(n, self.dt())
     }
 
     /// One step of `dt` seconds (not necessarily the fixed one).
@@ -478,7 +483,7 @@ impl World {
     /// # Errors
     /// As [`World::step`], and [`Error::InvalidValue`] for a bad `dt`.
     pub fn step_by(&mut self, dt: f64) -> Result<()> {
-        self.step_inner(dt, None)
+        self.run(1, dt)
     }
 
     /// [`World::step_by`] that records the intermediate evaluation points (midpoint's half
@@ -497,18 +502,15 @@ impl World {
     /// [`Error::InvalidValue`] for a bad `frame_time`; a failing step as [`World::step`].
     pub fn advance(&mut self, frame_time: f64) -> Result<Frame> {
         let plan = self.clock.frame(frame_time)?;
-        for k in 0..plan.steps {
-            if k + 1 < plan.steps {
-                self.step_inner(plan.dt, None)?;
-                continue;
-            }
+        if plan.steps > 0 {
+            self.run(u64::from(plan.steps) - 1, plan.dt)?;
             // The state before the frame's last step, for render interpolation; the buffer
             // is reused from frame to frame.
             let mut prev = std::mem::take(&mut self.prev_x);
             prev.clear();
             prev.extend_from_slice(self.positions());
             self.keep_orientations();
-            self.step_inner(plan.dt, None)?;
+            self.run(1, plan.dt)?;
             self.prev_x = prev;
         }
         Ok(Frame { plan, alpha: self.clock.alpha() })

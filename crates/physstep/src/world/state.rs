@@ -175,14 +175,17 @@ impl World {
             self.derivative_finite()?;
             self.stale = false;
         }
-        if self.stale {
+        if self.stale || self.deferred {
             let mut y = std::mem::take(&mut self.state.y);
             let mut f = std::mem::take(&mut self.state.f);
             let t = self.state.t;
             self.parts().deriv(t, &y, &mut f);
             std::mem::swap(&mut self.state.y, &mut y);
             std::mem::swap(&mut self.state.f, &mut f);
-            self.state.evals += 1;
+            if self.stale {
+                self.state.evals += 1;
+            }
+            self.deferred = false;
             if let Some(e) = self.model.failure.take() {
                 return Err(e);
             }

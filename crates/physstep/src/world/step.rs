@@ -49,7 +49,7 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `dt` when `h` is not a finite number > 0 or too small
     /// to move the current time.
-    fn context(&self, h: f64) -> Result<StepContext> {
+    pub(super) fn context(&self, h: f64) -> Result<StepContext> {
         crate::error::positive("dt", h)?;
         let epoch = if h == self.epoch.dt {
             self.epoch
@@ -149,7 +149,7 @@ impl World {
     }
 
     /// Finish: count the step and set the time once; or restore the checkpoint.
-    fn finish(&mut self, ctx: &StepContext, r: Result<()>) -> Result<()> {
+    pub(super) fn finish(&mut self, ctx: &StepContext, r: Result<()>) -> Result<()> {
         match r {
             Ok(()) => {
                 self.clear_loads();

@@ -1,0 +1,185 @@
+//! The fused particle kernels give bitwise what the staged step gives, for every method and
+//! force mix, in every dimension, serial and parallel; and a step that fails inside a call
+//! of `step(n)` is rolled back to exactly the state before it and named, as the staged step
+//! does it.
+//!
+//! `World::step_logged` always takes the staged step (one method recipe over the whole
+//! state, the per-step checkpoint): it is the reference here.
+
+use physstep::forces::{Endpoint, Force};
+use physstep::integrators::{registry, StageLog};
+use physstep::prelude::*;
+
+/// A world of `n` particles in `dim` dimensions with `forces`, deterministic pseudo-random
+/// state, one static particle when `with_static`.
+fn world(method: &str, dim: usize, n: usize, forces: &[Force], with_static: bool) -> World {
+    let mut w = World::new(WorldParams { dim, method: method.into(), dt: 1.0 / 120.0, ..Default::default() })
+        .unwrap();
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut rnd = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let x: Vec<f64> = (0..n * dim).map(|_| 4.0 * rnd()).collect();
+    let v: Vec<f64> = (0..n * dim).map(|_| 2.0 * rnd()).collect();
+    let m: Vec<f64> = (0..n).map(|_| 1.0 + rnd()).collect();
+    w.add_particles(&x, Some(&v), Some(&m), false).unwrap();
+    if with_static {
+        w.add_particle(&vec![0.5; dim], &vec![0.0; dim], 1.0, true).unwrap();
+    }
+    for f in forces {
+        w.add_force(*f).unwrap();
+    }
+    w
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The force mixes: the element-wise kernel's (gravity and linear drag, either alone), and the
+/// per-particle ones that take the tile kernel (quadratic drag, central gravity, springs to
+/// anchors, with and without rest length and damping).
+fn mixes() -> Vec<(&'static str, Vec<Force>)> {
+    let g = Force::Gravity { g: [0.3, -9.81, 1.5] };
+    let lin = Force::Drag { linear: 0.4, quadratic: 0.0 };
+    let quad = Force::Drag { linear: 0.1, quadratic: 0.05 };
+    let central = Force::CentralGravity { center: [0.1, 0.2, 0.3], gm: 2.0 };
+    let anchor = |i, rest, damping| Force::Spring {
+        i,
+        j: Endpoint::Anchor([1.0, -1.0, 0.5]),
+        stiffness: 3.0,
+        rest_length: rest,
+        damping,
+    };
+    vec![
+        ("none", vec![]),
+        ("gravity", vec![g]),
+        ("drag", vec![lin]),
+        ("gravity+drag", vec![g, lin]),
+        ("quadratic drag", vec![g, quad]),
+        ("central", vec![central]),
+        (
+            "anchors",
+            vec![g, anchor(0, 0.0, 0.2), anchor(0, 1.5, 0.3), anchor(2, 0.7, 0.0), anchor(5, 0.0, 0.0)],
+        ),
+    ]
+}
+
+/// Steps `a` with `step(n)` (the kernel) and `b` step by step through `step_logged` (the staged
+/// step); both must agree bitwise on the state, the accelerations, time and evaluations.
+/// (An implicit method whose Newton iteration fails must fail the same way in both.)
+fn agree(a: &mut World, b: &mut World, steps: u64, what: &str) {
+    let ra = a.step(steps);
+    let mut log = StageLog::default();
+    let rb = (0..steps).try_for_each(|_| b.step_logged(b.dt(), &mut log));
+    assert_eq!(ra.as_ref().map_err(ToString::to_string), rb.as_ref().map_err(ToString::to_string), "{what}");
+    assert_eq!(bits(a.positions()), bits(b.positions()), "{what}: positions");
+    assert_eq!(bits(a.velocities()), bits(b.velocities()), "{what}: velocities");
+    assert_eq!(bits(a.accelerations().unwrap()), bits(b.accelerations().unwrap()), "{what}: accelerations");
+    assert_eq!(a.time().to_bits(), b.time().to_bits(), "{what}: time");
+    assert_eq!(a.evals(), b.evals(), "{what}: evaluations");
+    assert_eq!(a.state_hash(), b.state_hash(), "{what}: hash");
+}
+
+#[test]
+fn kernels_match_the_staged_step_bitwise() {
+    for info in registry::INFOS.iter() {
+        for (name, forces) in mixes() {
+            for dim in 1..=3 {
+                for (n, with_static) in [(1, false), (7, true), (37, false)] {
+                    if forces.len() > 2 && n < 6 {
+                        continue; // springs name particles up to 5
+                    }
+                    let mut a = world(info.name, dim, n, &forces, with_static);
+                    let mut b = a.clone();
+                    let what = format!("{} on {name}, dim {dim}, n {n}", info.name);
+                    agree(&mut a, &mut b, 25, &what);
+                    // Calls of several sizes continue the same trajectory.
+                    agree(&mut a, &mut b, 1, &what);
+                    agree(&mut a, &mut b, 3, &what);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn parallel_kernels_match_the_staged_step_bitwise() {
+    // Above the kernels' parallel threshold, with a partial last tile.
+    let n = 3 * 4096 + 5;
+    for method in ["symplectic-euler", "velocity-verlet", "rk4", "explicit-euler", "heun", "yoshida4"] {
+        for (name, forces) in mixes() {
+            if !matches!(name, "gravity+drag" | "quadratic drag" | "anchors") {
+                continue;
+            }
+            let mut a = world(method, 3, n, &forces, true);
+            let mut b = a.clone();
+            agree(&mut a, &mut b, 4, &format!("{method} on {name}, n {n}"));
+        }
+    }
+}
+
+#[test]
+fn kernels_do_not_depend_on_the_thread_count() {
+    let n = 5 * 4096 + 3;
+    let forces = [Force::Gravity { g: [0.0, 0.0, -9.81] }, Force::Drag { linear: 0.1, quadratic: 0.02 }];
+    for method in ["symplectic-euler", "rk4"] {
+        let hashes: Vec<u64> = [1, 2, 3]
+            .iter()
+            .map(|&threads| {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+                pool.install(|| {
+                    let mut w = world(method, 3, n, &forces, false);
+                    w.step(20).unwrap();
+                    w.state_hash()
+                })
+            })
+            .collect();
+        assert!(hashes.windows(2).all(|p| p[0] == p[1]), "{method}: {hashes:?}");
+    }
+}
+
+/// A spring so stiff that explicit Euler at this dt grows by `1 + (omega dt)^2` per step:
+/// past the runaway limit within a known number of steps.
+fn exploding(method: &str) -> World {
+    let mut w = world(method, 2, 5, &[], false);
+    w.add_force(Force::Spring {
+        i: 3,
+        j: Endpoint::Anchor([0.0; 3]),
+        stiffness: 1e9,
+        rest_length: 0.0,
+        damping: 0.0,
+    })
+    .unwrap();
+    w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+    w
+}
+
+#[test]
+fn a_failing_step_inside_a_call_is_rolled_back_and_named() {
+    for method in ["explicit-euler", "symplectic-euler", "velocity-verlet", "rk4"] {
+        // Where the staged step fails, one step at a time.
+        let mut staged = exploding(method);
+        let mut log = StageLog::default();
+        let mut good = 0;
+        let staged_err = loop {
+            match staged.step_logged(staged.dt(), &mut log) {
+                Ok(()) => good += 1,
+                Err(e) => break e,
+            }
+            assert!(good < 100_000, "{method}: never diverged");
+        };
+        // The kernel, in one call that passes the failure.
+        let mut w = exploding(method);
+        let err = w.step(good + 50).unwrap_err();
+        assert_eq!(err.to_string(), staged_err.to_string(), "{method}");
+        assert!(err.to_string().contains("particle 3"), "{method}: {err}");
+        assert_eq!(w.steps(), good, "{method}: the good steps stay taken");
+        assert_eq!(w.state_hash(), staged.state_hash(), "{method}: state before the failing step");
+        assert_eq!(w.evals(), staged.evals(), "{method}: evaluations");
+        assert_eq!(bits(w.accelerations().unwrap()), bits(staged.accelerations().unwrap()), "{method}");
+    }
+}
