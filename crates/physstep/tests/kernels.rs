@@ -11,8 +11,9 @@ use physstep::integrators::{registry, StageLog};
 use physstep::prelude::*;
 
 /// A world of `n` particles in `dim` dimensions with `forces`, deterministic pseudo-random
-/// state, one static particle when `with_static`.
-fn world(method: &str, dim: usize, n: usize, forces: &[Force], with_static: bool) -> World {
+/// state and masses (all 1.5 when `equal`: the kernels' uniform-mass path), one static
+/// particle when `with_static`.
+fn world(method: &str, dim: usize, n: usize, forces: &[Force], with_static: bool, equal: bool) -> World {
     let mut w = World::new(WorldParams { dim, method: method.into(), dt: 1.0 / 120.0, ..Default::default() })
         .unwrap();
     let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
@@ -24,7 +25,7 @@ fn world(method: &str, dim: usize, n: usize, forces: &[Force], with_static: bool
     };
     let x: Vec<f64> = (0..n * dim).map(|_| 4.0 * rnd()).collect();
     let v: Vec<f64> = (0..n * dim).map(|_| 2.0 * rnd()).collect();
-    let m: Vec<f64> = (0..n).map(|_| 1.0 + rnd()).collect();
+    let m: Vec<f64> = (0..n).map(|_| if equal { 1.5 } else { 1.0 + rnd() }).collect();
     w.add_particles(&x, Some(&v), Some(&m), false).unwrap();
     if with_static {
         w.add_particle(&vec![0.5; dim], &vec![0.0; dim], 1.0, true).unwrap();
@@ -89,11 +90,17 @@ fn kernels_match_the_staged_step_bitwise() {
     for info in registry::INFOS.iter() {
         for (name, forces) in mixes() {
             for dim in 1..=3 {
-                for (n, with_static) in [(1, false), (7, true), (37, false)] {
+                for (n, with_static, equal) in [
+                    (1, false, false),
+                    (7, true, false),
+                    (37, false, false),
+                    (37, false, true),
+                    (9, true, true),
+                ] {
                     if forces.len() > 2 && n < 6 {
                         continue; // springs name particles up to 5
                     }
-                    let mut a = world(info.name, dim, n, &forces, with_static);
+                    let mut a = world(info.name, dim, n, &forces, with_static, equal);
                     let mut b = a.clone();
                     let what = format!("{} on {name}, dim {dim}, n {n}", info.name);
                     agree(&mut a, &mut b, 25, &what);
@@ -108,23 +115,25 @@ fn kernels_match_the_staged_step_bitwise() {
 
 #[test]
 fn parallel_kernels_match_the_staged_step_bitwise() {
-    // Above the kernels' parallel threshold, with a partial last tile.
-    let n = 3 * 4096 + 5;
+    // Above the kernels' parallel threshold (65,536 particles), with partial tiles and blocks.
+    let n = 4 * 16384 + 5;
     for method in ["symplectic-euler", "velocity-verlet", "rk4", "explicit-euler", "heun", "yoshida4"] {
         for (name, forces) in mixes() {
             if !matches!(name, "gravity+drag" | "quadratic drag" | "anchors") {
                 continue;
             }
-            let mut a = world(method, 3, n, &forces, true);
-            let mut b = a.clone();
-            agree(&mut a, &mut b, 4, &format!("{method} on {name}, n {n}"));
+            for equal in [false, true] {
+                let mut a = world(method, 3, n, &forces, true, equal);
+                let mut b = a.clone();
+                agree(&mut a, &mut b, 3, &format!("{method} on {name}, n {n}"));
+            }
         }
     }
 }
 
 #[test]
 fn kernels_do_not_depend_on_the_thread_count() {
-    let n = 5 * 4096 + 3;
+    let n = 5 * 16384 + 3;
     let forces = [Force::Gravity { g: [0.0, 0.0, -9.81] }, Force::Drag { linear: 0.1, quadratic: 0.02 }];
     for method in ["symplectic-euler", "rk4"] {
         let hashes: Vec<u64> = [1, 2, 3]
@@ -132,7 +141,7 @@ fn kernels_do_not_depend_on_the_thread_count() {
             .map(|&threads| {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
                 pool.install(|| {
-                    let mut w = world(method, 3, n, &forces, false);
+                    let mut w = world(method, 3, n, &forces, false, true);
                     w.step(20).unwrap();
                     w.state_hash()
                 })
@@ -145,7 +154,7 @@ fn kernels_do_not_depend_on_the_thread_count() {
 /// A spring so stiff that explicit Euler at this dt grows by `1 + (omega dt)^2` per step:
 /// past the runaway limit within a known number of steps.
 fn exploding(method: &str) -> World {
-    let mut w = world(method, 2, 5, &[], false);
+    let mut w = world(method, 2, 5, &[], false, false);
     w.add_force(Force::Spring {
         i: 3,
         j: Endpoint::Anchor([0.0; 3]),
@@ -158,11 +167,25 @@ fn exploding(method: &str) -> World {
     w
 }
 
+/// Drag so strong that every method here overshoots: `|1 - c dt / m| >> 1` (the element-wise
+/// kernel's case).
+fn exploding_drag(method: &str) -> World {
+    let forces = [Force::Gravity { g: [0.0, -9.81, 0.0] }, Force::Drag { linear: 1e5, quadratic: 0.0 }];
+    world(method, 2, 5, &forces, false, false)
+}
+
 #[test]
 fn a_failing_step_inside_a_call_is_rolled_back_and_named() {
-    for method in ["explicit-euler", "symplectic-euler", "velocity-verlet", "rk4"] {
+    let cases: [(&str, fn(&str) -> World, &str); 2] =
+        [("stiff spring", exploding, "particle 3"), ("strong drag", exploding_drag, "particle")];
+    for ((case, make, named), method) in cases
+        .into_iter()
+        .flat_map(|c| ["explicit-euler", "symplectic-euler", "velocity-verlet", "rk4"].map(|m| (c, m)))
+    {
+        let method = &format!("{method} ({case})");
+        let make = |_: &str| make(method.split(' ').next().unwrap_or_default());
         // Where the staged step fails, one step at a time.
-        let mut staged = exploding(method);
+        let mut staged = make(method);
         let mut log = StageLog::default();
         let mut good = 0;
         let staged_err = loop {
@@ -173,10 +196,10 @@ fn a_failing_step_inside_a_call_is_rolled_back_and_named() {
             assert!(good < 100_000, "{method}: never diverged");
         };
         // The kernel, in one call that passes the failure.
-        let mut w = exploding(method);
+        let mut w = make(method);
         let err = w.step(good + 50).unwrap_err();
         assert_eq!(err.to_string(), staged_err.to_string(), "{method}");
-        assert!(err.to_string().contains("particle 3"), "{method}: {err}");
+        assert!(err.to_string().contains(named), "{method}: {err}");
         assert_eq!(w.steps(), good, "{method}: the good steps stay taken");
         assert_eq!(w.state_hash(), staged.state_hash(), "{method}: state before the failing step");
         assert_eq!(w.evals(), staged.evals(), "{method}: evaluations");

@@ -158,41 +158,52 @@ fn step_r<const D: usize, const R: u8>(
     for (j, gj) in g.iter_mut().enumerate().take(4 * D) {
         *gj = k.g[j % D];
     }
-    let mut flag = false;
-    let blocks = x.chunks_mut(4 * D).zip(v.chunks_mut(4 * D)).zip(inv_mass.chunks(4));
-    for ((xb, vb), ib) in blocks {
-        let (mut im, mut gm) = ([0.0; 12], [0.0; 12]);
-        for (p, &w) in ib.iter().enumerate() {
-            for c in p * D..(p + 1) * D {
-                im[c] = w;
-                gm[c] = if w > 0.0 { g[c] } else { 0.0 };
+    // One flag per lane, folded at the end: no dependency from block to block.
+    let mut lanes = [0u64; 12];
+    let n = inv_mass.len() / 4 * 4;
+    let (xh, xt) = x.split_at_mut(n * D);
+    let (vh, vt) = v.split_at_mut(n * D);
+    let uniform =
+        inv_mass.first().copied().filter(|w| inv_mass[..n].iter().all(|u| u.to_bits() == w.to_bits()));
+    if let Some(w) = uniform {
+        // Every particle of the task has the same mass: inverse mass and gravity are the
+        // same vectors for every block, and the recipe runs on the arrays in place.
+        let gm = if w > 0.0 { g } else { [0.0; 12] };
+        for (xb, vb) in xh.chunks_exact_mut(4 * D).zip(vh.chunks_exact_mut(4 * D)) {
+            for j in 0..4 * D {
+                let a = element::<R>(k, velocity, h, &mut xb[j], &mut vb[j], w, gm[j]);
+                lanes[j] |= u64::from(bad(xb[j]) | bad(vb[j]) | bad(a));
             }
         }
-        if xb.len() == 4 * D {
-            // A whole block as values: loads, the recipe on 4 D lanes, stores.
-            let (mut xs, mut vs, mut a) = ([0.0; 12], [0.0; 12], [0.0; 12]);
-            xs[..4 * D].copy_from_slice(xb);
-            vs[..4 * D].copy_from_slice(vb);
-            for j in 0..12 {
-                a[j] = element::<R>(k, velocity, h, &mut xs[j], &mut vs[j], im[j], gm[j]);
-            }
-            xb.copy_from_slice(&xs[..4 * D]);
-            vb.copy_from_slice(&vs[..4 * D]);
-            let mut m = 0.0f64;
+    } else {
+        let blocks = xh.chunks_exact_mut(4 * D).zip(vh.chunks_exact_mut(4 * D)).zip(inv_mass.chunks_exact(4));
+        for ((xb, vb), ib) in blocks {
+            let (im, gm) = expand::<D>(ib, &g);
             for j in 0..4 * D {
-                // NaN-propagating maximum of |x|, |v|, |a| (f64::max would drop a NaN).
-                for q in [xs[j], vs[j], a[j]] {
-                    let q = q.abs();
-                    m = if q > m || q.is_nan() { q } else { m };
-                }
-            }
-            flag |= bad(m);
-        } else {
-            for j in 0..xb.len() {
                 let a = element::<R>(k, velocity, h, &mut xb[j], &mut vb[j], im[j], gm[j]);
-                flag |= bad(xb[j]) | bad(vb[j]) | bad(a);
+                lanes[j] |= u64::from(bad(xb[j]) | bad(vb[j]) | bad(a));
             }
         }
     }
-    flag
+    // The last particles (fewer than four).
+    let (im, gm) = expand::<D>(&inv_mass[n..], &g);
+    for j in 0..xt.len() {
+        let a = element::<R>(k, velocity, h, &mut xt[j], &mut vt[j], im[j], gm[j]);
+        lanes[j] |= u64::from(bad(xt[j]) | bad(vt[j]) | bad(a));
+    }
+    lanes.iter().any(|b| *b != 0)
+}
+
+/// Inverse masses and gravity per element of up to four particles (gravity 0 on a static
+/// particle).
+#[inline(always)]
+fn expand<const D: usize>(inv_mass: &[f64], g: &[f64; 12]) -> ([f64; 12], [f64; 12]) {
+    let (mut im, mut gm) = ([0.0; 12], [0.0; 12]);
+    for (p, &w) in inv_mass.iter().enumerate() {
+        for c in p * D..(p + 1) * D {
+            im[c] = w;
+            gm[c] = if w > 0.0 { g[c] } else { 0.0 };
+        }
+    }
+    (im, gm)
 }

@@ -30,7 +30,7 @@ use crate::integrators::{Integrator, Method};
 /// length known at compile time, so the recipe's passes over them unroll into registers.
 const TILE: usize = 16;
 /// Particles per parallel task.
-const TASK: usize = 1024;
+const TASK: usize = 16384;
 /// From this many particles on, tasks run in parallel.
 const PARALLEL_MIN: usize = 4 * TASK;
 
@@ -318,7 +318,11 @@ impl World {
             return Ok(());
         };
         let mut ctx = self.context(h)?;
-        self.refresh()?;
+        if self.stale {
+            // A state set by hand: its derivative is evaluated (and checked) now, as the staged
+            // step would; a derivative the kernel did not store is not needed.
+            self.refresh()?;
+        }
         self.prev_x.clear();
         let mut saved = std::mem::take(&mut self.replay);
         let r = self.run_fused(&mut method, &mut saved, &mut ctx, n, h);
