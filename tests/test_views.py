@@ -165,6 +165,7 @@ def test_every_method_writes_the_viewed_memory_in_place() -> None:
         snap = w.snapshot()
         w.step(3)
         w.advance(0.05)
+        w.record(0.03)
         w.restore(snap)
         w.set_phase_state(w.phase_state())
         if "lorenz" not in name:  # a flow's positions are not assignable (len(w) == 0)
@@ -234,6 +235,26 @@ def test_a_view_kept_across_a_reallocation_keeps_its_values(how: str) -> None:
     assert fresh.shape == (len(w), dim) and not any(np.shares_memory(fresh, a) for a, _ in kept)
 
 
+def test_adding_forces_or_changing_settings_does_not_detach() -> None:
+    w = spring_world()
+    x = w.positions
+    w.add_spring(1, 2, 5.0)
+    w.add_rod(3, 4)
+    w.add_drag(0.1)
+    w.add_force(lambda t, x, v: -0.1 * v)
+    w.method = "rk4"
+    w.dt = 0.005
+    w.step(3)
+    assert np.shares_memory(x, w.positions) and np.array_equal(bits(x), bits(w.positions))
+
+
+def test_the_base_is_a_state_view() -> None:
+    w = spring_world()
+    x = w.positions
+    assert type(x.base).__name__ == "StateView" and type(x.base).__module__ == "physstep._core"
+    assert x[1:].base is x
+
+
 def test_a_detached_view_is_no_longer_updated() -> None:
     w = spring_world()
     x = w.positions
@@ -279,7 +300,8 @@ def test_views_outlive_a_world_across_reallocations() -> None:
         views.append((w.positions, w.positions.copy()))
         del w
         gc.collect()
-        _churn(views[-1][0].nbytes)
+        _churn(views[-2][0].nbytes * 2)  # the size of the buffer detached from
+        _churn(views[-1][0].nbytes * 2)
     for view, values in views:
         assert np.array_equal(bits(view), bits(values))
 

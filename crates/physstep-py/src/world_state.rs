@@ -25,7 +25,7 @@ impl World {
     }
 
     /// Positions to draw (n, dim): previous + alpha (current - previous) over the last step
-    /// of the latest `advance()`.
+    /// of the latest `advance()`; a copy.
     fn interpolated_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let mut g = self.lock()?;
         let w = g.flush()?;
@@ -62,7 +62,7 @@ impl World {
         w.set_velocities(&v).map_err(py_err)
     }
 
-    /// Accelerations at the current state (n, dim), m/s^2.
+    /// Accelerations at the current state (n, dim), m/s^2: a copy.
     #[getter]
     fn accelerations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let mut g = self.lock()?;
