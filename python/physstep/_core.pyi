@@ -387,25 +387,31 @@ class World:
         """Totals of the game loop: frames, steps, clamped time (s) and dropped time (s)."""
 
     def interpolated_positions(self) -> npt.NDArray[np.float64]:
-        """Positions to draw (n, dim), m: previous + alpha (current - previous)."""
+        """Positions to draw (n, dim), m: previous + alpha (current - previous); a new
+        array (a copy), unlike :attr:`positions`."""
 
     @property
     def positions(self) -> npt.NDArray[np.float64]:
-        """Positions (n, dim), m: a copy; assign an array of that shape to move the particles
-        (ValueError for a bad shape or a non-finite value)."""
+        """Positions (n, dim), m: a read-only view of the world's own memory, not a copy
+        (docs/views.md). Steps and assignments show through it in place; after particles or
+        bodies are added it is detached (it keeps the values it had then). Writing through
+        it raises ValueError: take ``np.array(w.positions)`` for a copy to keep or change.
+        Assign an array of that shape to move the particles (ValueError for a bad shape or a
+        non-finite value)."""
 
     @positions.setter
     def positions(self, x: npt.ArrayLike) -> None: ...
     @property
     def velocities(self) -> npt.NDArray[np.float64]:
-        """Velocities (n, dim), m/s: a copy; assign an array of that shape to change them
+        """Velocities (n, dim), m/s: a read-only view of the world's own memory, not a copy,
+        as :attr:`positions` is (docs/views.md). Assign an array of that shape to change them
         (ValueError for a bad shape or a non-finite value)."""
 
     @velocities.setter
     def velocities(self, v: npt.ArrayLike) -> None: ...
     @property
     def accelerations(self) -> npt.NDArray[np.float64]:
-        """Accelerations at the current state (n, dim), m/s^2."""
+        """Accelerations at the current state (n, dim), m/s^2: a new array (a copy)."""
 
     @property
     def time(self) -> float:

@@ -44,14 +44,25 @@ pub(crate) struct Inner {
     pub(crate) pending: ParticleBatch,
     /// The rigid bodies as added, for pickling.
     pub(crate) bodies: crate::world_bodies::BodyLog,
+    /// The zero-copy views lent out (`crate::views`): detached before the state reallocates.
+    pub(crate) views: crate::views::Views,
 }
 
 impl Inner {
     /// The engine, with the particles waiting in the batch added.
     pub(crate) fn flush(&mut self) -> PyResult<&mut Engine> {
         if !self.pending.is_empty() {
+            self.views.detach(&mut self.engine);
             self.pending.commit(&mut self.engine).map_err(py_err)?;
         }
+        Ok(&mut self.engine)
+    }
+
+    /// The engine for a call that adds particles or bodies (which reallocates its state):
+    /// flushed, and the zero-copy views lent out detached first.
+    pub(crate) fn grow(&mut self) -> PyResult<&mut Engine> {
+        self.flush()?;
+        self.views.detach(&mut self.engine);
         Ok(&mut self.engine)
     }
 
@@ -95,7 +106,8 @@ impl World {
         flow: Option<Py<PyAny>>,
     ) -> Self {
         let (pending, bodies) = (ParticleBatch::default(), crate::world_bodies::BodyLog::default());
-        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending, bodies }) }
+        let views = crate::views::Views::default();
+        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending, bodies, views }) }
     }
 }
 

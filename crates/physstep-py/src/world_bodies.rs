@@ -314,7 +314,7 @@ impl World {
             angular_drag: angular_drag.unwrap_or(0.0),
         };
         let mut g = self.lock()?;
-        g.flush()?;
+        g.grow()?;
         let crate::world::Inner { engine, bodies, .. } = &mut *g;
         add(engine, bodies, p)
     }

@@ -61,7 +61,7 @@ impl World {
         r#static: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<i64>>> {
         let mut g = self.lock()?;
-        let w = g.flush()?;
+        let w = g.grow()?;
         let d = w.dim();
         let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
         let x = array(positions, "positions", None, Some(d))?;

@@ -3,6 +3,7 @@
 
 use crate::convert::{array, bytes, matrix};
 use crate::py_err;
+use crate::views::{view, Part};
 use crate::world::{raise, World};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -24,19 +25,18 @@ impl World {
     }
 
     /// Positions to draw (n, dim): previous + alpha (current - previous) over the last step
-    /// of the latest `advance()`.
+    /// of the latest `advance()`; a copy.
     fn interpolated_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let mut g = self.lock()?;
         let w = g.flush()?;
         matrix(py, w.interpolated_positions(), w.dim())
     }
 
-    /// Positions (n, dim), m: a copy; assign an array to move the particles.
+    /// Positions (n, dim), m: a read-only view of the world's own memory, not a copy (see
+    /// docs/views.md); assign an array to move the particles.
     #[getter]
-    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        matrix(py, w.positions().to_vec(), w.dim())
+    fn positions<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        view(slf, Part::Positions)
     }
 
     #[setter(positions)]
@@ -47,12 +47,11 @@ impl World {
         w.set_positions(&x).map_err(py_err)
     }
 
-    /// Velocities (n, dim), m/s: a copy; assign an array to change them.
+    /// Velocities (n, dim), m/s: a read-only view of the world's own memory, not a copy (see
+    /// docs/views.md); assign an array to change them.
     #[getter]
-    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        matrix(py, w.velocities().to_vec(), w.dim())
+    fn velocities<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        view(slf, Part::Velocities)
     }
 
     #[setter(velocities)]
@@ -63,7 +62,7 @@ impl World {
         w.set_velocities(&v).map_err(py_err)
     }
 
-    /// Accelerations at the current state (n, dim), m/s^2.
+    /// Accelerations at the current state (n, dim), m/s^2: a copy.
     #[getter]
     fn accelerations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let mut g = self.lock()?;

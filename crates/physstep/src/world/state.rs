@@ -36,6 +36,19 @@ impl World {
         &self.state.y[nx..nx + np]
     }
 
+    /// Gives the state new buffers holding the same values and returns the old ones, `[y, f]`,
+    /// untouched: the memory [`World::positions`] and [`World::velocities`] pointed into. For
+    /// a caller that lent that memory out (the Python face's zero-copy views) and must keep it
+    /// alive across a call that reallocates the state.
+    ///
+    /// Only calls that change the state's layout reallocate it: adding particles or bodies.
+    /// Steps (a failed step's rollback included), frames, setting positions, velocities or
+    /// the phase, and restoring a snapshot write into the same buffers (tested below).
+    pub fn detach_state(&mut self) -> [Vec<f64>; 2] {
+        let (y, f) = (self.state.y.clone(), self.state.f.clone());
+        [std::mem::replace(&mut self.state.y, y), std::mem::replace(&mut self.state.f, f)]
+    }
+
     /// Accelerations at the current state, m/s^2 (flat, `n * dim`).
     ///
     /// # Errors
@@ -218,5 +231,74 @@ impl World {
             }
             Err(e) => Err(e),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::World;
+    use crate::flows::Flow;
+    use crate::forces::Force;
+    use crate::world::{BodyParams, WorldParams};
+
+    /// Where `positions` and `velocities` live.
+    fn buffers(w: &World) -> [*const f64; 2] {
+        [w.positions().as_ptr(), w.velocities().as_ptr()]
+    }
+
+    /// Everything but adding parts writes the state in place: the contract the Python face's
+    /// zero-copy views rest on. Every method, on particles, on particles with a body, and on
+    /// a flow; a step that fails (and is rolled back) included.
+    #[test]
+    fn only_adding_parts_moves_the_state() {
+        let (mut bodies, mut flows) = (0, 0);
+        for method in crate::integrators::registry::names() {
+            let params = |dim| WorldParams { dim, method: method.into(), ..WorldParams::default() };
+            let mut worlds = Vec::new();
+            let mut w = World::new(params(3)).unwrap();
+            w.add_particles(&[0.0, 0.0, 1.0, 1.0, 0.0, 0.0], None, None, false).unwrap();
+            w.add_force(Force::Gravity { g: [0.0, 0.0, -9.8] }).unwrap();
+            worlds.push(w.clone());
+            let spinning = BodyParams { angular_velocity: [0.1, 2.0, 0.3], ..BodyParams::default() };
+            if w.add_body(&spinning).is_ok() {
+                worlds.push(w);
+                bodies += 1;
+            }
+            let lorenz = Flow::Lorenz { sigma: 10.0, rho: 28.0, beta: 8.0 / 3.0 };
+            if let Ok(f) = World::with_flow(lorenz, &[1.0, 1.0, 1.0], params(3)) {
+                worlds.push(f);
+                flows += 1;
+            }
+            for mut w in worlds {
+                let at = buffers(&w);
+                let snap = w.snapshot();
+                w.step(3).unwrap();
+                w.advance(0.05).unwrap();
+                w.restore(&snap).unwrap();
+                let x = w.positions().to_vec();
+                w.set_positions(&x).unwrap();
+                if w.flow().is_none() {
+                    let v = w.velocities().to_vec();
+                    w.set_velocities(&v).unwrap();
+                }
+                w.set_phase(&w.phase()).unwrap();
+                let _ = w.accelerations().unwrap();
+                assert!(w.step_by(f64::NAN).is_err());
+                let mut far = w.positions().to_vec();
+                far[0] = 0.999e100;
+                w.set_positions(&far).unwrap();
+                // Velocities that carry x past the runaway bound (a flow runs away by itself).
+                if w.flow().is_none() {
+                    let v: Vec<f64> = w.velocities().iter().map(|_| 1e99).collect();
+                    w.set_velocities(&v).unwrap();
+                }
+                assert!(w.step_by(1.0).is_err(), "{method}: a step past the runaway bound fails");
+                assert_eq!(buffers(&w), at, "{method}: the state moved");
+                let [y, _] = w.detach_state();
+                assert_eq!(y.as_ptr(), at[0]);
+                assert_ne!(buffers(&w)[0], at[0]);
+            }
+        }
+        assert!(bodies > 5 && flows > 5, "{bodies} worlds with a body, {flows} flows");
     }
 }
