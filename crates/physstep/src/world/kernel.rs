@@ -112,23 +112,26 @@ fn task_body<const D: usize, M: Method>(
     let m = TILE * D;
     for q in (0..full).step_by(TILE) {
         let (xt, vt) = (&mut x[q * D..q * D + m], &mut v[q * D..q * D + m]);
-        let r = tile::<D, M>(method, forces, p0 + q, &inv_mass[q..q + TILE], xt, vt, t, h);
+        let r = tile::<D, M, { 2 * TILE * 3 }>(method, forces, p0 + q, &inv_mass[q..q + TILE], xt, vt, t, h);
         bad |= r.0;
         evals = r.1;
     }
-    if full < inv_mass.len() {
-        let (xt, vt) = (&mut x[full * D..], &mut v[full * D..]);
-        let r = tile::<D, M>(method, forces, p0 + full, &inv_mass[full..], xt, vt, t, h);
+    // The last particles (fewer than a tile, a small world) in fours: smaller buffers to set up.
+    for q in (full..inv_mass.len()).step_by(4) {
+        let e = (q + 4).min(inv_mass.len());
+        let (xt, vt) = (&mut x[q * D..e * D], &mut v[q * D..e * D]);
+        let r = tile::<D, M, { 2 * 4 * 3 }>(method, forces, p0 + q, &inv_mass[q..e], xt, vt, t, h);
         bad |= r.0;
         evals = r.1;
     }
     (bad, evals)
 }
 
-/// One tile (at most [`TILE`] particles) through the method's recipe.
+/// One tile of particles through the method's recipe, its state in buffers of `L` values
+/// (at least `2 * particles * D`).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn tile<const D: usize, M: Method>(
+fn tile<const D: usize, M: Method, const L: usize>(
     method: &mut M,
     forces: Forces<'_>,
     q0: usize,
@@ -138,8 +141,8 @@ fn tile<const D: usize, M: Method>(
     t: f64,
     h: f64,
 ) -> (bool, u64) {
-    let mut y = [0.0; 2 * TILE * 3];
-    let mut f = [0.0; 2 * TILE * 3];
+    let mut y = [0.0; L];
+    let mut f = [0.0; L];
     let m = xt.len();
     let springs = forces.local.anchors(q0, q0 + im.len());
     let mut sys = Tile::<D> { local: forces.local, p0: q0, inv_mass: im, springs, velocity: forces.velocity };
@@ -312,10 +315,7 @@ impl World {
     /// steps before it stay taken.
     pub(super) fn run(&mut self, n: u64, h: f64) -> Result<()> {
         let Some(mut method) = self.fused().filter(|_| n > 0) else {
-            for _ in 0..n {
-                self.step_inner(h, None)?;
-            }
-            return Ok(());
+            return self.run_staged(n, h);
         };
         let mut ctx = self.context(h)?;
         if self.stale {
@@ -328,6 +328,45 @@ impl World {
         let r = self.run_fused(&mut method, &mut saved, &mut ctx, n, h);
         self.replay = saved;
         r
+    }
+
+    /// Whether a step can be taken again with the same result: no user code runs in it (a
+    /// Python force could answer differently, or count its calls) and no load applied by hand
+    /// waits for it (a step consumes those).
+    fn replayable(&self) -> bool {
+        self.model.user.is_empty()
+            && self.bodies.forces.is_empty()
+            && self.bodies.force.iter().chain(&self.bodies.torque).all(|v| *v == glam::DVec3::ZERO)
+    }
+
+    /// `n` staged steps: with one checkpoint for the call when the steps can be replayed (on
+    /// a failure: back to it, the good steps again, the failing one with its own checkpoint),
+    /// else a checkpoint per step.
+    fn run_staged(&mut self, n: u64, h: f64) -> Result<()> {
+        if n < 2 || !self.replayable() {
+            for _ in 0..n {
+                self.step_inner(h, None)?;
+            }
+            return Ok(());
+        }
+        self.refresh()?;
+        let layout = self.layout();
+        self.call.save(&self.state, &self.integrator, layout);
+        let start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
+        for k in 0..n {
+            if self.step_unsaved(h).is_ok() {
+                continue;
+            }
+            self.call.restore(&mut self.state, &mut self.integrator, layout);
+            (self.state.t, self.state.steps, self.state.evals, self.epoch) = start;
+            for _ in 0..k {
+                self.step_unsaved(h)?;
+            }
+            // Fails as before, now with its own checkpoint (or, were it to pass, goes on).
+            self.step_inner(h, None)?;
+            return self.run_staged(n - k - 1, h);
+        }
+        Ok(())
     }
 
     fn run_fused(

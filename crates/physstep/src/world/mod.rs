@@ -97,6 +97,8 @@ pub struct World {
     deferred: bool,
     /// The fused kernel's checkpoint of a call (`y` at its start).
     replay: Vec<f64>,
+    /// The staged step's checkpoint of a call of several steps.
+    call: Checkpoint,
     /// Time and step count at the latest change of dt.
     epoch: Epoch,
     /// Newton settings for implicit methods, kept across [`World::set_method`].
@@ -162,6 +164,7 @@ impl World {
             stale: false,
             deferred: false,
             replay: Vec::new(),
+            call: Checkpoint::default(),
             epoch: Epoch::default(),
             implicit: params.implicit,
             checkpoint: Checkpoint::default(),

@@ -87,6 +87,20 @@ impl World {
         self.finish(&ctx, r)
     }
 
+    /// One step of `h` seconds without a checkpoint of its own, for a call that keeps one
+    /// checkpoint for all its steps ([`World::run`]): on failure the world is left part-way
+    /// and the caller restores its checkpoint.
+    pub(super) fn step_unsaved(&mut self, h: f64) -> Result<()> {
+        let ctx = self.context(h)?;
+        self.refresh()?;
+        self.prev_x.clear();
+        self.integrate(&ctx, None)
+            .and_then(|()| self.relax(&ctx))
+            .and_then(|()| self.collide(&ctx))
+            .and_then(|()| self.check(&ctx))?;
+        self.finish(&ctx, Ok(()))
+    }
+
     /// Integrate: the method's recipe over the world's parts.
     fn integrate(&mut self, ctx: &StepContext, log: Log<'_>) -> Result<()> {
         if let Some(flow) = self.flow.as_mut() {
