@@ -17,13 +17,12 @@
 use rayon::prelude::*;
 
 use super::flat::{self, Flat, Recipe};
-use super::step::StepContext;
-use super::World;
+use super::{Epoch, World};
 use crate::dynamics::{SecondOrder, Step, System};
 use crate::error::Result;
 use crate::forces::local::{AnchorSpring, Local};
 use crate::integrators::registry::Visit;
-use crate::integrators::registry::RUNAWAY;
+use crate::integrators::registry::{State, RUNAWAY};
 use crate::integrators::{Integrator, Method};
 
 /// Particles per tile: a full tile's stage buffers (`2 * TILE * dim` values each) have a
@@ -241,35 +240,84 @@ unsafe fn flat_avx2<const D: usize>(
     flat::step::<D>(r, k, velocity, h, inv_mass, x, v)
 }
 
-/// One fused step of every particle, as work for [`Integrator::visit`].
+/// Why a run of fused steps stopped before its end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stop {
+    /// A value or acceleration ran away: the step is to be rolled back.
+    Bad,
+    /// `dt` no longer moves the time.
+    Time,
+}
+
+/// Up to `n` fused steps of every particle, as work for [`Integrator::visit`]: the method is
+/// dispatched once for the whole run.
 struct Fused<'a, const D: usize> {
     forces: Forces<'a>,
+    /// The element-wise recipe and forces, when they apply.
+    flat: Option<(Recipe, Flat)>,
     inv_mass: &'a [f64],
     x: &'a mut [f64],
     v: &'a mut [f64],
-    t: f64,
+    t: &'a mut f64,
+    steps: &'a mut u64,
+    evals: &'a mut u64,
+    epoch: Epoch,
     h: f64,
+    n: u64,
 }
 
 impl<const D: usize> Visit for Fused<'_, D> {
-    type Out = (bool, u64);
+    type Out = (u64, Option<Stop>);
 
-    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (bool, u64) {
-        let Self { forces, inv_mass, x, v, t, h } = self;
-        if inv_mass.len() < PARALLEL_MIN {
-            return task::<D, M>(method, forces, 0, inv_mass, x, v, t, h);
+    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, Option<Stop>) {
+        let Self { forces, flat, inv_mass, x, v, t, steps, evals, epoch, h, n } = self;
+        for k in 0..n {
+            // Time as t0 + k h (see `World::context`), and it must move.
+            let t_end = epoch.time(*steps + 1).unwrap_or(f64::NAN);
+            if !(t_end > *t && t_end.is_finite()) {
+                return (k, Some(Stop::Time));
+            }
+            let (bad, e) = match flat {
+                Some((r, k)) => {
+                    (flat_step::<D>(r, k, forces.velocity, h, inv_mass, x, v), r.evals(forces.velocity))
+                }
+                None => tiles::<D, M>(method, forces, inv_mass, x, v, *t, h),
+            };
+            if bad {
+                return (k, Some(Stop::Bad));
+            }
+            *t = t_end;
+            *steps += 1;
+            *evals += e;
         }
-        let proto = &*method;
-        x.par_chunks_mut(TASK * D)
-            .zip(v.par_chunks_mut(TASK * D))
-            .zip(inv_mass.par_chunks(TASK))
-            .enumerate()
-            .map_init(
-                || proto.clone(),
-                |m, (c, ((xc, vc), im))| task::<D, M>(m, forces, c * TASK, im, xc, vc, t, h),
-            )
-            .reduce(|| (false, 0), |a, b| (a.0 | b.0, a.1.max(b.1)))
+        (n, None)
     }
+}
+
+/// One step of every particle through the method's recipe, tile by tile, in parallel over
+/// fixed tasks for large worlds.
+fn tiles<const D: usize, M: Method + Clone + Send + Sync>(
+    method: &mut M,
+    forces: Forces<'_>,
+    inv_mass: &[f64],
+    x: &mut [f64],
+    v: &mut [f64],
+    t: f64,
+    h: f64,
+) -> (bool, u64) {
+    if inv_mass.len() < PARALLEL_MIN {
+        return task::<D, M>(method, forces, 0, inv_mass, x, v, t, h);
+    }
+    let proto = &*method;
+    x.par_chunks_mut(TASK * D)
+        .zip(v.par_chunks_mut(TASK * D))
+        .zip(inv_mass.par_chunks(TASK))
+        .enumerate()
+        .map_init(
+            || proto.clone(),
+            |m, (c, ((xc, vc), im))| task::<D, M>(m, forces, c * TASK, im, xc, vc, t, h),
+        )
+        .reduce(|| (false, 0), |a, b| (a.0 | b.0, a.1.max(b.1)))
 }
 
 impl World {
@@ -288,26 +336,36 @@ impl World {
         self.integrator.fresh_local()
     }
 
-    /// One fused step of every particle; whether it ran away, and its evaluations.
-    fn fused_step(&mut self, method: &mut Integrator, ctx: &StepContext) -> (bool, u64) {
+    /// Up to `n` fused steps of `h` with time kept from `epoch`; how many were taken, and why
+    /// it stopped early.
+    fn fused_steps(&mut self, method: &mut Integrator, epoch: Epoch, n: u64, h: f64) -> (u64, Option<Stop>) {
         match self.dim() {
-            1 => self.fused_step_d::<1>(method, ctx),
-            2 => self.fused_step_d::<2>(method, ctx),
-            _ => self.fused_step_d::<3>(method, ctx),
+            1 => self.fused_steps_d::<1>(method, epoch, n, h),
+            2 => self.fused_steps_d::<2>(method, epoch, n, h),
+            _ => self.fused_steps_d::<3>(method, epoch, n, h),
         }
     }
 
-    fn fused_step_d<const D: usize>(&mut self, method: &mut Integrator, ctx: &StepContext) -> (bool, u64) {
+    fn fused_steps_d<const D: usize>(
+        &mut self,
+        method: &mut Integrator,
+        epoch: Epoch,
+        n: u64,
+        h: f64,
+    ) -> (u64, Option<Stop>) {
         let local = self.model.forces.local();
         let forces = Forces { local, velocity: self.model.velocity_dependent() };
+        let flat = Recipe::of(method.info().name).zip(local.element_wise().map(|(s, g)| Flat { s, g }));
         let inv_mass = &self.model.inv_mass;
-        let (x, v) = self.state.y.split_at_mut(inv_mass.len() * D);
-        if let (Some(r), Some((s, g))) = (Recipe::of(method.info().name), local.element_wise()) {
-            let k = Flat { s, g };
-            let bad = flat_step::<D>(r, k, forces.velocity, ctx.h, inv_mass, x, v);
-            return (bad, r.evals(forces.velocity));
+        let State { t, y, steps, evals, .. } = &mut self.state;
+        let (x, v) = y.split_at_mut(inv_mass.len() * D);
+        let run = Fused::<D> { forces, flat, inv_mass, x, v, t, steps, evals, epoch, h, n };
+        let r = method.visit(run);
+        if r.0 > 0 {
+            self.epoch = epoch;
+            self.deferred = true;
         }
-        method.visit(Fused::<D> { forces, inv_mass, x, v, t: ctx.t, h: ctx.h })
+        r
     }
 
     /// Takes `n` steps of `h` seconds: through the fused kernel when it applies, else the
@@ -317,7 +375,7 @@ impl World {
         let Some(mut method) = self.fused().filter(|_| n > 0) else {
             return self.run_staged(n, h);
         };
-        let mut ctx = self.context(h)?;
+        let ctx = self.context(h)?;
         if self.stale {
             // A state set by hand: its derivative is evaluated (and checked) now, as the staged
             // step would; a derivative the kernel did not store is not needed.
@@ -325,7 +383,7 @@ impl World {
         }
         self.prev_x.clear();
         let mut saved = std::mem::take(&mut self.replay);
-        let r = self.run_fused(&mut method, &mut saved, &mut ctx, n, h);
+        let r = self.run_fused(&mut method, &mut saved, ctx.epoch, n, h);
         self.replay = saved;
         r
     }
@@ -369,47 +427,40 @@ impl World {
         Ok(())
     }
 
+    /// The fused steps of [`World::run`], with the call's checkpoint in `saved`.
     fn run_fused(
         &mut self,
         method: &mut Integrator,
         saved: &mut Vec<f64>,
-        ctx: &mut StepContext,
+        epoch: Epoch,
         n: u64,
         h: f64,
     ) -> Result<()> {
-        // The checkpoint of the call, and how many good steps were taken since it.
-        saved.clone_from(&self.state.y);
-        let mut start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
-        let mut since = 0;
-        for k in 0..n {
-            if k > 0 {
-                *ctx = self.context(h)?;
-            }
-            let (bad, evals) = self.fused_step(method, ctx);
-            self.deferred = true;
-            if !bad {
-                self.state.evals += evals;
-                self.finish(ctx, Ok(()))?;
-                since += 1;
-                continue;
-            }
-            // Back to the checkpoint, the good steps again (same arithmetic, same bits), then
-            // this step the staged way: it fails as the kernel did, rolls back, names the
-            // particle.
-            self.state.y.copy_from_slice(saved);
-            (self.state.t, self.state.steps, self.state.evals, self.epoch) = start;
-            for _ in 0..since {
-                let c = self.context(h)?;
-                let (_, evals) = self.fused_step(method, &c);
-                self.state.evals += evals;
-                self.finish(&c, Ok(()))?;
-            }
-            self.step_inner(h, None)?;
-            // The staged step succeeded where the kernel saw a runaway value: only a value
-            // within rounding of the limit can do that. Carry on from a new checkpoint.
+        let mut epoch = epoch;
+        let mut left = n;
+        while left > 0 {
             saved.clone_from(&self.state.y);
-            start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
-            since = 0;
+            let start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
+            let (taken, stop) = self.fused_steps(method, epoch, left, h);
+            left -= taken;
+            match stop {
+                None => {}
+                // The error of a step that cannot move time, as the staged step gives it.
+                Some(Stop::Time) => return self.context(h).map(|_| ()),
+                Some(Stop::Bad) => {
+                    // Back to the checkpoint, the good steps again (same arithmetic, same
+                    // bits), then this step the staged way: it fails as the kernel did, rolls
+                    // back and names the particle.
+                    self.state.y.copy_from_slice(saved);
+                    (self.state.t, self.state.steps, self.state.evals, self.epoch) = start;
+                    self.fused_steps(method, epoch, taken, h);
+                    self.step_inner(h, None)?;
+                    // (The staged step passed: the two agree bitwise, so this is not reached;
+                    // were it, the run would go on from here.)
+                    left -= 1;
+                    epoch = self.epoch;
+                }
+            }
         }
         Ok(())
     }

@@ -27,7 +27,7 @@ pub struct StepContext {
     pub step: u64,
     /// Time at the end of the step: `t0 + k h` since the last change of `h`.
     pub t_end: f64,
-    epoch: Epoch,
+    pub(super) epoch: Epoch,
 }
 
 /// The stages of a step, named in failures.
