@@ -14,6 +14,8 @@
 //! the `k` good steps (the same arithmetic, so the same bits) and takes step `k` the staged
 //! way, which fails the same way, rolls back, and names the particle.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 
 use super::flat::{self, Flat, Recipe};
@@ -32,6 +34,23 @@ const TILE: usize = 16;
 const TASK: usize = 16384;
 /// From this many particles on, tasks run in parallel.
 const PARALLEL_MIN: usize = 4 * TASK;
+
+/// Whether the kernels may take their AVX2 code path (see [`set_vector_paths`]).
+static VECTOR_PATHS: AtomicBool = AtomicBool::new(true);
+
+/// Allows (the default) or forbids the kernels' AVX2 code path, for the whole process. Both
+/// paths give bitwise the same results (only IEEE `+ - * / sqrt`, no fused multiply-add);
+/// this switch exists to check that, and to measure what the vector code gains.
+pub fn set_vector_paths(enabled: bool) {
+    VECTOR_PATHS.store(enabled, Ordering::Relaxed);
+}
+
+/// Whether the AVX2 path runs: the CPU has AVX2 and it is allowed.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn avx2() -> bool {
+    VECTOR_PATHS.load(Ordering::Relaxed) && std::arch::is_x86_feature_detected!("avx2")
+}
 
 /// One tile of particles as a system: `y = [x; v]` of the tile, per-particle forces.
 struct Tile<'a, const D: usize> {
@@ -172,8 +191,8 @@ fn task<const D: usize, M: Method>(
     h: f64,
 ) -> (bool, u64) {
     #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2 (checked just above), the only requirement of a
+    if avx2() {
+        // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
         // `target_feature` function.
         return unsafe { task_avx2::<D, M>(method, forces, p0, inv_mass, x, v, t, h) };
     }
@@ -209,8 +228,8 @@ fn flat_step<const D: usize>(
 ) -> bool {
     let run = |im: &[f64], x: &mut [f64], v: &mut [f64]| {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 (checked just above), the only requirement of a
+        if avx2() {
+            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
             // `target_feature` function.
             return unsafe { flat_avx2::<D>(r, k, velocity, h, im, x, v) };
         }

@@ -27,6 +27,7 @@ mod state;
 mod step;
 
 pub use bodies::BodyParams;
+pub use kernel::set_vector_paths;
 pub use model::Model;
 pub use rules::ParticleBatch;
 pub use step::{Stage, StepContext};
