@@ -68,9 +68,17 @@ const VELOCITY_VERLET: u8 = 2;
 const RK4: u8 = 3;
 
 /// One step of `h` of the element `(x, v)` with inverse mass `im` and gravity component `g`;
-/// returns the acceleration at the new state.
+/// returns the acceleration at the new state (with `A`; 0 without).
 #[inline(always)]
-fn element<const R: u8>(k: Flat, velocity: bool, h: f64, x: &mut f64, v: &mut f64, im: f64, g: f64) -> f64 {
+fn element<const R: u8, const A: bool>(
+    k: Flat,
+    velocity: bool,
+    h: f64,
+    x: &mut f64,
+    v: &mut f64,
+    im: f64,
+    g: f64,
+) -> f64 {
     let acc = |v: f64| k.acc(v, im, g);
     let a0 = acc(*v);
     match R {
@@ -113,7 +121,13 @@ fn element<const R: u8>(k: Flat, velocity: bool, h: f64, x: &mut f64, v: &mut f6
             *v = v0 + h6 * (a0 + 2.0 * aa + 2.0 * ab + ac);
         }
     }
-    acc(*v)
+    // The acceleration at the new state, for the check: not needed where it is bounded by
+    // the velocity's (see `run_r`).
+    if A {
+        acc(*v)
+    } else {
+        0.0
+    }
 }
 
 /// Whether `x` is NaN, infinite or past [`RUNAWAY`].
@@ -123,87 +137,94 @@ fn bad(x: f64) -> bool {
     !(x.abs() <= RUNAWAY)
 }
 
-/// One step of particles (positions `x`, velocities `v`, flat, `D` per particle); whether
-/// any new value or acceleration ran away.
+/// Particles per chunk: a chunk's positions, velocities, inverse masses and gravity per
+/// element (`4 * CHUNK * dim` values) stay in L1 for all the steps of a run.
+const CHUNK: usize = 64;
+
+/// `n` steps of `h` of particles (positions `x`, velocities `v`, flat, `D` per particle),
+/// chunk by chunk, the state at the start kept in `sx`, `sv`; returns the first step at which
+/// a new value or acceleration ran away (or `n`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(super) fn step<const D: usize>(
+pub(super) fn run<const D: usize>(
     r: Recipe,
     k: Flat,
     velocity: bool,
     h: f64,
+    n: u64,
     inv_mass: &[f64],
-    x: &mut [f64],
-    v: &mut [f64],
-) -> bool {
+    xv: (&mut [f64], &mut [f64]),
+    saved: (&mut [f64], &mut [f64]),
+) -> u64 {
     match r {
-        Recipe::ExplicitEuler => step_r::<D, EXPLICIT_EULER>(k, velocity, h, inv_mass, x, v),
-        Recipe::SymplecticEuler => step_r::<D, SYMPLECTIC_EULER>(k, velocity, h, inv_mass, x, v),
-        Recipe::VelocityVerlet => step_r::<D, VELOCITY_VERLET>(k, velocity, h, inv_mass, x, v),
-        Recipe::Rk4 => step_r::<D, RK4>(k, velocity, h, inv_mass, x, v),
+        Recipe::ExplicitEuler => run_r::<D, EXPLICIT_EULER>(k, velocity, h, n, inv_mass, xv, saved),
+        Recipe::SymplecticEuler => run_r::<D, SYMPLECTIC_EULER>(k, velocity, h, n, inv_mass, xv, saved),
+        Recipe::VelocityVerlet => run_r::<D, VELOCITY_VERLET>(k, velocity, h, n, inv_mass, xv, saved),
+        Recipe::Rk4 => run_r::<D, RK4>(k, velocity, h, n, inv_mass, xv, saved),
     }
 }
 
 #[inline(always)]
-fn step_r<const D: usize, const R: u8>(
+fn run_r<const D: usize, const R: u8>(
     k: Flat,
     velocity: bool,
     h: f64,
+    n: u64,
     inv_mass: &[f64],
-    x: &mut [f64],
-    v: &mut [f64],
-) -> bool {
-    // Blocks of four particles: 4 D elements, a whole number of vectors for every D.
-    let mut g = [0.0; 12];
-    for (j, gj) in g.iter_mut().enumerate().take(4 * D) {
-        *gj = k.g[j % D];
-    }
-    // One flag per lane, folded at the end: no dependency from block to block.
-    let mut lanes = [0u64; 12];
-    let n = inv_mass.len() / 4 * 4;
-    let (xh, xt) = x.split_at_mut(n * D);
-    let (vh, vt) = v.split_at_mut(n * D);
-    let uniform =
-        inv_mass.first().copied().filter(|w| inv_mass[..n].iter().all(|u| u.to_bits() == w.to_bits()));
-    if let Some(w) = uniform {
-        // Every particle of the task has the same mass: inverse mass and gravity are the
-        // same vectors for every block, and the recipe runs on the arrays in place.
-        let gm = if w > 0.0 { g } else { [0.0; 12] };
-        for (xb, vb) in xh.chunks_exact_mut(4 * D).zip(vh.chunks_exact_mut(4 * D)) {
-            for j in 0..4 * D {
-                let a = element::<R>(k, velocity, h, &mut xb[j], &mut vb[j], w, gm[j]);
-                lanes[j] |= u64::from(bad(xb[j]) | bad(vb[j]) | bad(a));
+    (x, v): (&mut [f64], &mut [f64]),
+    (sx, sv): (&mut [f64], &mut [f64]),
+) -> u64 {
+    let mut good = n;
+    let c = CHUNK * D;
+    let chunks = x.chunks_mut(c).zip(v.chunks_mut(c)).zip(sx.chunks_mut(c).zip(sv.chunks_mut(c)));
+    // Inverse mass and gravity per element (gravity 0 on a static particle), set per chunk.
+    let (mut im, mut gm) = ([0.0; CHUNK * 3], [0.0; CHUNK * 3]);
+    for (((xc, vc), (sxc, svc)), ic) in chunks.zip(inv_mass.chunks(CHUNK)) {
+        sxc.copy_from_slice(xc);
+        svc.copy_from_slice(vc);
+        for (p, &w) in ic.iter().enumerate() {
+            for c in 0..D {
+                im[p * D + c] = w;
+                gm[p * D + c] = if w > 0.0 { k.g[c] } else { 0.0 };
             }
         }
-    } else {
-        let blocks = xh.chunks_exact_mut(4 * D).zip(vh.chunks_exact_mut(4 * D)).zip(inv_mass.chunks_exact(4));
-        for ((xb, vb), ib) in blocks {
-            let (im, gm) = expand::<D>(ib, &g);
-            for j in 0..4 * D {
-                let a = element::<R>(k, velocity, h, &mut xb[j], &mut vb[j], im[j], gm[j]);
-                lanes[j] |= u64::from(bad(xb[j]) | bad(vb[j]) | bad(a));
-            }
-        }
+        let m = xc.len();
+        let (im, gm) = (&im[..m], &gm[..m]);
+        // Where |s / m| <= 1/2 and |g| <= 1e90, |a| <= |v| / 2 + 1e90 stays finite and within
+        // the runaway limit whenever v does: a new acceleration that explicit or symplectic
+        // Euler or RK4 only computes for the check cannot fail it, and is not computed.
+        let w_max = ic.iter().fold(0.0f64, |a, &w| if w > a { w } else { a });
+        let bounded = k.s.abs() * w_max <= 0.5 && k.g.iter().all(|g| g.abs() <= 1e90);
+        let steps = if bounded && R != VELOCITY_VERLET {
+            chunk::<R, false>(k, velocity, h, good, (xc, vc), im, gm)
+        } else {
+            chunk::<R, true>(k, velocity, h, good, (xc, vc), im, gm)
+        };
+        good = good.min(steps);
     }
-    // The last particles (fewer than four).
-    let (im, gm) = expand::<D>(&inv_mass[n..], &g);
-    for j in 0..xt.len() {
-        let a = element::<R>(k, velocity, h, &mut xt[j], &mut vt[j], im[j], gm[j]);
-        lanes[j] |= u64::from(bad(xt[j]) | bad(vt[j]) | bad(a));
-    }
-    lanes.iter().any(|b| *b != 0)
+    good
 }
 
-/// Inverse masses and gravity per element of up to four particles (gravity 0 on a static
-/// particle).
+/// Up to `n` steps of one chunk's elements; the first step that ran away (or `n`).
 #[inline(always)]
-fn expand<const D: usize>(inv_mass: &[f64], g: &[f64; 12]) -> ([f64; 12], [f64; 12]) {
-    let (mut im, mut gm) = ([0.0; 12], [0.0; 12]);
-    for (p, &w) in inv_mass.iter().enumerate() {
-        for c in p * D..(p + 1) * D {
-            im[c] = w;
-            gm[c] = if w > 0.0 { g[c] } else { 0.0 };
+fn chunk<const R: u8, const A: bool>(
+    k: Flat,
+    velocity: bool,
+    h: f64,
+    n: u64,
+    (xc, vc): (&mut [f64], &mut [f64]),
+    im: &[f64],
+    gm: &[f64],
+) -> u64 {
+    for s in 0..n {
+        let mut flag = 0u64;
+        for j in 0..xc.len() {
+            let a = element::<R, A>(k, velocity, h, &mut xc[j], &mut vc[j], im[j], gm[j]);
+            flag |= u64::from(bad(xc[j]) | bad(vc[j]) | (A && bad(a)));
+        }
+        if flag != 0 {
+            return s;
         }
     }
-    (im, gm)
+    n
 }

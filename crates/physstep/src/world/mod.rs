@@ -25,12 +25,13 @@ mod rules;
 mod snapshot;
 mod state;
 mod step;
+mod tiles;
 
 pub use bodies::BodyParams;
-pub use kernel::set_vector_paths;
 pub use model::Model;
 pub use rules::ParticleBatch;
 pub use step::{Stage, StepContext};
+pub use tiles::set_vector_paths;
 
 /// How to build a [`World`].
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,312 @@
+//! The kernels' inner loops: a run of `n` steps of particles under per-particle forces, one
+//! tile of particles at a time, all `n` steps of a tile while it sits in L1 (the particles
+//! do not interact, so the order of the work changes nothing in the bits). Each tile is read
+//! from memory and written back once per run instead of once per step.
+//!
+//! Two kinds of tile: the method's own recipe on a tile [`System`] (any local method, any
+//! per-particle force), and the element-wise recipes of [`super::flat`]. Both run compiled
+//! for AVX2 where the CPU has it (run-time dispatch) and for the baseline target otherwise;
+//! only `+ - * / sqrt` of IEEE doubles are used and no multiply-add is fused (Rust never
+//! contracts), so the two paths give bitwise the same results.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rayon::prelude::*;
+
+use super::flat::{self, Flat, Recipe};
+use super::Epoch;
+use crate::dynamics::{Step, System};
+use crate::forces::local::{AnchorSpring, Local};
+use crate::integrators::registry::RUNAWAY;
+use crate::integrators::Method;
+
+/// Particles per tile of the recipe kernel: the tile's stage buffers (`2 * TILE * dim`
+/// values each) stay in L1, with a length known at compile time.
+const TILE: usize = 16;
+/// Particles per parallel task.
+pub(super) const TASK: usize = 16384;
+/// From this many particles on, tasks run in parallel.
+pub(super) const PARALLEL_MIN: usize = 4 * TASK;
+
+/// Whether the kernels may take their AVX2 code path (see [`set_vector_paths`]).
+static VECTOR_PATHS: AtomicBool = AtomicBool::new(true);
+
+/// Allows (the default) or forbids the kernels' AVX2 code path, for the whole process. Both
+/// paths give bitwise the same results (only IEEE `+ - * / sqrt`, no fused multiply-add);
+/// this switch exists to check that, and to measure what the vector code gains.
+pub fn set_vector_paths(enabled: bool) {
+    VECTOR_PATHS.store(enabled, Ordering::Relaxed);
+}
+
+/// Whether the AVX2 path runs: the CPU has AVX2 and it is allowed.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn avx2() -> bool {
+    VECTOR_PATHS.load(Ordering::Relaxed) && std::arch::is_x86_feature_detected!("avx2")
+}
+
+/// What a run needs of the world's forces.
+#[derive(Clone, Copy)]
+pub(super) struct Forces<'a> {
+    pub local: &'a Local,
+    /// Whether the accelerations depend on the velocities.
+    pub velocity: bool,
+}
+
+/// The steps of a run: step `k` of it starts at `epoch.time(steps + k)`.
+#[derive(Clone, Copy)]
+pub(super) struct Run {
+    pub epoch: Epoch,
+    pub steps: u64,
+    pub h: f64,
+    /// Steps to take.
+    pub n: u64,
+}
+
+impl Run {
+    /// Time at the start of step `k` of the run.
+    #[inline]
+    fn t(self, k: u64) -> f64 {
+        self.epoch.time(self.steps + k).unwrap_or(f64::NAN)
+    }
+}
+
+/// One tile of particles as a system: `y = [x; v]` of the tile, per-particle forces.
+struct Tile<'a, const D: usize> {
+    local: &'a Local,
+    /// Index of the tile's first particle.
+    p0: usize,
+    inv_mass: &'a [f64],
+    springs: &'a [AnchorSpring],
+    velocity: bool,
+}
+
+impl<const D: usize> System for Tile<'_, D> {
+    #[inline]
+    fn dim(&self) -> usize {
+        2 * D * self.inv_mass.len()
+    }
+    #[inline]
+    fn split(&self) -> Option<usize> {
+        Some(D * self.inv_mass.len())
+    }
+    fn jacobian(&mut self, _t: f64, _y: &[f64], _j: &mut [f64], _work: &mut Vec<f64>) -> bool {
+        false
+    }
+    #[inline]
+    fn accel(&mut self, _t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {
+        self.local.accel::<D>(self.p0, x, w, self.inv_mass, self.springs, a);
+    }
+    #[inline]
+    fn drift(&mut self, x: &mut [f64], w: &[f64], h: f64) {
+        crate::integrators::axpy(x, h, w);
+    }
+    #[inline]
+    fn rate(&self, _x: &[f64], v: &[f64], dx: &mut [f64]) {
+        dx.copy_from_slice(v);
+    }
+    #[inline]
+    fn velocity_dependent(&self) -> bool {
+        self.velocity
+    }
+    #[inline]
+    fn kick_drift(&mut self, x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
+        crate::integrators::kick_drift(x, v, dx, a, h);
+    }
+}
+
+/// Whether any entry is NaN, infinite or past [`RUNAWAY`] (a flag folded without branches).
+#[inline]
+fn runaway(v: &[f64]) -> bool {
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    v.iter().fold(false, |acc, x| acc | !(x.abs() <= RUNAWAY))
+}
+
+/// The run over particles `p0..` (positions `x`, velocities `v`, flat, `D` per particle)
+/// with `method`, tile by tile; returns the first step at which a new value or acceleration
+/// ran away (or `run.n`), and the evaluations a step takes.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn recipe_task<const D: usize, M: Method>(
+    method: &mut M,
+    forces: Forces<'_>,
+    p0: usize,
+    inv_mass: &[f64],
+    (x, v): (&mut [f64], &mut [f64]),
+    (sx, sv): (&mut [f64], &mut [f64]),
+    run: Run,
+) -> (u64, u64) {
+    let (mut good, mut evals) = (run.n, 0);
+    let full = inv_mass.len() / TILE * TILE;
+    let m = TILE * D;
+    for q in (0..full).step_by(TILE) {
+        let (a, b) = (q * D, q * D + m);
+        let (xt, vt, st) =
+            ((&mut x[a..b], &mut v[a..b]), (&mut sx[a..b], &mut sv[a..b]), Run { n: good, ..run });
+        (good, evals) =
+            tile::<D, M, { 2 * TILE * 3 }>(method, forces, p0 + q, &inv_mass[q..q + TILE], xt, vt, st);
+    }
+    // The last particles (fewer than a tile, a small world) in fours: smaller buffers.
+    for q in (full..inv_mass.len()).step_by(4) {
+        let e = (q + 4).min(inv_mass.len());
+        let (a, b) = (q * D, e * D);
+        let (xt, vt, st) =
+            ((&mut x[a..b], &mut v[a..b]), (&mut sx[a..b], &mut sv[a..b]), Run { n: good, ..run });
+        (good, evals) = tile::<D, M, { 2 * 4 * 3 }>(method, forces, p0 + q, &inv_mass[q..e], xt, vt, st);
+    }
+    (good, evals)
+}
+
+/// The run on one tile, its state in buffers of `L` values (at least `2 * particles * D`):
+/// read once (and kept in `sx`, `sv`, the call's checkpoint), all steps, written once;
+/// returns the first step that ran away (or `run.n`) and the evaluations a step takes.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn tile<const D: usize, M: Method, const L: usize>(
+    method: &mut M,
+    forces: Forces<'_>,
+    q0: usize,
+    im: &[f64],
+    (xt, vt): (&mut [f64], &mut [f64]),
+    (sx, sv): (&mut [f64], &mut [f64]),
+    run: Run,
+) -> (u64, u64) {
+    sx.copy_from_slice(xt);
+    sv.copy_from_slice(vt);
+    let mut y = [0.0; L];
+    let mut f = [0.0; L];
+    let m = xt.len();
+    let springs = forces.local.anchors(q0, q0 + im.len());
+    let mut sys = Tile::<D> { local: forces.local, p0: q0, inv_mass: im, springs, velocity: forces.velocity };
+    let (y, f) = (&mut y[..2 * m], &mut f[..2 * m]);
+    y[..m].copy_from_slice(xt);
+    y[m..].copy_from_slice(vt);
+    f[..m].copy_from_slice(vt);
+    sys.accel(run.t(0), xt, vt, &mut f[m..]);
+    let mut evals = 0;
+    let mut good = run.n;
+    for k in 0..run.n {
+        let mut e = 0;
+        let r = method.step(&mut Step::new(&mut sys, run.t(k), run.h, y, f, &mut e, None));
+        evals = e;
+        if r.is_err() | runaway(y) | runaway(&f[m..]) {
+            good = k;
+            break;
+        }
+    }
+    xt.copy_from_slice(&y[..m]);
+    vt.copy_from_slice(&y[m..]);
+    (good, evals)
+}
+
+/// A run of every particle (state `y = [x; v]`) through `method`'s own recipe, the state at
+/// its start kept in `saved`; the first step that ran away (or `run.n`) and the evaluations
+/// a step takes.
+pub(super) fn recipe<const D: usize, M: Method + Clone + Send + Sync>(
+    method: &mut M,
+    forces: Forces<'_>,
+    inv_mass: &[f64],
+    y: &mut [f64],
+    saved: &mut [f64],
+    run: Run,
+) -> (u64, u64) {
+    let task =
+        |m: &mut M, p0: usize, im: &[f64], xv: (&mut [f64], &mut [f64]), s: (&mut [f64], &mut [f64])| {
+            #[cfg(target_arch = "x86_64")]
+            if avx2() {
+                // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+                // `target_feature` function.
+                return unsafe { recipe_avx2::<D, M>(m, forces, p0, im, xv, s, run) };
+            }
+            recipe_task::<D, M>(m, forces, p0, im, xv, s, run)
+        };
+    let (x, v) = y.split_at_mut(inv_mass.len() * D);
+    let (sx, sv) = saved.split_at_mut(inv_mass.len() * D);
+    if inv_mass.len() < PARALLEL_MIN {
+        return task(method, 0, inv_mass, (x, v), (sx, sv));
+    }
+    let proto = &*method;
+    let c = TASK * D;
+    (
+        x.par_chunks_mut(c),
+        v.par_chunks_mut(c),
+        sx.par_chunks_mut(c),
+        sv.par_chunks_mut(c),
+        inv_mass.par_chunks(TASK),
+    )
+        .into_par_iter()
+        .enumerate()
+        .map_init(|| proto.clone(), |m, (k, (x, v, sx, sv, im))| task(m, k * TASK, im, (x, v), (sx, sv)))
+        .reduce(|| (run.n, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)))
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn recipe_avx2<const D: usize, M: Method>(
+    method: &mut M,
+    forces: Forces<'_>,
+    p0: usize,
+    inv_mass: &[f64],
+    xv: (&mut [f64], &mut [f64]),
+    saved: (&mut [f64], &mut [f64]),
+    run: Run,
+) -> (u64, u64) {
+    recipe_task::<D, M>(method, forces, p0, inv_mass, xv, saved, run)
+}
+
+/// A run of every particle (state `y = [x; v]`) by an element-wise recipe
+/// ([`super::flat`]), the state at its start kept in `saved`; the first step that ran away
+/// (or `run.n`).
+pub(super) fn elementwise<const D: usize>(
+    r: Recipe,
+    k: Flat,
+    velocity: bool,
+    inv_mass: &[f64],
+    y: &mut [f64],
+    saved: &mut [f64],
+    run: Run,
+) -> u64 {
+    let (h, n) = (run.h, run.n);
+    let task = |im: &[f64], xv: (&mut [f64], &mut [f64]), s: (&mut [f64], &mut [f64])| {
+        #[cfg(target_arch = "x86_64")]
+        if avx2() {
+            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+            // `target_feature` function.
+            return unsafe { elementwise_avx2::<D>(r, k, velocity, h, n, im, xv, s) };
+        }
+        flat::run::<D>(r, k, velocity, h, n, im, xv, s)
+    };
+    let (x, v) = y.split_at_mut(inv_mass.len() * D);
+    let (sx, sv) = saved.split_at_mut(inv_mass.len() * D);
+    if inv_mass.len() < PARALLEL_MIN {
+        return task(inv_mass, (x, v), (sx, sv));
+    }
+    let c = TASK * D;
+    (
+        x.par_chunks_mut(c),
+        v.par_chunks_mut(c),
+        sx.par_chunks_mut(c),
+        sv.par_chunks_mut(c),
+        inv_mass.par_chunks(TASK),
+    )
+        .into_par_iter()
+        .map(|(x, v, sx, sv, im)| task(im, (x, v), (sx, sv)))
+        .reduce(|| n, u64::min)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn elementwise_avx2<const D: usize>(
+    r: Recipe,
+    k: Flat,
+    velocity: bool,
+    h: f64,
+    n: u64,
+    inv_mass: &[f64],
+    xv: (&mut [f64], &mut [f64]),
+    saved: (&mut [f64], &mut [f64]),
+) -> u64 {
+    flat::run::<D>(r, k, velocity, h, n, inv_mass, xv, saved)
+}
