@@ -27,6 +27,7 @@ pub mod integrators;
 pub mod record;
 pub mod rigid;
 pub mod scenes;
+pub mod simd;
 pub mod world;
 
 pub use error::{Error, Result};

@@ -27,11 +27,11 @@ mod state;
 mod step;
 mod tiles;
 
+pub use crate::simd::set_vector_paths;
 pub use bodies::BodyParams;
 pub use model::Model;
 pub use rules::ParticleBatch;
 pub use step::{Stage, StepContext};
-pub use tiles::set_vector_paths;
 
 /// How to build a [`World`].
 #[derive(Debug, Clone, PartialEq)]

@@ -9,8 +9,6 @@
 //! only `+ - * / sqrt` of IEEE doubles are used and no multiply-add is fused (Rust never
 //! contracts), so the two paths give bitwise the same results.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-
 use rayon::prelude::*;
 
 use super::flat::{self, Flat, Recipe};
@@ -19,6 +17,7 @@ use crate::dynamics::{Step, System};
 use crate::forces::local::{AnchorSpring, Local};
 use crate::integrators::registry::RUNAWAY;
 use crate::integrators::Method;
+use crate::simd::avx2;
 
 /// Particles per tile of the recipe kernel: the tile's stage buffers (`2 * TILE * dim`
 /// values each) stay in L1, with a length known at compile time.
@@ -27,23 +26,6 @@ const TILE: usize = 16;
 pub(super) const TASK: usize = 16384;
 /// From this many particles on, tasks run in parallel.
 pub(super) const PARALLEL_MIN: usize = 4 * TASK;
-
-/// Whether the kernels may take their AVX2 code path (see [`set_vector_paths`]).
-static VECTOR_PATHS: AtomicBool = AtomicBool::new(true);
-
-/// Allows (the default) or forbids the kernels' AVX2 code path, for the whole process. Both
-/// paths give bitwise the same results (only IEEE `+ - * / sqrt`, no fused multiply-add);
-/// this switch exists to check that, and to measure what the vector code gains.
-pub fn set_vector_paths(enabled: bool) {
-    VECTOR_PATHS.store(enabled, Ordering::Relaxed);
-}
-
-/// Whether the AVX2 path runs: the CPU has AVX2 and it is allowed.
-#[cfg(target_arch = "x86_64")]
-#[inline]
-fn avx2() -> bool {
-    VECTOR_PATHS.load(Ordering::Relaxed) && std::arch::is_x86_feature_detected!("avx2")
-}
 
 /// What a run needs of the world's forces.
 #[derive(Clone, Copy)]

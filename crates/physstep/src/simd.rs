@@ -1,0 +1,23 @@
+//! The vector code paths: kernels compiled for AVX2 run where the CPU has it (run-time
+//! dispatch), the baseline build elsewhere. Only `+ - * / sqrt` of IEEE doubles are used and
+//! no multiply-add is fused (Rust never contracts `a * b + c`), so both paths give bitwise
+//! the same results; [`set_vector_paths`] switches the AVX2 path off to check that.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether the kernels may take their AVX2 code path (see [`set_vector_paths`]).
+static VECTOR_PATHS: AtomicBool = AtomicBool::new(true);
+
+/// Allows (the default) or forbids the AVX2 code paths (the particle kernels, n-body
+/// gravity), for the whole process. Both paths give bitwise the same results; this switch
+/// exists to check that, and to measure what the vector code gains.
+pub fn set_vector_paths(enabled: bool) {
+    VECTOR_PATHS.store(enabled, Ordering::Relaxed);
+}
+
+/// Whether the AVX2 path runs: the CPU has AVX2 and it is allowed.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+pub(crate) fn avx2() -> bool {
+    VECTOR_PATHS.load(Ordering::Relaxed) && std::arch::is_x86_feature_detected!("avx2")
+}
