@@ -19,6 +19,7 @@ import physstep
 from physstep import _files as files
 from physstep import lab
 from physstep.cli import options, output
+from physstep.lab.common import MAX_JOBS
 
 #: The most step sizes ``order --levels`` runs (the finest run is 2**(levels-1) times finer).
 MAX_LEVELS = 12
@@ -90,7 +91,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     _check_plot(args.plot)
     methods = _methods(args.methods)
     params = _params(args)
-    res = lab.compare(args.scene, methods, args.dt, args.until, params)
+    res = lab.compare(args.scene, methods, args.dt, args.until, params, jobs=args.jobs)
     until = options.requested_until(args.scene, args.until)
     steps, t_end = _span(res)
     res.setdefault("until_requested", until)
@@ -283,7 +284,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         def progress(done: int, total: int, label: str) -> None:
             bar.update(task, completed=done, description=label)
 
-        res = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress)
+        res = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress, jobs=args.jobs)
     res.setdefault("until_requested", options.requested_until(args.scene, args.until))
     for r in res["rows"]:
         # where each run ended: dt does not always divide until (the lab may say it itself)
@@ -327,6 +328,15 @@ def _add_time_scale(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _add_jobs(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--jobs",
+        type=options.argument("--jobs", int, low=1, high=MAX_JOBS),
+        default=1,
+        help=f"run the rows in this many local processes, 1 to {MAX_JOBS} (default 1); the same results",
+    )
+
+
 def register(subparsers: Any) -> None:
     """Adds ``compare``, ``order``, ``stability`` and ``sweep`` to an argparse subparsers object."""
     c = subparsers.add_parser("compare", help="compare methods on a scene: order, cost, energy, error")
@@ -339,6 +349,7 @@ def register(subparsers: Any) -> None:
     c.add_argument("--dt", type=options.DT, default=None, help="step, s (default: the scene's)")
     c.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
     c.add_argument("--plot", metavar="FILE.png", help="also plot the runs (.png or .svg)")
+    _add_jobs(c)
     options.add_param(c)
     options.add_format(c)
     c.set_defaults(func=_cmd_compare)
@@ -385,6 +396,7 @@ def register(subparsers: Any) -> None:
     w.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
     w.add_argument("--out", metavar="FILE", help="write the data here instead of stdout")
     w.add_argument("--plot", metavar="FILE.png", help="also plot work-precision (.png or .svg)")
+    _add_jobs(w)
     options.add_param(w)
     options.add_format(w, ("csv", "json"))
     w.set_defaults(func=_cmd_sweep)

@@ -8,7 +8,10 @@ any is made (:func:`check_run`): a refusal names the lab's own argument (``dt``,
 
 from __future__ import annotations
 
+import concurrent.futures
 import math
+import multiprocessing
+import pickle
 import statistics
 import time
 from collections.abc import Callable
@@ -150,3 +153,78 @@ def timing_note() -> str:
         f"ns_per_step: median over ns_per_step_runs timed runs (at least {TIMING_MIN_RUNS} runs and "
         f"{TIMING_MIN_S:g} s in all, at most {TIMING_MAX_RUNS} runs or {TIMING_MAX_S:g} s)"
     )
+
+
+#: Most local worker processes ``jobs`` may ask for.
+MAX_JOBS = 1024
+
+
+def check_jobs(scene: Any, jobs: Any, executor: Any) -> int | None:
+    """Validates ``jobs`` and ``executor`` of a lab function; returns the number of local
+    processes to start (None: run in this process, or on ``executor``).
+
+    ValueError naming ``jobs`` (not a whole number from 1 to :data:`MAX_JOBS`, or given with
+    ``executor``), ``executor`` (no ``submit``) or ``scene`` (a system that does not pickle,
+    so it cannot reach another process).
+    """
+    if jobs is not None and (
+        isinstance(jobs, bool) or not isinstance(jobs, int) or not 1 <= jobs <= MAX_JOBS
+    ):
+        raise ValueError(f"invalid jobs = {jobs!r}: must be a whole number from 1 to {MAX_JOBS}")
+    if executor is not None and jobs is not None:
+        raise ValueError(f"invalid jobs = {jobs!r}: give jobs or executor, not both")
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise ValueError(f"invalid executor = {executor!r}: must be a concurrent.futures.Executor")
+    parallel = executor is not None or (jobs or 1) > 1
+    if parallel and not isinstance(scene, str):
+        try:
+            pickle.dumps(scene)
+        except Exception:  # noqa: BLE001 - any pickling failure means the same thing here
+            raise ValueError(
+                f"invalid scene = {scene!r}: a system run with jobs or executor must pickle "
+                "(a module-level function or a physstep.Flow, not a lambda or a closure)"
+            ) from None
+    return jobs if (jobs or 1) > 1 else None
+
+
+def run_units(
+    fn: Callable[..., dict[str, Any]],
+    units: list[tuple[Any, ...]],
+    jobs: int | None,
+    executor: Any,
+    progress: Callable[[int, int, str], None] | None = None,
+    labels: list[str] | None = None,
+) -> list[dict[str, Any]]:
+    """``[fn(*u) for u in units]``, in this process, in ``jobs`` local processes or on
+    ``executor``; results in the order of ``units`` whatever order they finish in.
+    ``progress(done, total, label)`` is called in this process as results come in, in order.
+    """
+    total = len(units)
+
+    def report(done: int) -> None:
+        if progress is not None:
+            progress(done, total, labels[done - 1] if labels else "")
+
+    if jobs is None and executor is None:
+        out = []
+        for u in units:
+            out.append(fn(*u))
+            report(len(out))
+        return out
+    own = None
+    if executor is None:
+        # spawn, not fork: the parent may hold threads (rayon's, a GUI's).
+        own = concurrent.futures.ProcessPoolExecutor(
+            max_workers=jobs, mp_context=multiprocessing.get_context("spawn")
+        )
+        executor = own
+    try:
+        futures = [executor.submit(fn, *u) for u in units]
+        out = []
+        for f in futures:
+            out.append(f.result())
+            report(len(out))
+        return out
+    finally:
+        if own is not None:
+            own.shutdown(cancel_futures=True)

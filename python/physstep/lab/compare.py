@@ -13,11 +13,13 @@ from physstep import Trajectory
 from physstep.lab.common import (
     ANGULAR_MOMENTUM_ERROR,
     REFERENCE_REFINE,
+    check_jobs,
     check_run,
     drift,
     energy_scale,
     max_abs,
     positive,
+    run_units,
     timed,
 )
 from physstep.lab.reference import error_against, final_error, reference
@@ -40,6 +42,9 @@ def compare(
     dt: float | None = None,
     until: float | None = None,
     params: dict[str, float] | None = None,
+    *,
+    jobs: int | None = None,
+    executor: Any = None,
 ) -> dict[str, Any]:
     """One row per method on ``scene`` at ``dt`` up to ``until`` (the scene's defaults if None).
 
@@ -70,7 +75,13 @@ def compare(
     not apply to rigid bodies: ``"all"`` skips it with a note, naming it is refused.
     ValueError naming ``dt`` or ``until`` before anything runs if a run would be refused (no
     whole step, too many steps, too large a recording).
+
+    ``jobs=N`` runs the methods in N local processes; ``executor=`` on any
+    ``concurrent.futures.Executor`` (a Dask ``Client.get_executor()``, a Ray pool), which is
+    not shut down. The rows are the serial run's, in its order, bitwise but for the timing
+    columns. A system (not a scene name) must then pickle (a module-level function, a Flow).
     """
+    jobs = check_jobs(scene, jobs, executor)
     subject = Subject(scene, params)
     names, skipped = subject.methods(methods)
     dt, until = run_args(subject, dt, until)
@@ -86,7 +97,10 @@ def compare(
             what="the reference run",
         )
         ref = reference(scene, dt, until, params, every=REFERENCE_REFINE)
-    rows = [_row(subject, m, dt, until, ref) for m in names]
+    if jobs is None and executor is None:
+        rows = [_row(subject, m, dt, until, ref) for m in names]
+    else:
+        rows = run_units(_unit, [(scene, params, m, dt, until, ref) for m in names], jobs, executor)
     t_end = next((r["t_end"] for r in rows if not r["diverged"]), steps * dt)
     against = error_against(subject.has_exact, None if ref is None else dt / REFERENCE_REFINE)
     out = table(subject, until, against, skipped, rows)
@@ -103,6 +117,13 @@ def _l_error(traj: Trajectory) -> float | None:
         return None
     l0 = float(np.linalg.norm(ang[0]))
     return float(np.max(np.linalg.norm(ang - ang[0], axis=1)) / (l0 if l0 > 0 else 1.0))
+
+
+def _unit(
+    scene: Any, params: dict[str, float] | None, method: str, dt: float, until: float, ref: Trajectory | None
+) -> dict[str, Any]:
+    """One row of :func:`compare` in another process (the scene or system travels pickled)."""
+    return _row(Subject(scene, params), method, dt, until, ref)
 
 
 def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:

@@ -8,9 +8,11 @@ from typing import Any
 from physstep import Trajectory
 from physstep.lab.common import (
     REFERENCE_REFINE,
+    check_jobs,
     check_run,
     max_abs,
     positive,
+    run_units,
     timed,
 )
 from physstep.lab.reference import error_against, final_error, max_error, reference
@@ -37,6 +39,8 @@ def sweep(
     params: dict[str, float] | None = None,
     *,
     progress: Callable[[int, int, str], None] | None = None,
+    jobs: int | None = None,
+    executor: Any = None,
 ) -> dict[str, Any]:
     """Work-precision data: every method at every dt up to ``until``.
 
@@ -57,7 +61,14 @@ def sweep(
 
     Every dt must be <= ``until`` (at least one step); a run that :func:`physstep.simulate`
     would refuse is a ValueError naming ``dts`` and ``until`` before anything runs.
+
+    ``jobs=N`` runs the rows in N local processes; ``executor=`` on any
+    ``concurrent.futures.Executor`` (a Dask ``Client.get_executor()``, a Ray pool), which is
+    not shut down. The rows are the serial run's, in its order, bitwise (physstep is
+    deterministic) but for the timing columns; ``progress`` is called here as rows come in.
+    A system (not a scene name) must then pickle (a module-level function, a Flow).
     """
+    jobs = check_jobs(scene, jobs, executor)
     subject = Subject(scene, params)
     names, skipped = subject.methods(methods)
     values = _check_dts(dts)
@@ -78,16 +89,22 @@ def sweep(
             what="the reference run",
         )
         ref = reference(scene, min(values), until, params)
-    total = len(names) * len(values)
-    rows = []
-    for m in names:
-        for d in sorted(values, reverse=True):
-            rows.append(_row(subject, m, d, until, ref))
-            if progress is not None:
-                progress(len(rows), total, f"{m} dt={d:g}")
+    units = [(scene, params, m, d, until, ref) for m in names for d in sorted(values, reverse=True)]
+    labels = [f"{u[2]} dt={u[3]:g}" for u in units]
+    if jobs is None and executor is None:
+        rows = run_units(lambda *u: _row(subject, *u[2:]), units, None, None, progress, labels)
+    else:
+        rows = run_units(_unit, units, jobs, executor, progress, labels)
     return table(
         subject, until, error_against(subject.has_exact, None if ref is None else ref.dt), skipped, rows
     )
+
+
+def _unit(
+    scene: Any, params: dict[str, float] | None, method: str, dt: float, until: float, ref: Trajectory | None
+) -> dict[str, Any]:
+    """One row of :func:`sweep` in another process (the scene or system travels pickled)."""
+    return _row(Subject(scene, params), method, dt, until, ref)
 
 
 def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:
