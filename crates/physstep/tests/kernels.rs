@@ -36,6 +36,19 @@ fn world(method: &str, dim: usize, n: usize, forces: &[Force], with_static: bool
     w
 }
 
+/// Steps `w` one staged step at a time until one fails: the good steps and the error.
+fn staged_failure(w: &mut World, what: &str) -> (u64, physstep::Error) {
+    let mut log = StageLog::default();
+    let mut good = 0;
+    loop {
+        match w.step_logged(w.dt(), &mut log) {
+            Ok(()) => good += 1,
+            Err(e) => return (good, e),
+        }
+        assert!(good < 100_000, "{what}: never diverged");
+    }
+}
+
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
 }
@@ -189,15 +202,7 @@ fn a_failing_step_inside_a_call_is_rolled_back_and_named() {
         let make = |_: &str| make(method.split(' ').next().unwrap_or_default());
         // Where the staged step fails, one step at a time.
         let mut staged = make(method);
-        let mut log = StageLog::default();
-        let mut good = 0;
-        let staged_err = loop {
-            match staged.step_logged(staged.dt(), &mut log) {
-                Ok(()) => good += 1,
-                Err(e) => break e,
-            }
-            assert!(good < 100_000, "{method}: never diverged");
-        };
+        let (good, staged_err) = staged_failure(&mut staged, method);
         // The kernel, in one call that passes the failure.
         let mut w = make(method);
         let err = w.step(good + 50).unwrap_err();
@@ -229,15 +234,7 @@ fn a_failing_staged_step_inside_a_call_is_rolled_back_and_named() {
     // The staged step keeps one checkpoint per call of several steps and replays on failure.
     for method in ["explicit-euler", "symplectic-euler-alternating", "verlet", "leapfrog", "rk4", "heun"] {
         let mut staged = exploding_pair(method);
-        let mut log = StageLog::default();
-        let mut good = 0;
-        let staged_err = loop {
-            match staged.step_logged(staged.dt(), &mut log) {
-                Ok(()) => good += 1,
-                Err(e) => break e,
-            }
-            assert!(good < 100_000, "{method}: never diverged");
-        };
+        let (good, staged_err) = staged_failure(&mut staged, method);
         let mut w = exploding_pair(method);
         w.step(3).unwrap();
         let err = w.step(good + 20).unwrap_err();
@@ -249,6 +246,7 @@ fn a_failing_staged_step_inside_a_call_is_rolled_back_and_named() {
         w.set_dt(1e-9).unwrap();
         staged.set_dt(1e-9).unwrap();
         w.step(5).unwrap();
+        let mut log = StageLog::default();
         for _ in 0..5 {
             staged.step_logged(1e-9, &mut log).unwrap();
         }
@@ -269,15 +267,7 @@ fn a_failure_in_one_parallel_task_rolls_back_every_task() {
             w
         };
         let mut staged = make();
-        let mut log = StageLog::default();
-        let mut good = 0;
-        let staged_err = loop {
-            match staged.step_logged(staged.dt(), &mut log) {
-                Ok(()) => good += 1,
-                Err(e) => break e,
-            }
-            assert!(good < 10_000, "{method}: never diverged");
-        };
+        let (good, staged_err) = staged_failure(&mut staged, method);
         let mut w = make();
         let err = w.step(good + 10).unwrap_err();
         assert_eq!(err.to_string(), staged_err.to_string(), "{method}");

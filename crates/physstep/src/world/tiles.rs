@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::flat::{self, Flat, Recipe};
 use super::Epoch;
-use crate::dynamics::{Step, System};
+use crate::dynamics::{Second, SecondOrder, Step};
 use crate::forces::local::{AnchorSpring, Local};
 use crate::integrators::registry::RUNAWAY;
 use crate::integrators::Method;
@@ -53,7 +53,8 @@ impl Run {
     }
 }
 
-/// One tile of particles as a system: `y = [x; v]` of the tile, per-particle forces.
+/// One tile of particles under per-particle forces, a [`SecondOrder`] system (a `System`
+/// through [`Second`], as a world's particles are).
 struct Tile<'a, const D: usize> {
     local: &'a Local,
     /// Index of the tile's first particle.
@@ -63,37 +64,18 @@ struct Tile<'a, const D: usize> {
     velocity: bool,
 }
 
-impl<const D: usize> System for Tile<'_, D> {
+impl<const D: usize> SecondOrder for Tile<'_, D> {
     #[inline]
-    fn dim(&self) -> usize {
-        2 * D * self.inv_mass.len()
+    fn len(&self) -> usize {
+        D * self.inv_mass.len()
     }
     #[inline]
-    fn split(&self) -> Option<usize> {
-        Some(D * self.inv_mass.len())
-    }
-    fn jacobian(&mut self, _t: f64, _y: &[f64], _j: &mut [f64], _work: &mut Vec<f64>) -> bool {
-        false
-    }
-    #[inline]
-    fn accel(&mut self, _t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {
-        self.local.accel::<D>(self.p0, x, w, self.inv_mass, self.springs, a);
-    }
-    #[inline]
-    fn drift(&mut self, x: &mut [f64], w: &[f64], h: f64) {
-        crate::integrators::axpy(x, h, w);
-    }
-    #[inline]
-    fn rate(&self, _x: &[f64], v: &[f64], dx: &mut [f64]) {
-        dx.copy_from_slice(v);
+    fn accel(&mut self, _t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
+        self.local.accel::<D>(self.p0, x, v, self.inv_mass, self.springs, a);
     }
     #[inline]
     fn velocity_dependent(&self) -> bool {
         self.velocity
-    }
-    #[inline]
-    fn kick_drift(&mut self, x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
-        crate::integrators::kick_drift(x, v, dx, a, h);
     }
 }
 
@@ -159,12 +141,14 @@ fn tile<const D: usize, M: Method, const L: usize>(
     let mut f = [0.0; L];
     let m = xt.len();
     let springs = forces.local.anchors(q0, q0 + im.len());
-    let mut sys = Tile::<D> { local: forces.local, p0: q0, inv_mass: im, springs, velocity: forces.velocity };
+    let mut tile =
+        Tile::<D> { local: forces.local, p0: q0, inv_mass: im, springs, velocity: forces.velocity };
     let (y, f) = (&mut y[..2 * m], &mut f[..2 * m]);
     y[..m].copy_from_slice(xt);
     y[m..].copy_from_slice(vt);
     f[..m].copy_from_slice(vt);
-    sys.accel(run.t(0), xt, vt, &mut f[m..]);
+    tile.accel(run.t(0), xt, vt, &mut f[m..]);
+    let mut sys = Second(&mut tile);
     let mut evals = 0;
     let mut good = run.n;
     for k in 0..run.n {
@@ -179,6 +163,32 @@ fn tile<const D: usize, M: Method, const L: usize>(
     xt.copy_from_slice(&y[..m]);
     vt.copy_from_slice(&y[m..]);
     (good, evals)
+}
+
+/// The positions and velocities of a particle state `y = [x; v]`.
+fn halves<'a, const D: usize>(y: &'a mut [f64], inv_mass: &[f64]) -> (&'a mut [f64], &'a mut [f64]) {
+    y.split_at_mut(inv_mass.len() * D)
+}
+
+/// Fixed tasks of [`TASK`] particles, in parallel: positions, velocities, their places in the
+/// checkpoint, inverse masses.
+#[allow(clippy::type_complexity)]
+fn tasks<'a, const D: usize>(
+    inv_mass: &'a [f64],
+    y: &'a mut [f64],
+    saved: &'a mut [f64],
+) -> impl IndexedParallelIterator<Item = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64], &'a [f64])>
+{
+    let ((x, v), (sx, sv)) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
+    let c = TASK * D;
+    (
+        x.par_chunks_mut(c),
+        v.par_chunks_mut(c),
+        sx.par_chunks_mut(c),
+        sv.par_chunks_mut(c),
+        inv_mass.par_chunks(TASK),
+    )
+        .into_par_iter()
 }
 
 /// A run of every particle (state `y = [x; v]`) through `method`'s own recipe, the state at
@@ -202,21 +212,12 @@ pub(super) fn recipe<const D: usize, M: Method + Clone + Send + Sync>(
             }
             recipe_task::<D, M>(m, forces, p0, im, xv, s, run)
         };
-    let (x, v) = y.split_at_mut(inv_mass.len() * D);
-    let (sx, sv) = saved.split_at_mut(inv_mass.len() * D);
     if inv_mass.len() < PARALLEL_MIN {
+        let ((x, v), (sx, sv)) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
         return task(method, 0, inv_mass, (x, v), (sx, sv));
     }
     let proto = &*method;
-    let c = TASK * D;
-    (
-        x.par_chunks_mut(c),
-        v.par_chunks_mut(c),
-        sx.par_chunks_mut(c),
-        sv.par_chunks_mut(c),
-        inv_mass.par_chunks(TASK),
-    )
-        .into_par_iter()
+    tasks::<D>(inv_mass, y, saved)
         .enumerate()
         .map_init(|| proto.clone(), |m, (k, (x, v, sx, sv, im))| task(m, k * TASK, im, (x, v), (sx, sv)))
         .reduce(|| (run.n, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)))
@@ -259,22 +260,11 @@ pub(super) fn elementwise<const D: usize>(
         }
         flat::run::<D>(r, k, velocity, h, n, im, xv, s)
     };
-    let (x, v) = y.split_at_mut(inv_mass.len() * D);
-    let (sx, sv) = saved.split_at_mut(inv_mass.len() * D);
     if inv_mass.len() < PARALLEL_MIN {
+        let ((x, v), (sx, sv)) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
         return task(inv_mass, (x, v), (sx, sv));
     }
-    let c = TASK * D;
-    (
-        x.par_chunks_mut(c),
-        v.par_chunks_mut(c),
-        sx.par_chunks_mut(c),
-        sv.par_chunks_mut(c),
-        inv_mass.par_chunks(TASK),
-    )
-        .into_par_iter()
-        .map(|(x, v, sx, sv, im)| task(im, (x, v), (sx, sv)))
-        .reduce(|| n, u64::min)
+    tasks::<D>(inv_mass, y, saved).map(|(x, v, sx, sv, im)| task(im, (x, v), (sx, sv))).reduce(|| n, u64::min)
 }
 
 #[cfg(target_arch = "x86_64")]
