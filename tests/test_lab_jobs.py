@@ -5,6 +5,8 @@ from __future__ import annotations
 import concurrent.futures
 import json
 import math
+import subprocess
+import sys
 from typing import Any
 
 import physstep
@@ -84,6 +86,23 @@ def test_bad_jobs_and_executors_are_refused(kwargs: dict[str, Any], field: str) 
 def test_a_lambda_system_is_refused_before_anything_runs() -> None:
     with pytest.raises(ValueError, match="invalid scene = .*must pickle"):
         lab.compare(lambda: pendulum_world(), ["rk4"], dt=0.1, until=1.0, jobs=2)
+
+
+def test_a_system_from_an_interactive_session_is_refused_for_local_processes() -> None:
+    code = (
+        "import physstep, physstep.lab as lab\n"
+        "def system():\n"
+        "    w = physstep.World(1, method='rk4', dt=0.1)\n"
+        "    w.add_particle([1.0], [0.0], 1.0)\n"
+        "    return w\n"
+        "try:\n"
+        "    lab.compare(system, ['rk4'], dt=0.1, until=1.0, jobs=2)\n"
+        "except ValueError as e:\n"
+        "    print(e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.stdout.startswith("invalid scene = <function system"), out.stdout + out.stderr
+    assert "interactive session" in out.stdout
 
 
 def test_cli_jobs(cli: Any) -> None:

@@ -13,6 +13,7 @@ import math
 import multiprocessing
 import pickle
 import statistics
+import sys
 import time
 from collections.abc import Callable
 from typing import Any
@@ -184,6 +185,13 @@ def check_jobs(scene: Any, jobs: Any, executor: Any) -> int | None:
                 f"invalid scene = {scene!r}: a system run with jobs or executor must pickle "
                 "(a module-level function or a physstep.Flow, not a lambda or a closure)"
             ) from None
+    interactive = not hasattr(sys.modules.get("__main__"), "__file__")
+    if (jobs or 1) > 1 and interactive and getattr(scene, "__module__", None) == "__main__":
+        raise ValueError(
+            f"invalid scene = {scene!r}: defined in an interactive session (python -c, a notebook), "
+            "which the worker processes jobs starts cannot import; define it in a module, or pass an "
+            "executor that pickles by value (Dask's)"
+        )
     return jobs if (jobs or 1) > 1 else None
 
 
