@@ -172,7 +172,7 @@ impl Recorder {
         let dt = self.params.dt;
         let end = self.steps.min(self.next.saturating_add(max_steps).saturating_sub(1));
         while !self.done && self.next <= end {
-            let k = self.next;
+            let mut k = self.next;
             let r = if self.params.stages {
                 self.log.rows.clear();
                 let r = world.step_logged(dt, &mut self.log);
@@ -188,7 +188,19 @@ impl Recorder {
                 }
                 r
             } else {
-                world.step_by(dt)
+                // The steps up to the next recorded one in one call: the fused kernels take
+                // them together. `k` becomes the last step taken.
+                let every = self.params.every;
+                let last = (k.div_ceil(every) * every).min(self.steps).min(end);
+                let before = world.steps();
+                let r = world.step_n_by(last - k + 1, dt);
+                let taken = world.steps() - before;
+                if r.is_ok() {
+                    k = last;
+                } else {
+                    k += taken;
+                }
+                r
             };
             let r = r.and_then(|()| {
                 if k % self.params.every == 0 || k == self.steps {
@@ -197,7 +209,7 @@ impl Recorder {
                     Ok(())
                 }
             });
-            self.next += 1;
+            self.next = k + 1;
             if let Err(e) = r {
                 if self.params.stop_on_diverge && e.is_step_failure() {
                     self.done = true;

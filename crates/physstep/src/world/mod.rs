@@ -483,6 +483,15 @@ impl World {
         self.run(n, self.dt())
     }
 
+    /// `n` steps of `dt` seconds (not necessarily the fixed one), as [`World::step`] takes
+    /// them: a failing step is rolled back, the steps before it stay taken.
+    ///
+    /// # Errors
+    /// As [`World::step_by`].
+    pub fn step_n_by(&mut self, n: u64, dt: f64) -> Result<()> {
+        self.run(n, dt)
+    }
+
     /// One step of `dt` seconds (not necessarily the fixed one).
     ///
     /// # Errors
