@@ -63,9 +63,7 @@ pub(crate) fn simulate<'py>(
     if built.has_exact() {
         let (mut ex, mut ev) = (Vec::with_capacity(rec.x.len()), Vec::with_capacity(rec.x.len()));
         for t in &rec.t {
-            let (x, v) = built.exact(*t).unwrap_or_default();
-            ex.extend(x);
-            ev.extend(v);
+            built.exact_into(*t, &mut ex, &mut ev);
         }
         d.set_item("exact_x", matrix(py, ex, n)?)?;
         d.set_item("exact_v", matrix(py, ev, n)?)?;

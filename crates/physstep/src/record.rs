@@ -173,6 +173,8 @@ impl Recorder {
         let end = self.steps.min(self.next.saturating_add(max_steps).saturating_sub(1));
         while !self.done && self.next <= end {
             let mut k = self.next;
+            // Whether the rows up to step k are recorded already.
+            let mut recorded = false;
             let r = if self.params.stages {
                 self.log.rows.clear();
                 let r = world.step_logged(dt, &mut self.log);
@@ -186,6 +188,11 @@ impl Recorder {
                     };
                     self.rec.stages.push((k - 1, row.stage, row.t, x, v, a));
                 }
+                r
+            } else if let Some((r, last)) = self.observed(world, k, end) {
+                // Every step recorded from inside the kernel's loop.
+                recorded = true;
+                k = last;
                 r
             } else {
                 // The steps up to the next recorded one in one call: the fused kernels take
@@ -203,7 +210,7 @@ impl Recorder {
                 r
             };
             let r = r.and_then(|()| {
-                if k % self.params.every == 0 || k == self.steps {
+                if !recorded && (k % self.params.every == 0 || k == self.steps) {
                     record(world, &mut self.rec)
                 } else {
                     Ok(())
@@ -231,11 +238,65 @@ impl Recorder {
         Ok(self.done)
     }
 
+    /// Steps `first..=end` of a recording of every step of a small world through the fused
+    /// kernel, each row taken inside its loop ([`World::run_observed`]); the outcome (a failed
+    /// step, or a row whose energy is not finite) and the index of the last step it concerns
+    /// (the failed step, or the last one taken). `None` when the kernel does not apply
+    /// (nothing done).
+    fn observed(&mut self, world: &mut World, first: u64, end: u64) -> Option<(Result<()>, u64)> {
+        if self.params.every != 1 {
+            return None;
+        }
+        let method = world.integrator().info().name;
+        let before = world.steps();
+        let rec = &mut self.rec;
+        let mut failed = None;
+        let mut row = |r: crate::world::Row<'_>| match push_row(&r, method, rec) {
+            Ok(()) => true,
+            Err(e) => {
+                failed = Some(e);
+                false
+            }
+        };
+        let r = world.run_observed(end - first + 1, self.params.dt, &mut row)?;
+        let taken = world.steps() - before;
+        Some(match (r, failed) {
+            (Err(e), _) => (Err(e), first + taken),
+            (Ok(()), Some(e)) => (Err(e), first + taken - 1),
+            (Ok(()), None) => (Ok(()), first + taken - 1),
+        })
+    }
+
     /// The recording so far.
     #[must_use]
     pub fn finish(self) -> Recording {
         self.rec
     }
+}
+
+/// Appends a row handed out by the kernel, as [`record`] would take it from the world (a
+/// world of particles only).
+fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording) -> Result<()> {
+    let kinetic = r.model.kinetic(r.v);
+    let e = r.model.potential(r.x).map(|u| kinetic + u);
+    if let Some(e) = e.filter(|e| !e.is_finite()) {
+        return Err(Error::NonFinite {
+            method: method.into(),
+            quantity: "energy".into(),
+            value: e,
+            step: r.steps,
+            t: r.t,
+        });
+    }
+    rec.a.extend_from_slice(r.a);
+    rec.t.push(r.t);
+    rec.x.extend_from_slice(r.x);
+    rec.v.extend_from_slice(r.v);
+    if let Some(e) = e {
+        rec.energy.push(e);
+    }
+    rec.kinetic.push(kinetic);
+    Ok(())
 }
 
 /// Appends the world's current row; a non-finite energy (the state is finite, its energy

@@ -54,28 +54,39 @@ impl Scene {
     /// The exact positions and velocities at time `t` (flat, like the world's), if known.
     #[must_use]
     pub fn exact(&self, t: f64) -> Option<(Vec<f64>, Vec<f64>)> {
-        Some(match self.exact? {
+        let (mut x, mut v) = (Vec::new(), Vec::new());
+        self.exact_into(t, &mut x, &mut v).then_some((x, v))
+    }
+
+    /// [`Scene::exact`] appended to `x` and `v` (no allocation once they have room): what a
+    /// recording calls once per row. Returns whether the scene has an exact solution.
+    pub fn exact_into(&self, t: f64, x: &mut Vec<f64>, v: &mut Vec<f64>) -> bool {
+        let Some(exact) = self.exact else { return false };
+        match exact {
             Exact::Oscillator { w0, zeta, x0, v0 } => {
-                let (x, v) = oscillator(w0, zeta, x0, v0, t);
-                (vec![x], vec![v])
+                let (xt, vt) = oscillator(w0, zeta, x0, v0, t);
+                x.push(xt);
+                v.push(vt);
             }
             Exact::Ballistic { x0, v0, a } => {
-                let x = (0..2).map(|k| x0[k] + v0[k] * t + 0.5 * a[k] * t * t).collect();
-                let v = (0..2).map(|k| v0[k] + a[k] * t).collect();
-                (x, v)
+                x.extend((0..2).map(|k| x0[k] + v0[k] * t + 0.5 * a[k] * t * t));
+                v.extend((0..2).map(|k| v0[k] + a[k] * t));
             }
             Exact::Drag { rate, x0, v0 } => {
                 if rate == 0.0 {
-                    (vec![x0 + v0 * t], vec![v0])
+                    x.push(x0 + v0 * t);
+                    v.push(v0);
                 } else {
                     let decay = (-rate * t).exp();
-                    (vec![x0 + v0 / rate * (1.0 - decay)], vec![v0 * decay])
+                    x.push(x0 + v0 / rate * (1.0 - decay));
+                    v.push(v0 * decay);
                 }
             }
             Exact::Circle { r, w, phase, sign } => {
                 let th = phase + w * t;
                 let (s, c) = th.sin_cos();
-                (vec![r * s, sign * r * c], vec![r * w * c, -sign * r * w * s])
+                x.extend([r * s, sign * r * c]);
+                v.extend([r * w * c, -sign * r * w * s]);
             }
             Exact::Kepler { e } => {
                 // Mean anomaly M = t (n = 1).
@@ -83,9 +94,11 @@ impl Scene {
                 let (s, c) = big_e.sin_cos();
                 let b = (1.0 - e * e).sqrt();
                 let de = 1.0 / (1.0 - e * c);
-                (vec![c - e, b * s], vec![-s * de, b * c * de])
+                x.extend([c - e, b * s]);
+                v.extend([-s * de, b * c * de]);
             }
-        })
+        }
+        true
     }
 }
 

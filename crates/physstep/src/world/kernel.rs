@@ -49,22 +49,26 @@ struct Fused<'a, const D: usize> {
     n: u64,
 }
 
+/// How many of `n` steps from `steps` (at time `t`) move the time: time is `t0 + k h` (see
+/// `World::context`), and it must move at every step.
+fn movable(epoch: Epoch, steps: u64, t: f64, n: u64) -> u64 {
+    let mut prev = t;
+    for k in 0..n {
+        let t_end = epoch.time(steps + k + 1).unwrap_or(f64::NAN);
+        if !(t_end > prev && t_end.is_finite()) {
+            return k;
+        }
+        prev = t_end;
+    }
+    n
+}
+
 impl<const D: usize> Visit for Fused<'_, D> {
     type Out = (u64, Option<Stop>);
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, Option<Stop>) {
         let Self { forces, flat, inv_mass, y, saved, t, steps, evals, epoch, h, n } = self;
-        // Time as t0 + k h (see `World::context`), and it must move at every step.
-        let mut prev = *t;
-        let mut movable = n;
-        for k in 0..n {
-            let t_end = epoch.time(*steps + k + 1).unwrap_or(f64::NAN);
-            if !(t_end > prev && t_end.is_finite()) {
-                movable = k;
-                break;
-            }
-            prev = t_end;
-        }
+        let movable = movable(epoch, *steps, *t, n);
         let run = Run { epoch, steps: *steps, h, n: movable };
         let (good, e) = match flat {
             Some((r, k)) => (
@@ -86,7 +90,161 @@ impl<const D: usize> Visit for Fused<'_, D> {
     }
 }
 
+/// The state after a step, as [`World::run_observed`] hands it out.
+pub(crate) struct Row<'a> {
+    /// The forces and masses (for energies).
+    pub model: &'a super::Model,
+    /// Steps taken, this one included.
+    pub steps: u64,
+    /// Time, s.
+    pub t: f64,
+    /// Positions, velocities, accelerations (flat, `n * dim`).
+    pub x: &'a [f64],
+    pub v: &'a [f64],
+    pub a: &'a [f64],
+}
+
+/// Up to `n` steps of a small world with a look at every one, as work for
+/// [`Integrator::visit`].
+struct Observe<'a, 'b, const D: usize> {
+    forces: Forces<'a>,
+    model: &'a super::Model,
+    y: &'a mut [f64],
+    saved: &'a mut [f64],
+    t: &'a mut f64,
+    steps: &'a mut u64,
+    evals: &'a mut u64,
+    epoch: Epoch,
+    h: f64,
+    n: u64,
+    on_row: &'b mut dyn FnMut(Row<'_>) -> bool,
+}
+
+impl<const D: usize> Visit for Observe<'_, '_, D> {
+    type Out = (u64, Option<Stop>);
+
+    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, Option<Stop>) {
+        let Self { forces, model, y, saved, t, steps, evals, epoch, h, n, on_row } = self;
+        let movable = movable(epoch, *steps, *t, n);
+        let steps0 = *steps;
+        let run = Run { epoch, steps: steps0, h, n: movable };
+        let mut look = |k: u64, y: &[f64], f: &[f64]| {
+            let (m, s) = (y.len() / 2, steps0 + k + 1);
+            let t = epoch.time(s).unwrap_or(f64::NAN);
+            on_row(Row { model, steps: s, t, x: &y[..m], v: &y[m..], a: &f[m..] })
+        };
+        let ((good, e), halted) =
+            tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look);
+        *steps += good;
+        *t = epoch.time(*steps).unwrap_or(f64::NAN);
+        *evals += good * e;
+        if halted || good == n {
+            (good, None)
+        } else if good < movable {
+            (good, Some(Stop::Bad))
+        } else {
+            (good, Some(Stop::Time))
+        }
+    }
+}
+
 impl World {
+    /// `n` steps of `h` seconds as [`World::run`] takes them, `on_row` called with the state
+    /// after each good step (it stops the run after that step by returning `false`), when the
+    /// world is small (one tile) and the fused kernel applies; `None` otherwise, nothing done.
+    /// A recording of every step takes its rows this way, inside the kernel's loop.
+    pub(crate) fn run_observed(
+        &mut self,
+        n: u64,
+        h: f64,
+        on_row: &mut dyn FnMut(Row<'_>) -> bool,
+    ) -> Option<Result<()>> {
+        let small = n > 0 && self.model.mass.len() <= tiles::OBSERVED_MAX;
+        let mut method = self.fused().filter(|_| small)?;
+        let mut saved = std::mem::take(&mut self.replay);
+        let r = self.observe(&mut method, &mut saved, n, h, on_row);
+        self.replay = saved;
+        Some(r)
+    }
+
+    fn observe(
+        &mut self,
+        method: &mut Integrator,
+        saved: &mut Vec<f64>,
+        n: u64,
+        h: f64,
+        on_row: &mut dyn FnMut(Row<'_>) -> bool,
+    ) -> Result<()> {
+        let ctx = self.context(h)?;
+        if self.stale {
+            self.refresh()?;
+        }
+        self.prev_x.clear();
+        saved.resize(self.state.y.len(), 0.0);
+        let start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
+        let forces = Forces { local: self.model.forces.local(), velocity: self.model.velocity_dependent() };
+        let model = &self.model;
+        let State { t, y, steps, evals, .. } = &mut self.state;
+        let (epoch, saved_slice) = (ctx.epoch, saved.as_mut_slice());
+        let (good, stop) = match model.dim {
+            1 => method.visit(Observe::<1> {
+                forces,
+                model,
+                y,
+                saved: saved_slice,
+                t,
+                steps,
+                evals,
+                epoch,
+                h,
+                n,
+                on_row,
+            }),
+            2 => method.visit(Observe::<2> {
+                forces,
+                model,
+                y,
+                saved: saved_slice,
+                t,
+                steps,
+                evals,
+                epoch,
+                h,
+                n,
+                on_row,
+            }),
+            _ => method.visit(Observe::<3> {
+                forces,
+                model,
+                y,
+                saved: saved_slice,
+                t,
+                steps,
+                evals,
+                epoch,
+                h,
+                n,
+                on_row,
+            }),
+        };
+        if good > 0 {
+            self.epoch = epoch;
+            self.deferred = true;
+        }
+        match stop {
+            None => Ok(()),
+            Some(Stop::Time) => self.context(h).map(|_| ()),
+            Some(Stop::Bad) => {
+                // As in `run_fused`: back to the checkpoint, the good steps again (no look:
+                // their rows are taken), the failing one staged, which names the particle.
+                self.state.y.copy_from_slice(saved);
+                (self.state.t, self.state.steps, self.state.evals, self.epoch) = start;
+                self.fused_steps(method, saved, epoch, good, h);
+                self.step_inner(h, None)
+            }
+        }
+    }
+
     /// A fresh instance of the world's method when the fused kernel applies: particles only
     /// (no bodies, no flow), every force per-particle, no user force, a local method.
     pub(super) fn fused(&self) -> Option<Integrator> {

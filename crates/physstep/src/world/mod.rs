@@ -29,6 +29,7 @@ mod tiles;
 
 pub use crate::simd::set_vector_paths;
 pub use bodies::BodyParams;
+pub(crate) use kernel::Row;
 pub use model::Model;
 pub use rules::ParticleBatch;
 pub use step::{Stage, StepContext};

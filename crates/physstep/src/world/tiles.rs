@@ -107,8 +107,17 @@ fn recipe_task<const D: usize, M: Method>(
         let (a, b) = (q * D, q * D + m);
         let (xt, vt, st) =
             ((&mut x[a..b], &mut v[a..b]), (&mut sx[a..b], &mut sv[a..b]), Run { n: good, ..run });
-        (good, evals) =
-            tile::<D, M, { 2 * TILE * 3 }>(method, forces, p0 + q, &inv_mass[q..q + TILE], xt, vt, st);
+        (good, evals) = tile::<D, M, { 2 * TILE * 3 }>(
+            method,
+            forces,
+            p0 + q,
+            &inv_mass[q..q + TILE],
+            xt,
+            vt,
+            st,
+            &mut |_, _, _| true,
+        )
+        .0;
     }
     // The last particles (fewer than a tile, a small world) in fours: smaller buffers.
     for q in (full..inv_mass.len()).step_by(4) {
@@ -116,7 +125,17 @@ fn recipe_task<const D: usize, M: Method>(
         let (a, b) = (q * D, e * D);
         let (xt, vt, st) =
             ((&mut x[a..b], &mut v[a..b]), (&mut sx[a..b], &mut sv[a..b]), Run { n: good, ..run });
-        (good, evals) = tile::<D, M, { 2 * 4 * 3 }>(method, forces, p0 + q, &inv_mass[q..e], xt, vt, st);
+        (good, evals) = tile::<D, M, { 2 * 4 * 3 }>(
+            method,
+            forces,
+            p0 + q,
+            &inv_mass[q..e],
+            xt,
+            vt,
+            st,
+            &mut |_, _, _| true,
+        )
+        .0;
     }
     (good, evals)
 }
@@ -134,7 +153,8 @@ fn tile<const D: usize, M: Method, const L: usize>(
     (xt, vt): (&mut [f64], &mut [f64]),
     (sx, sv): (&mut [f64], &mut [f64]),
     run: Run,
-) -> (u64, u64) {
+    on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
+) -> ((u64, u64), bool) {
     sx.copy_from_slice(xt);
     sv.copy_from_slice(vt);
     let mut y = [0.0; L];
@@ -151,6 +171,7 @@ fn tile<const D: usize, M: Method, const L: usize>(
     let mut sys = Second(&mut tile);
     let mut evals = 0;
     let mut good = run.n;
+    let mut halted = false;
     for k in 0..run.n {
         let mut e = 0;
         let r = method.step(&mut Step::new(&mut sys, run.t(k), run.h, y, f, &mut e, None));
@@ -159,10 +180,35 @@ fn tile<const D: usize, M: Method, const L: usize>(
             good = k;
             break;
         }
+        if !on_step(k, y, f) {
+            (good, halted) = (k + 1, true);
+            break;
+        }
     }
     xt.copy_from_slice(&y[..m]);
     vt.copy_from_slice(&y[m..]);
-    (good, evals)
+    ((good, evals), halted)
+}
+
+/// Particles a world may have for [`observed`] (one tile).
+pub(super) const OBSERVED_MAX: usize = TILE;
+
+/// A run of a small world (at most [`OBSERVED_MAX`] particles, one tile) through `method`'s
+/// own recipe, `on_step(k, y, f)` called after each good step `k` with the state `[x; v]` and
+/// its derivative `[v; a]` there (return `false` to stop after it); the steps taken, the
+/// evaluations a step takes, and whether `on_step` stopped the run.
+pub(super) fn observed<const D: usize, M: Method>(
+    method: &mut M,
+    forces: Forces<'_>,
+    inv_mass: &[f64],
+    y: &mut [f64],
+    saved: &mut [f64],
+    run: Run,
+    on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
+) -> ((u64, u64), bool) {
+    debug_assert!(inv_mass.len() <= OBSERVED_MAX);
+    let (xv, s) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
+    tile::<D, M, { 2 * TILE * 3 }>(method, forces, 0, inv_mass, xv, s, run, on_step)
 }
 
 /// The positions and velocities of a particle state `y = [x; v]`.
