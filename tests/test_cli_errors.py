@@ -11,7 +11,7 @@ import time
 
 import physstep
 import pytest
-from conftest import run_cli
+from conftest import run_cli, sigint_default
 from physstep import cli
 from physstep.cli import output
 
@@ -111,11 +111,13 @@ def test_sigint_stops_a_long_run() -> None:
         "--param",
         "n=1000",
         "--until",
-        "2",
+        "60",
         "--every",
         "1000",
     ]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, preexec_fn=sigint_default
+    )
     time.sleep(1.5)
     if proc.poll() is not None:
         proc.communicate()

@@ -14,6 +14,7 @@ import time
 import numpy as np
 import physstep
 import pytest
+from conftest import sigint_default
 
 # ------------------------------------------------------------------ 13. type errors
 
@@ -185,7 +186,9 @@ def test_item_7_ctrl_c_interrupts_a_long_step_from_python() -> None:
         "except KeyboardInterrupt:\n"
         "    print('interrupted', w.steps > 0, flush=True)\n"
     )
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    p = subprocess.Popen(
+        [sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, preexec_fn=sigint_default
+    )
     assert p.stdout is not None
     assert p.stdout.readline().strip() == "ready"
     time.sleep(1.0)
