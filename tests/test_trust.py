@@ -145,11 +145,12 @@ def test_item_10_energy_is_measured_against_a_meaningful_scale() -> None:
 
 
 def test_item_16_a_world_used_from_two_threads_says_so() -> None:
-    w = physstep.World.from_scene("nbody", "leapfrog", 0.001, params={"n": 400})
+    # Long enough (about a second) that the other thread looks while it runs.
+    w = physstep.World.from_scene("nbody", "leapfrog", 0.001, params={"n": 1000})
     errors: list[BaseException] = []
 
     def stepper() -> None:
-        w.step(400)
+        w.step(4000)
 
     t = threading.Thread(target=stepper)
     t.start()
