@@ -17,7 +17,7 @@ pub(crate) struct AnchorSpring {
 
 /// The per-particle forces of a set, gathered: accelerations of particle `p` depend on its
 /// own position, velocity and inverse mass only.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Local {
     /// Sum of the uniform gravities, m/s^2.
     g: [f64; 3],
@@ -33,32 +33,66 @@ pub(crate) struct Local {
     pub all: bool,
 }
 
+impl Default for Local {
+    /// No force: every (absent) force is per-particle.
+    fn default() -> Self {
+        Self {
+            g: [0.0; 3],
+            c1: 0.0,
+            c2: 0.0,
+            drag: false,
+            central: Vec::new(),
+            anchors: Vec::new(),
+            all: true,
+        }
+    }
+}
+
+impl AnchorSpring {
+    /// The force this spring is.
+    fn force(&self) -> Force {
+        let [stiffness, rest_length, damping] = self.p;
+        Force::Spring { i: self.i, j: Endpoint::Anchor(self.at), stiffness, rest_length, damping }
+    }
+}
+
 impl Local {
-    /// The per-particle part of `forces` (in canonical order).
-    pub(crate) fn of<'a>(forces: impl Iterator<Item = &'a Force>) -> Self {
-        let mut l = Self { all: true, ..Self::default() };
+    /// Takes in `force`, just added to `forces` (the whole set, in canonical order). A spring
+    /// to an anchor goes to its canonical place (a chain of many is built in O(n log n));
+    /// the uniform forces are summed again over the set in canonical order, so the sums do
+    /// not depend on the order the forces were added in.
+    pub(crate) fn add<'a>(&mut self, force: &Force, forces: impl Iterator<Item = &'a Force>) {
+        match *force {
+            Force::Spring { i, j: Endpoint::Anchor(at), stiffness, rest_length, damping } => {
+                let key = force.key();
+                let k = self.anchors.partition_point(|s| s.force().key() <= key);
+                self.anchors.insert(k, AnchorSpring { i, at, p: [stiffness, rest_length, damping] });
+            }
+            Force::Spring { .. } | Force::Rod { .. } | Force::NBody { .. } => self.all = false,
+            Force::Gravity { .. } | Force::Drag { .. } | Force::CentralGravity { .. } => self.uniform(forces),
+        }
+    }
+
+    /// Gravity, drag and central gravity summed over `forces` in canonical order.
+    fn uniform<'a>(&mut self, forces: impl Iterator<Item = &'a Force>) {
+        (self.g, self.c1, self.c2, self.drag) = ([0.0; 3], 0.0, 0.0, false);
+        self.central.clear();
         for f in forces {
             match *f {
                 Force::Gravity { g } => {
-                    for (lk, gk) in l.g.iter_mut().zip(g) {
+                    for (lk, gk) in self.g.iter_mut().zip(g) {
                         *lk += gk;
                     }
                 }
                 Force::Drag { linear, quadratic } => {
-                    l.drag = true;
-                    l.c1 += linear;
-                    l.c2 += quadratic;
+                    self.drag = true;
+                    self.c1 += linear;
+                    self.c2 += quadratic;
                 }
-                Force::CentralGravity { center, gm } => l.central.push((center, gm)),
-                Force::Spring { i, j: Endpoint::Anchor(at), stiffness, rest_length, damping } => {
-                    l.anchors.push(AnchorSpring { i, at, p: [stiffness, rest_length, damping] });
-                }
-                Force::Spring { .. } | Force::Rod { .. } | Force::NBody { .. } => l.all = false,
+                Force::CentralGravity { center, gm } => self.central.push((center, gm)),
+                _ => {}
             }
         }
-        // Stable: springs of one particle keep their canonical order.
-        l.anchors.sort_by_key(|s| s.i);
-        l
     }
 
     /// Gravity and drag as element-wise parts (uniform gravity `g`, drag factor `s`), when

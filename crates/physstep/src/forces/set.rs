@@ -70,7 +70,7 @@ impl ForceSet {
         let at = self.forces.partition_point(|f| f.key() <= key);
         self.forces.insert(at, force);
         self.kinds = self.kinds.with(&force);
-        self.local = Local::of(self.forces.iter());
+        self.local.add(&force, self.forces.iter());
         Ok(())
     }
 
