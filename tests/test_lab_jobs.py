@@ -83,6 +83,13 @@ def test_bad_jobs_and_executors_are_refused(kwargs: dict[str, Any], field: str) 
         lab.sweep("spring", ["rk4"], [0.1], until=1.0, **kwargs)
 
 
+def test_a_numpy_integer_is_a_number_of_jobs() -> None:
+    import numpy as np
+
+    serial = lab.sweep("spring", ["rk4"], [0.2], until=1.0)
+    assert same(serial, lab.sweep("spring", ["rk4"], [0.2], until=1.0, jobs=np.int64(2)))
+
+
 def test_a_lambda_system_is_refused_before_anything_runs() -> None:
     with pytest.raises(ValueError, match="invalid scene = .*must pickle"):
         lab.compare(lambda: pendulum_world(), ["rk4"], dt=0.1, until=1.0, jobs=2)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import concurrent.futures
 import math
 import multiprocessing
+import numbers
 import pickle
 import statistics
 import sys
@@ -169,9 +170,10 @@ def check_jobs(scene: Any, jobs: Any, executor: Any) -> int | None:
     so it cannot reach another process).
     """
     if jobs is not None and (
-        isinstance(jobs, bool) or not isinstance(jobs, int) or not 1 <= jobs <= MAX_JOBS
+        isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or not 1 <= jobs <= MAX_JOBS
     ):
         raise ValueError(f"invalid jobs = {jobs!r}: must be a whole number from 1 to {MAX_JOBS}")
+    jobs = None if jobs is None else int(jobs)
     if executor is not None and jobs is not None:
         raise ValueError(f"invalid jobs = {jobs!r}: give jobs or executor, not both")
     if executor is not None and not callable(getattr(executor, "submit", None)):
