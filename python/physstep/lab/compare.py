@@ -97,10 +97,10 @@ def compare(
             what="the reference run",
         )
         ref = reference(scene, dt, until, params, every=REFERENCE_REFINE)
-    if jobs is None and executor is None:
-        rows = [_row(subject, m, dt, until, ref) for m in names]
-    else:
-        rows = run_units(_unit, [(scene, params, m, dt, until, ref) for m in names], jobs, executor)
+    units = [(scene, params, m, dt, until, ref) for m in names]
+    # Here, the subject already probed; elsewhere, each unit builds its own.
+    here = jobs is None and executor is None
+    rows = run_units((lambda *u: _row(subject, *u[2:])) if here else _unit, units, jobs, executor)
     t_end = next((r["t_end"] for r in rows if not r["diverged"]), steps * dt)
     against = error_against(subject.has_exact, None if ref is None else dt / REFERENCE_REFINE)
     out = table(subject, until, against, skipped, rows)

@@ -91,10 +91,11 @@ def sweep(
         ref = reference(scene, min(values), until, params)
     units = [(scene, params, m, d, until, ref) for m in names for d in sorted(values, reverse=True)]
     labels = [f"{u[2]} dt={u[3]:g}" for u in units]
-    if jobs is None and executor is None:
-        rows = run_units(lambda *u: _row(subject, *u[2:]), units, None, None, progress, labels)
-    else:
-        rows = run_units(_unit, units, jobs, executor, progress, labels)
+    # Here, the subject already probed; elsewhere, each unit builds its own.
+    here = jobs is None and executor is None
+    rows = run_units(
+        (lambda *u: _row(subject, *u[2:])) if here else _unit, units, jobs, executor, progress, labels
+    )
     return table(
         subject, until, error_against(subject.has_exact, None if ref is None else ref.dt), skipped, rows
     )
