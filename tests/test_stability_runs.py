@@ -29,12 +29,12 @@ ORBIT_LIMIT = 10.0
 
 
 @pytest.fixture(scope="module")
-def limits() -> dict[tuple[str, str], float | None]:
-    """dt_max of every (case, method), computed once."""
-    out: dict[tuple[str, str], float | None] = {}
+def limits() -> dict[tuple[str, str], dict]:
+    """The stability result of every (case, method), computed once."""
+    out: dict[tuple[str, str], dict] = {}
     for case, (scene, params) in {**LINEAR_CASES, "orbit": ("orbit", None)}.items():
         for m in METHODS:
-            out[case, m] = lab.stability(scene, m, params)["dt_max"]
+            out[case, m] = lab.stability(scene, m, params)
     return out
 
 
@@ -57,8 +57,8 @@ def _orbit_growth(method: str, dt: float) -> float:
     return float(max(np.abs(traj.x - traj.x[0]).max(), np.abs(traj.v - traj.v[0]).max()))
 
 
-def _finite(limits: dict[tuple[str, str], float | None], case: str, method: str) -> float:
-    d = limits[case, method]
+def _finite(limits: dict[tuple[str, str], dict], case: str, method: str) -> float:
+    d = limits[case, method]["dt_max"]
     if not d:
         pytest.skip(f"{method} on {case}: dt_max = {d}")
     return d
@@ -81,13 +81,16 @@ def test_orbit_runs_confirm_dt_max(limits, method: str) -> None:
     below = _orbit_growth(method, 0.97 * d)
     above = _orbit_growth(method, 1.03 * d)
     assert below <= ORBIT_LIMIT, (method, d, below)
-    assert above > ORBIT_LIMIT, (method, d, above)
+    # 1.03 dt_max grows, unless the lab found a resonance window there (the orbit's stable set
+    # near its limit is a comb, as the Duffing oscillator's): then it must say so, and be right.
+    window = any(math.isclose(a, 1.03 * d) for a in limits["orbit", method]["stable_above"])
+    assert (above <= ORBIT_LIMIT) == window, (method, d, above, limits["orbit", method]["note"])
 
 
 def test_methods_with_finite_limits_are_covered(limits) -> None:
     # the runs above must not all be skipped: most methods have a finite limit on each scene
     for case in [*LINEAR_CASES, "orbit"]:
-        finite = [m for m in METHODS if limits[case, m]]
+        finite = [m for m in METHODS if limits[case, m]["dt_max"]]
         assert len(finite) >= 8, (case, finite)
 
 
