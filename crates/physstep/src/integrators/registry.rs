@@ -185,9 +185,6 @@ fn first_non_finite(v: &[f64]) -> Option<usize> {
     // NaN fails every comparison: `is_some_and(Greater)` would miss it, `!(<=)` does not.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let bad = |x: &f64| !(x.abs() <= RUNAWAY);
-    if v.len() <= 16 {
-        return v.iter().position(bad);
-    }
     v.chunks(BLOCK).enumerate().find_map(|(b, chunk)| {
         if chunk.iter().fold(false, |acc, x| acc | bad(x)) {
             chunk.iter().position(bad).map(|i| b * BLOCK + i)
@@ -439,7 +436,12 @@ impl Integrator {
     /// # Errors
     /// As said.
     pub fn check(&self, state: &State, layout: Layout) -> Result<()> {
-        let skip = layout.skip(state);
+        // With bodies, `dX` is a function of `y` that no split method reads (a call leaves it
+        // out, see `World::run`); a flow method's next stage carries a bad one into `y`.
+        let skip = match layout {
+            Layout::Mixed { x } => x,
+            _ => layout.skip(state),
+        };
         match first_non_finite(&state.y).or_else(|| first_non_finite(&state.f[skip..]).map(|i| i + skip)) {
             None => Ok(()),
             Some(i) => Err(Error::Diverged {

@@ -474,3 +474,32 @@ fn slerp_takes_the_shortest_arc_at_constant_rate() {
     assert!(m.is_finite() && angle(m, DQuat::from_rotation_x(5e-13) * a) < 1e-15);
     assert!((slerp(a, a, 0.3) - a).length() < 1e-15);
 }
+
+#[test]
+fn small_angle_sin_cos_is_the_library_s_to_an_ulp() {
+    // Across the polynomial's range and its edge: within one ulp of the library's sin and
+    // cos, and exactly (0, 1) at 0; beyond it, the library's own.
+    let ulp = |a: f64, b: f64| ((a - b) / (f64::EPSILON * b.abs().max(f64::MIN_POSITIVE))).abs();
+    for k in -2000..=2000 {
+        let x = f64::from(k) * (SMALL_ANGLE / 2000.0);
+        let (s, c) = sin_cos(x);
+        assert!(ulp(s, x.sin()) <= 1.0 && ulp(c, x.cos()) <= 1.0, "x = {x}: {s} {c}");
+    }
+    assert_eq!(sin_cos(0.0), (0.0, 1.0));
+    assert_eq!(sin_cos(0.2), 0.2_f64.sin_cos());
+}
+
+#[test]
+fn split_axes_sort_by_inverse_inertia_decreasing_and_keep_ties_in_axis_order() {
+    // Every order of three distinct values, and the ties, against a stable library sort.
+    let cases: [[f64; 3]; 5] =
+        [[1.0, 2.0, 3.0], [0.5, 0.5, 0.25], [0.25, 0.5, 0.5], [1.0, 1.0, 1.0], [2.0, 0.0, 2.0]];
+    for base in cases {
+        for p in [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
+            let v = [base[p[0]], base[p[1]], base[p[2]]];
+            let mut want = [0_usize, 1, 2];
+            want.sort_by(|&i, &j| v[j].total_cmp(&v[i]));
+            assert_eq!(split_axes(DVec3::from_array(v)), want, "{v:?}");
+        }
+    }
+}

@@ -338,6 +338,20 @@ impl World {
             }
             return Ok(());
         }
+        // Bodies' rates (q' needs omega: two rotations) are computed once when asked for,
+        // not after every step: a split method never reads them.
+        let lazy = !self.bodies.is_empty() && self.integrator.info().split;
+        self.lazy_rate = lazy;
+        let r = self.run_call(n, h);
+        if lazy {
+            self.lazy_rate = false;
+            self.rates_owed = true;
+        }
+        r
+    }
+
+    /// The staged steps of a call with one checkpoint, replayed on a failure.
+    fn run_call(&mut self, n: u64, h: f64) -> Result<()> {
         self.refresh()?;
         let layout = self.layout();
         self.call.save(&self.state, &self.integrator, layout);

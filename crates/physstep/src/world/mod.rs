@@ -98,6 +98,11 @@ pub struct World {
     /// Whether `state.f` was not stored by the fused kernel: computing it again is not a new
     /// evaluation (the kernel counted it).
     deferred: bool,
+    /// Whether the steps of a call leave the bodies' `dX` out of `f`: split methods never
+    /// read it.
+    lazy_rate: bool,
+    /// Whether the bodies' `dX` in `f` is owed by such a call (computed on request).
+    rates_owed: bool,
     /// The fused kernel's checkpoint of a call (`y` at its start).
     replay: Vec<f64>,
     /// The staged step's checkpoint of a call of several steps.
@@ -166,6 +171,8 @@ impl World {
             prev_x: Vec::new(),
             stale: false,
             deferred: false,
+            lazy_rate: false,
+            rates_owed: false,
             replay: Vec::new(),
             call: Checkpoint::default(),
             epoch: Epoch::default(),

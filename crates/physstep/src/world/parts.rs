@@ -6,7 +6,7 @@ use glam::DVec3;
 use super::Model;
 use crate::dynamics::{Second, SecondOrder, System};
 use crate::forces::Endpoint;
-use crate::rigid::body::{Bodies, Loads, V_LEN, X_LEN};
+use crate::rigid::body::{AngularForm, Bodies, Loads, V_LEN, X_LEN};
 
 /// Particles and bodies together.
 pub(crate) struct Parts<'a> {
@@ -17,6 +17,9 @@ pub(crate) struct Parts<'a> {
     pub np: usize,
     /// Scratch: spring loads per body.
     pub extra: &'a mut Vec<(DVec3, DVec3)>,
+    /// Bodies' `dX` (`c'`, `q'`) left out of `rate`: a split method never reads it, and a
+    /// call of several steps computes it once, when it is asked for (`World::refresh`).
+    pub lazy: bool,
 }
 
 impl Parts<'_> {
@@ -41,8 +44,14 @@ impl System for Parts<'_> {
 
     fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {
         let np = self.np;
-        self.model.accel(t, &x[..np], &w[..np], &mut a[..np]);
+        if np > 0 {
+            self.model.accel(t, &x[..np], &w[..np], &mut a[..np]);
+        }
         let (nx, bodies) = (self.nx(), self.bodies);
+        if bodies.springs.is_empty() && bodies.forces.is_empty() {
+            bodies.accel(&self.loads, &x[np..], &w[np..], &mut a[np..], &[]);
+            return;
+        }
         // Springs between body points and particles or anchors: the force on the particle
         // is an acceleration now; the body's share (force and torque about its reference
         // point) is added with its other loads.
@@ -96,7 +105,9 @@ impl System for Parts<'_> {
     fn rate(&self, x: &[f64], v: &[f64], dx: &mut [f64]) {
         let np = self.np;
         dx[..np].copy_from_slice(&v[..np]);
-        self.bodies.rate(&x[np..], &v[np..], &mut dx[np..]);
+        if !self.lazy {
+            self.bodies.rate(&x[np..], &v[np..], &mut dx[np..]);
+        }
     }
 
     fn velocity_dependent(&self) -> bool {
@@ -108,7 +119,13 @@ impl System for Parts<'_> {
                     || b.springs.iter().any(|s| s.damping != 0.0)
                     || b.angular_drag.iter().any(|c| *c != 0.0)
                     || b.forces.iter().any(|g| g.generator.0.velocity_dependent())
-                    || b.form == crate::rigid::body::AngularForm::VelocityGyroscopic))
+                    || matches!(
+                        b.form,
+                        // Both gyroscopic terms depend on the angular velocity (Catto's too:
+                        // it was missed here, and methods that skip re-evaluating A after a
+                        // kick kept one from the old velocity in `f`).
+                        AngularForm::VelocityGyroscopic | AngularForm::VelocityImplicit
+                    )))
     }
 
     fn vector_positions(&self) -> bool {
@@ -129,7 +146,7 @@ pub(crate) fn of<'a>(
 ) -> Parts<'a> {
     let loads = loads(model);
     let np = model.len();
-    Parts { model, bodies, loads, np, extra }
+    Parts { model, bodies, loads, np, extra, lazy: false }
 }
 
 /// The world's forces as they act on bodies: uniform gravity and drag on the centre of mass

@@ -188,6 +188,17 @@ impl World {
             self.derivative_finite()?;
             self.stale = false;
         }
+        if self.rates_owed {
+            // A call of split steps left the bodies' rates (c' = P / m, q' = (0, omega) q / 2)
+            // out of `f`: they are a function of the state, computed now (the rest of `f` is
+            // as the method left it, bit for bit as after single steps).
+            self.rates_owed = false;
+            if !self.stale {
+                let (np, nx) = (self.model.len(), self.nx());
+                let (x, v) = self.state.y.split_at(nx);
+                self.bodies.rate(&x[np..], &v[np..], &mut self.state.f[np..nx]);
+            }
+        }
         if self.deferred && !self.stale {
             // The kernel took the steps and checked the accelerations at this state: compute
             // them again, without counting or checking.

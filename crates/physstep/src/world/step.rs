@@ -114,6 +114,7 @@ impl World {
             self.integrator.advance(&mut Second(&mut self.model), &mut self.state, ctx.h, log)
         } else {
             let mut parts = super::parts::of(&mut self.model, &self.bodies, &mut self.body_loads);
+            parts.lazy = self.lazy_rate;
             self.integrator.advance(&mut parts, &mut self.state, ctx.h, log)
         };
         // A user force that failed poisoned the accelerations; its own error is the news.
