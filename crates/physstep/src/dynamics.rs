@@ -45,6 +45,13 @@ pub trait SecondOrder {
     fn jacobian(&mut self, _t: f64, _x: &[f64], _v: &[f64], _dadx: &mut [f64], _dadv: &mut [f64]) -> bool {
         false
     }
+
+    /// Fills `out` with the force Jacobians as 3 x 3 blocks (see [`crate::linalg`]) for the
+    /// sparse Newton solve of the implicit methods and returns `true`, or returns `false`
+    /// when the system has none (the dense solve is used).
+    fn blocks(&mut self, _t: f64, _x: &[f64], _v: &[f64], _out: &mut crate::linalg::Blocks) -> bool {
+        false
+    }
 }
 
 /// A first-order flow `y' = f(t, y)` on `n` coordinates (a strange attractor, a chemical
@@ -94,6 +101,12 @@ pub trait System {
     /// there is no analytic one (the implicit methods then use finite differences). `work` is
     /// scratch the system may resize.
     fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], work: &mut Vec<f64>) -> bool;
+
+    /// The force Jacobians as blocks (see [`SecondOrder::blocks`]); `false` when there are
+    /// none.
+    fn blocks(&mut self, _t: f64, _y: &[f64], _out: &mut crate::linalg::Blocks) -> bool {
+        false
+    }
 
     /// Fills `A` at time `t`, positions `x` and velocities `w`.
     fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]);
@@ -161,6 +174,10 @@ impl<S: SecondOrder + ?Sized> System for Second<'_, S> {
             j[(n + i) * m + n..(n + i + 1) * m].copy_from_slice(&dadv[i * n..(i + 1) * n]);
         }
         true
+    }
+    fn blocks(&mut self, t: f64, y: &[f64], out: &mut crate::linalg::Blocks) -> bool {
+        let (x, v) = y.split_at(self.0.len());
+        self.0.blocks(t, x, v, out)
     }
     #[inline]
     fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {
@@ -392,5 +409,14 @@ impl<S: System + ?Sized> Counted<'_, S> {
     /// `df/dy` as [`System::jacobian`].
     pub fn jacobian(&mut self, t: f64, y: &[f64], j: &mut [f64], work: &mut Vec<f64>) -> bool {
         self.sys.jacobian(t, y, j, work)
+    }
+    /// The force Jacobians as blocks, as [`System::blocks`].
+    pub fn blocks(&mut self, t: f64, y: &[f64], out: &mut crate::linalg::Blocks) -> bool {
+        self.sys.blocks(t, y, out)
+    }
+    /// Length of the positions of a split system (`None` for a flow).
+    #[must_use]
+    pub fn split(&self) -> Option<usize> {
+        self.sys.split()
     }
 }

@@ -24,6 +24,7 @@ pub mod error;
 pub mod flows;
 pub mod forces;
 pub mod integrators;
+pub mod linalg;
 pub mod record;
 pub mod rigid;
 pub mod scenes;

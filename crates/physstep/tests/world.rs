@@ -748,7 +748,7 @@ fn set_method_keeps_the_worlds_newton_settings() {
         dim: 2,
         method: "rk4".into(),
         dt: 0.1,
-        implicit: physstep::integrators::ImplicitParams { tol: 1e-12, max_iter: 1 },
+        implicit: physstep::integrators::ImplicitParams { tol: 1e-12, max_iter: 1, ..Default::default() },
         ..Default::default()
     };
     let mut w = World::new(params).unwrap();

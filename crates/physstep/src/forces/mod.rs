@@ -20,6 +20,7 @@
 pub use generator::{ForceGenerator, UserForce};
 pub use set::ForceSet;
 
+mod blocks;
 mod central;
 mod drag;
 mod generator;

@@ -20,6 +20,12 @@ impl BackwardEuler {
     pub fn with_params(params: ImplicitParams) -> Self {
         Self { newton: Newton::new(params) }
     }
+
+    /// What the latest step's solve did.
+    #[must_use]
+    pub fn stats(&self) -> super::SolveStats {
+        self.newton.stats
+    }
 }
 
 impl Method for BackwardEuler {

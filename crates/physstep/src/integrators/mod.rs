@@ -34,7 +34,7 @@ pub use heun::Heun;
 pub use implicit_midpoint::ImplicitMidpoint;
 pub use leapfrog::Leapfrog;
 pub use midpoint::Midpoint;
-pub use newton::ImplicitParams;
+pub use newton::{ImplicitParams, SolveStats, DENSE_UP_TO};
 pub use predictor_corrector::PredictorCorrector;
 pub use registry::{Integrator, INFOS};
 pub use rk4::Rk4;

@@ -3,23 +3,52 @@
 use super::{axpy_to, scratch};
 use crate::dynamics::{Counted, System};
 use crate::error::{Error, Result};
+use crate::linalg::{cg, Blocks, CgParams, CgWork, NewtonMatrix};
 
 /// Settings of the implicit methods' Newton iteration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImplicitParams {
     /// Converged, after at least one Newton update, when the residual of `z = y0 + c f(z)`
-    /// is at most `tol` times the size of its terms (max norms of `z`, `y0` and `c f(z)`):
-    /// relative at every scale, so a state of size 1e-15 is solved as well as one of size 1.
+    /// is at most `tol` times the size of its terms (max norms of `z`, `y0`, `c f(z)`, and
+    /// `c |df/dz| |z|`, the terms that cancel inside a stiff `f`: a spring of k / m = 1e7
+    /// evaluates its force from positions of size 1 to 1e-9, and no iteration gets below
+    /// that): relative at every scale, so a state of size 1e-15 is solved as well as one of
+    /// size 1.
     pub tol: f64,
     /// Iterations before giving up with [`Error::NotConverged`].
     pub max_iter: u32,
+    /// The conjugate-gradient solve of each Newton update on a large world (see
+    /// [`crate::linalg`]): its relative tolerance and iteration cap.
+    pub cg: CgParams,
+    /// Largest system (unknowns: x and v of every coordinate) solved densely when the
+    /// sparse solve is available (default [`DENSE_UP_TO`]); 0 always takes the sparse one,
+    /// `usize::MAX` never.
+    pub dense_up_to: usize,
 }
 
 impl Default for ImplicitParams {
     fn default() -> Self {
-        Self { tol: 1e-12, max_iter: 50 }
+        Self { tol: 1e-12, max_iter: 50, cg: CgParams::default(), dense_up_to: DENSE_UP_TO }
     }
 }
+
+/// What the latest solve of an implicit step did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SolveStats {
+    /// Newton updates taken.
+    pub newton: u32,
+    /// Conjugate-gradient iterations over all of them (0 for the dense solve).
+    pub cg: u32,
+    /// The final Newton residual, relative to the size of its terms.
+    pub residual: f64,
+    /// Whether the sparse solve (blocks and conjugate gradients) was used.
+    pub sparse: bool,
+}
+
+/// Largest system (unknowns: x and v of every coordinate) solved densely when the sparse
+/// solve is available: below it the dense LU is as fast (measured by
+/// `cargo bench -p physstep -- implicit`).
+pub const DENSE_UP_TO: usize = 96;
 
 /// Newton's method with a dense LU solve, the Jacobian analytic where the flow has one and
 /// by forward differences otherwise. The dense solve costs O(n^3) per iteration: the
@@ -37,6 +66,13 @@ pub(crate) struct Newton {
     zp: Vec<f64>,
     fp: Vec<f64>,
     perm: Vec<usize>,
+    /// What the latest solve did.
+    pub stats: SolveStats,
+    blocks: Blocks,
+    matrix: NewtonMatrix,
+    cg_work: CgWork,
+    rhs: Vec<f64>,
+    dv: Vec<f64>,
 }
 
 impl Newton {
@@ -60,6 +96,13 @@ impl Newton {
         f0: &[f64],
     ) -> Result<()> {
         let n = y0.len();
+        let nx = flow.split().filter(|&nx| 2 * nx == n && n > self.params.dense_up_to);
+        if let Some(nx) = nx {
+            if flow.blocks(tau, y0, &mut self.blocks) {
+                return self.solve_sparse(flow, method, tau, c, y0, f0, nx);
+            }
+        }
+        self.stats = SolveStats::default();
         if n > MAX_DENSE {
             return Err(Error::Unsupported {
                 method: method.into(),
@@ -77,6 +120,8 @@ impl Newton {
         let g = scratch(&mut self.g, n);
         axpy_to(z, y0, c, f0);
         let mut residual = f64::INFINITY;
+        // c |df/dz| (max row sum), from the latest Jacobian.
+        let mut stiffness = 0.0f64;
         // One more pass than updates: the last one only checks the final update.
         for iter in 0..=self.params.max_iter {
             flow.deriv(tau, z, fz);
@@ -88,6 +133,7 @@ impl Newton {
                 residual = residual.max(g[i].abs());
                 scale = scale.max(z[i].abs()).max(y0[i].abs()).max(cf.abs());
             }
+            scale = scale.max(stiffness * z.iter().fold(0.0f64, |m, zi| m.max(zi.abs())));
             // f64::max skips NaN: a NaN in f(z) would otherwise pass for a zero residual and
             // be accepted as converged.
             if g.iter().any(|gi| gi.is_nan()) {
@@ -100,6 +146,12 @@ impl Newton {
             // The floor keeps the test meaningful where the state decays into subnormal numbers
             // (whose rounding is absolute, not relative).
             if iter > 0 && residual <= self.params.tol * scale.max(SCALE_FLOOR) {
+                self.stats = SolveStats {
+                    newton: iter,
+                    cg: 0,
+                    residual: residual / scale.max(SCALE_FLOOR),
+                    sparse: false,
+                };
                 return Ok(());
             }
             if iter == self.params.max_iter {
@@ -125,6 +177,8 @@ impl Newton {
             for e in j.iter_mut() {
                 *e *= -c;
             }
+            stiffness =
+                j.chunks_exact(n).map(|row| row.iter().map(|e| e.abs()).sum::<f64>()).fold(0.0, f64::max);
             for i in 0..n {
                 j[i * n + i] += 1.0;
             }
@@ -138,6 +192,111 @@ impl Newton {
                 *zi += di;
             }
         }
+        Err(Error::NotConverged { method: method.into(), iterations: self.params.max_iter, residual })
+    }
+
+    /// [`Newton::solve`] on a second-order system (`nx` positions, as many velocities) whose
+    /// force Jacobians come as blocks: each update solves the velocity system of
+    /// [`crate::linalg`] by conjugate gradients.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_sparse<S: System + ?Sized>(
+        &mut self,
+        flow: &mut Counted<'_, S>,
+        method: &str,
+        tau: f64,
+        c: f64,
+        y0: &[f64],
+        f0: &[f64],
+        nx: usize,
+    ) -> Result<()> {
+        let n = y0.len();
+        let dim = self.blocks.dim;
+        let z = scratch(&mut self.z, n);
+        let fz = scratch(&mut self.fz, n);
+        let g = scratch(&mut self.g, n);
+        let rhs = scratch(&mut self.rhs, nx);
+        let dv = scratch(&mut self.dv, nx);
+        axpy_to(z, y0, c, f0);
+        let mut residual = f64::INFINITY;
+        let mut cg_total = 0;
+        for iter in 0..=self.params.max_iter {
+            flow.deriv(tau, z, fz);
+            residual = 0.0;
+            let mut scale = 0.0f64;
+            for i in 0..n {
+                let cf = c * fz[i];
+                g[i] = z[i] - y0[i] - cf;
+                residual = residual.max(g[i].abs());
+                scale = scale.max(z[i].abs()).max(y0[i].abs()).max(cf.abs());
+            }
+            // c |df/dz| |z|, as the dense solve measures it (from the blocks at z's start).
+            let stiffness = c * self.blocks.rate_norm() + 1.0;
+            scale = scale.max(stiffness * z.iter().fold(0.0f64, |m, zi| m.max(zi.abs())));
+            if g.iter().any(|gi| gi.is_nan()) || !residual.is_finite() {
+                residual = f64::NAN;
+                break;
+            }
+            if iter > 0 && residual <= self.params.tol * scale.max(SCALE_FLOOR) {
+                let relative = residual / scale.max(SCALE_FLOOR);
+                self.stats = SolveStats { newton: iter, cg: cg_total, residual: relative, sparse: true };
+                return Ok(());
+            }
+            if iter == self.params.max_iter {
+                break;
+            }
+            // (M - c D - c^2 K) dv = -M g_v - c K g_x, then dx = c dv - g_x.
+            if iter > 0 && !flow.blocks(tau, z, &mut self.blocks) {
+                break;
+            }
+            if !self.matrix.build(&self.blocks, c) {
+                break;
+            }
+            let (gx, gv) = g.split_at(nx);
+            let b = &self.blocks;
+            for (p, m) in b.mass.iter().enumerate() {
+                let range = p * dim..(p + 1) * dim;
+                if !self.matrix.free(p) {
+                    rhs[range].fill(0.0);
+                    continue;
+                }
+                for k in range.clone() {
+                    rhs[k] = -m * gv[k];
+                }
+                crate::linalg::mul_add(&b.kd[p], &gx[range.clone()], &mut rhs[range], dim, -c);
+            }
+            for &(i, j, ref k, _) in &b.pairs {
+                // K g_x of a pair: rows i and j get K (g_x,i - g_x,j) and its opposite.
+                let mut d = [0.0; 3];
+                for a in 0..dim {
+                    d[a] = gx[i * dim + a] - gx[j * dim + a];
+                }
+                let mut kd = [0.0; 3];
+                crate::linalg::mul_add(k, &d[..dim], &mut kd[..dim], dim, 1.0);
+                for a in 0..dim {
+                    if self.matrix.free(i) {
+                        rhs[i * dim + a] -= c * kd[a];
+                    }
+                    if self.matrix.free(j) {
+                        rhs[j * dim + a] += c * kd[a];
+                    }
+                }
+            }
+            let solve = cg(&self.matrix, rhs, dv, self.params.cg, &mut self.cg_work);
+            cg_total += solve.iterations;
+            if !solve.converged {
+                return Err(Error::NotConverged {
+                    method: method.into(),
+                    iterations: self.params.cg.max_iter,
+                    residual: solve.residual,
+                });
+            }
+            let (zx, zv) = z.split_at_mut(nx);
+            for k in 0..nx {
+                zx[k] += c * dv[k] - gx[k];
+                zv[k] += dv[k];
+            }
+        }
+        self.stats = SolveStats { newton: self.params.max_iter, cg: cg_total, residual, sparse: true };
         Err(Error::NotConverged { method: method.into(), iterations: self.params.max_iter, residual })
     }
 }

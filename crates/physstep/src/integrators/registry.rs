@@ -237,6 +237,10 @@ impl Integrator {
         if params.max_iter == 0 {
             return Err(Error::invalid("max_iter", 0, "at least 1"));
         }
+        crate::error::positive("cg_tol", params.cg.tol)?;
+        if params.cg.max_iter == 0 {
+            return Err(Error::invalid("cg_max_iter", 0, "at least 1"));
+        }
         let kind = match info(name)?.name {
             "explicit-euler" => Kind::ExplicitEuler(ExplicitEuler),
             "symplectic-euler" => Kind::SymplecticEuler(SymplecticEuler),
@@ -391,6 +395,17 @@ impl Integrator {
         let r = self.finish(state, dt, r, &checkpoint, layout);
         self.checkpoint = checkpoint;
         r
+    }
+
+    /// What the latest step's implicit solve did (Newton and conjugate-gradient iterations,
+    /// the final residual, dense or sparse); `None` for an explicit method.
+    #[must_use]
+    pub fn solve_stats(&self) -> Option<super::SolveStats> {
+        match &self.kind {
+            Kind::BackwardEuler(m) => Some(m.stats()),
+            Kind::ImplicitMidpoint(m) => Some(m.stats()),
+            _ => None,
+        }
     }
 
     /// Whether this method applies to `sys`.

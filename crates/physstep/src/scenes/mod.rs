@@ -4,6 +4,7 @@
 
 mod bodies;
 mod specs;
+mod stiff;
 
 pub use specs::{resolve, spec, ParamSpec, Rule, SceneSpec, PARAM_MAX, PARAM_MIN, SCENES};
 
@@ -199,7 +200,7 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
         return Ok(Scene { spec, values, world, exact: None });
     }
     let mut world = World::new(params)?;
-    if bodies::build(spec.name, &v, &mut world)? {
+    if bodies::build(spec.name, &v, &mut world)? || stiff::build(spec.name, &v, &mut world)? {
         return Ok(Scene { spec, values, world, exact: None });
     }
     let mut scene = Scene { spec, values: values.clone(), world, exact: None };

@@ -60,7 +60,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 }
 
 /// Every built-in scene, in registry order.
-pub const SCENES: [SceneSpec; 14] = [
+pub const SCENES: [SceneSpec; 16] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -206,6 +206,32 @@ pub const SCENES: [SceneSpec; 14] = [
         ],
         dt: 0.05,
         until: 500.0,
+    },
+    SceneSpec {
+        name: "stiff-chain",
+        doc: "2D chain 1 m long of n particles joined by stiff springs to a pinned one, swinging down",
+        dim: 2,
+        params: &[
+            p("n", 100.0, "number of moving particles (after the pinned one)", Rule::Count),
+            p("k", 1e5, "spring stiffness, N/m", Rule::Positive),
+            p("m", 0.01, "mass of each particle, kg", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+        ],
+        dt: 1.0 / 60.0,
+        until: 10.0,
+    },
+    SceneSpec {
+        name: "stiff-cloth",
+        doc: "3D n x n cloth 1 m square of stiff structural and shear springs, two corners pinned, falling",
+        dim: 3,
+        params: &[
+            p("n", 12.0, "particles along each side", Rule::Count),
+            p("k", 1e5, "spring stiffness, N/m", Rule::Positive),
+            p("m", 0.01, "mass of each particle, kg", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2", Rule::Any),
+        ],
+        dt: 1.0 / 60.0,
+        until: 10.0,
     },
     SceneSpec {
         name: "racket",

@@ -464,6 +464,21 @@ impl World {
         Ok(())
     }
 
+    /// Sets the implicit methods' Newton and conjugate-gradient settings, and the size up to
+    /// which they solve densely; the current method starts afresh with them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `tol`, `max_iter`, `cg_tol` or `cg_max_iter` (the world
+    /// unchanged).
+    pub fn set_implicit(&mut self, params: ImplicitParams) -> Result<()> {
+        let integrator = Integrator::with_params(self.integrator.info().name, params)?;
+        self.implicit = params;
+        if integrator.info().implicit {
+            self.integrator = integrator;
+        }
+        Ok(())
+    }
+
     /// The fixed step, s.
     #[must_use]
     pub fn dt(&self) -> f64 {

@@ -66,6 +66,19 @@ impl SecondOrder for Model {
         }
         true
     }
+
+    fn blocks(&mut self, _t: f64, x: &[f64], v: &[f64], out: &mut crate::linalg::Blocks) -> bool {
+        if !self.user.is_empty() {
+            return false;
+        }
+        out.reset(self.dim, &self.mass);
+        for (m, im) in out.mass.iter_mut().zip(&self.inv_mass) {
+            if *im == 0.0 {
+                *m = f64::INFINITY;
+            }
+        }
+        self.forces.blocks(x, v, out)
+    }
 }
 
 impl Model {
