@@ -184,7 +184,8 @@ impl World {
         r
     }
 
-    /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory):
+    /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory,
+    /// and the constraints with their sweep count when there are any):
     /// equal for bitwise-equal states, different after any change.
     #[must_use]
     pub fn state_hash(&self) -> u64 {
@@ -193,6 +194,11 @@ impl World {
         eat(self.state.t);
         self.state.y.iter().for_each(|v| eat(*v));
         self.integrator.memory().iter().for_each(|v| eat(*v));
+        // Constraints shape every later step: a world with others is another world (none
+        // leave the hash as it was before they existed).
+        if !self.constraints.is_empty() {
+            h = fnv1a(h, &self.constraints.fingerprint().to_le_bytes());
+        }
         h
     }
 
