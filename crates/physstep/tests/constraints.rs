@@ -17,7 +17,7 @@ fn pendulum_keeps_its_rod_under_rattle_for_144000_steps() {
     assert_eq!(w.constraints().list().len(), 1);
     let e0 = w.energy().unwrap();
     let (mut worst_len, mut worst_v) = (0.0f64, 0.0f64);
-    let mut tenths = vec![0.0f64; 10];
+    let mut tenths = [0.0f64; 10];
     for k in 0..1440 {
         w.step(100).unwrap();
         let (x, v) = (w.positions(), w.velocities());

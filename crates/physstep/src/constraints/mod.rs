@@ -156,7 +156,10 @@ impl Constraint {
                 if !(offset.is_finite() && offset.abs() <= crate::integrators::registry::RUNAWAY) {
                     return Err(Error::invalid("offset", num(offset), "finite, at most 1e100 in magnitude"));
                 }
-                Self::Plane { normal: c.map(|v| v / len), offset }
+                // A normal already unit to rounding is kept as given, so that a constraint
+                // read back and added again (a pickle) is bitwise the same.
+                let normal = if (len - 1.0).abs() <= 4.0 * f64::EPSILON { c } else { c.map(|v| v / len) };
+                Self::Plane { normal, offset }
             }
         })
     }

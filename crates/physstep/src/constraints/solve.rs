@@ -101,6 +101,7 @@ impl Solver {
     /// set, then up to `iterations` sweeps, stopping early once a sweep finds no constraint
     /// off by more than [`TOLERANCE`] (relative). The positions before the sweeps are kept
     /// in `moved`. Returns the sweeps taken.
+    #[allow(clippy::too_many_arguments)]
     pub fn positions(
         &mut self,
         list: &[Constraint],

@@ -43,7 +43,7 @@ impl World {
                 // Checked first, so the distance below reads valid indices.
                 Constraint::Distance { i, j, length: 1.0, compliance }.checked(self.len(), self.dim())?;
                 let r = crate::constraints::distance(self.dim(), self.positions(), i, j);
-                if !(r > 0.0) {
+                if r == 0.0 || !r.is_finite() {
                     return Err(Error::invalid(
                         "length",
                         num(r),
