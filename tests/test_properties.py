@@ -219,11 +219,16 @@ def _size(scene: str, params: list[str]) -> float:
     spec = SCENES.get(scene)
     if spec is None:
         return 1.0
-    n = next((float(p["default"]) for p in spec["params"] if p["name"] == "n"), 1.0)
+    given = {p["name"]: float(p["default"]) for p in spec["params"]}
     for item in params:
         name, _, value = item.partition("=")
-        if name.strip() == "n" and _num(value) is not None:
-            n = float(value)
+        if name.strip() in given and _num(value) is not None:
+            given[name.strip()] = abs(float(value))
+    if scene == "cloth":  # w x h particles, about 4 links each, relaxed 16 times a step
+        return given["w"] * given["h"] * 64
+    if scene == "ragdoll":  # 19 constraints relaxed 16 times a step
+        return 300.0
+    n = given.get("n", 1.0)
     return n * n if scene == "nbody" else max(n, 1.0)
 
 

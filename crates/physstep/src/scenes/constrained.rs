@@ -53,11 +53,22 @@ pub(super) fn build(name: &str, v: &dyn Fn(&str) -> f64, w: &mut World) -> Resul
     Ok(true)
 }
 
+/// The most particles a cloth may have (w x h).
+const MAX_CLOTH: usize = 1_000_000;
+
 /// A `W x H` grid in the x-y plane, row 0 at the top (y = 0) hanging down, particle
 /// `(c, r)` at index `r W + c`; structural links to the right and below, shear links on both
 /// diagonals; the top corners pinned.
 fn cloth(v: &dyn Fn(&str) -> f64, w: &mut World) -> Result<()> {
     let (nw, nh, s) = (v("w") as usize, v("h") as usize, v("spacing"));
+    // Each of w and h may be up to a million; their product is refused before it is built.
+    if nw.saturating_mul(nh) > MAX_CLOTH {
+        return Err(crate::Error::invalid(
+            "w x h",
+            format!("{nw} x {nh}"),
+            format!("at most {MAX_CLOTH} particles"),
+        ));
+    }
     let x: Vec<f64> =
         (0..nh).flat_map(|r| (0..nw).flat_map(move |c| [c as f64 * s, -(r as f64) * s, 0.0])).collect();
     w.add_particles(&x, None, Some(&vec![v("m"); nw * nh]), false)?;
