@@ -167,3 +167,16 @@ def test_cli_bad_constraint_params_exit_2() -> None:
     assert res.returncode == 2
     assert res.stderr.strip().count("\n") == 0
     assert "compliance = -1" in res.stderr
+
+
+def test_the_readme_example_runs() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).parent.parent / "README.md").read_text()
+    start = text.index("```python", text.index("### Constraints")) + len("```python")
+    code = text[start : text.index("```", start)]
+    scope: dict[str, object] = {"physstep": physstep}
+    exec(compile(code, "README.md", "exec"), scope)  # noqa: S102 - the README's own example
+    w = scope["w"]
+    assert isinstance(w, physstep.World)
+    assert w.constraint_count == 2
