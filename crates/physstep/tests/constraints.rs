@@ -244,6 +244,20 @@ fn state_hash_snapshot_and_clone_carry_the_constraints() {
     d.restore(&snap).unwrap();
     d.step(30).unwrap();
     assert_eq!(a.state_hash(), d.state_hash());
+    // A snapshot goes only into a world with the same constraints.
+    let before = b.state_hash();
+    let m = msg(b.restore(&snap));
+    assert!(m.contains("taken with other constraints"), "{m}");
+    assert_eq!(b.state_hash(), before);
+    let mut bare = World::new(WorldParams {
+        method: "velocity-verlet".into(),
+        dt: 1.0 / 120.0,
+        ..WorldParams::default()
+    })
+    .unwrap();
+    let x = a.positions().to_vec();
+    bare.add_particles(&x, None, None, false).unwrap();
+    assert!(bare.restore(&snap).is_err());
 }
 
 fn msg<T: std::fmt::Debug>(r: Result<T>) -> String {
