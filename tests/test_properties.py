@@ -343,6 +343,9 @@ def cli_args(draw: Any) -> tuple[list[str], str]:
     ):
         # stability searches dt itself: only the size of the system bounds its cost
         forced = ["--param", f"n={draw(st.integers(1, 4))}"]  # last: it wins
+    if (cmd == "stability" or _cost(cmd, scene, opts, params) > BUDGET) and scene == "cloth":
+        side = draw(st.integers(1, 3))  # a small cloth: its cost is w x h particles
+        forced = ["--param", f"w={side}", "--param", f"h={side}"]
     if cmd != "stability" and _cost(cmd, scene, opts, params) > BUDGET:
         opts["--until"] = "0"
     if cmd == "order" and (_num(opts.get("--until")) or 0) > 0.1 * base["until"]:

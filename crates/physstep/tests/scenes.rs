@@ -62,7 +62,7 @@ fn every_scene_builds_and_steps_under_every_method() {
             }
             let overrides: &[(&str, f64)] = match spec.name {
                 "nbody" if info.implicit => &[("n", 4.0)],
-                // A dense Newton solve of a 16 x 16 cloth's 768 coordinates is slow in debug.
+                // A dense Newton solve of a 12 x 12 cloth's 432 coordinates is slow.
                 "cloth" if info.implicit => &[("w", 4.0), ("h", 4.0)],
                 _ => &[],
             };

@@ -255,8 +255,8 @@ pub const SCENES: [SceneSpec; 16] = [
         doc: "3D cloth: a W x H grid of particles joined by distance constraints (structural and shear), top corners pinned, under gravity",
         dim: 3,
         params: &[
-            p("w", 16.0, "particles across", Rule::Count),
-            p("h", 16.0, "particles down", Rule::Count),
+            p("w", 12.0, "particles across", Rule::Count),
+            p("h", 12.0, "particles down", Rule::Count),
             p("spacing", 0.1, "rest length of a structural link, m", Rule::Positive),
             p("m", 0.01, "mass of each particle, kg", Rule::Positive),
             p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
