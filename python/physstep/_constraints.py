@@ -19,9 +19,9 @@ def summary(traj: Trajectory) -> dict[str, Any] | None:
     except ValueError:
         return None
     world = World.from_scene(traj.scene, traj.method, traj.dt, dict(traj.params))
-    if world.constraint_count == 0:
-        return None
     shape = world.positions.shape
+    if world.constraint_count == 0 or traj.x.shape[1] != world.positions.size:
+        return None
     worst = 0.0
     for row in traj.x:
         world.positions = row.reshape(shape)
