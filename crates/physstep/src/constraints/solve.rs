@@ -10,7 +10,10 @@ use crate::forces::Endpoint;
 /// Which solver a step uses (chosen by the world's method).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Mode {
-    /// Gradients at the current positions, `iterations` sweeps; `v += dx / h`.
+    /// Verlet: projection, and the velocity is the secant `(x - x_prev) / h` (Jakobsen).
+    Jakobsen,
+    /// Gradients at the current positions, `iterations` sweeps; `v += dx / h`, then the
+    /// velocities projected onto the rigid constraints' tangent.
     Project,
     /// Rigid distances by SHAKE (gradients at the step's start positions, to the tolerance)
     /// and the velocities by RATTLE; the other constraints projected.

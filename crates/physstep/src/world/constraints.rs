@@ -153,10 +153,11 @@ impl World {
     }
 
     /// The solver the world's method takes: SHAKE/RATTLE for velocity Verlet and leapfrog,
-    /// projection for the others.
+    /// Jakobsen's projection for Verlet, projection with a velocity projection for the others.
     fn constraint_mode(&self) -> Mode {
         match self.integrator.info().name {
             "velocity-verlet" | "leapfrog" => Mode::Rattle,
+            "verlet" => Mode::Jakobsen,
             _ => Mode::Project,
         }
     }
@@ -173,7 +174,9 @@ impl World {
     }
 
     /// Relax: the positions moved onto the constraints and the velocities given the motion
-    /// that implies; then `f = deriv(y)` again. Projection: `v += dx / h`. RATTLE (velocity
+    /// that implies; then `f = deriv(y)` again. Verlet (Jakobsen): `v += dx / h`, the secant
+    /// velocity. Projection: `v += dx / h`, then the velocities projected onto the rigid
+    /// constraints' tangent (RATTLE's velocity step). RATTLE (velocity
     /// Verlet, leapfrog): the half-step velocity `v - a h / 2` gets `dx / h`, the final half
     /// kick is taken with the acceleration at the corrected positions, and the velocity is
     /// projected onto the constraints' tangent. A method whose memory carries the velocity
@@ -191,6 +194,12 @@ impl World {
         let (x, v) = (&mut xs[..n], &mut vs[..n]);
         solver.positions(list, *iterations, mode, dim, x, &self.model.inv_mass, ctx.h);
         solver.implied(x, v, ctx.inv_h);
+        if mode == Mode::Project {
+            // A method whose position step is not `x + h v_new` (explicit Euler, RK4, ...)
+            // leaves a velocity into the constraints that `dx / h` does not cancel (`g h / 2`
+            // for RK4 on a cloth at rest): RATTLE's velocity step removes it.
+            solver.tangent(list, *iterations, dim, x, v);
+        }
         if mode == Mode::Rattle {
             let a = &self.state.f[nx..nx + n];
             v.iter_mut().zip(a).for_each(|(vi, ai)| *vi -= 0.5 * ctx.h * ai);
