@@ -328,3 +328,23 @@ fn soft_distances_stretch_by_their_compliance() {
         assert!((stretch - 0.02).abs() < 2e-3, "{iterations}: stretch {stretch}");
     }
 }
+
+#[test]
+fn projected_methods_leave_no_velocity_along_a_rod() {
+    // Explicit Euler and RK4 move positions with other velocities than the one they end
+    // with: after the projection, RATTLE's velocity step leaves none along the rod. Verlet
+    // keeps Jakobsen's secant velocity (with a radial part of order h).
+    for method in ["explicit-euler", "rk4", "midpoint", "backward-euler", "symplectic-euler"] {
+        let mut scene = scenes::build("pendulum", &[], method, 0.01).unwrap();
+        for _ in 0..50 {
+            scene.world.step(7).unwrap();
+            let (x, v) = (scene.world.positions(), scene.world.velocities());
+            assert!(
+                (x[0] * v[0] + x[1] * v[1]).abs() < 1e-12,
+                "{method}: v . d = {}",
+                x[0] * v[0] + x[1] * v[1]
+            );
+            assert!((x[0].hypot(x[1]) - 1.0).abs() < 1e-12, "{method}");
+        }
+    }
+}
