@@ -180,3 +180,14 @@ def test_the_readme_example_runs() -> None:
     w = scope["w"]
     assert isinstance(w, physstep.World)
     assert w.constraint_count == 2
+
+
+@pytest.mark.parametrize(("method", "order"), [("velocity-verlet", 2), ("symplectic-euler", 1)])
+def test_the_lab_measures_the_rod_constraint_against_rattle(method: str, order: int) -> None:
+    from physstep import lab
+
+    res = lab.order("pendulum", method, levels=4)
+    assert res["error_against"].startswith("reference: velocity-verlet at dt/16")
+    assert abs(res["order"] - order) < 0.15, res["order"]
+    table = lab.compare("pendulum", [method, "rk4"], dt=0.01, until=1.0)
+    assert table["error_against"].startswith("reference: velocity-verlet")
