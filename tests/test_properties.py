@@ -219,11 +219,16 @@ def _size(scene: str, params: list[str]) -> float:
     spec = SCENES.get(scene)
     if spec is None:
         return 1.0
-    n = next((float(p["default"]) for p in spec["params"] if p["name"] == "n"), 1.0)
+    given = {p["name"]: float(p["default"]) for p in spec["params"]}
     for item in params:
         name, _, value = item.partition("=")
-        if name.strip() == "n" and _num(value) is not None:
-            n = float(value)
+        if name.strip() in given and _num(value) is not None:
+            given[name.strip()] = abs(float(value))
+    if scene == "cloth":  # w x h particles, about 4 links each, relaxed 16 times a step
+        return given["w"] * given["h"] * 64
+    if scene == "ragdoll":  # 19 constraints relaxed 16 times a step
+        return 300.0
+    n = given.get("n", 1.0)
     return n * n if scene == "nbody" else max(n, 1.0)
 
 
@@ -338,6 +343,9 @@ def cli_args(draw: Any) -> tuple[list[str], str]:
     ):
         # stability searches dt itself: only the size of the system bounds its cost
         forced = ["--param", f"n={draw(st.integers(1, 4))}"]  # last: it wins
+    if (cmd == "stability" or _cost(cmd, scene, opts, params) > BUDGET) and scene == "cloth":
+        side = draw(st.integers(1, 3))  # a small cloth: its cost is w x h particles
+        forced = ["--param", f"w={side}", "--param", f"h={side}"]
     if cmd != "stability" and _cost(cmd, scene, opts, params) > BUDGET:
         opts["--until"] = "0"
     if cmd == "order" and (_num(opts.get("--until")) or 0) > 0.1 * base["until"]:

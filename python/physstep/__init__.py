@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from physstep import _core
+from physstep import _constraints, _core
 from physstep._core import (
     Box,
     Capsule,
@@ -362,6 +362,9 @@ def summarize(traj: Trajectory) -> dict[str, Any]:
         err = traj.position_error
         assert err is not None
         out["error"] = {"final_position": float(err[-1]), "max_position": float(err.max())}
+    constraints = _constraints.summary(traj)
+    if constraints is not None:
+        out["constraints"] = constraints
     if traj.diverged:
         out["diverged"] = traj.diverged
     return out

@@ -369,6 +369,49 @@ class World:
         """Adds a force-based rod from particle ``i`` to a particle or an anchor point holding
         the current distance (``length``, m, when given, must equal it: ValueError)."""
 
+    def add_distance_constraint(
+        self, i: int, j: Any, length: float | None = None, compliance: float | None = None
+    ) -> int:
+        """Adds the position constraint |x_i - x_j| = ``length`` (m; default the current
+        distance) between particle ``i`` and particle ``j`` or an anchor point (dim numbers,
+        m). ``compliance`` (m/N, default 0): 0 is rigid (SHAKE/RATTLE under velocity-verlet
+        and leapfrog, projection otherwise), above 0 soft (XPBD). Returns its index.
+        ValueError naming the field for a missing particle, ``j == i``, a length that is not
+        > 0 or a compliance that is not >= 0."""
+
+    def add_pin(self, i: int, point: Any) -> int:
+        """Holds particle ``i`` at ``point`` (dim numbers, m); other constraints see it as
+        fixed. Returns the constraint's index. ValueError naming the field."""
+
+    def add_rope(self, i: int, j: Any, max_length: float) -> int:
+        """A rope of ``max_length`` (m, > 0) from particle ``i`` to particle ``j`` or an anchor
+        point: the distance may shrink, not grow past it. Returns the constraint's index."""
+
+    def add_distance_limit(self, i: int, j: Any, min_length: float, max_length: float) -> int:
+        """A joint limit ``min_length`` <= |x_i - x_j| <= ``max_length`` (m). Returns its
+        index."""
+
+    def add_plane(self, normal: Any, offset: float | None = None) -> int:
+        """Keeps every particle in the half-space normal . x >= ``offset`` (m, default 0): a
+        ground (normal (0, 1)) or a wall of a box. ``normal`` (dim numbers, nonzero) points
+        into the allowed side and is made unit. Returns the constraint's index."""
+
+    @property
+    def constraint_iterations(self) -> int:
+        """Relaxation sweeps per step (default 16): exactly this many for projection, at most
+        this many for SHAKE/RATTLE (they stop at their tolerance). Assign to change it
+        (ValueError outside 1 to 1000000)."""
+
+    @constraint_iterations.setter
+    def constraint_iterations(self, n: int) -> None: ...
+    @property
+    def constraint_count(self) -> int:
+        """The number of constraints."""
+
+    def constraint_violation(self) -> float:
+        """The largest violation of any constraint at the current positions, m (0.0 without
+        constraints)."""
+
     def step(self, n: int | None = None) -> None:
         """Takes ``n`` fixed steps (default 1). Raises DivergedError or ConvergenceError if a
         step fails (that step rolled back, those before it kept); Ctrl-C stops after a whole

@@ -2,7 +2,7 @@
 //!
 //! One file per concern: `errors` (exception types and the mapping of engine errors),
 //! `convert` (arguments in, arrays out), `registry` (methods and scenes), `record`
-//! (`simulate`), `views` (zero-copy `positions` and `velocities`), `world` (`World`; `world_build`, `world_state`, `world_bodies` hold its
+//! (`simulate`), `views` (zero-copy `positions` and `velocities`), `world` (`World`; `world_build`, `world_state`, `world_bodies`, `world_constraints` hold its
 //! methods by concern), `shapes` (rigid-body shapes and their mass properties). Nothing
 //! panics across the boundary: every engine call returns a `Result`, and every bad argument
 //! is a `ValueError` that names it.
@@ -18,6 +18,7 @@ mod views;
 mod world;
 mod world_bodies;
 mod world_build;
+mod world_constraints;
 mod world_state;
 
 use pyo3::prelude::*;

@@ -202,6 +202,7 @@ pub(crate) fn _world_from_parts(
     }
     let mut bodies = crate::world_bodies::BodyLog::default();
     crate::world_bodies::rebuild(&mut engine, &mut bodies, parts, &slot)?;
+    crate::world_constraints::rebuild(&mut engine, parts)?;
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let _ = py;
     let world = World::with_parts(engine, slot, user, flow_spec);

@@ -261,6 +261,7 @@ impl World {
         let snapshot = g.flush()?.snapshot();
         let parts = crate::pickle::parts(py, &g.engine, &g.user, g.flow.as_ref())?;
         crate::world_bodies::parts(py, &g.engine, &g.bodies, &parts)?;
+        crate::world_constraints::parts(py, &g.engine, &parts)?;
         let rebuild = py.import("physstep._core")?.getattr("_world_from_parts")?;
         Ok((rebuild, (parts.into_any(), PyBytes::new(py, &snapshot).into_any())))
     }

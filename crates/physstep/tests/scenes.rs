@@ -18,7 +18,7 @@ fn msg<T: std::fmt::Debug>(r: Result<T>) -> String {
 
 #[test]
 fn every_scene_builds_and_steps_under_every_method() {
-    assert_eq!(scenes::SCENES.len(), 16);
+    assert_eq!(scenes::SCENES.len(), 18);
     for spec in &scenes::SCENES {
         for info in INFOS {
             if ["racket", "top", "tumble"].contains(&spec.name) {
@@ -60,8 +60,15 @@ fn every_scene_builds_and_steps_under_every_method() {
                 }
                 continue;
             }
-            let overrides: &[(&str, f64)] =
-                if spec.name == "nbody" && info.implicit { &[("n", 4.0)] } else { &[] };
+            let overrides: &[(&str, f64)] = match spec.name {
+                "nbody" if info.implicit => &[("n", 4.0)],
+                // A dense Newton solve of a 12 x 12 cloth's 432 coordinates is slow.
+                "cloth" if info.implicit => &[("w", 4.0), ("h", 4.0)],
+                // Stiff at their defaults by design (tests/stiff.rs): soft here, so every
+                // method holds at 1 ms.
+                "stiff-chain" | "stiff-cloth" => &[("n", 4.0), ("k", 100.0)],
+                _ => &[],
+            };
             let mut scene = scenes::build(spec.name, overrides, info.name, 1e-3)
                 .unwrap_or_else(|e| panic!("{} / {}: {e}", spec.name, info.name));
             assert_eq!(scene.spec.name, spec.name);
@@ -291,7 +298,9 @@ fn kepler_rk4_matches_the_exact_solution() {
 #[test]
 fn pendulum_without_gravity_is_a_circle() {
     let (l, om, th) = (1.5, 1.0, 0.5);
-    let over = [("g", 0.0), ("omega0", om), ("length", l), ("theta0", th)];
+    // The notes' rod force (rod = 0): smooth, so each method keeps its order on it (the
+    // constraint version is tested in tests/constraints.rs).
+    let over = [("g", 0.0), ("omega0", om), ("length", l), ("theta0", th), ("rod", 0.0)];
     let scene = scenes::build("pendulum", &over, "rk4", 0.01).unwrap();
     assert!(scene.has_exact());
     for t in [0.0, 0.3, 1.0, PI, 7.0] {
@@ -350,7 +359,7 @@ fn pendulum_without_gravity_is_a_circle() {
 #[test]
 fn unknown_names_list_the_valid_ones() {
     let all_scenes =
-        "spring, projectile, drag, orbit, kepler, pendulum, nbody, chain, lorenz, rossler, thomas, racket, top, tumble";
+        "spring, projectile, drag, orbit, kepler, pendulum, nbody, chain, lorenz, rossler, thomas, stiff-chain, stiff-cloth, racket, top, tumble, cloth, ragdoll";
     assert_eq!(
         msg(scenes::build("bouncy", &[], "rk4", 0.01)),
         format!("unknown scene 'bouncy'; valid scenes: {all_scenes}")

@@ -197,6 +197,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
             f"|L| {math.hypot(*ang['initial']):.6g} -> {math.hypot(*ang['final']):.6g} kg m^2/s "
             f"(max rel. error {ang['max_rel_error']:.3g})",
         )
+    if "constraints" in summary:
+        table.add_row(
+            "constraints", f"max violation {summary['constraints']['max_violation']:.3g} m over the run"
+        )
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
     runs = len(timings)

@@ -102,7 +102,11 @@ def compare(
     here = jobs is None and executor is None
     rows = run_units((lambda *u: _row(subject, *u[2:])) if here else _unit, units, jobs, executor)
     t_end = next((r["t_end"] for r in rows if not r["diverged"]), steps * dt)
-    against = error_against(subject.has_exact, None if ref is None else dt / REFERENCE_REFINE)
+    against = error_against(
+        subject.has_exact,
+        None if ref is None else dt / REFERENCE_REFINE,
+        *([] if ref is None else [ref.method]),
+    )
     out = table(subject, until, against, skipped, rows)
     if subject.kind == "bodies":  # the |L| column's meaning, beside energy_error's
         out["angular_momentum_error"] = ANGULAR_MOMENTUM_ERROR

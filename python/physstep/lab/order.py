@@ -104,6 +104,7 @@ def order(
 
     runs: dict[int, Trajectory | None] = {}  # k -> run at n0 * 2**k steps
     refs: dict[int, Trajectory] = {}
+    ref_method = [REFERENCE_METHOD]  # the reference run's method, once one is made
 
     def count(k: int) -> int:
         return n0 * 2**k if k >= 0 else n0 // 2 ** (-k)
@@ -129,6 +130,8 @@ def order(
         for k in ks:
             traj = run(k)
             errs.append(math.inf if traj is None else final_error(traj, ref))
+        if ref is not None:
+            ref_method[0] = ref.method
         return errs, ref_dt
 
     # the position scale: from the exact solution, else from a fine RK4 run
@@ -192,7 +195,7 @@ def order(
         "order_all": _slope([d for d, _ in usable], [e for _, e in usable]) if len(usable) >= 2 else None,
         "until": until,
         "params": subject.full_params,
-        "error_against": error_against(has_exact, ref_dt),
+        "error_against": error_against(has_exact, ref_dt, ref_method[0]),
         "error": f"final {'state' if subject.kind == 'flow' else 'position'} error, max over coordinates",
         "runs": out_runs,
         "note": note,

@@ -3,7 +3,8 @@
 A scene with an exact solution (spring, drag, projectile, orbit, kepler; pendulum with
 ``g=0``) is measured against it. Everything else (the other scenes, the flow scenes and
 every user system) is measured against a reference run: :data:`REFERENCE_METHOD` (RK4: it
-applies to particles and flows alike, and is the most accurate method that does) at
+applies to particles and flows alike, and is the most accurate method that does; velocity
+Verlet, SHAKE/RATTLE, on a scene with position constraints) at
 ``dt / REFERENCE_REFINE`` of the finest dt, interpolated with cubic Hermite polynomials
 between its rows (x and v for particles, y and dy/dt for a flow). Every result says which
 in ``error_against``.
@@ -20,12 +21,28 @@ from physstep import Trajectory
 from physstep.lab.common import REFERENCE_METHOD, REFERENCE_REFINE
 
 
+def reference_method(scene: Any, params: dict[str, float] | None = None) -> str:
+    """The method of a reference run: :data:`REFERENCE_METHOD`, or ``velocity-verlet`` for a
+    built-in scene with position constraints (the pendulum's rod): RK4 is projected onto
+    them, first order, while velocity Verlet solves rigid ones by SHAKE/RATTLE, second order
+    (see docs/constraints.md)."""
+    if isinstance(scene, str):
+        try:
+            world = physstep.World.from_scene(scene, params=params)
+        except ValueError:
+            return REFERENCE_METHOD
+        if world.constraint_count:
+            return "velocity-verlet"
+    return REFERENCE_METHOD
+
+
 def reference(
     scene: Any, dt: float, until: float, params: dict[str, float] | None = None, *, every: int = 1
 ) -> Trajectory:
-    """The reference run of a scene or system: :data:`REFERENCE_METHOD` at
+    """The reference run of a scene or system: :func:`reference_method` at
     ``dt / REFERENCE_REFINE``, one row every ``every`` of its steps (the last always)."""
-    return physstep.simulate(scene, REFERENCE_METHOD, dt / REFERENCE_REFINE, until, params, every=every)
+    method = reference_method(scene, params)
+    return physstep.simulate(scene, method, dt / REFERENCE_REFINE, until, params, every=every)
 
 
 def hermite(traj: Trajectory, times: np.ndarray) -> np.ndarray:
@@ -90,8 +107,8 @@ def max_error(traj: Trajectory, ref: Trajectory | None) -> float:
     return float(np.abs(traj.x - hermite(ref, traj.t)).max())
 
 
-def error_against(has_exact: bool, ref_dt: float | None) -> str:
+def error_against(has_exact: bool, ref_dt: float | None, method: str = REFERENCE_METHOD) -> str:
     """What the errors were measured against, as a phrase (``error_against``)."""
     if has_exact:
         return "exact solution"
-    return f"reference: {REFERENCE_METHOD} at dt/{REFERENCE_REFINE} = {ref_dt:.6g} s"
+    return f"reference: {method} at dt/{REFERENCE_REFINE} = {ref_dt:.6g} s"

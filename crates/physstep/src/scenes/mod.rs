@@ -3,6 +3,7 @@
 //! its exact solution.
 
 mod bodies;
+mod constrained;
 mod specs;
 mod stiff;
 
@@ -200,7 +201,10 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
         return Ok(Scene { spec, values, world, exact: None });
     }
     let mut world = World::new(params)?;
-    if bodies::build(spec.name, &v, &mut world)? || stiff::build(spec.name, &v, &mut world)? {
+    if bodies::build(spec.name, &v, &mut world)?
+        || constrained::build(spec.name, &v, &mut world)?
+        || stiff::build(spec.name, &v, &mut world)?
+    {
         return Ok(Scene { spec, values, world, exact: None });
     }
     let mut scene = Scene { spec, values: values.clone(), world, exact: None };
@@ -254,7 +258,11 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
             let (l, g, th, om) = (v("length"), v("g"), v("theta0"), v("omega0"));
             let (s, c) = th.sin_cos();
             w.add_particle(&[l * s, -l * c], &[l * om * c, l * om * s], v("m"), false)?;
-            w.add_force(Force::Rod { i: 0, j: Endpoint::Anchor([0.0; 3]), length: l })?;
+            if v("rod") == 0.0 {
+                w.add_force(Force::Rod { i: 0, j: Endpoint::Anchor([0.0; 3]), length: l })?;
+            } else {
+                w.add_distance_constraint(0, Endpoint::Anchor([0.0; 3]), Some(l), 0.0)?;
+            }
             if g != 0.0 {
                 w.add_force(Force::Gravity { g: [0.0, -g, 0.0] })?;
                 None

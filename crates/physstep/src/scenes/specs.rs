@@ -60,7 +60,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 }
 
 /// Every built-in scene, in registry order.
-pub const SCENES: [SceneSpec; 16] = [
+pub const SCENES: [SceneSpec; 18] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -132,6 +132,12 @@ pub const SCENES: [SceneSpec; 16] = [
             p("theta0", 0.5, "initial angle from straight down, rad", Rule::Any),
             p("omega0", 0.0, "initial angular velocity, rad/s", Rule::Any),
             p("m", 1.0, "mass, kg", Rule::Positive),
+            p(
+                "rod",
+                1.0,
+                "the rod: a distance constraint (SHAKE/RATTLE under velocity-verlet), 0 for the notes' rod force",
+                Rule::NonNegative,
+            ),
         ],
         dt: 0.01,
         until: 5.0,
@@ -269,6 +275,37 @@ pub const SCENES: [SceneSpec; 16] = [
         ],
         dt: 1.0 / 120.0,
         until: 1.0,
+    },
+    SceneSpec {
+        name: "cloth",
+        doc: "3D cloth: a W x H grid of particles joined by distance constraints (structural and shear), top corners pinned, under gravity",
+        dim: 3,
+        params: &[
+            p("w", 12.0, "particles across", Rule::Count),
+            p("h", 12.0, "particles down", Rule::Count),
+            p("spacing", 0.1, "rest length of a structural link, m", Rule::Positive),
+            p("m", 0.01, "mass of each particle, kg", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+            p("wind", 0.0, "wind, a uniform acceleration along +z, m/s^2", Rule::Any),
+            p("drag", 0.0, "linear air drag on each particle, N s/m", Rule::NonNegative),
+            p("compliance", 0.0, "compliance of every link, m/N (0: rigid)", Rule::NonNegative),
+        ],
+        dt: 1.0 / 120.0,
+        until: 5.0,
+    },
+    SceneSpec {
+        name: "ragdoll",
+        doc: "2D stick-figure ragdoll: 11 particles, rigid bones, joint limits as min/max distances, falling onto the ground y = 0",
+        dim: 2,
+        params: &[
+            p("height", 1.0, "height of the lowest point above the ground at the start, m", Rule::NonNegative),
+            p("tilt", 0.4, "initial tilt from upright, rad", Rule::Any),
+            p("spin", 1.0, "initial angular velocity, rad/s", Rule::Any),
+            p("m", 1.0, "mass of each particle, kg", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        dt: 1.0 / 120.0,
+        until: 3.0,
     },
 ];
 

@@ -246,10 +246,12 @@ impl World {
     }
 
     /// A fresh instance of the world's method when the fused kernel applies: particles only
-    /// (no bodies, no flow), every force per-particle, no user force, a local method.
+    /// (no bodies, no flow), every force per-particle, no user force, no constraint, a local
+    /// method.
     pub(super) fn fused(&self) -> Option<Integrator> {
         let m = &self.model;
         if self.flow.is_some()
+            || !self.constraints.is_empty()
             || !self.bodies.is_empty()
             || !m.user.is_empty()
             || m.mass.is_empty()

@@ -17,6 +17,7 @@ use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
 mod bodies;
+mod constraints;
 mod flat;
 mod kernel;
 mod model;
@@ -122,6 +123,8 @@ pub struct World {
     body_loads: Vec<(glam::DVec3, glam::DVec3)>,
     /// Body orientations before the latest step of a frame, for render interpolation.
     prev_q: Vec<[f64; 4]>,
+    /// Position constraints on the particles (the Relax stage).
+    constraints: crate::constraints::Constraints,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -182,6 +185,7 @@ impl World {
             bodies: crate::rigid::body::Bodies { h: params.dt, ..Default::default() },
             body_loads: Vec::new(),
             prev_q: Vec::new(),
+            constraints: crate::constraints::Constraints::default(),
         })
     }
 

@@ -3,8 +3,8 @@
 //! A snapshot is `MAGIC`, five little-endian words (dim, particles, method-name length,
 //! steps, evaluations), the method name, then f64s: time, the clock's balance (two), the
 //! epoch (time, steps, dt), the memory length, `[x; v]`, the integrator's memory, the
-//! previous positions and the static mask (1 for a static particle); and last an FNV-1a
-//! checksum of everything before it. [`World::restore`] checks all of it before it changes
+//! previous positions and the static mask (1 for a static particle); with constraints, their
+//! fingerprint (a u64); and last an FNV-1a checksum of everything before it. [`World::restore`] checks all of it before it changes
 //! anything.
 
 use super::{Epoch, World};
@@ -61,6 +61,10 @@ impl World {
         {
             out.extend_from_slice(&v.to_le_bytes());
         }
+        // A world with constraints ends with their fingerprint: a restore checks it.
+        if !self.constraints.is_empty() {
+            out.extend_from_slice(&self.constraints.fingerprint().to_le_bytes());
+        }
         let sum = fnv1a(FNV_START, &out);
         out.extend_from_slice(&sum.to_le_bytes());
         out
@@ -86,6 +90,7 @@ impl World {
         if fnv1a(fnv1a(FNV_START, MAGIC), body) != sum {
             return Err(corrupt("checksum mismatch: the bytes were damaged or edited"));
         }
+        let body = self.constraints_checked(body)?;
         let word = |i: usize| -> Result<u64> {
             body.get(i * 8..i * 8 + 8)
                 .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
@@ -184,7 +189,25 @@ impl World {
         r
     }
 
-    /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory):
+    /// `body` without its trailing constraint fingerprint, which must be this world's, when
+    /// the world has constraints.
+    fn constraints_checked<'a>(&self, body: &'a [u8]) -> Result<&'a [u8]> {
+        if self.constraints.is_empty() {
+            return Ok(body);
+        }
+        let split = body.len().checked_sub(8).ok_or_else(|| corrupt("truncated"))?;
+        let (rest, tail) = body.split_at(split);
+        let print = u64::from_le_bytes(tail.try_into().map_err(|_| corrupt("truncated"))?);
+        if print != self.constraints.fingerprint() {
+            return Err(corrupt(
+                "the snapshot was taken with other constraints (or none) than this world's: restore it into a world built with the same constraints and constraint_iterations",
+            ));
+        }
+        Ok(rest)
+    }
+
+    /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory,
+    /// and the constraints with their sweep count when there are any):
     /// equal for bitwise-equal states, different after any change.
     #[must_use]
     pub fn state_hash(&self) -> u64 {
@@ -193,6 +216,11 @@ impl World {
         eat(self.state.t);
         self.state.y.iter().for_each(|v| eat(*v));
         self.integrator.memory().iter().for_each(|v| eat(*v));
+        // Constraints shape every later step: a world with others is another world (none
+        // leave the hash as it was before they existed).
+        if !self.constraints.is_empty() {
+            h = fnv1a(h, &self.constraints.fingerprint().to_le_bytes());
+        }
         h
     }
 

@@ -3,7 +3,7 @@
 //! ```text
 //! ctx        = StepContext::new(...)   // h validated once, here; t + h must move time
 //! Integrate    the method runs its recipe; forces are evaluated inside it
-//! Relax        position constraints projected (none yet: the constraints issue)
+//! Relax        position constraints projected; velocities and method memory resynced
 //! Collide      contacts found and resolved (none yet: the collisions issue)
 //! Check        a non-finite or runaway state is a divergence: which part, which index
 //! Finish       t = t0 + k h; or, on any failure, the world restored from its checkpoint
@@ -103,6 +103,7 @@ impl World {
 
     /// Integrate: the method's recipe over the world's parts.
     fn integrate(&mut self, ctx: &StepContext, log: Log<'_>) -> Result<()> {
+        self.keep_start();
         if let Some(flow) = self.flow.as_mut() {
             let r = self.integrator.advance(&mut First(flow), &mut self.state, ctx.h, log);
             return match flow.failure.take() {
@@ -124,10 +125,10 @@ impl World {
         }
     }
 
-    /// Relax: position constraints (none yet).
-    #[allow(clippy::unused_self, clippy::unnecessary_wraps)]
-    fn relax(&mut self, _ctx: &StepContext) -> Result<()> {
-        Ok(())
+    /// Relax: position constraints projected, velocities and method memory resynced
+    /// (`world/constraints.rs`).
+    fn relax(&mut self, ctx: &StepContext) -> Result<()> {
+        self.relax_constraints(ctx)
     }
 
     /// Collide: contacts (none yet).

@@ -1,0 +1,182 @@
+//! `World`'s position constraints: adding them, the sweep count, the violation, and the
+//! constraints as plain data (for pickles).
+
+use crate::convert::{array, float, index, whole};
+use crate::pickle::{end, parse_end};
+use crate::py_err;
+use crate::world::World;
+use crate::world_build::endpoint;
+use physstep::constraints::Constraint;
+use physstep::world::World as Engine;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+
+#[pymethods]
+impl World {
+    /// Adds the constraint |x_i - x_j| = length (m) between particle `i` and particle `j`
+    /// (or a fixed point: `j` may be an anchor of dim numbers); `length` defaults to the
+    /// current distance. `compliance` (m/N, default 0) 0 is rigid (SHAKE/RATTLE under
+    /// velocity-verlet and leapfrog, projection otherwise); above 0 the link is soft (XPBD).
+    /// Returns the constraint's index.
+    #[pyo3(signature = (i, j, length=None, compliance=None))]
+    fn add_distance_constraint(
+        &self,
+        i: &Bound<'_, PyAny>,
+        j: &Bound<'_, PyAny>,
+        length: Option<&Bound<'_, PyAny>>,
+        compliance: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let i = index(i, "i")?;
+        let j = endpoint(j, "j", w.dim())?;
+        let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
+        let compliance = compliance.map_or(Ok(0.0), |c| float(c, "compliance"))?;
+        w.add_distance_constraint(i, j, length, compliance).map_err(py_err)
+    }
+
+    /// Holds particle `i` at `point` (dim numbers, m); other constraints see it as fixed.
+    /// Returns the constraint's index.
+    fn add_pin(&self, i: &Bound<'_, PyAny>, point: &Bound<'_, PyAny>) -> PyResult<usize> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let i = index(i, "i")?;
+        let point = array(point, "point", Some(w.dim()), None)?;
+        w.add_pin(i, &point).map_err(py_err)
+    }
+
+    /// A rope of `max_length` (m) from particle `i` to particle (or anchor point) `j`: the
+    /// distance may shrink, not grow past it. Returns the constraint's index.
+    fn add_rope(
+        &self,
+        i: &Bound<'_, PyAny>,
+        j: &Bound<'_, PyAny>,
+        max_length: &Bound<'_, PyAny>,
+    ) -> PyResult<usize> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let i = index(i, "i")?;
+        let j = endpoint(j, "j", w.dim())?;
+        let max_length = float(max_length, "max_length")?;
+        w.add_rope(i, j, max_length).map_err(py_err)
+    }
+
+    /// A joint limit: min_length <= |x_i - x_j| <= max_length (m). Returns its index.
+    fn add_distance_limit(
+        &self,
+        i: &Bound<'_, PyAny>,
+        j: &Bound<'_, PyAny>,
+        min_length: &Bound<'_, PyAny>,
+        max_length: &Bound<'_, PyAny>,
+    ) -> PyResult<usize> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let i = index(i, "i")?;
+        let j = endpoint(j, "j", w.dim())?;
+        let (lo, hi) = (float(min_length, "min_length")?, float(max_length, "max_length")?);
+        w.add_distance_limit(i, j, lo, hi).map_err(py_err)
+    }
+
+    /// Keeps every particle in the half-space normal . x >= offset (m): a ground (normal
+    /// (0, 1), offset 0 is y >= 0) or one wall of a box. `normal` (dim numbers, nonzero)
+    /// points into the allowed side and is made unit. Returns the constraint's index.
+    #[pyo3(signature = (normal, offset=None))]
+    fn add_plane(&self, normal: &Bound<'_, PyAny>, offset: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
+        let mut g = self.lock()?;
+        let w = g.flush()?;
+        let normal = array(normal, "normal", Some(w.dim()), None)?;
+        let offset = offset.map_or(Ok(0.0), |o| float(o, "offset"))?;
+        w.add_plane(&normal, offset).map_err(py_err)
+    }
+
+    /// Relaxation sweeps per step (default 16): exactly this many for projection, at most
+    /// this many for SHAKE/RATTLE, which stop at their tolerance. Assign to change it.
+    #[getter]
+    fn constraint_iterations(&self) -> PyResult<u32> {
+        Ok(self.lock()?.engine.constraint_iterations())
+    }
+
+    #[setter]
+    fn set_constraint_iterations(&self, n: &Bound<'_, PyAny>) -> PyResult<()> {
+        let max = i64::from(physstep::constraints::MAX_ITERATIONS);
+        let n = whole(n, "constraint_iterations", 1, max)? as u32;
+        self.lock()?.engine.set_constraint_iterations(n).map_err(py_err)
+    }
+
+    /// The largest violation of any constraint at the current positions, m (0.0 without
+    /// constraints).
+    fn constraint_violation(&self) -> PyResult<f64> {
+        let mut g = self.lock()?;
+        Ok(g.flush()?.constraint_violation())
+    }
+
+    /// The number of constraints.
+    #[getter]
+    fn constraint_count(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.constraints().list().len())
+    }
+}
+
+/// Adds the constraints of `w` to the pickle `parts`, as tuples.
+pub(crate) fn parts(py: Python<'_>, w: &Engine, d: &Bound<'_, PyDict>) -> PyResult<()> {
+    let dim = w.dim();
+    let list = PyList::empty(py);
+    for c in w.constraints().list() {
+        let item: Bound<'_, PyTuple> = match *c {
+            Constraint::Distance { i, j, length, compliance } => {
+                ("distance", i, end(py, j, dim)?, length, compliance).into_pyobject(py)?
+            }
+            Constraint::Limit { i, j, min, max } => {
+                ("limit", i, end(py, j, dim)?, min, max).into_pyobject(py)?
+            }
+            Constraint::Pin { i, point } => ("pin", i, point[..dim].to_vec()).into_pyobject(py)?,
+            Constraint::Plane { normal, offset } => {
+                ("plane", normal[..dim].to_vec(), offset).into_pyobject(py)?
+            }
+        };
+        list.append(item)?;
+    }
+    d.set_item("constraints", list)?;
+    d.set_item("constraint_iterations", w.constraint_iterations())?;
+    Ok(())
+}
+
+/// Adds the constraints in the pickle `parts` to `w`.
+pub(crate) fn rebuild(w: &mut Engine, parts: &Bound<'_, PyDict>) -> PyResult<()> {
+    if let Some(n) = parts.get_item("constraint_iterations")? {
+        w.set_constraint_iterations(n.extract()?).map_err(py_err)?;
+    }
+    let Some(list) = parts.get_item("constraints")? else { return Ok(()) };
+    for item in list.try_iter()? {
+        let item = item?;
+        let kind: String = item.get_item(0)?.extract()?;
+        let a = |k: usize| item.get_item(k);
+        let v3 = |v: Vec<f64>| {
+            let mut p = [0.0; 3];
+            p[..v.len().min(3)].copy_from_slice(&v[..v.len().min(3)]);
+            p
+        };
+        let c = match kind.as_str() {
+            "distance" => Constraint::Distance {
+                i: a(1)?.extract()?,
+                j: parse_end(&a(2)?)?,
+                length: a(3)?.extract()?,
+                compliance: a(4)?.extract()?,
+            },
+            "limit" => Constraint::Limit {
+                i: a(1)?.extract()?,
+                j: parse_end(&a(2)?)?,
+                min: a(3)?.extract()?,
+                max: a(4)?.extract()?,
+            },
+            "pin" => Constraint::Pin { i: a(1)?.extract()?, point: v3(a(2)?.extract()?) },
+            "plane" => Constraint::Plane { normal: v3(a(1)?.extract()?), offset: a(2)?.extract()? },
+            other => {
+                return Err(PyValueError::new_err(format!("invalid parts: unknown constraint '{other}'")))
+            }
+        };
+        w.add_constraint(c).map_err(py_err)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,193 @@
+"""Position constraints at the boundary: the API, bad input, copies and pickles, the CLI's
+report, and the long runs (the engine's physics is tested in crates/physstep/tests)."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import pickle
+
+import numpy as np
+import physstep
+import pytest
+from conftest import run_cli
+
+
+def _pair(method: str = "verlet") -> physstep.World:
+    w = physstep.World(2, method=method, dt=0.01)
+    w.add_particle([0.0, 0.0])
+    w.add_particle([1.0, 0.0])
+    w.add_particle([2.0, 0.0])
+    w.add_gravity([0.0, -9.81])
+    return w
+
+
+def test_constraints_are_added_and_held() -> None:
+    w = _pair()
+    assert w.constraint_count == 0
+    assert w.constraint_violation() == 0.0
+    assert w.add_pin(0, [0.0, 0.0]) == 0
+    assert w.add_distance_constraint(1, 0) == 1
+    assert w.add_rope(2, 1, 1.5) == 2
+    assert w.add_plane([0.0, 2.0], -5.0) == 3
+    assert w.add_distance_limit(2, 0, 0.5, 3.0) == 4
+    assert w.add_distance_constraint(2, [3.0, 0.0], length=1.2, compliance=1e-4) == 5
+    assert w.constraint_count == 6
+    assert w.constraint_iterations == 16
+    w.constraint_iterations = 40
+    assert w.constraint_iterations == 40
+    w.step(300)
+    x = w.positions
+    assert x[0].tolist() == [0.0, 0.0]
+    assert abs(np.linalg.norm(x[1] - x[0]) - 1.0) < 1e-6
+    assert np.linalg.norm(x[2] - x[1]) <= 1.5 + 1e-6
+    assert (x[:, 1] >= -2.5 - 1e-9).all()
+    assert 0.0 <= w.constraint_violation() < 0.05
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda w: w.add_distance_constraint(3, 0), "invalid i = 3: must be a particle index < 3"),
+        (lambda w: w.add_distance_constraint(-1, 0), "invalid i = -1: must be a particle index >= 0"),
+        (
+            lambda w: w.add_distance_constraint(1, 1),
+            "invalid j = 1: must be a particle index < 3 other than i = 1",
+        ),
+        (
+            lambda w: w.add_distance_constraint(0, 9),
+            "invalid j = 9: must be a particle index < 3 other than i = 0",
+        ),
+        (
+            lambda w: w.add_distance_constraint(0, 1, length=-2.0),
+            "invalid length = -2: must be a finite number > 0",
+        ),
+        (
+            lambda w: w.add_distance_constraint(0, 1, length=math.nan),
+            "invalid length = NaN: must be a finite number > 0",
+        ),
+        (lambda w: w.add_distance_constraint(0, 1, compliance=-1e-3), "invalid compliance = -0.001: must be"),
+        (lambda w: w.add_distance_constraint(0, 1, compliance=math.nan), "invalid compliance = NaN: must be"),
+        (
+            lambda w: w.add_distance_constraint(0, 1, length="long"),
+            "invalid length = 'long': must be a number",
+        ),
+        (lambda w: w.add_rope(0, 1, 0.0), "invalid max_length = 0: must be a finite number > 0"),
+        (lambda w: w.add_pin(4, [0.0, 0.0]), "invalid i = 4: must be a particle index < 3"),
+        (lambda w: w.add_pin(0, [0.0, math.inf]), "invalid point[1] = inf: must be finite"),
+        (lambda w: w.add_plane([0.0, 0.0]), "invalid normal = (0, 0): must be a nonzero vector"),
+        (lambda w: w.add_distance_limit(0, 1, 2.0, 1.0), "invalid max_length = 1: must be >= min_length = 2"),
+        (
+            lambda w: setattr(w, "constraint_iterations", 0),
+            "invalid constraint_iterations = 0: must be a whole",
+        ),
+        (
+            lambda w: setattr(w, "constraint_iterations", 2.5),
+            "invalid constraint_iterations = 2.5: must be a whole",
+        ),
+    ],
+)
+def test_bad_constraints_are_one_clear_line_and_change_nothing(call: object, message: str) -> None:
+    w = _pair()
+    w.add_distance_constraint(0, 1)
+    before = (w.state_hash(), w.constraint_count, w.constraint_iterations)
+    with pytest.raises(ValueError) as err:
+        call(w)  # type: ignore[operator]
+    text = str(err.value)
+    assert text.startswith(message), text
+    assert "\n" not in text
+    assert (w.state_hash(), w.constraint_count, w.constraint_iterations) == before
+
+
+def test_a_flow_takes_no_constraint() -> None:
+    w = physstep.World.from_scene("lorenz", "rk4", 0.01)
+    with pytest.raises(ValueError, match="cannot add a constraint to a world that is the flow 'lorenz'"):
+        w.add_plane([0.0, 0.0, 1.0])
+
+
+def test_copies_and_pickles_keep_the_constraints_bitwise() -> None:
+    w = physstep.World.from_scene("ragdoll", "velocity-verlet", 1 / 120)
+    w.constraint_iterations = 12
+    w.step(20)
+    for other in (copy.copy(w), copy.deepcopy(w), pickle.loads(pickle.dumps(w))):
+        assert other.constraint_count == w.constraint_count == 19
+        assert other.constraint_iterations == 12
+        assert other.state_hash() == w.state_hash()
+    clone = pickle.loads(pickle.dumps(w))
+    w.step(100)
+    clone.step(100)
+    assert clone.state_hash() == w.state_hash()
+    assert np.array_equal(clone.positions, w.positions)
+
+
+def test_pendulum_keeps_its_rod_and_energy_for_144000_steps() -> None:
+    # The scene's default dt (0.01 s), velocity Verlet: SHAKE/RATTLE.
+    w = physstep.World.from_scene("pendulum", "velocity-verlet", 0.01)
+    e0 = w.energy()
+    assert e0 is not None
+    tenths = []
+    worst = 0.0
+    for _ in range(10):
+        de = 0.0
+        for _ in range(144):
+            w.step(100)
+            worst = max(worst, abs(float(np.linalg.norm(w.positions[0])) - 1.0))
+            e = w.energy()
+            assert e is not None
+            de = max(de, abs(e - e0))
+        tenths.append(de)
+    assert w.steps == 144_000
+    assert worst < 1e-9
+    assert 0 < tenths[0] < 1e-3 * abs(e0)
+    assert tenths[-1] <= 1.1 * tenths[0], tenths
+
+
+def test_the_force_rod_is_still_there() -> None:
+    force = physstep.World.from_scene("pendulum", "rk4", 0.01, {"rod": 0})
+    rod = physstep.World.from_scene("pendulum", "rk4", 0.01)
+    assert force.constraint_count == 0
+    assert rod.constraint_count == 1
+
+
+def test_cli_run_reports_the_constraints() -> None:
+    res = run_cli("run", "cloth", "--method", "verlet", "--until", "0.5", "--param", "w=6", "--param", "h=6")
+    assert res.returncode == 0, res.stderr
+    assert "max violation" in res.stdout
+    res = run_cli("run", "pendulum", "--method", "velocity-verlet", "--format", "json")
+    assert res.returncode == 0, res.stderr
+    doc = json.loads(res.stdout)
+    assert 0 <= doc["constraints"]["max_violation"] < 1e-9
+    res = run_cli("run", "spring", "--format", "json")
+    assert "constraints" not in json.loads(res.stdout)
+
+
+def test_cli_bad_constraint_params_exit_2() -> None:
+    res = run_cli("run", "cloth", "--param", "compliance=-1")
+    assert res.returncode == 2
+    assert res.stderr.strip().count("\n") == 0
+    assert "compliance = -1" in res.stderr
+
+
+def test_the_readme_example_runs() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).parent.parent / "README.md").read_text()
+    start = text.index("```python", text.index("### Constraints")) + len("```python")
+    code = text[start : text.index("```", start)]
+    scope: dict[str, object] = {"physstep": physstep}
+    exec(compile(code, "README.md", "exec"), scope)  # noqa: S102 - the README's own example
+    w = scope["w"]
+    assert isinstance(w, physstep.World)
+    assert w.constraint_count == 2
+
+
+@pytest.mark.parametrize(("method", "order"), [("velocity-verlet", 2), ("symplectic-euler", 1)])
+def test_the_lab_measures_the_rod_constraint_against_rattle(method: str, order: int) -> None:
+    from physstep import lab
+
+    res = lab.order("pendulum", method, levels=4)
+    assert res["error_against"].startswith("reference: velocity-verlet at dt/16")
+    assert abs(res["order"] - order) < 0.15, res["order"]
+    table = lab.compare("pendulum", [method, "rk4"], dt=0.01, until=1.0)
+    assert table["error_against"].startswith("reference: velocity-verlet")
