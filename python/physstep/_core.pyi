@@ -412,6 +412,26 @@ class World:
         """The largest violation of any constraint at the current positions, m (0.0 without
         constraints)."""
 
+    def set_implicit(
+        self,
+        *,
+        tol: float | None = None,
+        max_iter: int | None = None,
+        cg_tol: float | None = None,
+        cg_max_iter: int | None = None,
+        dense_up_to: int | None = None,
+    ) -> None:
+        """Sets the implicit methods' solver: Newton's relative tolerance ``tol`` and cap
+        ``max_iter``, the conjugate-gradient tolerance ``cg_tol`` and cap ``cg_max_iter`` of
+        the sparse solve, and ``dense_up_to`` (systems of at most this many unknowns are
+        solved densely; 0 always sparse). Arguments left out keep their values."""
+
+    @property
+    def solve_stats(self) -> dict[str, Any] | None:
+        """What the latest step's implicit solve did: ``newton`` (updates), ``cg``
+        (conjugate-gradient iterations, 0 for the dense solve), ``residual`` (Newton's final,
+        relative), ``sparse``; None under an explicit method."""
+
     def step(self, n: int | None = None) -> None:
         """Takes ``n`` fixed steps (default 1). Raises DivergedError or ConvergenceError if a
         step fails (that step rolled back, those before it kept); Ctrl-C stops after a whole

@@ -19,6 +19,7 @@ mod world;
 mod world_bodies;
 mod world_build;
 mod world_constraints;
+mod world_implicit;
 mod world_state;
 
 use pyo3::prelude::*;

@@ -468,6 +468,12 @@ impl World {
         Ok(())
     }
 
+    /// The implicit methods' solver settings.
+    #[must_use]
+    pub fn implicit(&self) -> ImplicitParams {
+        self.implicit
+    }
+
     /// Sets the implicit methods' Newton and conjugate-gradient settings, and the size up to
     /// which they solve densely; the current method starts afresh with them.
     ///

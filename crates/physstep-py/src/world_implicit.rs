@@ -1,0 +1,59 @@
+//! `World`'s implicit-solver settings and what the latest implicit step's solve did.
+
+use crate::convert::{count, float};
+use crate::py_err;
+use crate::world::World;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+#[pymethods]
+impl World {
+    /// Sets the implicit methods' solver: Newton's relative tolerance `tol` and iteration
+    /// cap `max_iter`, the conjugate-gradient tolerance `cg_tol` and cap `cg_max_iter` of
+    /// the sparse solve, and `dense_up_to` (systems of at most this many unknowns are solved
+    /// densely; 0 always sparse). Arguments left out keep their values.
+    #[pyo3(signature = (*, tol=None, max_iter=None, cg_tol=None, cg_max_iter=None, dense_up_to=None))]
+    fn set_implicit(
+        &self,
+        tol: Option<&Bound<'_, PyAny>>,
+        max_iter: Option<&Bound<'_, PyAny>>,
+        cg_tol: Option<&Bound<'_, PyAny>>,
+        cg_max_iter: Option<&Bound<'_, PyAny>>,
+        dense_up_to: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let mut g = self.lock()?;
+        let mut p = g.engine.implicit();
+        let iterations =
+            |o: &Bound<'_, PyAny>, f: &str| count(o, f).map(|n| u32::try_from(n).unwrap_or(u32::MAX));
+        if let Some(o) = tol {
+            p.tol = float(o, "tol")?;
+        }
+        if let Some(o) = max_iter {
+            p.max_iter = iterations(o, "max_iter")?;
+        }
+        if let Some(o) = cg_tol {
+            p.cg.tol = float(o, "cg_tol")?;
+        }
+        if let Some(o) = cg_max_iter {
+            p.cg.max_iter = iterations(o, "cg_max_iter")?;
+        }
+        if let Some(o) = dense_up_to {
+            p.dense_up_to = usize::try_from(count(o, "dense_up_to")?).unwrap_or(usize::MAX);
+        }
+        g.engine.set_implicit(p).map_err(py_err)
+    }
+
+    /// What the latest step's implicit solve did: `newton` (updates), `cg` (conjugate-gradient
+    /// iterations over them, 0 for the dense solve), `residual` (Newton's final, relative),
+    /// `sparse`; None under an explicit method.
+    #[getter]
+    fn solve_stats<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(s) = self.lock()?.engine.integrator().solve_stats() else { return Ok(None) };
+        let d = PyDict::new(py);
+        d.set_item("newton", s.newton)?;
+        d.set_item("cg", s.cg)?;
+        d.set_item("residual", s.residual)?;
+        d.set_item("sparse", s.sparse)?;
+        Ok(Some(d))
+    }
+}

@@ -1,0 +1,43 @@
+"""Implicit solves from Python: the sparse Newton/CG solve's statistics and settings."""
+
+from __future__ import annotations
+
+import physstep
+import pytest
+
+
+def test_solve_stats_say_which_solve_ran() -> None:
+    w = physstep.World.from_scene("stiff-chain", "backward-euler")
+    assert w.solve_stats is not None and w.solve_stats["newton"] == 0
+    w.step(3)
+    s = w.solve_stats
+    assert s["sparse"] and s["newton"] >= 1 and s["cg"] >= s["newton"] and s["residual"] <= 1e-12
+    w.set_implicit(dense_up_to=10**9)
+    w.step(1)
+    assert not w.solve_stats["sparse"] and w.solve_stats["cg"] == 0
+    w.method = "symplectic-euler"
+    assert w.solve_stats is None
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"tol": -1.0}, "tol"),
+        ({"max_iter": 0}, "max_iter"),
+        ({"cg_tol": float("nan")}, "cg_tol"),
+        ({"cg_max_iter": 0}, "cg_max_iter"),
+        ({"dense_up_to": -3}, "dense_up_to"),
+    ],
+)
+def test_bad_solver_settings_name_the_field(kwargs: dict, field: str) -> None:
+    w = physstep.World.from_scene("stiff-chain", "backward-euler")
+    with pytest.raises(ValueError, match=rf"invalid {field} = "):
+        w.set_implicit(**kwargs)
+    w.step(1)  # the world still steps with its old settings
+    assert w.solve_stats["sparse"]
+
+
+def test_symplectic_euler_diverges_on_the_stiff_chain_and_is_reported() -> None:
+    w = physstep.World.from_scene("stiff-chain", "symplectic-euler")
+    with pytest.raises(physstep.DivergedError, match=r"symplectic-euler.*particle \d+"):
+        w.step(600)
