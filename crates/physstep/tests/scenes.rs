@@ -18,7 +18,7 @@ fn msg<T: std::fmt::Debug>(r: Result<T>) -> String {
 
 #[test]
 fn every_scene_builds_and_steps_under_every_method() {
-    assert_eq!(scenes::SCENES.len(), 14);
+    assert_eq!(scenes::SCENES.len(), 15);
     for spec in &scenes::SCENES {
         for info in INFOS {
             if ["racket", "top", "tumble"].contains(&spec.name) {

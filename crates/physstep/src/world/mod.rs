@@ -16,6 +16,7 @@ use crate::integrators::registry::RUNAWAY;
 use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
+mod balls;
 mod bodies;
 mod flat;
 mod kernel;
@@ -117,6 +118,8 @@ pub struct World {
     body_loads: Vec<(glam::DVec3, glam::DVec3)>,
     /// Body orientations before the latest step of a frame, for render interpolation.
     prev_q: Vec<[f64; 4]>,
+    /// Balls (particles with a radius), walls and the Collide stage's scratch.
+    balls: crate::collide::Balls,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -175,6 +178,7 @@ impl World {
             bodies: crate::rigid::body::Bodies { h: params.dt, ..Default::default() },
             body_loads: Vec::new(),
             prev_q: Vec::new(),
+            balls: crate::collide::Balls::default(),
         })
     }
 
