@@ -106,7 +106,12 @@ fn head_on_1d_with_restitution() {
 
 #[test]
 fn oblique_2d() {
-    two_balls((&[0.0, 0.0], &[1.0, 0.0], 0.3, 2.0), (&[1.0, 0.2], &[0.0, 0.0], 0.2, 1.0), 1.0, "symplectic-euler");
+    two_balls(
+        (&[0.0, 0.0], &[1.0, 0.0], 0.3, 2.0),
+        (&[1.0, 0.2], &[0.0, 0.0], 0.2, 1.0),
+        1.0,
+        "symplectic-euler",
+    );
     two_balls((&[0.0, 0.0], &[1.5, 0.3], 0.3, 1.0), (&[1.2, 0.4], &[-0.5, 0.0], 0.3, 1.0), 1.0, "rk4");
 }
 
@@ -171,7 +176,9 @@ fn bouncing_under_gravity_stays_in_the_box() {
 
 fn scene(n: usize, dim: usize, fraction: f64, method: &str) -> World {
     let (n, dim) = (n as f64, dim as f64);
-    scenes::build("balls", &[("n", n), ("dim", dim), ("fraction", fraction)], method, 1.0 / 120.0).unwrap().world
+    scenes::build("balls", &[("n", n), ("dim", dim), ("fraction", fraction)], method, 1.0 / 120.0)
+        .unwrap()
+        .world
 }
 
 fn max_pair_overlap(w: &World) -> f64 {
@@ -297,7 +304,8 @@ fn failed_step_rolls_back_the_collisions() {
 
 #[test]
 fn methods_with_memory_keep_energy() {
-    for method in ["verlet", "leapfrog", "velocity-verlet", "symplectic-euler-alternating", "backward-euler"] {
+    for method in ["verlet", "leapfrog", "velocity-verlet", "symplectic-euler-alternating", "backward-euler"]
+    {
         let mut w = scene(100, 2, 0.3, method);
         let k0 = kinetic(&w);
         w.step(300).unwrap();
@@ -342,4 +350,26 @@ fn bad_input_is_named_and_leaves_the_world() {
     assert!(m.contains("fraction = 0.9"), "{m}");
     let m = message(scenes::build("balls", &[("dim", 4.0)], "rk4", 0.01));
     assert!(m.contains("dim = 4"), "{m}");
+}
+
+#[test]
+fn snapshots_hold_the_balls() {
+    let mut w = scene(200, 2, 0.3, "leapfrog");
+    w.step(20).unwrap();
+    let snap = w.snapshot();
+    let hash = w.state_hash();
+    w.step(30).unwrap();
+    let (after, stats) = (w.state_hash(), w.collisions());
+    w.restore(&snap).unwrap();
+    assert_eq!(w.state_hash(), hash);
+    w.step(30).unwrap();
+    assert_eq!((w.state_hash(), w.collisions()), (after, stats));
+    // Another world of the same particles whose balls differ is refused, unchanged.
+    let mut other = scene(200, 2, 0.3, "leapfrog");
+    other.set_restitution(0.5).unwrap();
+    let before = other.state_hash();
+    assert_ne!(before, scene(200, 2, 0.3, "leapfrog").state_hash(), "restitution is in the hash");
+    let m = message(other.restore(&snap));
+    assert!(m.contains("balls"), "{m}");
+    assert_eq!(other.state_hash(), before);
 }

@@ -350,7 +350,7 @@ fn pendulum_without_gravity_is_a_circle() {
 #[test]
 fn unknown_names_list_the_valid_ones() {
     let all_scenes =
-        "spring, projectile, drag, orbit, kepler, pendulum, nbody, chain, lorenz, rossler, thomas, racket, top, tumble";
+        "spring, projectile, drag, orbit, kepler, pendulum, nbody, chain, lorenz, rossler, thomas, racket, top, tumble, balls";
     assert_eq!(
         msg(scenes::build("bouncy", &[], "rk4", 0.01)),
         format!("unknown scene 'bouncy'; valid scenes: {all_scenes}")

@@ -156,6 +156,7 @@ impl Scratch {
 
     /// The impulse between slots `a` and `b` at `s`: `J = -(1 + e) (v_b - v_a).n / (w_a + w_b)`
     /// along the unit line of centres `n` (from `a` to `b`), when they approach.
+    #[allow(clippy::needless_range_loop)] // k indexes n, the state and the input alike
     fn collide_pair(&mut self, a: usize, b: usize, s: f64, inp: &Input<'_>) {
         let d = inp.d;
         self.advance(a, s, d);

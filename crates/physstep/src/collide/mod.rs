@@ -116,7 +116,11 @@ pub(crate) fn check_walls(lo: &[f64], hi: &[f64], dim: usize) -> Result<Walls> {
     let mut w = Walls { lo: [0.0; 3], hi: [0.0; 3] };
     for k in 0..dim {
         if lo[k] >= hi[k] {
-            return Err(Error::invalid(format!("hi[{k}]"), num(hi[k]), format!("> lo[{k}] = {}", num(lo[k]))));
+            return Err(Error::invalid(
+                format!("hi[{k}]"),
+                num(hi[k]),
+                format!("> lo[{k}] = {}", num(lo[k])),
+            ));
         }
         w.lo[k] = lo[k];
         w.hi[k] = hi[k];
@@ -146,7 +150,13 @@ pub(crate) fn check_inside(field: &str, x: &[f64], r: f64, walls: &Walls) -> Res
 }
 
 /// The deepest overlap of the candidate pairs and past the walls of balls at `x` (by slot).
-pub(crate) fn overlap(x: &[f64], d: usize, radius: &[f64], pairs: &[(u32, u32)], walls: Option<&Walls>) -> f64 {
+pub(crate) fn overlap(
+    x: &[f64],
+    d: usize,
+    radius: &[f64],
+    pairs: &[(u32, u32)],
+    walls: Option<&Walls>,
+) -> f64 {
     let mut worst = 0.0_f64;
     for &(i, j) in pairs {
         let (i, j) = (i as usize, j as usize);

@@ -47,12 +47,12 @@ pub fn layout(p: &BallsParams) -> Result<(f64, Vec<f64>, Vec<f64>)> {
     }
     let cell = side / m as f64;
     let jitter = (0.5 * cell - r) * (1.0 - 1e-9);
-    if !(jitter >= 0.0) {
+    if p.fraction <= 0.0 || jitter.is_nan() || jitter < 0.0 {
         let most = n as f64 * unit / ((2.0 * r * m as f64).powi(d as i32));
         return Err(Error::invalid(
             "fraction",
             num(p.fraction),
-            format!("at most {} for {n} balls on a lattice in {d}D", num(most)),
+            format!("> 0 and at most {} for {n} balls on a lattice in {d}D", num(most)),
         ));
     }
     let mut rng = SplitMix(p.seed);

@@ -24,7 +24,11 @@ impl World {
         collide::check_radius("radius", radius)?;
         self.check_particles(position, Some(velocity), Some(&[mass]))?;
         if position.len() != self.dim() {
-            return Err(Error::invalid("len(position)", position.len(), format!("{}, the dimension", self.dim())));
+            return Err(Error::invalid(
+                "len(position)",
+                position.len(),
+                format!("{}, the dimension", self.dim()),
+            ));
         }
         if let Some(w) = &self.balls.walls {
             collide::check_inside("position", position, radius, w)?;
@@ -87,7 +91,13 @@ impl World {
         x.extend_from_slice(positions);
         r.extend_from_slice(radii);
         if let Some((i, j, dist)) = collide::first_overlap(&x, d, &r) {
-            let who = |s: usize| if s < old { format!("ball {}", self.balls.index[s]) } else { format!("position[{}]", s - old) };
+            let who = |s: usize| {
+                if s < old {
+                    format!("ball {}", self.balls.index[s])
+                } else {
+                    format!("position[{}]", s - old)
+                }
+            };
             let field = format!("position[{}]", j - old);
             return Err(Error::invalid(
                 field,
@@ -124,7 +134,11 @@ impl World {
     /// ball that would overlap another or stick out of the walls; the world is unchanged.
     pub fn set_radii(&mut self, radii: &[f64]) -> Result<()> {
         if radii.len() != self.len() {
-            return Err(Error::invalid("len(radius)", radii.len(), format!("{}, one per particle", self.len())));
+            return Err(Error::invalid(
+                "len(radius)",
+                radii.len(),
+                format!("{}, one per particle", self.len()),
+            ));
         }
         let d = self.dim();
         let (mut x, mut r, mut index) = (Vec::new(), Vec::new(), Vec::new());
@@ -144,7 +158,12 @@ impl World {
             return Err(Error::invalid(
                 format!("radius[{}]", index[j]),
                 num(r[j]),
-                format!("small enough that ball {} is clear of ball {} (distance {})", index[j], index[i], num(dist)),
+                format!(
+                    "small enough that ball {} is clear of ball {} (distance {})",
+                    index[j],
+                    index[i],
+                    num(dist)
+                ),
             ));
         }
         self.balls.radius = radii.to_vec();
@@ -163,7 +182,12 @@ impl World {
         let w = collide::check_walls(lo, hi, self.dim())?;
         let d = self.dim();
         for &p in &self.balls.index {
-            collide::check_inside(&format!("position of ball {p}"), &self.state.y[p * d..(p + 1) * d], self.balls.radius[p], &w)?;
+            collide::check_inside(
+                &format!("position of ball {p}"),
+                &self.state.y[p * d..(p + 1) * d],
+                self.balls.radius[p],
+                &w,
+            )?;
         }
         self.balls.walls = Some(w);
         Ok(())
@@ -319,5 +343,53 @@ impl World {
         }
         let sizes = self.layout().sizes(self.state.y.len());
         self.integrator.recall(&memory, sizes)
+    }
+}
+
+/// Entries of [`World::balls_block`] before the radii.
+const BLOCK_HEAD: usize = 11;
+
+impl World {
+    /// What a snapshot and the state hash hold of the balls (nothing in a world without):
+    /// restitution, whether there are walls, their corners (3 + 3), the contact statistics
+    /// (count, deepest overlap, pairs tested), then every particle's radius.
+    pub(super) fn balls_block(&self) -> Vec<f64> {
+        if self.balls.is_empty() {
+            return Vec::new();
+        }
+        let b = &self.balls;
+        let w = b.walls.unwrap_or(Walls { lo: [0.0; 3], hi: [0.0; 3] });
+        let mut out = vec![b.restitution, f64::from(u8::from(b.walls.is_some()))];
+        out.extend_from_slice(&w.lo);
+        out.extend_from_slice(&w.hi);
+        let s = b.stats;
+        out.extend([s.count as f64, s.max_overlap, s.pair_tests as f64]);
+        out.extend(self.radii());
+        out
+    }
+
+    /// Checks a snapshot's balls block against this world's (`ours`): the same radii, walls
+    /// and restitution; returns the statistics to restore.
+    ///
+    /// # Errors
+    /// [`crate::Error::Corrupt`] when they differ.
+    pub(super) fn balls_check(&self, theirs: &[f64], ours: &[f64]) -> Result<Option<CollisionStats>> {
+        if ours.is_empty() {
+            return Ok(None);
+        }
+        let same = theirs.len() == ours.len()
+            && theirs[..BLOCK_HEAD - 3].iter().zip(ours).all(|(a, b)| a.to_bits() == b.to_bits())
+            && theirs[BLOCK_HEAD..].iter().zip(&ours[BLOCK_HEAD..]).all(|(a, b)| a.to_bits() == b.to_bits());
+        if !same {
+            return Err(Error::Corrupt {
+                reason: "the snapshot's balls (radii, walls or restitution) differ from this world's".into(),
+            });
+        }
+        let [count, depth, tests] = [theirs[8], theirs[9], theirs[10]];
+        let whole = |v: f64| v.fract() == 0.0 && (0.0..=9.0e15).contains(&v);
+        if !(whole(count) && whole(tests) && depth.is_finite() && depth >= 0.0) {
+            return Err(Error::Corrupt { reason: "contact statistics out of range".into() });
+        }
+        Ok(Some(CollisionStats { count: count as u64, max_overlap: depth, pair_tests: tests as u64 }))
     }
 }
