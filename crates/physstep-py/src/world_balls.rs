@@ -122,6 +122,19 @@ impl World {
     }
 }
 
+/// The contact statistics of a world with balls (the keys of `World.collisions`), else None.
+pub(crate) fn stats<'py>(py: Python<'py>, w: &Engine) -> PyResult<Option<Bound<'py, PyDict>>> {
+    if w.ball_count() == 0 {
+        return Ok(None);
+    }
+    let s = w.collisions();
+    let d = PyDict::new(py);
+    d.set_item("count", s.count)?;
+    d.set_item("max_overlap", s.max_overlap)?;
+    d.set_item("pair_tests", s.pair_tests)?;
+    Ok(Some(d))
+}
+
 /// The balls' part of a pickle: `(radii, walls or None, restitution)`, or None without balls.
 pub(crate) fn parts<'py>(py: Python<'py>, w: &Engine) -> PyResult<Bound<'py, PyAny>> {
     if w.ball_count() == 0 {

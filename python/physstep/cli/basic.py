@@ -197,6 +197,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
             f"|L| {math.hypot(*ang['initial']):.6g} -> {math.hypot(*ang['final']):.6g} kg m^2/s "
             f"(max rel. error {ang['max_rel_error']:.3g})",
         )
+    if "collisions" in summary:
+        col = summary["collisions"]
+        table.add_row("collisions", f"{col['count']} contacts, max overlap {col['max_overlap']:.3g} m")
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
     runs = len(timings)

@@ -135,7 +135,11 @@ impl World {
     /// world is unchanged.
     pub fn set_radii(&mut self, radii: &[f64]) -> Result<()> {
         if radii.len() != self.len() {
-            return Err(Error::invalid("len(radius)", radii.len(), format!("{}, one per particle", self.len())));
+            return Err(Error::invalid(
+                "len(radius)",
+                radii.len(),
+                format!("{}, one per particle", self.len()),
+            ));
         }
         for (p, &rp) in radii.iter().enumerate() {
             if rp != 0.0 {
