@@ -231,16 +231,26 @@ impl Scratch {
         self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
         self.pairs.clear();
         let (grid, p, pairs) = (&self.grid, &self.p, &mut self.pairs);
+        let order = grid.order();
+        let mut found = 0u64;
+        let mut spans = [(0u32, 0u32); 6];
         for i in 0..nb {
-            grid.neighbours(i, d, |j| {
-                *tests += 1;
-                let reach = inp.radius[i] + inp.radius[j] + 2.0 * rem;
-                let dist2: f64 = (0..d).map(|k| (p[j * d + k] - p[i * d + k]).powi(2)).sum();
-                if dist2 <= reach * reach {
-                    pairs.push((i as u32, j as u32));
+            let (pi, ri) = (&p[i * d..(i + 1) * d], inp.radius[i] + 2.0 * rem);
+            let count = grid.partners(i, d, &mut spans);
+            for &(a, b) in &spans[..count] {
+                found += u64::from(b.saturating_sub(a));
+                for &j in &order[a as usize..b.max(a) as usize] {
+                    let j = j as usize;
+                    let reach = ri + inp.radius[j];
+                    let pj = &p[j * d..(j + 1) * d];
+                    let dist2: f64 = pi.iter().zip(pj).map(|(a, b)| (b - a) * (b - a)).sum();
+                    if dist2 <= reach * reach {
+                        pairs.push((i.min(j) as u32, i.max(j) as u32));
+                    }
                 }
-            });
+            }
         }
+        *tests += found;
         self.start.clear();
         self.start.resize(nb + 1, 0);
         for &(i, j) in &self.pairs {
@@ -303,9 +313,11 @@ impl Scratch {
                 self.advance(b, tg, d);
             }
             let umax = (0..nb).map(|b| self.speed2(b, d)).fold(0.0, f64::max).sqrt();
-            // A path may grow in a collision (a light ball struck by a heavy one): the pairs
-            // are chosen for paths up to twice the longest, and found again past that.
-            let bound = 2.0 * umax;
+            // A path may grow in a collision: between equal masses to at most sqrt(2) times the
+            // longer of the two (|v'|^2 <= |v_a|^2 + |v_b|^2), more when a light ball is struck
+            // by a heavy one. The pairs are chosen for paths up to 1.5 times the longest, and
+            // found again (from the time of that contact) when one grows past that.
+            let bound = 1.5 * umax;
             let rem = bound * (1.0 - tg);
             self.candidates(inp, rem, &mut out.tests);
             self.heap.clear();
