@@ -373,13 +373,3 @@ fn snapshots_hold_the_balls() {
     assert!(m.contains("balls"), "{m}");
     assert_eq!(other.state_hash(), before);
 }
-
-#[test]
-#[ignore]
-fn zz_timing() {
-    let mut w = scene(5000, 2, 0.3, "symplectic-euler");
-    w.step(2).unwrap();
-    let t0 = std::time::Instant::now();
-    w.step(300).unwrap();
-    eprintln!("ms/step {}", t0.elapsed().as_secs_f64() / 300.0 * 1e3);
-}
