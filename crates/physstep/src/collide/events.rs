@@ -141,9 +141,11 @@ impl Scratch {
             } else {
                 continue;
             };
-            let s = self.tau[a] + if gap <= 0.0 { 0.0 } else { gap / uk.abs() };
-            if s <= 1.0 {
-                self.push(s, a, WALL + 2 * k as u32 + side);
+            // Reached within the step when gap <= (1 - tau) |u| (tested before dividing).
+            let left = 1.0 - self.tau[a];
+            if gap <= left * uk.abs() {
+                let s = self.tau[a] + if gap <= 0.0 { 0.0 } else { gap / uk.abs() };
+                self.push(s.min(1.0), a, WALL + 2 * k as u32 + side);
             }
         }
     }

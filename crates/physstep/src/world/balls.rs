@@ -284,7 +284,7 @@ impl World {
                 b.x1[i] = x;
             }
         }
-        let depth = collide::overlap(&b.x1, d, &b.slot_radius, &s.pairs, b.walls.as_ref());
+        let depth = collide::overlap(&b.x1, d, &b.slot_radius, &s.pairs, &s.hit, b.walls.as_ref());
         b.stats.max_overlap = b.stats.max_overlap.max(depth);
         if hits == 0 {
             return Ok(());
