@@ -249,7 +249,7 @@ pub const SCENES: [SceneSpec; 15] = [
         doc: "N balls in a box (seeded, no overlap, random velocities), colliding elastically at their time of impact",
         dim: 2,
         params: &[
-            p("n", 200.0, "number of balls", Rule::Count),
+            p("n", 100.0, "number of balls", Rule::Count),
             p("radius", 0.05, "ball radius, m", Rule::Positive),
             p("dim", 2.0, "spatial dimensions, 1 to 3", Rule::Count),
             p("seed", 1.0, "random seed", Rule::NonNegative),
