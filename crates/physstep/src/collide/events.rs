@@ -60,6 +60,8 @@ pub(crate) struct Scratch {
     pub vel: Vec<f64>,
     pub tau: Vec<f64>,
     ver: Vec<u32>,
+    /// When each ball was last hit in this step (-1: not yet).
+    last: Vec<f64>,
     /// Whether the ball was hit this step.
     pub hit: Vec<bool>,
     /// The candidate pairs of the latest pass, and each slot's partners (CSR).
@@ -156,6 +158,20 @@ impl Scratch {
         self.vel[i] - (1.0 - s) * (inp.v1[i] - self.v0[i])
     }
 
+    /// The restitution of a contact of `a` and `b`: the world's for a ball's first contact in
+    /// the step, 1 once either ball was already hit in it. Inelastic contacts among balls that
+    /// touch (a pile at rest under gravity) converge only geometrically, an endless sequence
+    /// of ever smaller impulses (an inelastic collapse); elastic ones end. So energy is taken
+    /// at most once per ball per step (Luding and McNamara's TC model, with the step as the
+    /// contact duration).
+    fn restitution(&self, a: usize, b: usize, inp: &Input<'_>) -> f64 {
+        if self.last[a] >= 0.0 || self.last[b] >= 0.0 {
+            1.0
+        } else {
+            inp.e
+        }
+    }
+
     /// The impulse between slots `a` and `b` at `s`: `J = -(1 + e) (v_b - v_a).n / (w_a + w_b)`
     /// along the unit line of centres `n` (from `a` to `b`), when they approach.
     #[allow(clippy::needless_range_loop)] // k indexes n, the state and the input alike
@@ -183,7 +199,7 @@ impl Scratch {
         for k in 0..d {
             rel += (self.vel_at(b, k, s, inp) - self.vel_at(a, k, s, inp)) * n[k];
         }
-        let j = if rel < 0.0 { -(1.0 + inp.e) * rel / (wa + wb) } else { 0.0 };
+        let j = if rel < 0.0 { -(1.0 + self.restitution(a, b, inp)) * rel / (wa + wb) } else { 0.0 };
         let mut ur = 0.0;
         for k in 0..d {
             self.vel[a * d + k] -= j * wa * n[k];
@@ -193,9 +209,13 @@ impl Scratch {
             ur += (self.u[b * d + k] - self.u[a * d + k]) * n[k];
         }
         // The paths must part even where the velocities already do (a force that changed
-        // the relative velocity within the step): no approach along n is left.
+        // the relative velocity within the step; balls resting on each other under gravity,
+        // whose velocities at impact are 0 while their chords approach): the approach of the
+        // paths along n is reflected, split by inverse mass (an elastic exchange of path, not
+        // of velocity: no energy moves). Only reflecting ends such chains: removing the
+        // approach alone would hand half of it back and forth without end (Zeno).
         if ur < 0.0 {
-            let c = -ur / (wa + wb);
+            let c = -2.0 * ur / (wa + wb);
             for k in 0..d {
                 self.u[a * d + k] -= c * wa * n[k];
                 self.u[b * d + k] += c * wb * n[k];
@@ -212,7 +232,7 @@ impl Scratch {
         let i = a * inp.d + k;
         let w = self.vel_at(a, k, s, inp);
         if (side == 0 && w < 0.0) || (side == 1 && w > 0.0) {
-            let delta = -(1.0 + inp.e) * w;
+            let delta = -(1.0 + self.restitution(a, a, inp)) * w;
             self.vel[i] += delta;
             self.u[i] += delta * inp.h;
         }
@@ -307,6 +327,8 @@ impl Scratch {
         self.ver.resize(nb, 0);
         self.hit.clear();
         self.hit.resize(nb, false);
+        self.last.clear();
+        self.last.resize(nb, -1.0);
         let mut out = Outcome::default();
         let cap = 64 * nb as u64 + 1024;
         let mut tg = 0.0;
@@ -355,8 +377,10 @@ impl Scratch {
                     self.collide_pair(a, b, s, inp);
                     self.ver[b] = self.ver[b].wrapping_add(1);
                     self.hit[b] = true;
+                    self.last[b] = s;
                     moved[1] = b;
                 }
+                self.last[a] = s;
                 if moved.iter().any(|&m| self.speed2(m, d) > bound * bound) {
                     tg = s;
                     continue 'pass;
