@@ -424,3 +424,28 @@ fn a_pile_settles_under_gravity() {
         }
     }
 }
+
+#[test]
+fn contacts_that_do_not_end_fail_the_step_and_roll_back() {
+    // A pile settling at rest with a low restitution hands each step's fall through all its
+    // resting contacts: after a few seconds a step needs more than the stage's budget.
+    let mut w = scenes::build(
+        "balls",
+        &[("n", 300.0), ("fraction", 0.3), ("restitution", 0.3)],
+        "velocity-verlet",
+        1.0 / 120.0,
+    )
+    .unwrap()
+    .world;
+    w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+    for _ in 0..3000 {
+        let (hash, stats, t) = (w.state_hash(), w.collisions(), w.time());
+        if let Err(e) = w.step(1) {
+            assert!(matches!(e, Error::Contacts { .. }) && e.is_step_failure(), "{e}");
+            assert!(e.to_string().contains("did not end within 20224 collisions"), "{e}");
+            assert_eq!((w.state_hash(), w.collisions(), w.time()), (hash, stats, t));
+            return;
+        }
+    }
+    panic!("the pile kept within the budget: pick a harder case for this test");
+}

@@ -14,7 +14,6 @@
 
 use super::grid::Grid;
 use super::Walls;
-use crate::error::{Error, Result};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -311,9 +310,9 @@ impl Scratch {
     /// with velocity `vel` (the caller writes them back).
     ///
     /// # Errors
-    /// [`Error::Unsupported`] naming `method` when the contacts do not end within `64 nb +
-    /// 1024` events (balls squeezed together without end).
-    pub fn resolve(&mut self, inp: &Input<'_>, method: &str) -> Result<Outcome> {
+    /// The budget of events, `64 nb + 1024`, when the contacts do not end within it (balls
+    /// packed at rest).
+    pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
         let (d, nb) = (inp.d, inp.radius.len());
         self.p.clear();
         self.p.extend_from_slice(&self.x0);
@@ -359,12 +358,7 @@ impl Scratch {
                 }
                 out.contacts += 1;
                 if out.contacts > cap {
-                    return Err(Error::Unsupported {
-                        method: method.into(),
-                        reason: format!(
-                            "could not resolve the contacts of a step in {cap} collisions (balls squeezed together); state rolled back"
-                        ),
-                    });
+                    return Err(cap);
                 }
                 self.ver[a] = self.ver[a].wrapping_add(1);
                 self.hit[a] = true;

@@ -266,7 +266,12 @@ impl World {
             x1: &b.x1,
             v1: &b.v1,
         };
-        let out = b.scratch.resolve(&inp, name)?;
+        let out = b.scratch.resolve(&inp).map_err(|contacts| Error::Contacts {
+            method: name.into(),
+            step: ctx.step,
+            t: ctx.t,
+            contacts,
+        })?;
         b.stats.count += out.contacts;
         b.stats.pair_tests += out.tests;
         let s = &b.scratch;
