@@ -195,7 +195,8 @@ fn max_pair_overlap(w: &World) -> f64 {
 
 #[test]
 fn scene_keeps_energy_no_overlap_inside() {
-    for (dim, fraction) in [(1, 0.3), (2, 0.3), (3, 0.2)] {
+    // The sparse ones spread over more cells than 4 N: the grid's hashed table.
+    for (dim, fraction) in [(1, 0.3), (2, 0.3), (3, 0.2), (2, 0.002), (3, 0.001)] {
         let mut w = scene(150, dim, fraction, "symplectic-euler");
         let k0 = kinetic(&w);
         let walls = w.walls().unwrap();
@@ -210,7 +211,8 @@ fn scene_keeps_energy_no_overlap_inside() {
         }
         let drift = (kinetic(&w) - k0).abs() / k0;
         assert!(drift < 1e-12, "dim {dim}: drift {drift}");
-        assert!(w.collisions().count > 100, "dim {dim}: {} collisions", w.collisions().count);
+        let least = if fraction < 0.01 { 1 } else { 100 };
+        assert!(w.collisions().count >= least, "dim {dim}: {} collisions", w.collisions().count);
         assert!(w.collisions().max_overlap <= 1e-6 * 0.05);
     }
 }

@@ -254,19 +254,27 @@ impl Scratch {
         let (grid, p, pairs) = (&self.grid, &self.p, &mut self.pairs);
         let order = grid.order();
         let mut found = 0u64;
-        let mut spans = [(0u32, 0u32); 6];
+        let mut spans = [(0u32, 0u32, 0u64); 14];
         for i in 0..nb {
             let (pi, ri) = (&p[i * d..(i + 1) * d], inp.radius[i] + 2.0 * rem);
+            let mut test = |j: usize| {
+                let reach = ri + inp.radius[j];
+                let pj = &p[j * d..(j + 1) * d];
+                let dist2: f64 = pi.iter().zip(pj).map(|(a, b)| (b - a) * (b - a)).sum();
+                if dist2 <= reach * reach {
+                    pairs.push((i.min(j) as u32, i.max(j) as u32));
+                }
+            };
             let count = grid.partners(i, d, &mut spans);
-            for &(a, b) in &spans[..count] {
-                found += u64::from(b.saturating_sub(a));
-                for &j in &order[a as usize..b.max(a) as usize] {
-                    let j = j as usize;
-                    let reach = ri + inp.radius[j];
-                    let pj = &p[j * d..(j + 1) * d];
-                    let dist2: f64 = pi.iter().zip(pj).map(|(a, b)| (b - a) * (b - a)).sum();
-                    if dist2 <= reach * reach {
-                        pairs.push((i.min(j) as u32, i.max(j) as u32));
+            for &(a, b, key) in &spans[..count] {
+                let range = &order[a as usize..b.max(a) as usize];
+                if key == super::grid::ANY {
+                    found += range.len() as u64;
+                    range.iter().for_each(|&j| test(j as usize));
+                } else {
+                    for &j in range.iter().filter(|&&j| grid.key_of(j as usize) == key) {
+                        found += 1;
+                        test(j as usize);
                     }
                 }
             }

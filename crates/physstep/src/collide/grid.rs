@@ -1,6 +1,6 @@
-//! The broad phase: a uniform grid of cubic cells, kept as one sorted list of
-//! `(cell key, ball)` so it is rebuilt every pass without allocation (the buffers keep their
-//! capacity) and read in a deterministic order.
+//! The broad phase: a uniform grid of cubic cells, the balls counting-sorted into a table of
+//! cells, rebuilt every pass in O(n) without allocation (the buffers keep their capacity) and
+//! read in a deterministic order.
 //!
 //! A ball's cell is `floor((p - lo) / cell)` per axis; the key is the cell's linear index
 //! with one empty cell of margin on every side, so the neighbours `-1..=1` of any cell have
@@ -10,8 +10,9 @@
 //! next layer).
 //!
 //! When the box of the balls has few cells (at most `4 n + 4096`, as in any box that the
-//! balls fill to a useful density) the list is made by a counting sort into a dense table
-//! of cell starts instead, and a cell is found by its key directly: O(n), no search.
+//! balls fill to a useful density) the table has an entry per cell and a row of cells is one
+//! range; else (balls spread thin over a large space) an entry per hash of a cell, in a table
+//! of at least `2 n` entries, whose readers keep the balls of the cell they asked for.
 
 /// At most this many cells per axis (the keys of three axes fit a `u64`).
 const MAX_CELLS: f64 = (1u64 << 20) as f64;
@@ -19,18 +20,20 @@ const MAX_CELLS: f64 = (1u64 << 20) as f64;
 /// The grid and its scratch.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Grid {
-    /// `(key, slot)` sorted: the balls cell by cell.
+    /// `(key, slot)` of each slot.
     keys: Vec<(u64, u32)>,
     /// Each slot's cell coordinates (with the margin of one).
     cells: Vec<[u64; 3]>,
     /// Cells per axis with the margins.
     m: [u64; 3],
-    /// Dense table: where each cell's balls start in `order` (`cells + 1` entries), when used.
+    /// Where each table entry's balls start in `order` (`entries + 1` values).
     start: Vec<u32>,
-    /// The balls cell by cell, and each slot's place in it.
+    /// The balls entry by entry, and each slot's place in it.
     order: Vec<u32>,
     pos: Vec<u32>,
+    /// Whether the table has an entry per cell (else per hash of a cell, `64 - shift` bits).
     dense: bool,
+    shift: u32,
 }
 
 impl Grid {
@@ -75,50 +78,47 @@ impl Grid {
         }
         let total = self.m[0] * self.m[1] * self.m[2];
         self.dense = total <= 4 * n as u64 + 4096;
+        // Counting sort by table entry: the cell itself in a dense table, else the cell's
+        // hash in a table of 2^k >= 2 n buckets (a bucket may hold balls of several cells:
+        // the reader keeps those of the cell it asked for). Each slot is placed in ascending
+        // order (a bucket's balls by slot), which leaves `start[e]` at the end of entry e:
+        // shifted back by one.
+        self.shift = if self.dense { 0 } else { 64 - (2 * n).next_power_of_two().max(16).trailing_zeros() };
+        let entries = if self.dense { total as usize } else { 1usize << (64 - self.shift) };
         self.pos.clear();
         self.pos.resize(n, 0);
-        if !self.dense {
-            self.keys.sort_unstable();
-            self.order.clear();
-            self.order.extend(self.keys.iter().map(|(_, b)| *b));
-            for (at, b) in self.order.iter().enumerate() {
-                self.pos[*b as usize] = at as u32;
-            }
-            return;
-        }
-        // Counting sort: counts, starts, then each slot placed in ascending order (a cell's
-        // balls by slot), which leaves `start[k]` at the end of cell k: shifted back by one.
-        let total = total as usize;
         self.start.clear();
-        self.start.resize(total + 1, 0);
-        for &(k, _) in &self.keys {
-            self.start[k as usize + 1] += 1;
+        self.start.resize(entries + 1, 0);
+        for i in 0..n {
+            let e = self.entry(self.keys[i].0);
+            self.start[e + 1] += 1;
         }
-        for k in 0..total {
-            self.start[k + 1] += self.start[k];
+        for e in 0..entries {
+            self.start[e + 1] += self.start[e];
         }
         self.order.clear();
         self.order.resize(n, 0);
-        for &(k, b) in &self.keys {
-            let at = &mut self.start[k as usize];
-            self.order[*at as usize] = b;
-            self.pos[b as usize] = *at;
-            *at += 1;
+        for i in 0..n {
+            let (k, b) = self.keys[i];
+            let e = self.entry(k);
+            let at = self.start[e];
+            self.order[at as usize] = b;
+            self.pos[b as usize] = at;
+            self.start[e] = at + 1;
         }
-        for k in (1..=total).rev() {
-            self.start[k] = self.start[k - 1];
+        for e in (1..=entries).rev() {
+            self.start[e] = self.start[e - 1];
         }
         self.start[0] = 0;
     }
 
-    /// The index range in [`Grid::order`] of the cells with keys `k0..=k1`.
-    fn span(&self, k0: u64, k1: u64) -> (u32, u32) {
+    /// The table entry of cell `key`: the key itself (dense) or its hash.
+    #[inline]
+    fn entry(&self, key: u64) -> usize {
         if self.dense {
-            (self.start[k0 as usize], self.start[k1 as usize + 1])
+            key as usize
         } else {
-            let a = self.keys.partition_point(|(k, _)| *k < k0);
-            let b = self.keys.partition_point(|(k, _)| *k <= k1);
-            (a as u32, b as u32)
+            (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> self.shift) as usize
         }
     }
 
@@ -128,33 +128,53 @@ impl Grid {
         &self.order
     }
 
+    /// The cell key of slot `b`.
+    #[inline]
+    pub fn key_of(&self, b: usize) -> u64 {
+        self.keys[b].0
+    }
+
     /// The ranges of [`Grid::order`] that hold the partners of slot `i` to test, each pair
     /// once (the half shell): the balls after `i` in its own cell, then those in the
     /// neighbouring cells that come after its cell in key order (`+x` in its row; the three
-    /// cells of the next row; in 3D the nine of the next layer). Returns how many of `out`
-    /// were filled.
+    /// cells of the next row; in 3D the nine of the next layer). Each range comes with the
+    /// cell key its balls must have ([`ANY`] in a dense table, where a range holds only the
+    /// cells asked for). Returns how many of `out` were filled.
     #[inline]
-    pub fn partners(&self, i: usize, d: usize, out: &mut [(u32, u32); 6]) -> usize {
+    pub fn partners(&self, i: usize, d: usize, out: &mut [(u32, u32, u64); 14]) -> usize {
         let c = self.cells[i];
         let own = self.key(c);
-        let (_, end) = self.span(own, own);
-        out[0] = (self.pos[i] + 1, end);
-        let mut n = 1;
-        let mut push = |lo: [u64; 3], hi: [u64; 3]| {
-            out[n] = self.span(self.key(lo), self.key(hi));
-            n += 1;
+        let mut n = 0;
+        let mut push = |lo: [u64; 3], hi: [u64; 3], first: Option<u32>| {
+            let (k0, k1) = (self.key(lo), self.key(hi));
+            if self.dense {
+                let a = first.unwrap_or(self.start[k0 as usize]);
+                out[n] = (a, self.start[k1 as usize + 1], ANY);
+                n += 1;
+            } else {
+                for k in k0..=k1 {
+                    let e = self.entry(k);
+                    let a = if k == own { first.unwrap_or(self.start[e]) } else { self.start[e] };
+                    out[n] = (a, self.start[e + 1], k);
+                    n += 1;
+                }
+            }
         };
-        // The rest of the own row: the next cell along x.
+        // The rest of the own cell, then the next cell along x.
+        push(c, c, Some(self.pos[i] + 1));
         let next = [c[0] + 1, c[1], c[2]];
-        push(next, next);
+        push(next, next, None);
         if d > 1 {
-            push([c[0] - 1, c[1] + 1, c[2]], [c[0] + 1, c[1] + 1, c[2]]);
+            push([c[0] - 1, c[1] + 1, c[2]], [c[0] + 1, c[1] + 1, c[2]], None);
         }
         if d > 2 {
             for y in [c[1] - 1, c[1], c[1] + 1] {
-                push([c[0] - 1, y, c[2] + 1], [c[0] + 1, y, c[2] + 1]);
+                push([c[0] - 1, y, c[2] + 1], [c[0] + 1, y, c[2] + 1], None);
             }
         }
         n
     }
 }
+
+/// The cell key of a range that holds only the cells asked for.
+pub(crate) const ANY: u64 = u64::MAX;

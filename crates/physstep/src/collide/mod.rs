@@ -191,11 +191,14 @@ pub(crate) fn first_overlap(x: &[f64], d: usize, radius: &[f64]) -> Option<(usiz
     let rmax = radius.iter().copied().fold(0.0, f64::max);
     grid.build(x, d, 2.0 * rmax);
     let mut found: Option<(usize, usize, f64)> = None;
-    let mut spans = [(0u32, 0u32); 6];
+    let mut spans = [(0u32, 0u32, 0u64); 14];
     for i in 0..radius.len() {
         let count = grid.partners(i, d, &mut spans);
-        for &(a, b) in &spans[..count] {
+        for &(a, b, key) in &spans[..count] {
             for &j in &grid.order()[a as usize..b.max(a) as usize] {
+                if key != grid::ANY && grid.key_of(j as usize) != key {
+                    continue;
+                }
                 let (i, j) = (i.min(j as usize), i.max(j as usize));
                 let dist = (0..d).map(|k| (x[j * d + k] - x[i * d + k]).powi(2)).sum::<f64>().sqrt();
                 if dist < radius[i] + radius[j] && found.is_none_or(|f| (j, i) < (f.1, f.0)) {
