@@ -185,7 +185,8 @@ class Trajectory:
     times where the scene has one. Where the world has rigid bodies (``kind == "bodies"``),
     ``angular_momentum`` (rows, 3) is the total about the origin and ``body_spin``
     (rows, bodies, 3) each body's angular velocity in its principal frame (ascending
-    moments), where the tennis-racket flips show.
+    moments), where the tennis-racket flips show. Where the world has balls, ``collisions``
+    holds the contact statistics at the end (``count``, ``max_overlap`` in m, ``pair_tests``).
     """
 
     scene: str
@@ -209,6 +210,7 @@ class Trajectory:
     diverged: str | None = None
     angular_momentum: np.ndarray | None = None
     body_spin: np.ndarray | None = None
+    collisions: dict[str, float] | None = None
 
     @property
     def ns_per_step(self) -> float:
@@ -365,6 +367,9 @@ def summarize(traj: Trajectory) -> dict[str, Any]:
     constraints = _constraints.summary(traj)
     if constraints is not None:
         out["constraints"] = constraints
+    if traj.collisions is not None:
+        c = traj.collisions
+        out["collisions"] = {"count": int(c["count"]), "max_overlap": float(c["max_overlap"])}
     if traj.diverged:
         out["diverged"] = traj.diverged
     return out

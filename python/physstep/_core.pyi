@@ -340,6 +340,52 @@ class World:
         """Adds ``positions`` (k, dim; m) with optional ``velocities`` (k, dim; m/s) and
         ``masses`` (k,; kg); returns their indices. ValueError for a bad shape or value."""
 
+    def add_ball(
+        self, position: Any, velocity: Any = None, radius: float | None = None, mass: float | None = None
+    ) -> int:
+        """Adds a ball: a particle of ``radius`` (m, default 1) at ``position`` (dim numbers, m)
+        with ``velocity`` (m/s, default 0) and ``mass`` (kg, default 1; ``inf``: immovable) that
+        collides with the other balls and the walls at its time of impact. Returns its index.
+
+        Raises ValueError naming the field: a radius not finite and > 0, a ball that would
+        overlap another (touching is allowed) or stick out of the walls; the world is unchanged.
+        """
+
+    def add_balls(
+        self,
+        positions: npt.ArrayLike,
+        radii: float | npt.ArrayLike,
+        velocities: npt.ArrayLike | None = None,
+        masses: npt.ArrayLike | None = None,
+    ) -> npt.NDArray[np.int64]:
+        """Adds balls at ``positions`` (k, dim; m) of ``radii`` (one number, or (k,); m) with
+        optional ``velocities`` (k, dim; m/s) and ``masses`` (k,; kg); returns their indices.
+        ValueError as :meth:`add_ball`, naming the first bad entry."""
+
+    def add_walls(self, lo: npt.ArrayLike, hi: npt.ArrayLike) -> None:
+        """Puts the balls in the axis-aligned box ``lo``..``hi`` (dim numbers each, m),
+        replacing any walls before. ValueError for ``hi[k] <= lo[k]`` or a ball outside."""
+
+    @property
+    def restitution(self) -> float:
+        """Coefficient of restitution of every contact, 0 to 1 (1: elastic, the default)."""
+
+    @restitution.setter
+    def restitution(self, e: float) -> None: ...
+    @property
+    def radii(self) -> npt.NDArray[np.float64]:
+        """The radius of every particle (n,), m: 0 for a particle that is not a ball (a copy)."""
+
+    @property
+    def walls(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]] | None:
+        """The walls as ``(lo, hi)`` arrays, or None."""
+
+    @property
+    def collisions(self) -> dict[str, Any]:
+        """What the contacts came to since the world was built: ``count`` (contacts resolved),
+        ``max_overlap`` (the deepest overlap of two balls, or of a ball past a wall, after any
+        step, m) and ``pair_tests`` (pairs the narrow phase tested: grows with N, not N^2)."""
+
     def add_gravity(self, g: Any) -> None:
         """Adds uniform gravity ``g`` (dim numbers, m/s^2) on every dynamic particle."""
 

@@ -34,7 +34,7 @@ pub(crate) fn py_err(e: Error) -> PyErr {
     let msg = e.to_string();
     match e {
         Error::Diverged { .. } | Error::NonFinite { .. } => DivergedError::new_err(msg),
-        Error::NotConverged { .. } => ConvergenceError::new_err(msg),
+        Error::NotConverged { .. } | Error::Contacts { .. } => ConvergenceError::new_err(msg),
         _ => PyValueError::new_err(msg),
     }
 }

@@ -16,6 +16,7 @@ mod registry;
 mod shapes;
 mod views;
 mod world;
+mod world_balls;
 mod world_bodies;
 mod world_build;
 mod world_constraints;

@@ -92,6 +92,7 @@ pub(crate) fn parts<'py>(
         (None, None) => None,
     };
     d.set_item("flow", flow_item)?;
+    d.set_item("balls", crate::world_balls::parts(py, w)?)?;
     Ok(d)
 }
 
@@ -143,6 +144,7 @@ pub(crate) fn engine(parts: &Bound<'_, PyDict>, flow: Option<(Flow, usize)>) -> 
         };
         w.add_force(force).map_err(py_err)?;
     }
+    crate::world_balls::rebuild(&mut w, parts.get_item("balls")?)?;
     Ok(w)
 }
 

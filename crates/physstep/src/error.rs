@@ -83,6 +83,18 @@ pub enum Error {
         /// divergence) rather than failing by itself (an error, a wrong shape).
         non_finite: bool,
     },
+    /// The contacts of a step did not end within the stage's budget of collisions (balls
+    /// packed at rest); the step was rolled back.
+    Contacts {
+        /// The method.
+        method: String,
+        /// Index of the step.
+        step: u64,
+        /// Simulation time at the start of the step, s.
+        t: f64,
+        /// The budget of collisions that was used up.
+        contacts: u64,
+    },
     /// Serialised state that cannot be read back (snapshot from another world or corrupted).
     Corrupt {
         /// What was wrong.
@@ -117,6 +129,7 @@ impl Error {
             self,
             Self::Diverged { .. }
                 | Self::NotConverged { .. }
+                | Self::Contacts { .. }
                 | Self::NonFinite { .. }
                 | Self::Force { non_finite: true, .. }
         )
@@ -162,6 +175,10 @@ impl fmt::Display for Error {
             Self::Force { name, reason, .. } => {
                 write!(f, "force '{}' failed: {}; step rolled back", one_line(name), one_line(reason))
             }
+            Self::Contacts { method, step, t, contacts } => write!(
+                f,
+                "method '{method}': the contacts of step {step} (t = {t}) did not end within {contacts} collisions (balls packed at rest); state rolled back"
+            ),
             Self::Corrupt { reason } => write!(f, "corrupt snapshot: {reason}"),
         }
     }

@@ -19,6 +19,7 @@
 #![warn(missing_docs)]
 
 pub mod clock;
+pub mod collide;
 pub mod constraints;
 pub mod dynamics;
 pub mod error;

@@ -201,6 +201,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
         table.add_row(
             "constraints", f"max violation {summary['constraints']['max_violation']:.3g} m over the run"
         )
+    if "collisions" in summary:
+        col = summary["collisions"]
+        table.add_row("collisions", f"{col['count']} contacts, max overlap {col['max_overlap']:.3g} m")
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
     runs = len(timings)

@@ -2,6 +2,7 @@
 //! benchmarks, each a [`World`] with named parameters, its energy and, where one is known,
 //! its exact solution.
 
+pub mod balls;
 mod bodies;
 mod constrained;
 mod specs;
@@ -189,7 +190,9 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
     let spec = spec(name)?;
     let values = resolve(spec, overrides)?;
     let v = |n: &str| values[spec.params.iter().position(|p| p.name == n).expect("param in spec")];
-    let params = WorldParams { dim: spec.dim, method: method.into(), dt, ..WorldParams::default() };
+    // The balls scene takes its dimension as a parameter (World::new refuses one outside 1..=3).
+    let dim = if spec.name == "balls" { v("dim") as usize } else { spec.dim };
+    let params = WorldParams { dim, method: method.into(), dt, ..WorldParams::default() };
     let flow = match spec.name {
         "lorenz" => Some(Flow::Lorenz { sigma: v("sigma"), rho: v("rho"), beta: v("beta") }),
         "rossler" => Some(Flow::Rossler { a: v("a"), b: v("b"), c: v("c") }),
@@ -205,6 +208,19 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
         || constrained::build(spec.name, &v, &mut world)?
         || stiff::build(spec.name, &v, &mut world)?
     {
+        return Ok(Scene { spec, values, world, exact: None });
+    }
+    if spec.name == "balls" {
+        let p = balls::BallsParams {
+            n: v("n") as usize,
+            radius: v("radius"),
+            dim,
+            seed: v("seed") as u64,
+            restitution: v("restitution"),
+            fraction: v("fraction"),
+            speed: v("speed"),
+        };
+        balls::build(&p, &mut world)?;
         return Ok(Scene { spec, values, world, exact: None });
     }
     let mut scene = Scene { spec, values: values.clone(), world, exact: None };

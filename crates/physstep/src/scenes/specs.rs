@@ -60,7 +60,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 }
 
 /// Every built-in scene, in registry order.
-pub const SCENES: [SceneSpec; 18] = [
+pub const SCENES: [SceneSpec; 19] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -306,6 +306,22 @@ pub const SCENES: [SceneSpec; 18] = [
         ],
         dt: 1.0 / 120.0,
         until: 3.0,
+    },
+    SceneSpec {
+        name: "balls",
+        doc: "N balls in a box (seeded, no overlap, random velocities), colliding elastically at their time of impact",
+        dim: 2,
+        params: &[
+            p("n", 100.0, "number of balls", Rule::Count),
+            p("radius", 0.05, "ball radius, m", Rule::Positive),
+            p("dim", 2.0, "spatial dimensions, 1 to 3", Rule::Count),
+            p("seed", 1.0, "random seed", Rule::NonNegative),
+            p("restitution", 1.0, "coefficient of restitution, 0 to 1 (1: elastic)", Rule::NonNegative),
+            p("fraction", 0.1, "fraction of the box's length, area or volume the balls fill", Rule::Fraction),
+            p("speed", 1.0, "each velocity component uniform in [-speed, speed], m/s", Rule::Positive),
+        ],
+        dt: 1.0 / 120.0,
+        until: 10.0,
     },
 ];
 

@@ -253,6 +253,7 @@ impl World {
         if self.flow.is_some()
             || !self.constraints.is_empty()
             || !self.bodies.is_empty()
+            || !self.balls.is_empty()
             || !m.user.is_empty()
             || m.mass.is_empty()
             || !m.forces.local().all
@@ -323,9 +324,11 @@ impl World {
 
     /// Whether a step can be taken again with the same result: no user code runs in it (a
     /// Python force could answer differently, or count its calls) and no load applied by hand
-    /// waits for it (a step consumes those).
+    /// waits for it (a step consumes those), and no balls (their contact statistics roll back
+    /// with each step's own checkpoint).
     fn replayable(&self) -> bool {
         self.model.user.is_empty()
+            && self.balls.is_empty()
             && self.bodies.forces.is_empty()
             && self.bodies.force.iter().chain(&self.bodies.torque).all(|v| *v == glam::DVec3::ZERO)
     }

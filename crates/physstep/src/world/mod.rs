@@ -16,6 +16,7 @@ use crate::integrators::registry::RUNAWAY;
 use crate::integrators::registry::{Checkpoint, Layout};
 use crate::integrators::{ImplicitParams, Integrator};
 
+mod balls;
 mod bodies;
 mod constraints;
 mod flat;
@@ -125,6 +126,8 @@ pub struct World {
     prev_q: Vec<[f64; 4]>,
     /// Position constraints on the particles (the Relax stage).
     constraints: crate::constraints::Constraints,
+    /// Balls (particles with a radius), walls and the Collide stage's scratch.
+    balls: crate::collide::Balls,
 }
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -186,6 +189,7 @@ impl World {
             body_loads: Vec::new(),
             prev_q: Vec::new(),
             constraints: crate::constraints::Constraints::default(),
+            balls: crate::collide::Balls::default(),
         })
     }
 

@@ -3,8 +3,10 @@
 //! A snapshot is `MAGIC`, five little-endian words (dim, particles, method-name length,
 //! steps, evaluations), the method name, then f64s: time, the clock's balance (two), the
 //! epoch (time, steps, dt), the memory length, `[x; v]`, the integrator's memory, the
-//! previous positions and the static mask (1 for a static particle); with constraints, their
-//! fingerprint (a u64); and last an FNV-1a checksum of everything before it. [`World::restore`] checks all of it before it changes
+//! previous positions and the static mask (1 for a static particle); in a world with balls
+//! their block ([`World::balls_block`]: restitution, walls, contact statistics, radii); with
+//! constraints, their fingerprint (a u64); and last an FNV-1a checksum of everything before
+//! it. [`World::restore`] checks all of it before it changes
 //! anything.
 
 use super::{Epoch, World};
@@ -58,6 +60,7 @@ impl World {
             .chain(memory.iter().copied())
             .chain(prev_x.iter().copied())
             .chain(mask)
+            .chain(self.balls_block())
         {
             out.extend_from_slice(&v.to_le_bytes());
         }
@@ -128,14 +131,17 @@ impl World {
         };
         // The memory length is what is left after the state, the previous positions and the
         // mask; the stored length must agree (a damaged one, huge or NaN, must not overflow).
+        let ours = self.balls_block();
         let nm = data
             .len()
-            .checked_sub(ny + nx + np)
+            .checked_sub(ny + nx + np + ours.len())
             .filter(|m| *m as f64 == *nm)
             .ok_or_else(|| corrupt("data length does not match the world"))?;
         let (y, rest) = data.split_at(ny);
         let (memory, rest) = rest.split_at(nm);
-        let (prev_x, mask) = rest.split_at(nx);
+        let (prev_x, rest) = rest.split_at(nx);
+        let (mask, balls) = rest.split_at(np);
+        let stats = self.balls_check(balls, &ours)?;
         for (what, v) in [("time", t), ("accumulator", hi), ("accumulator", lo), ("epoch time", et)] {
             if !v.is_finite() {
                 return Err(corrupt(format!("{what} is {v}")));
@@ -181,6 +187,9 @@ impl World {
         self.state.y.copy_from_slice(y);
         self.prev_x = prev_x.to_vec();
         self.clock.restore_balance([*hi, *lo]);
+        if let Some(stats) = stats {
+            self.balls.stats = stats;
+        }
         // The derivative is a function of the state: recompute it without counting it, so
         // the evaluation count matches an uninterrupted run.
         self.stale = true;
@@ -216,6 +225,7 @@ impl World {
         eat(self.state.t);
         self.state.y.iter().for_each(|v| eat(*v));
         self.integrator.memory().iter().for_each(|v| eat(*v));
+        self.balls_block().iter().for_each(|v| eat(*v));
         // Constraints shape every later step: a world with others is another world (none
         // leave the hash as it was before they existed).
         if !self.constraints.is_empty() {

@@ -4,7 +4,7 @@
 //! ctx        = StepContext::new(...)   // h validated once, here; t + h must move time
 //! Integrate    the method runs its recipe; forces are evaluated inside it
 //! Relax        position constraints projected; velocities and method memory resynced
-//! Collide      contacts found and resolved (none yet: the collisions issue)
+//! Collide      contacts of balls found by the grid and resolved at their time of impact
 //! Check        a non-finite or runaway state is a divergence: which part, which index
 //! Finish       t = t0 + k h; or, on any failure, the world restored from its checkpoint
 //! ```
@@ -79,6 +79,7 @@ impl World {
         // Interpolation is between the last two states of a frame of `advance`; outside it
         // the current positions are drawn as they are.
         self.prev_x.clear();
+        self.balls_begin();
         let r = self
             .integrate(&ctx, log)
             .and_then(|()| self.relax(&ctx))
@@ -94,6 +95,7 @@ impl World {
         let ctx = self.context(h)?;
         self.refresh()?;
         self.prev_x.clear();
+        self.balls_begin();
         self.integrate(&ctx, None)
             .and_then(|()| self.relax(&ctx))
             .and_then(|()| self.collide(&ctx))
@@ -131,10 +133,10 @@ impl World {
         self.relax_constraints(ctx)
     }
 
-    /// Collide: contacts (none yet).
-    #[allow(clippy::unused_self, clippy::unnecessary_wraps)]
-    fn collide(&mut self, _ctx: &StepContext) -> Result<()> {
-        Ok(())
+    /// Collide: contacts of balls with balls and walls, at their time of impact
+    /// (`world/balls.rs`).
+    fn collide(&mut self, ctx: &StepContext) -> Result<()> {
+        self.collide_balls(ctx)
     }
 
     /// Check: a NaN, an infinity or a runaway value anywhere is a divergence, named by the
@@ -177,6 +179,7 @@ impl World {
             Err(e) => {
                 let layout = self.layout();
                 self.checkpoint.restore(&mut self.state, &mut self.integrator, layout);
+                self.balls.stats = self.balls.saved;
                 Err(e)
             }
         }

@@ -1,0 +1,398 @@
+//! Contacts resolved at their time of impact inside one step (event-driven within the fixed
+//! step).
+//!
+//! Within the step each ball moves on a straight path from its position at the start of the
+//! step `x0` to the integrated one `x1`: at the fraction `s` of the step it is at
+//! `x0 + s u` with `u = x1 - x0` (exact for a ball free of forces; under constant gravity the
+//! chord of the parabola, at most `g h^2 / 8` from it). Its velocity at `s` is taken linear
+//! between the start and end velocities, `v(s) = v1 - (1 - s)(v1 - v0)` (exact under any
+//! constant acceleration). The contacts of the step are found as events in time order
+//! (a heap of predicted impacts, stale ones recognised by a per-ball counter): at each, the
+//! two balls (or the ball and the wall) are moved to `s`, the impulse along the line of
+//! centres changes their velocities, the same change (times `h`) their paths, and their
+//! next events are predicted. Every ball that was hit ends at the end of its new path.
+
+use super::grid::Grid;
+use super::Walls;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+/// Second index of an event against a wall: `WALL + 2 axis + side` (side 1: the upper).
+const WALL: u32 = u32::MAX - 8;
+
+/// A predicted impact: at the fraction `s` of the step (its bits: `s >= 0`, so they order as
+/// the numbers do), of slots `a < b` (or `a` and a wall), made when their counters were
+/// `va`, `vb`. Ordered by time, then slots: a deterministic order of simultaneous events.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Event {
+    s: u64,
+    a: u32,
+    b: u32,
+    va: u32,
+    vb: u32,
+}
+
+/// What the stage reads of the world.
+pub(crate) struct Input<'a> {
+    pub d: usize,
+    pub h: f64,
+    pub e: f64,
+    /// Radius and inverse mass of each ball (slot order).
+    pub radius: &'a [f64],
+    pub inv_mass: &'a [f64],
+    pub walls: Option<&'a Walls>,
+    /// Positions and velocities at the end of the integration, by slot (`nb * d`).
+    pub x1: &'a [f64],
+    pub v1: &'a [f64],
+}
+
+/// The scratch of the stage, kept from step to step (no allocation once warm).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Scratch {
+    /// Start-of-step positions and velocities, by slot.
+    pub x0: Vec<f64>,
+    pub v0: Vec<f64>,
+    /// Each ball's position `p` at its own time `tau`, its path `u` (displacement over a
+    /// whole step) and its velocity `vel` (end-of-step velocity with the impulses so far).
+    pub p: Vec<f64>,
+    pub u: Vec<f64>,
+    pub vel: Vec<f64>,
+    pub tau: Vec<f64>,
+    ver: Vec<u32>,
+    /// When each ball was last hit in this step (-1: not yet).
+    last: Vec<f64>,
+    /// Whether the ball was hit this step.
+    pub hit: Vec<bool>,
+    /// The candidate pairs of the latest pass, and each slot's partners (CSR).
+    pub pairs: Vec<(u32, u32)>,
+    start: Vec<u32>,
+    adj: Vec<u32>,
+    heap: BinaryHeap<Reverse<Event>>,
+    grid: Grid,
+}
+
+/// What a step's contacts came to.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Outcome {
+    /// Contacts resolved.
+    pub contacts: u64,
+    /// Pairs the narrow phase tested.
+    pub tests: u64,
+}
+
+impl Scratch {
+    fn advance(&mut self, b: usize, s: f64, d: usize) {
+        let dt = s - self.tau[b];
+        if dt != 0.0 {
+            for k in 0..d {
+                self.p[b * d + k] += dt * self.u[b * d + k];
+            }
+        }
+        self.tau[b] = s;
+    }
+
+    fn push(&mut self, s: f64, a: usize, b: u32) {
+        let s = if s <= 0.0 { 0.0 } else { s };
+        let vb = if b >= WALL { 0 } else { self.ver[b as usize] };
+        self.heap.push(Reverse(Event { s: s.to_bits(), a: a as u32, b, va: self.ver[a], vb }));
+    }
+
+    /// The earliest impact of slots `a < b` from the later of their times, if in the step.
+    fn predict_pair(&mut self, a: usize, b: usize, inp: &Input<'_>) {
+        let d = inp.d;
+        let s0 = self.tau[a].max(self.tau[b]);
+        let (mut dd, mut dw, mut ww) = (0.0, 0.0, 0.0);
+        for k in 0..d {
+            let pa = self.p[a * d + k] + (s0 - self.tau[a]) * self.u[a * d + k];
+            let pb = self.p[b * d + k] + (s0 - self.tau[b]) * self.u[b * d + k];
+            let (dk, wk) = (pb - pa, self.u[b * d + k] - self.u[a * d + k]);
+            dd += dk * dk;
+            dw += dk * wk;
+            ww += wk * wk;
+        }
+        if dw >= 0.0 {
+            return;
+        }
+        let r = inp.radius[a] + inp.radius[b];
+        let c = dd - r * r;
+        let s = if c <= 0.0 {
+            s0
+        } else {
+            let disc = dw * dw - ww * c;
+            if disc < 0.0 {
+                return;
+            }
+            // The smaller root of ww s^2 + 2 dw s + c, in the form without cancellation.
+            s0 + c / (-dw + disc.sqrt())
+        };
+        if s <= 1.0 {
+            self.push(s, a, b as u32);
+        }
+    }
+
+    fn predict_walls(&mut self, a: usize, inp: &Input<'_>) {
+        let Some(w) = inp.walls else { return };
+        let (d, r) = (inp.d, inp.radius[a]);
+        for k in 0..d {
+            let (pk, uk) = (self.p[a * d + k], self.u[a * d + k]);
+            let (gap, side) = if uk < 0.0 {
+                (pk - r - w.lo[k], 0)
+            } else if uk > 0.0 {
+                (w.hi[k] - r - pk, 1)
+            } else {
+                continue;
+            };
+            // Reached within the step when gap <= (1 - tau) |u| (tested before dividing).
+            let left = 1.0 - self.tau[a];
+            if gap <= left * uk.abs() {
+                let s = self.tau[a] + if gap <= 0.0 { 0.0 } else { gap / uk.abs() };
+                self.push(s.min(1.0), a, WALL + 2 * k as u32 + side);
+            }
+        }
+    }
+
+    /// The velocity of slot `b` along `k` at the fraction `s` of the step.
+    fn vel_at(&self, b: usize, k: usize, s: f64, inp: &Input<'_>) -> f64 {
+        let i = b * inp.d + k;
+        self.vel[i] - (1.0 - s) * (inp.v1[i] - self.v0[i])
+    }
+
+    /// The restitution of a contact of `a` and `b`: the world's for a ball's first contact in
+    /// the step, 1 once either ball was already hit in it. Inelastic contacts among balls that
+    /// touch (a pile at rest under gravity) converge only geometrically, an endless sequence
+    /// of ever smaller impulses (an inelastic collapse); elastic ones end. So energy is taken
+    /// at most once per ball per step (Luding and McNamara's TC model, with the step as the
+    /// contact duration).
+    fn restitution(&self, a: usize, b: usize, inp: &Input<'_>) -> f64 {
+        if self.last[a] >= 0.0 || self.last[b] >= 0.0 {
+            1.0
+        } else {
+            inp.e
+        }
+    }
+
+    /// The impulse between slots `a` and `b` at `s`: `J = -(1 + e) (v_b - v_a).n / (w_a + w_b)`
+    /// along the unit line of centres `n` (from `a` to `b`), when they approach.
+    #[allow(clippy::needless_range_loop)] // k indexes n, the state and the input alike
+    fn collide_pair(&mut self, a: usize, b: usize, s: f64, inp: &Input<'_>) {
+        let d = inp.d;
+        self.advance(a, s, d);
+        self.advance(b, s, d);
+        let (wa, wb) = (inp.inv_mass[a], inp.inv_mass[b]);
+        if wa + wb == 0.0 {
+            return;
+        }
+        let mut n = [0.0; 3];
+        let mut len2 = 0.0;
+        for k in 0..d {
+            n[k] = self.p[b * d + k] - self.p[a * d + k];
+            len2 += n[k] * n[k];
+        }
+        if len2 == 0.0 {
+            n = [1.0, 0.0, 0.0];
+        } else {
+            let inv = 1.0 / len2.sqrt();
+            n.iter_mut().for_each(|c| *c *= inv);
+        }
+        let mut rel = 0.0;
+        for k in 0..d {
+            rel += (self.vel_at(b, k, s, inp) - self.vel_at(a, k, s, inp)) * n[k];
+        }
+        let j = if rel < 0.0 { -(1.0 + self.restitution(a, b, inp)) * rel / (wa + wb) } else { 0.0 };
+        let mut ur = 0.0;
+        for k in 0..d {
+            self.vel[a * d + k] -= j * wa * n[k];
+            self.vel[b * d + k] += j * wb * n[k];
+            self.u[a * d + k] -= j * wa * inp.h * n[k];
+            self.u[b * d + k] += j * wb * inp.h * n[k];
+            ur += (self.u[b * d + k] - self.u[a * d + k]) * n[k];
+        }
+        // The paths must part even where the velocities already do (a force that changed
+        // the relative velocity within the step; balls resting on each other under gravity,
+        // whose velocities at impact are 0 while their chords approach): the approach of the
+        // paths along n is reflected, split by inverse mass (an elastic exchange of path, not
+        // of velocity: no energy moves). Only reflecting ends such chains: removing the
+        // approach alone would hand half of it back and forth without end (Zeno).
+        if ur < 0.0 {
+            let c = -2.0 * ur / (wa + wb);
+            for k in 0..d {
+                self.u[a * d + k] -= c * wa * n[k];
+                self.u[b * d + k] += c * wb * n[k];
+            }
+        }
+    }
+
+    /// The bounce of slot `a` off wall `k` (`side` 1: the upper) at `s`.
+    fn collide_wall(&mut self, a: usize, k: usize, side: u32, s: f64, inp: &Input<'_>) {
+        self.advance(a, s, inp.d);
+        if inp.inv_mass[a] == 0.0 {
+            return;
+        }
+        let i = a * inp.d + k;
+        let w = self.vel_at(a, k, s, inp);
+        if (side == 0 && w < 0.0) || (side == 1 && w > 0.0) {
+            let delta = -(1.0 + self.restitution(a, a, inp)) * w;
+            self.vel[i] += delta;
+            self.u[i] += delta * inp.h;
+        }
+        if (side == 0 && self.u[i] < 0.0) || (side == 1 && self.u[i] > 0.0) {
+            self.u[i] = 0.0;
+        }
+    }
+
+    fn speed2(&self, b: usize, d: usize) -> f64 {
+        self.u[b * d..(b + 1) * d].iter().map(|c| c * c).sum()
+    }
+
+    /// Finds the candidate pairs of the balls at their positions at `tg` that can meet before
+    /// the end of the step while no path is longer than `reach`, and their partners (CSR).
+    fn candidates(&mut self, inp: &Input<'_>, rem: f64, tests: &mut u64) {
+        let (d, nb) = (inp.d, inp.radius.len());
+        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
+        self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
+        self.pairs.clear();
+        let (grid, p, pairs) = (&self.grid, &self.p, &mut self.pairs);
+        let order = grid.order();
+        let mut found = 0u64;
+        let mut spans = [(0u32, 0u32, 0u64); 14];
+        for i in 0..nb {
+            let (pi, ri) = (&p[i * d..(i + 1) * d], inp.radius[i] + 2.0 * rem);
+            let mut test = |j: usize| {
+                let reach = ri + inp.radius[j];
+                let pj = &p[j * d..(j + 1) * d];
+                let dist2: f64 = pi.iter().zip(pj).map(|(a, b)| (b - a) * (b - a)).sum();
+                if dist2 <= reach * reach {
+                    pairs.push((i.min(j) as u32, i.max(j) as u32));
+                }
+            };
+            let count = grid.partners(i, d, &mut spans);
+            for &(a, b, key) in &spans[..count] {
+                let range = &order[a as usize..b.max(a) as usize];
+                if key == super::grid::ANY {
+                    found += range.len() as u64;
+                    range.iter().for_each(|&j| test(j as usize));
+                } else {
+                    for &j in range.iter().filter(|&&j| grid.key_of(j as usize) == key) {
+                        found += 1;
+                        test(j as usize);
+                    }
+                }
+            }
+        }
+        *tests += found;
+        self.start.clear();
+        self.start.resize(nb + 1, 0);
+        for &(i, j) in &self.pairs {
+            self.start[i as usize + 1] += 1;
+            self.start[j as usize + 1] += 1;
+        }
+        for b in 0..nb {
+            self.start[b + 1] += self.start[b];
+        }
+        self.adj.clear();
+        self.adj.resize(self.start[nb] as usize, 0);
+        // Filled back to front from each slot's end, then the ends moved back to the starts.
+        for &(i, j) in &self.pairs {
+            for (x, y) in [(i, j), (j, i)] {
+                let at = self.start[x as usize + 1] - 1;
+                self.adj[at as usize] = y;
+                self.start[x as usize + 1] = at;
+            }
+        }
+        // `start[b + 1]` now holds slot b's start; shift down to make `start[b]` it.
+        for b in 0..nb {
+            self.start[b] = self.start[b + 1];
+        }
+        self.start[nb] = self.adj.len() as u32;
+    }
+
+    fn predict(&mut self, b: usize, inp: &Input<'_>) {
+        self.predict_walls(b, inp);
+        for q in self.start[b]..self.start[b + 1] {
+            let c = self.adj[q as usize] as usize;
+            self.predict_pair(b.min(c), b.max(c), inp);
+        }
+    }
+
+    /// Resolves every contact of the step; the balls that were hit end at `p + (1 - tau) u`
+    /// with velocity `vel` (the caller writes them back).
+    ///
+    /// # Errors
+    /// The budget of events, `64 nb + 1024`, when the contacts do not end within it (balls
+    /// packed at rest).
+    pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
+        let (d, nb) = (inp.d, inp.radius.len());
+        self.p.clear();
+        self.p.extend_from_slice(&self.x0);
+        self.u.clear();
+        self.u.extend(inp.x1.iter().zip(&self.x0).map(|(x1, x0)| x1 - x0));
+        self.vel.clear();
+        self.vel.extend_from_slice(inp.v1);
+        self.tau.clear();
+        self.tau.resize(nb, 0.0);
+        self.ver.clear();
+        self.ver.resize(nb, 0);
+        self.hit.clear();
+        self.hit.resize(nb, false);
+        self.last.clear();
+        self.last.resize(nb, -1.0);
+        let mut out = Outcome::default();
+        let cap = 64 * nb as u64 + 1024;
+        let mut tg = 0.0;
+        'pass: loop {
+            for b in 0..nb {
+                self.advance(b, tg, d);
+            }
+            let umax = (0..nb).map(|b| self.speed2(b, d)).fold(0.0, f64::max).sqrt();
+            // A path may grow in a collision: between equal masses to at most sqrt(2) times the
+            // longer of the two (|v'|^2 <= |v_a|^2 + |v_b|^2), more when a light ball is struck
+            // by a heavy one. The pairs are chosen for paths up to 1.5 times the longest, and
+            // found again (from the time of that contact) when one grows past that.
+            let bound = 1.5 * umax;
+            let rem = bound * (1.0 - tg);
+            self.candidates(inp, rem, &mut out.tests);
+            self.heap.clear();
+            for q in 0..self.pairs.len() {
+                let (i, j) = self.pairs[q];
+                self.predict_pair(i as usize, j as usize, inp);
+            }
+            for b in 0..nb {
+                self.predict_walls(b, inp);
+            }
+            while let Some(Reverse(ev)) = self.heap.pop() {
+                let (a, s) = (ev.a as usize, f64::from_bits(ev.s));
+                if self.ver[a] != ev.va || (ev.b < WALL && self.ver[ev.b as usize] != ev.vb) {
+                    continue;
+                }
+                out.contacts += 1;
+                if out.contacts > cap {
+                    return Err(cap);
+                }
+                self.ver[a] = self.ver[a].wrapping_add(1);
+                self.hit[a] = true;
+                let mut moved = [a, a];
+                if ev.b >= WALL {
+                    let w = ev.b - WALL;
+                    self.collide_wall(a, (w / 2) as usize, w % 2, s, inp);
+                } else {
+                    let b = ev.b as usize;
+                    self.collide_pair(a, b, s, inp);
+                    self.ver[b] = self.ver[b].wrapping_add(1);
+                    self.hit[b] = true;
+                    self.last[b] = s;
+                    moved[1] = b;
+                }
+                self.last[a] = s;
+                if moved.iter().any(|&m| self.speed2(m, d) > bound * bound) {
+                    tg = s;
+                    continue 'pass;
+                }
+                self.predict(a, inp);
+                if moved[1] != a {
+                    self.predict(moved[1], inp);
+                }
+            }
+            return Ok(out);
+        }
+    }
+}

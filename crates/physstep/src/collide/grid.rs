@@ -1,0 +1,180 @@
+//! The broad phase: a uniform grid of cubic cells, the balls counting-sorted into a table of
+//! cells, rebuilt every pass in O(n) without allocation (the buffers keep their capacity) and
+//! read in a deterministic order.
+//!
+//! A ball's cell is `floor((p - lo) / cell)` per axis; the key is the cell's linear index
+//! with one empty cell of margin on every side, so the neighbours `-1..=1` of any cell have
+//! keys too. The cells `(c0 - 1 ..= c0 + 1, c1 + dy, c2 + dz)` of one row are consecutive
+//! keys. Each pair is found once, from the ball whose cell comes first in key order (the
+//! half shell: the rest of its own cell, the next cell of its row, the next row, in 3D the
+//! next layer).
+//!
+//! When the box of the balls has few cells (at most `4 n + 4096`, as in any box that the
+//! balls fill to a useful density) the table has an entry per cell and a row of cells is one
+//! range; else (balls spread thin over a large space) an entry per hash of a cell, in a table
+//! of at least `2 n` entries, whose readers keep the balls of the cell they asked for.
+
+/// At most this many cells per axis (the keys of three axes fit a `u64`).
+const MAX_CELLS: f64 = (1u64 << 20) as f64;
+
+/// The grid and its scratch.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Grid {
+    /// `(key, slot)` of each slot.
+    keys: Vec<(u64, u32)>,
+    /// Each slot's cell coordinates (with the margin of one).
+    cells: Vec<[u64; 3]>,
+    /// Cells per axis with the margins.
+    m: [u64; 3],
+    /// Where each table entry's balls start in `order` (`entries + 1` values).
+    start: Vec<u32>,
+    /// The balls entry by entry, and each slot's place in it.
+    order: Vec<u32>,
+    pos: Vec<u32>,
+    /// Whether the table has an entry per cell (else per hash of a cell, `64 - shift` bits).
+    dense: bool,
+    shift: u32,
+}
+
+impl Grid {
+    fn key(&self, c: [u64; 3]) -> u64 {
+        c[0] + self.m[0] * (c[1] + self.m[1] * c[2])
+    }
+
+    /// Sorts the `n` balls at positions `p` (`n * d`, flat) into cells of at least `cell`
+    /// metres (larger when the balls spread over more than 2^20 cells on an axis).
+    pub fn build(&mut self, p: &[f64], d: usize, cell: f64) {
+        let n = p.len() / d;
+        let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+        for k in 0..d {
+            lo[k] = f64::INFINITY;
+            hi[k] = f64::NEG_INFINITY;
+        }
+        for b in 0..n {
+            for k in 0..d {
+                lo[k] = p[b * d + k].min(lo[k]);
+                hi[k] = p[b * d + k].max(hi[k]);
+            }
+        }
+        let mut cell = cell;
+        for k in 0..d {
+            cell = cell.max((hi[k] - lo[k]) / (MAX_CELLS - 4.0));
+        }
+        let inv = 1.0 / cell;
+        self.m = [1; 3];
+        for k in 0..d {
+            // Cells 1..=count hold balls; 0 and count + 1 are the margins.
+            self.m[k] = ((hi[k] - lo[k]) * inv) as u64 + 3;
+        }
+        self.cells.clear();
+        self.keys.clear();
+        for b in 0..n {
+            let mut c = [0u64; 3];
+            for k in 0..d {
+                c[k] = (((p[b * d + k] - lo[k]) * inv) as u64).min(self.m[k] - 3) + 1;
+            }
+            self.cells.push(c);
+            self.keys.push((self.key(c), b as u32));
+        }
+        let total = self.m[0] * self.m[1] * self.m[2];
+        self.dense = total <= 4 * n as u64 + 4096;
+        // Counting sort by table entry: the cell itself in a dense table, else the cell's
+        // hash in a table of 2^k >= 2 n buckets (a bucket may hold balls of several cells:
+        // the reader keeps those of the cell it asked for). Each slot is placed in ascending
+        // order (a bucket's balls by slot), which leaves `start[e]` at the end of entry e:
+        // shifted back by one.
+        self.shift = if self.dense { 0 } else { 64 - (2 * n).next_power_of_two().max(16).trailing_zeros() };
+        let entries = if self.dense { total as usize } else { 1usize << (64 - self.shift) };
+        self.pos.clear();
+        self.pos.resize(n, 0);
+        self.start.clear();
+        self.start.resize(entries + 1, 0);
+        for i in 0..n {
+            let e = self.entry(self.keys[i].0);
+            self.start[e + 1] += 1;
+        }
+        for e in 0..entries {
+            self.start[e + 1] += self.start[e];
+        }
+        self.order.clear();
+        self.order.resize(n, 0);
+        for i in 0..n {
+            let (k, b) = self.keys[i];
+            let e = self.entry(k);
+            let at = self.start[e];
+            self.order[at as usize] = b;
+            self.pos[b as usize] = at;
+            self.start[e] = at + 1;
+        }
+        for e in (1..=entries).rev() {
+            self.start[e] = self.start[e - 1];
+        }
+        self.start[0] = 0;
+    }
+
+    /// The table entry of cell `key`: the key itself (dense) or its hash.
+    #[inline]
+    fn entry(&self, key: u64) -> usize {
+        if self.dense {
+            key as usize
+        } else {
+            (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> self.shift) as usize
+        }
+    }
+
+    /// The balls, cell by cell (and by slot within a cell).
+    #[inline]
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// The cell key of slot `b`.
+    #[inline]
+    pub fn key_of(&self, b: usize) -> u64 {
+        self.keys[b].0
+    }
+
+    /// The ranges of [`Grid::order`] that hold the partners of slot `i` to test, each pair
+    /// once (the half shell): the balls after `i` in its own cell, then those in the
+    /// neighbouring cells that come after its cell in key order (`+x` in its row; the three
+    /// cells of the next row; in 3D the nine of the next layer). Each range comes with the
+    /// cell key its balls must have ([`ANY`] in a dense table, where a range holds only the
+    /// cells asked for). Returns how many of `out` were filled.
+    #[inline]
+    pub fn partners(&self, i: usize, d: usize, out: &mut [(u32, u32, u64); 14]) -> usize {
+        let c = self.cells[i];
+        let own = self.key(c);
+        let mut n = 0;
+        let mut push = |lo: [u64; 3], hi: [u64; 3], first: Option<u32>| {
+            let (k0, k1) = (self.key(lo), self.key(hi));
+            if self.dense {
+                let a = first.unwrap_or(self.start[k0 as usize]);
+                out[n] = (a, self.start[k1 as usize + 1], ANY);
+                n += 1;
+            } else {
+                for k in k0..=k1 {
+                    let e = self.entry(k);
+                    let a = if k == own { first.unwrap_or(self.start[e]) } else { self.start[e] };
+                    out[n] = (a, self.start[e + 1], k);
+                    n += 1;
+                }
+            }
+        };
+        // The rest of the own cell, then the next cell along x.
+        push(c, c, Some(self.pos[i] + 1));
+        let next = [c[0] + 1, c[1], c[2]];
+        push(next, next, None);
+        if d > 1 {
+            push([c[0] - 1, c[1] + 1, c[2]], [c[0] + 1, c[1] + 1, c[2]], None);
+        }
+        if d > 2 {
+            for y in [c[1] - 1, c[1], c[1] + 1] {
+                push([c[0] - 1, y, c[2] + 1], [c[0] + 1, y, c[2] + 1], None);
+            }
+        }
+        n
+    }
+}
+
+/// The cell key of a range that holds only the cells asked for.
+pub(crate) const ANY: u64 = u64::MAX;

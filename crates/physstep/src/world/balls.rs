@@ -1,0 +1,380 @@
+//! Balls and walls of a [`World`]: adding and reading them, and the Collide stage of the
+//! step (see [`crate::collide`] and docs/collisions.md).
+
+use super::step::StepContext;
+use super::World;
+use crate::collide::{self, CollisionStats, Input, Walls};
+use crate::error::{num, Error, Result};
+
+fn point(x: &[f64]) -> String {
+    let parts: Vec<String> = x.iter().map(|v| num(*v)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+impl World {
+    /// Adds one ball: a particle with a radius (forces, methods and the loop apply to it as
+    /// to any particle), which collides with the other balls and the walls. Returns its
+    /// particle index. `mass = inf` makes it immovable.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `radius` (finite, > 0), `position`, `velocity` or `mass`
+    /// as [`World::add_particle`], `position` when the ball would overlap another (touching
+    /// is allowed) or stick out of the walls; the world is unchanged.
+    pub fn add_ball(&mut self, position: &[f64], velocity: &[f64], radius: f64, mass: f64) -> Result<usize> {
+        collide::check_radius("radius", radius)?;
+        self.check_particles(position, Some(velocity), Some(&[mass]))?;
+        if position.len() != self.dim() {
+            return Err(Error::invalid(
+                "len(position)",
+                position.len(),
+                format!("{}, the dimension", self.dim()),
+            ));
+        }
+        if let Some(w) = &self.balls.walls {
+            collide::check_inside("position", position, radius, w)?;
+        }
+        let d = self.dim();
+        for &p in &self.balls.index {
+            let (xp, rp) = (&self.state.y[p * d..(p + 1) * d], self.balls.radius[p]);
+            let dist = xp.iter().zip(position).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+            if dist < rp + radius {
+                return Err(Error::invalid(
+                    "position",
+                    point(position),
+                    format!(
+                        "clear of ball {p} at {} (distance {} < radius + {} = {}): balls may not overlap",
+                        point(xp),
+                        num(dist),
+                        num(rp),
+                        num(rp + radius)
+                    ),
+                ));
+            }
+        }
+        let i = self.add_particle(position, velocity, mass, false)?;
+        self.mark_ball(i, radius);
+        Ok(i)
+    }
+
+    /// Adds `k` balls from flat `positions` (`k * dim`), `radii` (`k`), optional `velocities`
+    /// and `masses` (as [`World::add_particles`]). Returns the index of the first.
+    ///
+    /// # Errors
+    /// As [`World::add_ball`], naming the first bad entry (`radius[3]`, `position[5]`); the
+    /// world is unchanged.
+    pub fn add_balls(
+        &mut self,
+        positions: &[f64],
+        velocities: Option<&[f64]>,
+        radii: &[f64],
+        masses: Option<&[f64]>,
+    ) -> Result<usize> {
+        self.check_particles(positions, velocities, masses)?;
+        let d = self.dim();
+        let k = positions.len() / d;
+        if radii.len() != k {
+            return Err(Error::invalid("len(radius)", radii.len(), format!("{k}, one per ball")));
+        }
+        for (b, r) in radii.iter().enumerate() {
+            collide::check_radius(&format!("radius[{b}]"), *r)?;
+            if let Some(w) = &self.balls.walls {
+                collide::check_inside(&format!("position[{b}]"), &positions[b * d..(b + 1) * d], *r, w)?;
+            }
+        }
+        let first = self.len();
+        let (mut x, mut r) = (Vec::new(), Vec::new());
+        for &p in &self.balls.index {
+            x.extend_from_slice(&self.state.y[p * d..(p + 1) * d]);
+            r.push(self.balls.radius[p]);
+        }
+        let old = r.len();
+        x.extend_from_slice(positions);
+        r.extend_from_slice(radii);
+        if let Some((i, j, dist)) = collide::first_overlap(&x, d, &r) {
+            let who = |s: usize| {
+                if s < old {
+                    format!("ball {}", self.balls.index[s])
+                } else {
+                    format!("position[{}]", s - old)
+                }
+            };
+            let field = format!("position[{}]", j - old);
+            return Err(Error::invalid(
+                field,
+                point(&x[j * d..(j + 1) * d]),
+                format!(
+                    "clear of {} at {} (distance {} < {}): balls may not overlap",
+                    who(i),
+                    point(&x[i * d..(i + 1) * d]),
+                    num(dist),
+                    num(r[i] + r[j])
+                ),
+            ));
+        }
+        self.add_particles(positions, velocities, masses, false)?;
+        for (b, radius) in radii.iter().enumerate() {
+            self.mark_ball(first + b, *radius);
+        }
+        Ok(first)
+    }
+
+    fn mark_ball(&mut self, p: usize, radius: f64) {
+        if self.balls.radius.len() <= p {
+            self.balls.radius.resize(p + 1, 0.0);
+        }
+        self.balls.radius[p] = radius;
+        self.balls.index.push(p);
+    }
+
+    /// Makes the particles balls of the given radii (`0`: not a ball), one per particle, as
+    /// a world rebuilt from its parts needs: the positions are taken as they are (balls that
+    /// touch may be closer than the sum of their radii by a rounding, and stay so).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `radius[i]` (0, or finite and > 0) or `len(radius)`; the
+    /// world is unchanged.
+    pub fn set_radii(&mut self, radii: &[f64]) -> Result<()> {
+        if radii.len() != self.len() {
+            return Err(Error::invalid(
+                "len(radius)",
+                radii.len(),
+                format!("{}, one per particle", self.len()),
+            ));
+        }
+        for (p, &rp) in radii.iter().enumerate() {
+            if rp != 0.0 {
+                collide::check_radius(&format!("radius[{p}]"), rp)?;
+            }
+        }
+        self.balls.radius = radii.to_vec();
+        self.balls.index = (0..radii.len()).filter(|p| radii[*p] != 0.0).collect();
+        Ok(())
+    }
+
+    /// Puts the balls in an axis-aligned box `lo`..`hi` (`dim` entries each), replacing any
+    /// walls before.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `lo`, `hi` (`hi[k] > lo[k]`, finite) or a ball already
+    /// outside the box; the world is unchanged.
+    pub fn add_walls(&mut self, lo: &[f64], hi: &[f64]) -> Result<()> {
+        self.refuse_flow("walls")?;
+        let w = collide::check_walls(lo, hi, self.dim())?;
+        let d = self.dim();
+        for &p in &self.balls.index {
+            collide::check_inside(
+                &format!("position of ball {p}"),
+                &self.state.y[p * d..(p + 1) * d],
+                self.balls.radius[p],
+                &w,
+            )?;
+        }
+        self.balls.walls = Some(w);
+        Ok(())
+    }
+
+    /// Sets the coefficient of restitution of every contact: 1 elastic (kinetic energy kept),
+    /// 0 the normal velocity absorbed.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `restitution` outside [0, 1].
+    pub fn set_restitution(&mut self, e: f64) -> Result<()> {
+        if !(0.0..=1.0).contains(&e) {
+            return Err(Error::invalid("restitution", num(e), "between 0 and 1 (1: elastic)"));
+        }
+        self.balls.restitution = e;
+        Ok(())
+    }
+
+    /// The coefficient of restitution.
+    #[must_use]
+    pub fn restitution(&self) -> f64 {
+        self.balls.restitution
+    }
+
+    /// The radius of every particle, m (0 for a particle that is not a ball).
+    #[must_use]
+    pub fn radii(&self) -> Vec<f64> {
+        (0..self.len()).map(|p| self.balls.radius_of(p)).collect()
+    }
+
+    /// The walls, if any.
+    #[must_use]
+    pub fn walls(&self) -> Option<Walls> {
+        self.balls.walls
+    }
+
+    /// Number of balls.
+    #[must_use]
+    pub fn ball_count(&self) -> usize {
+        self.balls.index.len()
+    }
+
+    /// What the contacts came to: count, deepest overlap, pairs tested.
+    #[must_use]
+    pub fn collisions(&self) -> CollisionStats {
+        self.balls.stats
+    }
+
+    /// Before a step: the start-of-step positions and velocities of the balls, and the
+    /// statistics to roll back to.
+    pub(super) fn balls_begin(&mut self) {
+        if self.balls.is_empty() {
+            return;
+        }
+        let (d, nx) = (self.dim(), self.nx());
+        let b = &mut self.balls;
+        b.saved = b.stats;
+        let s = &mut b.scratch;
+        s.x0.clear();
+        s.v0.clear();
+        for &p in &b.index {
+            s.x0.extend_from_slice(&self.state.y[p * d..(p + 1) * d]);
+            s.v0.extend_from_slice(&self.state.y[nx + p * d..nx + (p + 1) * d]);
+        }
+    }
+
+    /// The Collide stage: every contact of the step resolved at its time of impact; then the
+    /// derivative evaluated again (f = deriv(y)) and the method's memory resynchronised for
+    /// the balls that were hit (Verlet's previous positions `x - v h`, leapfrog's half-step
+    /// velocities moved by the same impulse).
+    pub(super) fn collide_balls(&mut self, ctx: &StepContext) -> Result<()> {
+        if self.balls.is_empty() {
+            return Ok(());
+        }
+        let (d, nx) = (self.dim(), self.nx());
+        let name = self.integrator.info().name;
+        let b = &mut self.balls;
+        let y = &mut self.state.y;
+        b.x1.clear();
+        b.v1.clear();
+        b.slot_radius.clear();
+        b.slot_inv_mass.clear();
+        for &p in &b.index {
+            b.x1.extend_from_slice(&y[p * d..(p + 1) * d]);
+            b.v1.extend_from_slice(&y[nx + p * d..nx + (p + 1) * d]);
+            b.slot_radius.push(b.radius[p]);
+            b.slot_inv_mass.push(self.model.inv_mass[p]);
+        }
+        let inp = Input {
+            d,
+            h: ctx.h,
+            e: b.restitution,
+            radius: &b.slot_radius,
+            inv_mass: &b.slot_inv_mass,
+            walls: b.walls.as_ref(),
+            x1: &b.x1,
+            v1: &b.v1,
+        };
+        let out = b.scratch.resolve(&inp).map_err(|contacts| Error::Contacts {
+            method: name.into(),
+            step: ctx.step,
+            t: ctx.t,
+            contacts,
+        })?;
+        b.stats.count += out.contacts;
+        b.stats.pair_tests += out.tests;
+        let s = &b.scratch;
+        let mut hits = 0;
+        for (slot, &p) in b.index.iter().enumerate() {
+            if !s.hit[slot] {
+                continue;
+            }
+            hits += 1;
+            for k in 0..d {
+                let i = slot * d + k;
+                let x = s.p[i] + (1.0 - s.tau[slot]) * s.u[i];
+                y[p * d + k] = x;
+                y[nx + p * d + k] = s.vel[i];
+                b.x1[i] = x;
+            }
+        }
+        let depth = collide::overlap(&b.x1, d, &b.slot_radius, &s.pairs, &s.hit, b.walls.as_ref());
+        b.stats.max_overlap = b.stats.max_overlap.max(depth);
+        if hits == 0 {
+            return Ok(());
+        }
+        self.resync_memory(ctx.h)?;
+        self.stale = true;
+        self.refresh()
+    }
+
+    /// The memory of Verlet and leapfrog after the balls that were hit changed velocity.
+    fn resync_memory(&mut self, h: f64) -> Result<()> {
+        let name = self.integrator.info().name;
+        if name != "verlet" && name != "leapfrog" {
+            return Ok(());
+        }
+        let mut memory = self.integrator.memory();
+        let flags = self.integrator.memory_flags();
+        if memory.len() <= flags {
+            return Ok(());
+        }
+        let (d, nx) = (self.dim(), self.nx());
+        let s = &self.balls.scratch;
+        for (slot, &p) in self.balls.index.iter().enumerate() {
+            if !s.hit[slot] {
+                continue;
+            }
+            for k in 0..d {
+                let (i, m) = (p * d + k, flags + p * d + k);
+                let v = self.state.y[nx + i];
+                if name == "verlet" {
+                    memory[m] = self.state.y[i] - v * h;
+                } else {
+                    memory[m] += v - self.balls.v1[slot * d + k];
+                }
+            }
+        }
+        let sizes = self.layout().sizes(self.state.y.len());
+        self.integrator.recall(&memory, sizes)
+    }
+}
+
+/// Entries of [`World::balls_block`] before the radii.
+const BLOCK_HEAD: usize = 11;
+
+impl World {
+    /// What a snapshot and the state hash hold of the balls (nothing in a world without):
+    /// restitution, whether there are walls, their corners (3 + 3), the contact statistics
+    /// (count, deepest overlap, pairs tested), then every particle's radius.
+    pub(super) fn balls_block(&self) -> Vec<f64> {
+        if self.balls.is_empty() {
+            return Vec::new();
+        }
+        let b = &self.balls;
+        let w = b.walls.unwrap_or(Walls { lo: [0.0; 3], hi: [0.0; 3] });
+        let mut out = vec![b.restitution, f64::from(u8::from(b.walls.is_some()))];
+        out.extend_from_slice(&w.lo);
+        out.extend_from_slice(&w.hi);
+        let s = b.stats;
+        out.extend([s.count as f64, s.max_overlap, s.pair_tests as f64]);
+        out.extend(self.radii());
+        out
+    }
+
+    /// Checks a snapshot's balls block against this world's (`ours`): the same radii, walls
+    /// and restitution; returns the statistics to restore.
+    ///
+    /// # Errors
+    /// [`crate::Error::Corrupt`] when they differ.
+    pub(super) fn balls_check(&self, theirs: &[f64], ours: &[f64]) -> Result<Option<CollisionStats>> {
+        if ours.is_empty() {
+            return Ok(None);
+        }
+        let same = theirs.len() == ours.len()
+            && theirs[..BLOCK_HEAD - 3].iter().zip(ours).all(|(a, b)| a.to_bits() == b.to_bits())
+            && theirs[BLOCK_HEAD..].iter().zip(&ours[BLOCK_HEAD..]).all(|(a, b)| a.to_bits() == b.to_bits());
+        if !same {
+            return Err(Error::Corrupt {
+                reason: "the snapshot's balls (radii, walls or restitution) differ from this world's".into(),
+            });
+        }
+        let [count, depth, tests] = [theirs[8], theirs[9], theirs[10]];
+        let whole = |v: f64| v.fract() == 0.0 && (0.0..=9.0e15).contains(&v);
+        if !(whole(count) && whole(tests) && depth.is_finite() && depth >= 0.0) {
+            return Err(Error::Corrupt { reason: "contact statistics out of range".into() });
+        }
+        Ok(Some(CollisionStats { count: count as u64, max_overlap: depth, pair_tests: tests as u64 }))
+    }
+}
