@@ -13,10 +13,13 @@ loaded with the demo (``pip install 'physstep[demo]'``).
 from __future__ import annotations
 
 import importlib
+import os
 from dataclasses import dataclass
 from typing import Any
 
 __all__ = ["DEMOS", "INSTALL_HINT", "DemoEntry", "entry", "load", "names"]
+
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")  # pygame's banner would go to stdout
 
 #: What ``physstep demo`` says when pygame-ce is not installed.
 INSTALL_HINT = "the demos need pygame-ce: pip install 'physstep[demo]' (or pip install pygame-ce)"

@@ -64,7 +64,7 @@ KEYS: tuple[Key, ...] = (
     Key("quit", (pygame.K_ESCAPE, pygame.K_q), "esc or q", "quit"),
 )
 #: What the mouse does, for the help.
-MOUSE_HELP = ("drag", "move a particle (spring, orbit): energy drift restarts on release")
+MOUSE_HELP = ("drag", "move a particle (spring, orbit); the drift restarts on release")
 
 
 def _one_line(s: str) -> str:
@@ -349,7 +349,7 @@ class Runner:
             base.text(surf, f, label, (x, y), base.DIM)
             base.text(surf, f, value, (x + 100, y), colour)
             y += 24
-        if p.drift:
+        if len(p.drift) > 1:
             y += 6
             self._drift_graph(surf, pygame.Rect(x, y + 18, SIDEBAR - 36, 110), p)
         base.text(surf, f, "h or F1: help", (x, SIZE[1] - 12), base.DIM, "bottomleft")
@@ -357,14 +357,7 @@ class Runner:
     def _drift_graph(self, surf: pygame.Surface, box: pygame.Rect, p: Panel) -> None:
         f = base.font(18)
         top = max(abs(v) for v in p.drift) or 1.0
-        base.text(
-            surf,
-            f,
-            f"energy drift (E - E0) / |E0|, last {len(p.drift)} frames",
-            (box.x, box.y - 4),
-            base.DIM,
-            "bottomleft",
-        )
+        base.text(surf, f, "energy drift (E - E0) / |E0|", (box.x, box.y - 4), base.DIM, "bottomleft")
         pygame.draw.rect(surf, base.BACKGROUND, box)
         pygame.draw.line(surf, base.GRID, (box.x, box.centery), (box.right - 1, box.centery))
         n = len(p.drift)
@@ -377,13 +370,14 @@ class Runner:
         ]
         if len(pts) > 1:
             pygame.draw.lines(surf, base.ACCENT, False, pts, 2)
-        base.text(surf, f, f"+{top:.1e}", (box.x + 3, box.y + 2), base.DIM)
-        base.text(surf, f, f"-{top:.1e}", (box.x + 3, box.bottom - 2), base.DIM, "bottomleft")
+        note = f"scale +-{top:.1e}, {n} frames"
+        base.text(surf, f, note, (box.x, box.bottom + 4), base.DIM)
 
     def _help(self, surf: pygame.Surface) -> None:
         f, big = base.font(22), base.font(28)
         lines = [(k.label, k.doc) for k in KEYS] + [MOUSE_HELP]
-        w, h = 560, 70 + 26 * len(lines)
+        w = 60 + max(f.size(label)[0] for label, _ in lines) + max(f.size(doc)[0] for _, doc in lines) + 40
+        h = 70 + 26 * len(lines)
         box = pygame.Rect((SIZE[0] - w) // 2, (SIZE[1] - h) // 2, w, h)
         shade = pygame.Surface(SIZE, pygame.SRCALPHA)
         shade.fill((0, 0, 0, 150))
@@ -394,7 +388,7 @@ class Runner:
         y = box.y + 54
         for label, doc in lines:
             base.text(surf, f, label, (box.x + 24, y), base.ACCENT)
-            base.text(surf, f, doc, (box.x + 150, y), base.TEXT)
+            base.text(surf, f, doc, (box.x + 24 + 40 + max(f.size(lab)[0] for lab, _ in lines), y), base.TEXT)
             y += 26
 
     def screen_position(self, panel: int = 0, particle: int = 0) -> tuple[int, int]:

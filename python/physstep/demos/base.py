@@ -177,7 +177,7 @@ def draw_trail(surf: pygame.Surface, points: list[tuple[int, int]], colour: tupl
         lo, hi = c * n // chunks, min(n, (c + 1) * n // chunks + 1)
         if hi - lo < 2:
             continue
-        k = 0.25 + 0.75 * (c + 1) / chunks
+        k = 0.4 + 0.6 * (c + 1) / chunks
         pygame.draw.aalines(surf, tuple(int(ch * k) for ch in colour), False, points[lo:hi])
 
 

@@ -120,7 +120,9 @@ class RacketDemo(Demo):
         for k, (a, colour) in enumerate(axes):
             if CAMERA[2] @ a >= 0:
                 pygame.draw.line(surf, colour, project(np.zeros(3)), project(1.1 * a), 3)
-            base.text(surf, font, str(k + 1), project(1.22 * a), colour, "center")
+            label = project(1.22 * a)
+            pygame.draw.circle(surf, base.BACKGROUND, label, 10)
+            base.text(surf, font, str(k + 1), label, colour, "center")
         # The body-frame angular velocity over the last frames.
         omega = self.spin(panel)
         pygame.draw.rect(surf, base.GRID, chart, 1)
@@ -139,7 +141,7 @@ class RacketDemo(Demo):
         base.text(
             surf,
             font,
-            "angular velocity in the body frame, rad/s",
+            f"angular velocity in the body frame, rad/s (last {min(len(panel.trail), chart.width)} frames)",
             (chart.x, chart.y - 4),
             base.DIM,
             "bottomleft",
