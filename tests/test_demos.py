@@ -156,3 +156,19 @@ def test_without_pygame_the_demo_says_how_to_install_it(capsys, monkeypatch: pyt
     err = _fails(capsys, ["demo", "spring", "--headless"])
     assert "pip install 'physstep[demo]'" in err
     assert main(["demo", "--list"]) == 0  # the list needs no pygame
+
+
+def test_the_demos_page_lists_every_demo_and_key() -> None:
+    from pathlib import Path
+
+    page = (Path(__file__).parent.parent / "docs" / "demos.md").read_text()
+    assert all(f"| `{name}` |" in page for name in demos.names())
+    for key in app.KEYS:
+        for token in key.label.split(" or "):
+            assert f"`{token}`" in page, token
+
+
+def test_no_display_is_one_line_pointing_at_headless(capsys, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SDL_VIDEODRIVER", "no-such-driver")
+    err = _fails(capsys, ["demo", "orbit", "--frames", "1"])
+    assert "cannot open a window" in err and "--headless" in err

@@ -442,11 +442,11 @@ def run(
         os.environ["SDL_VIDEODRIVER"] = "dummy"
         frames = 120 if frames is None else frames
     os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
-    pygame.display.init()
-    pygame.font.init()
     base.forget_fonts()
     try:
         try:
+            pygame.display.init()
+            pygame.font.init()
             screen = pygame.display.set_mode(SIZE)
         except pygame.error as e:
             raise ValueError(
