@@ -172,3 +172,36 @@ def test_no_display_is_one_line_pointing_at_headless(capsys, monkeypatch: pytest
     monkeypatch.setenv("SDL_VIDEODRIVER", "no-such-driver")
     err = _fails(capsys, ["demo", "orbit", "--frames", "1"])
     assert "cannot open a window" in err and "--headless" in err
+
+
+def test_a_drag_holds_the_particle_under_the_pointer_at_rest() -> None:
+    seen: dict[str, object] = {}
+
+    def press(r: app.Runner) -> pygame.event.Event:
+        x, y = r.screen_position(0, 0)
+        seen["target"] = (x + 60, y - 40)
+        return pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=(x, y))
+
+    def move(r: app.Runner) -> pygame.event.Event:
+        return pygame.event.Event(pygame.MOUSEMOTION, pos=seen["target"], rel=(60, -40), buttons=(1, 0, 0))
+
+    def look(r: app.Runner) -> pygame.event.Event:
+        w = r.panels[0].world
+        seen["x"], seen["v"] = np.array(w.positions[0]), np.array(w.velocities[0])
+        seen["want"] = r.demo.to_world(r.rects[0], seen["target"], w.dim)
+        return pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=seen["target"])
+
+    app.run("orbit", headless=True, frames=12, script={5: [press], 6: [move], 9: [look]})
+    np.testing.assert_allclose(seen["x"], seen["want"])
+    np.testing.assert_array_equal(seen["v"], [0.0, 0.0])
+
+
+def test_a_loop_change_carries_the_state_over_bitwise() -> None:
+    import physstep
+    from physstep.demos import base
+
+    w = physstep.World.from_scene("spring", "leapfrog", 0.1)
+    w.step(3)
+    w2 = base.relooped(w, "step-per-frame", 1)
+    assert w2.state_hash() == w.state_hash() and w2.time == w.time
+    assert w2.advance(0.01) == 1 and w.advance(0.01) == 0  # a step a frame; the accumulator waits
