@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 VENV=${PHYSSTEP_VENV:-.venv}
 [ -x "$VENV/bin/python" ] || python3 -m venv "$VENV"
 "$VENV/bin/python" -m pip install -q --upgrade pip
-"$VENV/bin/python" -m pip install -q -e ".[test,distributed]"
+"$VENV/bin/python" -m pip install -q -e ".[test,distributed,demo]"
 cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace --exclude physstep-py

@@ -92,8 +92,9 @@ def test_import_physstep_reaches_lab_and_plot_and_the_cli_loads_no_plotting() ->
 #: the helpers nothing of the command line (only physstep itself).
 LAYERS = {
     "__init__": {"app"},
-    "app": {"basic", "lab", "options", "output"},
+    "app": {"basic", "demo", "lab", "options", "output"},
     "basic": {"options", "output"},
+    "demo": {"options", "output"},
     "lab": {"options", "output"},
     "options": set(),
     "output": set(),

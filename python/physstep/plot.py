@@ -19,116 +19,35 @@ energy error and the change of the angular momentum.
 from __future__ import annotations
 
 import math
-import operator
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from physstep import Trajectory
+from physstep._plotting import (
+    LOG_FLOOR,
+    _axis,
+    _check_coord,
+    _coord_name,
+    _errors,
+    _figure,
+    _finite,
+    _index,
+    _label,
+    _runs,
+    _title,
+    legend,
+    readable_log_ticks,
+    style,
+)
+from physstep.plot_bodies import spin
 
 __all__ = ["LOG_FLOOR", "energy", "orbit", "path3d", "phase", "save", "spin", "trajectory", "work_precision"]
 
 _EXACT_STYLE: dict[str, Any] = {"color": "black", "linestyle": "--", "linewidth": 1.2, "alpha": 0.7}
-
-
-def _runs(trajs: Trajectory | Iterable[Trajectory]) -> list[Trajectory]:
-    runs = [trajs] if isinstance(trajs, Trajectory) else list(trajs)
-    if not runs:
-        raise ValueError("invalid trajectories = []: give at least one run")
-    for i, r in enumerate(runs):
-        if not isinstance(r, Trajectory):
-            raise TypeError(f"invalid trajectories[{i}]: a {type(r).__name__}, not a physstep.Trajectory")
-        if len(r.t) == 0:
-            raise ValueError(f"invalid trajectories[{i}] ({r.method}): the trajectory has no rows")
-    return runs
-
-
-def _index(value: Any, name: str) -> int:
-    try:
-        return operator.index(value)
-    except TypeError:
-        raise ValueError(f"invalid {name} = {value!r}: must be an integer") from None
-
-
-def _check_coord(runs: Sequence[Trajectory], coord: int) -> int:
-    coord = _index(coord, "coord")
-    for r in runs:
-        n = r.x.shape[1]
-        if not 0 <= coord < n:
-            raise ValueError(
-                f"invalid coord = {coord}: the {r.scene} run of {r.method} has {n} coordinates "
-                f"(0 ... {n - 1})"
-            )
-    return coord
-
-
-def _finite(cols: Sequence[np.ndarray], what: str | None) -> tuple[list[np.ndarray], str]:
-    """``cols`` with every row that has a non-finite value in any of them set to NaN (a gap in
-    the line), and the legend note saying how many rows that hid. ValueError naming ``what``
-    when no row is finite (``what`` None: no error, the line is left empty)."""
-    ok = np.ones(len(cols[0]), dtype=bool)
-    for c in cols:
-        ok &= np.isfinite(c)
-    bad = int(len(ok) - ok.sum())
-    if bad == 0:
-        return list(cols), ""
-    if bad == len(ok) and what is not None:
-        raise ValueError(f"invalid trajectory ({what}): no row has finite values to plot")
-    masked = [np.where(ok, c, np.nan) for c in cols]
-    return masked, f" ({bad} non-finite row{'s' if bad != 1 else ''} not shown)"
-
-
-def _figure(size: tuple[float, float] = (8.0, 5.0), dpi: int = 100) -> Figure:
-    fig = Figure(figsize=size, dpi=dpi, layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
-
-
-def _fmt_dt(runs: Sequence[Trajectory]) -> str:
-    dts = sorted({r.dt for r in runs})
-    return ", ".join(f"{d:g}" for d in dts) + " s"
-
-
-def _title(what: str, runs: Sequence[Trajectory]) -> str:
-    scenes = sorted({r.scene for r in runs})
-    names = ", ".join(dict.fromkeys(r.method for r in runs))
-    return f"{what}: {', '.join(scenes)}, dt = {_fmt_dt(runs)}\n{names}"
-
-
-def _label(run: Trajectory, runs: Sequence[Trajectory]) -> str:
-    """The method name; with the dt when the runs mix step sizes of one method, and where
-    the run stopped early (``stop_on_diverge``)."""
-    same = [r for r in runs if r.method == run.method]
-    label = run.method if len(same) == 1 else f"{run.method} (dt = {run.dt:g} s)"
-    if run.diverged:
-        label += f" (failed at t = {run.t[-1]:.3g} s)"
-    return label
-
-
-def _coord_name(run: Trajectory, coord: int) -> str:
-    """How coordinate ``coord`` is called: x, y, z (x[p] for particle p), or y[i] for a flow."""
-    if run.kind == "flow":
-        return "y" if run.x.shape[1] == 1 else f"y[{coord}]"
-    if run.dim == 1:
-        return "x" if run.x.shape[1] == 1 else f"x[{coord}]"
-    axis = "xyz"[coord % run.dim] if run.dim <= 3 else str(coord % run.dim)
-    particle = coord // run.dim
-    return axis if run.x.shape[1] == run.dim else f"{axis}[{particle}]"
-
-
-def _axis(run: Trajectory, coord: int, rate: bool = False) -> str:
-    """The axis label of coordinate ``coord`` (``rate``: of its velocity, or a flow's dy/dt),
-    with its unit for particles."""
-    name = _coord_name(run, coord)
-    if run.kind == "flow":
-        return f"d{name}/dt" if rate else name
-    if rate:
-        return "v (m/s)" if name == "x" else f"v_{name} (m/s)"
-    return f"{name} (m)"
 
 
 def _format(path: str | Path) -> str:
@@ -172,9 +91,9 @@ def trajectory(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figu
     coord = _check_coord(runs, coord)
     fig = _figure()
     ax = fig.add_subplot()
-    for r in runs:
+    for k, r in enumerate(runs):
         (t, y), note = _finite([r.t, r.x[:, coord]], r.method)
-        ax.plot(t, y, label=_label(r, runs) + note)
+        ax.plot(t, y, label=_label(r, runs) + note, **style(k))
     ex = _exact(runs)
     if ex is not None:
         assert ex.exact_x is not None
@@ -185,7 +104,7 @@ def trajectory(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figu
     ax.set_ylabel(_axis(runs[0], coord))
     ax.set_title(_title(f"{name}(t)", runs))
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
+    legend(ax, len(runs) + (ex is not None))
     return fig
 
 
@@ -202,9 +121,9 @@ def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
     coord = _check_coord(runs, coord)
     fig = _figure((6.5, 6.0))
     ax = fig.add_subplot()
-    for r in runs:
+    for k, r in enumerate(runs):
         (x, v), note = _finite([r.x[:, coord], r.v[:, coord]], r.method)
-        ax.plot(x, v, label=_label(r, runs) + note, linewidth=1.2)
+        ax.plot(x, v, label=_label(r, runs) + note, linewidth=1.2, **style(k))
     ex = next((r for r in runs if r.exact_x is not None and r.exact_v is not None), None)
     if ex is not None:
         assert ex.exact_x is not None and ex.exact_v is not None
@@ -216,9 +135,9 @@ def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
         ax.plot([x0], [v0], "ko", markersize=5, label="start")
     ax.set_xlabel(_axis(runs[0], coord))
     ax.set_ylabel(_axis(runs[0], coord, rate=True))
-    ax.set_title(_title("phase portrait", runs))
+    ax.set_title(_title("phase portrait", runs, 70))
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
+    legend(ax, len(runs) + 2)
     return fig
 
 
@@ -245,10 +164,10 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
             )
     fig = _figure((9.5, 7.0))
     ax = fig.add_subplot()
-    for r in runs:
+    for k, r in enumerate(runs):
         i, j = particle * r.dim, particle * r.dim + 1
         (x, y), note = _finite([r.x[:, i], r.x[:, j]], r.method)
-        (line,) = ax.plot(x, y, label=_label(r, runs) + note, linewidth=1.2)
+        (line,) = ax.plot(x, y, label=_label(r, runs) + note, linewidth=1.2, **style(k))
         if r.diverged and np.isfinite(r.x[-1, i]) and np.isfinite(r.x[-1, j]):
             ax.plot([r.x[-1, i]], [r.x[-1, j]], "x", color=line.get_color(), markersize=8)
     ex = _exact(runs)
@@ -265,7 +184,7 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(_axis(first, i))
     ax.set_ylabel(_axis(first, j))
-    ax.set_title(_title("path", runs))
+    ax.set_title(_title("path", runs, 80))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", borderaxespad=0.0)
     return fig
@@ -292,9 +211,9 @@ def path3d(
         raise ValueError(f"invalid coords = {tuple(coords)!r}: the three coordinates must differ")
     fig = _figure((8.0, 7.0))
     ax = fig.add_subplot(projection="3d")
-    for r in runs:
+    for k, r in enumerate(runs):
         cols, note = _finite([r.x[:, c] for c in picked], r.method)
-        (line,) = ax.plot(*cols, label=_label(r, runs) + note, linewidth=linewidth)
+        (line,) = ax.plot(*cols, label=_label(r, runs) + note, linewidth=linewidth, **style(k))
         if r.diverged and np.isfinite(r.x[-1, picked]).all():
             ax.plot(*([r.x[-1, c]] for c in picked), "x", color=line.get_color(), markersize=8)
     ex = _exact(runs)
@@ -308,9 +227,20 @@ def path3d(
     ax.set_xlabel(_axis(first, picked[0]))
     ax.set_ylabel(_axis(first, picked[1]))
     ax.set_zlabel(_axis(first, picked[2]))
-    ax.set_title(_title("path", runs))
-    ax.legend(loc="upper left", fontsize="small")
+    ax.set_title(_title("path", runs, 80))
+    if len(runs) + 2 > 6:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.05, 1.0), fontsize="small", borderaxespad=0.0)
+    else:
+        ax.legend(loc="upper left", fontsize="small")
     return fig
+
+
+def _peak(values: np.ndarray | None) -> float:
+    """The largest finite ``|value|``, 0 when there is none."""
+    if values is None:
+        return 0.0
+    finite = np.abs(values[np.isfinite(values)])
+    return float(finite.max()) if len(finite) else 0.0
 
 
 def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> Figure:
@@ -332,163 +262,41 @@ def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> 
             )
     fig = _figure()
     ax = fig.add_subplot()
-    for r in runs:
-        y = r.energy_error if relative else r.energy
-        (t, y), note = _finite([r.t, y], r.method)
-        ax.plot(t, y, label=_label(r, runs) + note)
-    e0 = runs[0].energy[0]  # type: ignore[index]
-    if not relative and np.isfinite(e0):
-        ax.axhline(e0, label="E0 (exact)", **_EXACT_STYLE)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("(E - E0) / energy scale" if relative else "E (J)")
-    ax.set_title(_title("relative energy error" if relative else "energy", runs))
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
-    return fig
-
-
-#: The principal axes of a rigid body, moments ascending (``Trajectory.body_spin``'s order).
-_PRINCIPAL = ("smallest", "intermediate", "largest")
-#: Relative errors below this (the rounding of doubles) are drawn at it on a log axis.
-LOG_FLOOR = 1e-16
-
-
-def _spin_label(run: Trajectory, runs: Sequence[Trajectory]) -> str:
-    """``scene: method`` (the scene only where the runs mix scenes or systems), with the dt
-    where the runs mix step sizes, and where the run stopped early."""
-    label = f"{run.scene}: {run.method}" if len({r.scene for r in runs}) > 1 else run.method
-    if len({r.dt for r in runs}) > 1:
-        label += f" (dt = {run.dt:g} s)"
-    if run.diverged:
-        label += f" (failed at t = {run.t[-1]:.3g} s)"
-    return label
-
-
-def _l_change(run: Trajectory) -> np.ndarray | None:
-    """``|L - L0| / |L0|`` of the total angular momentum at every row (``|L - L0|`` when
-    ``L0 = 0``), or None without it."""
-    ang = run.angular_momentum
-    if ang is None:
-        return None
-    ang = np.asarray(ang, dtype=float)
-    l0 = float(np.linalg.norm(ang[0])) if np.isfinite(ang[0]).all() else 0.0
-    with np.errstate(all="ignore"):
-        return np.linalg.norm(ang - ang[0], axis=1) / (l0 if l0 > 0 else 1.0)
-
-
-def _legend_on_top(ax: Any, drawn: list[np.ndarray], entries: int, ncols: int, log: bool = False) -> None:
-    """The legend of ``ax`` at its top, in headroom above the ``drawn`` values (y limits
-    widened to make it, in log space on a log axis), so it never hides a line."""
-    vals = [d[np.isfinite(d) & (d > 0 if log else True)] for d in drawn]
-    vals = np.concatenate(vals) if vals else np.empty(0)
-    rows = -(-entries // ncols)
-    frac = min(0.65, 0.12 + 0.11 * rows)  # the part of the axis the legend takes
-    if len(vals):
-        lo, hi = float(vals.min()), float(vals.max())
-        if log:
-            lo, hi = math.log10(lo), math.log10(hi)
-        span = (hi - lo) or max(abs(hi), 1.0)
-        bottom, top = lo - 0.05 * span, hi + span * frac / (1 - frac)
-        ax.set_ylim(*((10**bottom, 10**top) if log else (bottom, top)))
-    ax.legend(loc="upper center", ncols=ncols, fontsize="small", framealpha=0.9)
-
-
-def _errors(
-    ax: Any,
-    runs: Sequence[Trajectory],
-    labels: list[str],
-    values: list[np.ndarray | None],
-    name: str,
-    signed: str,
-) -> None:
-    """The relative errors ``values`` (one per run, None: unknown) against time on ``ax``.
-
-    A log axis of ``|error|`` where the errors span two decades or more (the first row, zero
-    by definition, left out; other values below :data:`LOG_FLOOR`, exact zeros included,
-    drawn at it), else a linear axis of the error itself (``signed`` names it). The legend
-    says which runs are unknown, below the floor throughout, or have non-finite rows."""
-    mags = [np.abs(v[1:][np.isfinite(v[1:])]) for v in values if v is not None]
-    pos = np.concatenate([m[m > 0] for m in mags]) if mags else np.empty(0)
-    log = len(pos) > 0 and float(pos.max()) >= 100 * max(float(pos.min()), LOG_FLOOR)
-    drawn = []
-    for r, label, v in zip(runs, labels, values, strict=True):
-        if v is None:
-            ax.plot([], [], label=f"{label} (unknown)")
-            continue
-        (t, y), note = _finite([r.t, v], None)
-        if log and len(y) > 1:
-            t, y = t[1:], y[1:]  # the start, zero by definition: no dip to the floor
-            if bool(np.all((np.abs(y) < LOG_FLOOR) | ~np.isfinite(y))):
-                note += f" (below {LOG_FLOOR:g} throughout)"
-            y = np.maximum(np.abs(y), LOG_FLOOR)
-        elif len(y) and bool(np.all(y[np.isfinite(y)] == 0)):
-            note += " (0 throughout)"
-        ax.plot(t, y, label=label + note, lw=1.2)
-        drawn.append(y)
-    if log:
-        ax.set_yscale("log")
-    ax.set_ylabel(name if log else signed)
-    ax.grid(True, which="major", alpha=0.3)
-    _legend_on_top(ax, drawn, len(runs), 1 if len(runs) <= 3 else 2, log=log)
-
-
-def spin(trajs: Trajectory | Iterable[Trajectory], body: int = 0) -> Figure:
-    """Rigid bodies: the body-frame angular velocity of ``body`` against time, then the
-    relative energy error and the relative change of the total angular momentum.
-
-    One panel per run (the first is run 0's) with a line per principal axis, moments
-    ascending (axis 1 the smallest moment, 2 the intermediate, 3 the largest): the
-    tennis-racket flips show as the intermediate axis's line changing sign. Below, every
-    run's relative energy error (see :attr:`physstep.Trajectory.energy_scale`) and
-    ``|L - L0| / |L0|`` of its total angular momentum about the origin (an error where no
-    external torque acts, as on the racket; under gravity, as on the top, it is the physics).
-    Each of the two is drawn as ``|error|`` on a log axis where the values span two decades or
-    more (values below :data:`LOG_FLOOR`, exact zeros included, are drawn at it, and the
-    legend says which runs stay below it), else linearly.
-
-    Raises ValueError for no runs, a run with no rows or without rigid bodies (a particle or
-    flow run: nothing to plot), a ``body`` out of range, or a run with no finite spin.
-    """
-    runs = _runs(trajs)
-    b = _index(body, "body")
-    for i, r in enumerate(runs):
-        if r.body_spin is None:
-            raise ValueError(
-                f"invalid trajectories[{i}] ({r.scene}, {r.method}): a {r.kind} run has no rigid bodies: "
-                "nothing to plot (spin plots body scenes such as racket)"
-            )
-        n = r.body_spin.shape[1]
-        if not 0 <= b < n:
-            raise ValueError(
-                f"invalid body = {b}: the {r.scene} run of {r.method} has {n} bod"
-                + (f"ies (0 ... {n - 1})" if n != 1 else "y (0)")
-            )
-    labels = [_spin_label(r, runs) for r in runs]
-    err = 0.9 + 0.12 * max(0, -(-len(runs) // (1 if len(runs) <= 3 else 2)) - 2)  # room for the legends
-    heights = [1.0] * len(runs) + [err, err]
-    fig = _figure((10.0, 2.4 * sum(heights) + 0.6))
-    axes = fig.subplots(len(runs) + 2, 1, sharex=True, gridspec_kw={"height_ratios": heights})
-    for ax, r, label in zip(axes, runs, labels, strict=False):
-        cols, note = _finite([r.t, *(r.body_spin[:, b, k] for k in range(3))], r.method)
-        for k, name in enumerate(_PRINCIPAL):
-            ax.plot(cols[0], cols[k + 1], label=f"axis {k + 1} ({name} moment)", lw=1.0)
-        ax.set_ylabel("omega, body frame (rad/s)")
-        ax.set_title(label + note, fontsize="medium")
+    labels = [_label(r, runs) for r in runs]
+    if relative:
+        # |error| on a log axis where the runs' largest errors span two decades or more (the
+        # 14 methods span 1e-16 to 1), else the signed error on a linear one
+        peaks = [_peak(r.energy_error) for r in runs]
+        big = [p for p in peaks if p > 0]
+        log = bool(big) and max(big) >= 100 * max(min(peaks), LOG_FLOOR)
+        _errors(
+            ax,
+            runs,
+            labels,
+            [r.energy_error for r in runs],
+            "|E - E0| / energy scale",
+            "(E - E0) / energy scale",
+            side=len(runs) > 3,
+            log=log,
+        )
+    else:
+        drawn = []
+        for k, (r, label) in enumerate(zip(runs, labels, strict=True)):
+            (t, y), note = _finite([r.t, r.energy], r.method)
+            ax.plot(t, y, label=label + note, **style(k))
+            drawn.append(y[np.isfinite(y)])
+        e0 = runs[0].energy[0]  # type: ignore[index]
+        if np.isfinite(e0):
+            ax.axhline(e0, label="E0 (exact)", **_EXACT_STYLE)
+        values = np.concatenate(drawn)
+        if len(values) and values.min() > 0 and values.max() >= 100 * values.min():
+            ax.set_yscale("log")  # energies spanning decades (explicit Euler's growth)
+        ax.set_ylabel("E (J)")
         ax.grid(True, alpha=0.3)
-        _legend_on_top(ax, cols[1:], 3, 3)
-    _errors(
-        axes[-2],
-        runs,
-        labels,
-        [r.energy_error for r in runs],
-        "|E - E0| / energy scale",
-        "(E - E0) / energy scale",
-    )
-    _errors(axes[-1], runs, labels, [_l_change(r) for r in runs], "|L - L0| / |L0|", "|L - L0| / |L0|")
-    axes[-1].set_xlabel("t (s)")
-    fig.suptitle(
-        f"body-frame angular velocity of body {b}, energy and angular momentum: dt = {_fmt_dt(runs)}"
-    )
+        legend(ax, len(runs) + 1)
+    ax.set_xlabel("t (s)")
+    ax.set_title(_title("relative energy error" if relative else "energy", runs))
+    readable_log_ticks(ax)
     return fig
 
 
@@ -535,7 +343,7 @@ def work_precision(
     methods = list(dict.fromkeys(r["method"] for r in rows))
     plotted = 0
     for ax, key in zip(axes, panels, strict=True):
-        for m in methods:
+        for k, m in enumerate(methods):
             mine = [r for r in rows if r["method"] == m]
             pts = sorted(
                 (w, e)
@@ -545,11 +353,11 @@ def work_precision(
             left = len(mine) - len(pts)
             label = m if not left else f"{m} ({left} of {len(mine)} points left out)"
             if not pts:
-                ax.plot([], [], marker="o", markersize=4, label=label)
+                ax.plot([], [], markersize=4, label=label, **style(k, marker=True))
                 continue
             plotted += len(pts)
             xs, ys = zip(*pts, strict=True)
-            ax.loglog(xs, ys, marker="o", markersize=4, label=label)
+            ax.loglog(xs, ys, markersize=4, label=label, **style(k, marker=True))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("force evaluations" if key == "evals" else "stepping time (s)")
@@ -558,6 +366,7 @@ def work_precision(
         )
         ax.grid(True, which="major", alpha=0.35)
         ax.grid(True, which="minor", alpha=0.1)
+        readable_log_ticks(ax)
     if plotted == 0:
         raise ValueError(
             f"invalid data: no row has a finite, positive {error} and work to plot (did every run diverge?)"

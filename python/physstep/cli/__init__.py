@@ -9,7 +9,8 @@ with status 130 (``physstep: interrupted``). Output files are written whole or n
 
 The modules import one way: :mod:`~physstep.cli.app` (parser, ``main``, exit statuses)
 imports the commands, :mod:`~physstep.cli.basic` (``methods``, ``scenes``, ``table``,
-``run``) and :mod:`~physstep.cli.lab` (``compare``, ``order``, ``stability``, ``sweep``),
+``run``), :mod:`~physstep.cli.lab` (``compare``, ``order``, ``stability``, ``sweep``) and
+:mod:`~physstep.cli.demo` (``demo``: the interactive demos of :mod:`physstep.demos`),
 which import :mod:`~physstep.cli.options` (flags and their checks),
 :mod:`~physstep.cli.output` (printing) and :mod:`~physstep._files` (writing), which
 import only :mod:`physstep`.

@@ -16,7 +16,7 @@ import sys
 from typing import NoReturn
 
 import physstep
-from physstep.cli import basic, lab, output
+from physstep.cli import basic, demo, lab, output
 from physstep.cli.options import UsageError
 
 
@@ -37,6 +37,7 @@ def parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     basic.register(sub)
     lab.register(sub)
+    demo.register(sub)
     return p
 
 

@@ -1,0 +1,196 @@
+"""What every demo shares: its panels (a World each), their settings, and the drawing helpers.
+
+A demo is a class with a name, a default ``dt`` and the methods of its panels (one panel, or
+several side by side in ``compare``). It builds a fresh :class:`physstep.World` for a method,
+a dt and a loop variant (:meth:`Demo.world`) and draws one panel into a rectangle
+(:meth:`Demo.draw`); :mod:`physstep.demos.app` runs the game loop, the keys and the HUD.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pygame
+
+import physstep
+
+#: The loop variants the ``l`` key cycles: (name, substeps), as ``World(loop=..., substeps=...)``.
+LOOPS: tuple[tuple[str, int], ...] = (
+    ("accumulator", 1),
+    ("step-per-frame", 1),
+    ("steps-per-frame", 4),
+    ("frame-time", 1),
+    ("consume-frame", 1),
+)
+
+BACKGROUND = (18, 20, 26)
+PANEL = (26, 29, 38)
+GRID = (52, 57, 72)
+TEXT = (222, 226, 235)
+DIM = (140, 147, 165)
+ACCENT = (255, 196, 64)
+ERROR = (255, 105, 97)
+BODY = (110, 190, 255)
+TRAIL = (90, 200, 140)
+#: Distinct colours of the panels of a side-by-side demo.
+PANEL_COLOURS = ((255, 120, 90), (90, 200, 140), (110, 170, 255), (230, 140, 255))
+
+#: Points kept in a trail.
+TRAIL_POINTS = 3000
+
+
+def relooped(world: physstep.World, loop: str, substeps: int) -> physstep.World:
+    """``world`` under another loop variant, its state (integrator memory and clock
+    included) carried over bitwise: rebuilt from its parts and snapshot, as a pickle is."""
+    rebuild, (parts, snapshot) = world.__reduce__()
+    parts = dict(parts)
+    parts["loop"], parts["substeps"] = loop, substeps
+    return rebuild(parts, snapshot)
+
+
+@dataclass
+class Panel:
+    """One World on screen: its method, the energy it started from, what it has drawn."""
+
+    world: physstep.World
+    info: physstep.MethodInfo
+    e0: float | None
+    error: str | None = None
+    steps: int = 0
+    colour: tuple[int, int, int] = TRAIL
+    #: Draw between the last two states by ``alpha`` (off while paused or single-stepping).
+    interpolate: bool = True
+    trail: deque[tuple[float, ...]] = field(default_factory=lambda: deque(maxlen=TRAIL_POINTS))
+    drift: deque[float] = field(default_factory=lambda: deque(maxlen=600))
+
+    def energy(self) -> float | None:
+        """The world's energy, J, or None (a flow has none; a diverged world tells no more)."""
+        if self.error:
+            return None
+        try:
+            return self.world.energy()
+        except physstep.StepError as e:
+            self.error = str(e)
+            return None
+
+    def drift_now(self) -> float | None:
+        """Relative energy drift (E - E0) / |E0| (absolute where E0 = 0), or None."""
+        e = self.energy()
+        if e is None or self.e0 is None:
+            return None
+        return (e - self.e0) / (abs(self.e0) if self.e0 != 0 else 1.0)
+
+
+class Demo:
+    """A demo's description; subclasses set the attributes and fill :meth:`world` and :meth:`draw`."""
+
+    name = ""
+    #: Default fixed step, s.
+    dt = 0.01
+    #: Slowest and fastest dt the ``[`` and ``]`` keys reach, s.
+    dt_range = (1e-4, 1.0)
+    #: The method of each panel, in order (one panel unless the demo compares).
+    methods: tuple[str, ...] = ("symplectic-euler",)
+    #: What the HUD says when the world's energy is unknown.
+    no_energy = "unknown"
+    #: Whether the mouse drags a particle.
+    draggable = False
+
+    def applies(self, info: physstep.MethodInfo) -> bool:
+        """Whether method ``info`` applies to this demo's world (the ``m`` key skips others)."""
+        return True
+
+    def world(self, method: str, dt: float) -> physstep.World:
+        """A fresh World of this demo under ``method`` at step ``dt`` (accumulator loop)."""
+        raise NotImplementedError
+
+    def record(self, panel: Panel, x: np.ndarray) -> None:
+        """Keeps what the trail of ``panel`` needs from this frame's positions ``x``."""
+
+    def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
+        """Draws ``panel`` into ``rect``; ``x`` are the positions to draw (interpolated)."""
+        raise NotImplementedError
+
+    # Mapping between world and screen, for the 2D particle demos (``view`` is centre and half width).
+    view: tuple[float, float, float] = (0.0, 0.0, 1.0)
+
+    def scale(self, rect: pygame.Rect) -> float:
+        """Pixels per metre in ``rect``."""
+        return min(rect.width, rect.height) / (2.0 * self.view[2])
+
+    def to_screen(self, rect: pygame.Rect, p: Any) -> tuple[int, int]:
+        """Screen pixel of world point ``p`` (1D points lie on the panel's middle line)."""
+        s = self.scale(rect)
+        px = rect.centerx + (float(p[0]) - self.view[0]) * s
+        py = rect.centery - ((float(p[1]) if len(p) > 1 else self.view[1]) - self.view[1]) * s
+        return (int(_clip(px)), int(_clip(py)))
+
+    def to_world(self, rect: pygame.Rect, pos: tuple[int, int], dim: int) -> np.ndarray:
+        """World point under screen pixel ``pos``, ``dim`` coordinates."""
+        s = self.scale(rect)
+        x = self.view[0] + (pos[0] - rect.centerx) / s
+        y = self.view[1] - (pos[1] - rect.centery) / s
+        return np.array([x, y][:dim])
+
+    def pick(self, rect: pygame.Rect, x: np.ndarray, pos: tuple[int, int]) -> int | None:
+        """The particle drawn within 20 px of ``pos``, or None."""
+        best, best_d = None, 20.0
+        for i, p in enumerate(x):
+            sx, sy = self.to_screen(rect, p)
+            d = math.hypot(sx - pos[0], sy - pos[1])
+            if d <= best_d:
+                best, best_d = i, d
+        return best
+
+
+_FONTS: dict[int, pygame.font.Font] = {}
+
+
+def font(size: int) -> pygame.font.Font:
+    """pygame's default font at ``size`` px, loaded once per run (:func:`forget_fonts`)."""
+    if size not in _FONTS:
+        _FONTS[size] = pygame.font.Font(None, size)
+    return _FONTS[size]
+
+
+def forget_fonts() -> None:
+    """Drops the loaded fonts (pygame.font is shut down at the end of a run)."""
+    _FONTS.clear()
+
+
+def _clip(v: float) -> float:
+    """A pixel coordinate pygame can draw (a run that spirals away is drawn at the edge)."""
+    return max(-30000.0, min(30000.0, v)) if math.isfinite(v) else -30000.0
+
+
+def draw_trail(surf: pygame.Surface, points: list[tuple[int, int]], colour: tuple[int, int, int]) -> None:
+    """A trail fading from dim (oldest) to ``colour`` (newest), drawn in a few segments."""
+    n = len(points)
+    if n < 2:
+        return
+    chunks = 8
+    for c in range(chunks):
+        lo, hi = c * n // chunks, min(n, (c + 1) * n // chunks + 1)
+        if hi - lo < 2:
+            continue
+        k = 0.4 + 0.6 * (c + 1) / chunks
+        pygame.draw.aalines(surf, tuple(int(ch * k) for ch in colour), False, points[lo:hi])
+
+
+def text(
+    surf: pygame.Surface,
+    font: pygame.font.Font,
+    s: str,
+    pos: tuple[int, int],
+    colour: tuple[int, int, int] = TEXT,
+    anchor: str = "topleft",
+) -> pygame.Rect:
+    """Draws ``s`` at ``pos`` (``anchor`` names the corner of its box); returns its box."""
+    img = font.render(s, True, colour)
+    box = img.get_rect(**{anchor: pos})
+    surf.blit(img, box)
+    return box

@@ -1,0 +1,38 @@
+"""Writes docs/figures/demo-NAME.png: the last frame of each demo, run headless.
+
+Usage: python scripts/demo_shots.py [NAME ...] (default: every registered demo). Needs the
+demo extra (pip install -e '.[demo]'). The runs are headless at the fixed frame time of
+1/60 s, so the pictures are the same on every run of the same build.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+from physstep import demos  # noqa: E402
+from physstep.demos import app  # noqa: E402
+
+#: Frames each picture runs (at 60 per second): long enough to show what the demo teaches.
+FRAMES = {
+    "spring": 540,  # one period of the spring (8.9 s): the closed curve of the phase portrait
+    "orbit": 420,  # a period of the orbit (6.3 s)
+    "racket": 1500,  # 25 s: a flip and back, omega_2 changing sign
+    "lorenz": 1800,  # 30 s: both wings
+    "compare": 420,  # a period: Euler out, backward Euler in (and stopped), the others on it
+}
+OUT = Path(__file__).parent.parent / "docs" / "figures"
+
+
+def main(names: list[str]) -> None:
+    for name in names or demos.names():
+        path = OUT / f"demo-{name}.png"
+        summary = app.run(name, headless=True, frames=FRAMES.get(name, 600), screenshot=str(path))
+        print(f"{path}: {summary['frames']} frames, t = {summary['t']:.4g} s")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

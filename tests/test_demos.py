@@ -1,0 +1,207 @@
+"""The demos, headless: every registered demo runs with every key action and a mouse drag
+and draws a frame that is not blank; the command line's list and its errors."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+import pytest
+from physstep import demos
+from physstep.cli import main
+
+pygame = pytest.importorskip("pygame", reason="the demo extra (pygame-ce) is not installed")
+
+from physstep.demos import app  # noqa: E402  (after the skip: it imports pygame)
+
+FRAMES = 120
+
+
+@pytest.fixture(autouse=True)
+def _headless(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    monkeypatch.setenv("SDL_AUDIODRIVER", "dummy")
+
+
+def _key(key: app.Key) -> pygame.event.Event:
+    mod = pygame.KMOD_SHIFT if key.shift else 0
+    return pygame.event.Event(pygame.KEYDOWN, key=key.keys[0], mod=mod, unicode="", scancode=0)
+
+
+def _script() -> dict[int, list[app.Scripted]]:
+    """Every key action but quit, twice where it toggles, a drag, and quit on the last frame."""
+    script: dict[int, list[app.Scripted]] = {}
+    frame = 2
+    for key in app.KEYS:
+        if key.action == "quit":
+            continue
+        presses = 2 if key.action in ("help", "pause") else 1
+        for _ in range(presses):
+            script.setdefault(frame, []).append(_key(key))
+            frame += 3
+        if key.action == "step":  # a single step pauses: run again
+            script.setdefault(frame, []).append(_key(next(k for k in app.KEYS if k.action == "pause")))
+            frame += 3
+    loop = next(k for k in app.KEYS if k.action == "loop")
+    for _ in range(len(app.LOOPS) - 1):  # every loop variant, back to the first
+        script.setdefault(frame, []).append(_key(loop))
+        frame += 3
+    start = frame
+
+    def press(r: app.Runner) -> pygame.event.Event:
+        return pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=r.screen_position(0, 0))
+
+    def move(r: app.Runner) -> pygame.event.Event:
+        x, y = r.screen_position(0, 0)
+        return pygame.event.Event(pygame.MOUSEMOTION, pos=(x + 15, y - 10), rel=(15, -10), buttons=(1, 0, 0))
+
+    script[start] = [press]
+    for k in range(1, 5):
+        script[start + k] = [move]
+    script[start + 5] = [pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=(0, 0))]
+    assert start + 6 < FRAMES - 1
+    script[FRAMES - 1] = [_key(next(k for k in app.KEYS if k.action == "quit"))]
+    return script
+
+
+def _pixels(path: str) -> np.ndarray:
+    from matplotlib.image import imread
+
+    img = imread(path)
+    return (img[..., :3] * 255).round().astype(np.uint8)
+
+
+def _assert_not_blank(path: str) -> None:
+    px = _pixels(path).reshape(-1, 3)
+    colours, counts = np.unique(px, axis=0, return_counts=True)
+    assert len(colours) >= 50, len(colours)  # text, lines, shading: many colours
+    top2 = np.sort(counts)[-2:].sum()
+    assert counts.max() / len(px) < 0.95  # not one flat fill
+    assert (len(px) - top2) / len(px) > 0.01  # beyond the background and the panels: drawing
+    assert px.std() > 5
+
+
+@pytest.mark.parametrize("name", demos.names())
+def test_every_demo_runs_every_key_and_draws_a_frame(name: str, tmp_path) -> None:
+    shot = str(tmp_path / f"{name}.png")
+    summary = app.run(name, headless=True, frames=FRAMES, screenshot=shot, script=_script())
+    assert summary["frames"] == FRAMES
+    assert summary["t"] > 0
+    _assert_not_blank(shot)
+
+
+def test_the_script_presses_every_key_action() -> None:
+    events = [e for es in _script().values() for e in es if isinstance(e, pygame.event.Event)]
+    pressed = {(e.key, bool(e.mod)) for e in events if e.type == pygame.KEYDOWN}
+    assert all((k.keys[0], bool(k.shift)) in pressed for k in app.KEYS)
+
+
+def test_a_headless_run_is_deterministic(tmp_path, capsys) -> None:
+    shots = [str(tmp_path / f"{k}.png") for k in range(2)]
+    for shot in shots:
+        argv = ["demo", "orbit", "--headless", "--frames", "30", "--screenshot", shot, "--format", "json"]
+        assert main(argv) == 0
+        assert json.loads(capsys.readouterr().out)["frames"] == 30
+    assert np.array_equal(_pixels(shots[0]), _pixels(shots[1]))
+
+
+def test_list_in_text_and_json(capsys) -> None:
+    assert main(["demo", "--list"]) == 0
+    text = capsys.readouterr().out
+    assert [line.split()[0] for line in text.splitlines()] == demos.names()
+    assert main(["demo", "--list", "--format", "json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert [r["name"] for r in rows] == demos.names() and all(r["doc"] for r in rows)
+
+
+def _fails(capsys, argv: list[str]) -> str:
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    return err
+
+
+def test_an_unknown_demo_lists_the_valid_ones(capsys) -> None:
+    err = _fails(capsys, ["demo", "pinball"])
+    assert "unknown demo 'pinball'" in err and ", ".join(demos.names()) in err
+    assert "give a demo NAME or --list" in _fails(capsys, ["demo"])
+
+
+def test_bad_frames_and_screenshot_paths_are_one_line(capsys, tmp_path) -> None:
+    assert "invalid --frames '0'" in _fails(capsys, ["demo", "spring", "--headless", "--frames", "0"])
+    assert "invalid --frames 'many'" in _fails(capsys, ["demo", "spring", "--headless", "--frames", "many"])
+    missing = str(tmp_path / "no" / "such" / "dir" / "x.png")
+    assert f"invalid --screenshot '{missing}'" in _fails(
+        capsys, ["demo", "spring", "--headless", "--screenshot", missing]
+    )
+    jpg = str(tmp_path / "x.jpg")
+    assert "must be a .png file" in _fails(capsys, ["demo", "spring", "--headless", "--screenshot", jpg])
+
+
+def test_a_method_that_does_not_apply_is_one_line(capsys) -> None:
+    assert "does not apply to demo racket" in _fails(
+        capsys, ["demo", "racket", "--headless", "--method", "verlet"]
+    )
+    assert "does not apply to demo lorenz" in _fails(
+        capsys, ["demo", "lorenz", "--headless", "--method", "leapfrog"]
+    )
+    assert "unknown method 'nope'" in _fails(capsys, ["demo", "orbit", "--headless", "--method", "nope"])
+
+
+def test_without_pygame_the_demo_says_how_to_install_it(capsys, monkeypatch: pytest.MonkeyPatch) -> None:
+    for mod in [m for m in sys.modules if m == "pygame" or m.startswith(("pygame.", "physstep.demos."))]:
+        monkeypatch.delitem(sys.modules, mod)
+    monkeypatch.setitem(sys.modules, "pygame", None)  # import pygame raises ImportError
+    err = _fails(capsys, ["demo", "spring", "--headless"])
+    assert "pip install 'physstep[demo]'" in err
+    assert main(["demo", "--list"]) == 0  # the list needs no pygame
+
+
+def test_the_demos_page_lists_every_demo_and_key() -> None:
+    from pathlib import Path
+
+    page = (Path(__file__).parent.parent / "docs" / "demos.md").read_text()
+    assert all(f"| `{name}` |" in page for name in demos.names())
+    for key in app.KEYS:
+        for token in key.label.split(" or "):
+            assert f"`{token}`" in page, token
+
+
+def test_no_display_is_one_line_pointing_at_headless(capsys, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("SDL_VIDEODRIVER", "no-such-driver")
+    err = _fails(capsys, ["demo", "orbit", "--frames", "1"])
+    assert "cannot open a window" in err and "--headless" in err
+
+
+def test_a_drag_holds_the_particle_under_the_pointer_at_rest() -> None:
+    seen: dict[str, object] = {}
+
+    def press(r: app.Runner) -> pygame.event.Event:
+        x, y = r.screen_position(0, 0)
+        seen["target"] = (x + 60, y - 40)
+        return pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=(x, y))
+
+    def move(r: app.Runner) -> pygame.event.Event:
+        return pygame.event.Event(pygame.MOUSEMOTION, pos=seen["target"], rel=(60, -40), buttons=(1, 0, 0))
+
+    def look(r: app.Runner) -> pygame.event.Event:
+        w = r.panels[0].world
+        seen["x"], seen["v"] = np.array(w.positions[0]), np.array(w.velocities[0])
+        seen["want"] = r.demo.to_world(r.rects[0], seen["target"], w.dim)
+        return pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=seen["target"])
+
+    app.run("orbit", headless=True, frames=12, script={5: [press], 6: [move], 9: [look]})
+    np.testing.assert_allclose(seen["x"], seen["want"])
+    np.testing.assert_array_equal(seen["v"], [0.0, 0.0])
+
+
+def test_a_loop_change_carries_the_state_over_bitwise() -> None:
+    import physstep
+    from physstep.demos import base
+
+    w = physstep.World.from_scene("spring", "leapfrog", 0.1)
+    w.step(3)
+    w2 = base.relooped(w, "step-per-frame", 1)
+    assert w2.state_hash() == w.state_hash() and w2.time == w.time
+    assert w2.advance(0.01) == 1 and w.advance(0.01) == 0  # a step a frame; the accumulator waits

@@ -1,0 +1,99 @@
+"""Issue 13, item 5: plots of all 14 methods stay readable. Every line is told apart (no
+(colour, line style) pair repeated, no colour repeated), titles are not cut at the figure's
+edges, tick labels do not overlap, and a quantity spanning decades is on a log axis."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import physstep
+import pytest
+from matplotlib.colors import to_hex
+from physstep import lab, plot
+from physstep._plotting import COLOURS, LINESTYLES, style
+
+METHODS = [m.name for m in physstep.methods()]
+
+
+@pytest.fixture(scope="module")
+def spring_runs() -> list[physstep.Trajectory]:
+    return [physstep.simulate("spring", m, 0.1, 20.0, stop_on_diverge=True) for m in METHODS]
+
+
+def _method_lines(ax) -> list:
+    """The lines drawn for runs: labelled, not the exact solution, E0 or the start marker."""
+    skip = ("exact", "E0", "start")
+    return [ln for ln in ax.get_lines() if not ln.get_label().startswith(("_", *skip))]
+
+
+def _assert_told_apart(lines: list, n: int) -> None:
+    assert len(lines) == n
+    pairs = [(to_hex(ln.get_color()), ln.get_linestyle()) for ln in lines]
+    assert len(set(pairs)) == n, pairs
+    assert len({c for c, _ in pairs}) == n  # never a repeated colour
+
+
+def _assert_readable(fig) -> None:
+    """Every title inside the figure; no two tick labels of one axis overlapping."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    box = fig.bbox
+    for ax in fig.axes:
+        title = ax.title
+        if title.get_text():
+            ext = title.get_window_extent(renderer)
+            assert ext.x0 >= box.x0 - 1 and ext.x1 <= box.x1 + 1, title.get_text()
+        for axis in (ax.xaxis, ax.yaxis):
+            labels = [t for t in axis.get_ticklabels(which="both") if t.get_visible() and t.get_text()]
+            exts = sorted((t.get_window_extent(renderer) for t in labels), key=lambda e: (e.x0, e.y0))
+            for a, b in itertools.combinations(exts, 2):
+                assert not a.overlaps(b), (axis.axis_name, a, b)
+
+
+def test_the_styles_are_distinct_pairs_with_distinct_colours() -> None:
+    pairs = [(style(k)["color"], style(k)["linestyle"]) for k in range(len(COLOURS) * len(LINESTYLES))]
+    assert len(set(pairs)) == len(pairs)
+    assert len({style(k)["color"] for k in range(len(COLOURS))}) == len(COLOURS) >= len(METHODS)
+
+
+@pytest.mark.parametrize("kind", ["trajectory", "phase", "energy", "energy_relative"])
+def test_all_methods_on_the_spring_are_told_apart(kind: str, spring_runs) -> None:
+    if kind == "energy_relative":
+        fig = plot.energy(spring_runs, relative=True)
+    else:
+        fig = getattr(plot, kind)(spring_runs)
+    _assert_told_apart(_method_lines(fig.axes[0]), len(METHODS))
+    _assert_readable(fig)
+    if kind == "energy_relative":  # explicit Euler ~1, implicit midpoint ~1e-15: decades apart
+        assert fig.axes[0].get_yscale() == "log"
+
+
+def test_the_orbit_and_lorenz_paths_of_every_method_are_told_apart() -> None:
+    runs = [physstep.simulate("orbit", m, 0.1, 10.0, stop_on_diverge=True) for m in METHODS]
+    fig = plot.orbit(runs)
+    _assert_told_apart(_method_lines(fig.axes[0]), len(METHODS))
+    _assert_readable(fig)
+    flows = [m for m in METHODS if not physstep.method(m).split]
+    fig = plot.path3d([physstep.simulate("lorenz", m, 0.01, 2.0) for m in flows])
+    _assert_told_apart(_method_lines(fig.axes[0]), len(flows))
+
+
+def test_work_precision_of_every_method_is_told_apart_on_readable_log_axes() -> None:
+    data = lab.sweep("spring", "all", [0.2, 0.1, 0.05], until=5.0)
+    fig = plot.work_precision(data, against="both")
+    for ax in fig.axes[:2]:
+        lines = _method_lines(ax)
+        _assert_told_apart(lines, len(METHODS))
+        assert len({ln.get_marker() for ln in lines}) > 1
+        assert ax.get_xscale() == ax.get_yscale() == "log"
+    _assert_readable(fig)
+
+
+def test_spin_errors_of_every_method_are_told_apart() -> None:
+    methods = [m for m in METHODS if not physstep.method(m).vector_positions]
+    runs = [physstep.simulate("racket", m, 1 / 60, 5.0, stop_on_diverge=True) for m in methods]
+    fig = plot.spin(runs)
+    for ax in fig.axes[-2:]:
+        _assert_told_apart(_method_lines(ax), len(methods))
+    assert np.isfinite(fig.get_size_inches()).all()
