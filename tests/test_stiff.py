@@ -41,3 +41,35 @@ def test_symplectic_euler_diverges_on_the_stiff_chain_and_is_reported() -> None:
     w = physstep.World.from_scene("stiff-chain", "symplectic-euler")
     with pytest.raises(physstep.DivergedError, match=r"symplectic-euler.*particle \d+"):
         w.step(600)
+
+
+def test_the_cli_exits_3_with_one_line_when_a_stiff_run_diverges() -> None:
+    import subprocess
+    import sys
+
+    res = subprocess.run(
+        [sys.executable, "-m", "physstep", "run", "stiff-chain", "--method", "symplectic-euler"],
+        capture_output=True,
+        text=True,
+    )
+    assert res.returncode == 3, res
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1 and "diverged at step" in lines[0] and "particle" in lines[0], res.stderr
+    assert "symplectic-euler" in lines[0] and "Traceback" not in res.stderr
+    # backward Euler takes the same scene at its game step.
+    ok = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "physstep",
+            "run",
+            "stiff-chain",
+            "--method",
+            "backward-euler",
+            "--until",
+            "1",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert ok.returncode == 0, ok.stderr

@@ -59,8 +59,10 @@ def _silence_stdout() -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Runs the command line; returns the exit status (0 done, 1 a failed or non-finite
-    run, 2 bad input or an output file that cannot be written, 130 interrupted).
+    """Runs the command line; returns the exit status (0 done, 1 a step that failed otherwise
+    (Newton did not converge, contacts did not end) or a non-finite number about to be
+    printed, 2 bad input or an output file that cannot be written, 3 a step that diverged
+    (rolled back and reported: step, particle, method), 130 interrupted).
 
     ``--help`` and ``--version`` print and raise SystemExit(0), as argparse does.
     """
@@ -78,6 +80,9 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, OverflowError) as e:
         _say(f"error: {e}")
         return 2
+    except physstep.DivergedError as e:
+        _say(str(e))
+        return 3
     except (physstep.StepError, output.NotFiniteError) as e:
         _say(str(e))
         return 1

@@ -46,9 +46,9 @@ pub struct SolveStats {
 }
 
 /// Largest system (unknowns: x and v of every coordinate) solved densely when the sparse
-/// solve is available: below it the dense LU is as fast (measured by
-/// `cargo bench -p physstep -- implicit`).
-pub const DENSE_UP_TO: usize = 96;
+/// solve is available: up to about 36 unknowns the dense LU is as fast, at 44 the sparse
+/// solve takes 0.7 of its time and at 404 0.15 (`bench/bench_stiff.py`).
+pub const DENSE_UP_TO: usize = 32;
 
 /// Newton's method with a dense LU solve, the Jacobian analytic where the flow has one and
 /// by forward differences otherwise. The dense solve costs O(n^3) per iteration: the
