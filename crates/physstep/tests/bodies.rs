@@ -505,6 +505,14 @@ fn catto_implicit_gyroscopic_form_is_stable_where_the_explicit_one_diverges_and_
     explicit.set_angular_form(AngularForm::VelocityGyroscopic);
     let err = explicit.step(144_000).unwrap_err();
     assert!(matches!(err, Error::Diverged { body: Some(0), .. }), "{err}");
+    // The call went back to its start, replayed the good steps and stopped before the bad one:
+    // the world is where single steps leave it.
+    let Error::Diverged { step, .. } = err else { unreachable!() };
+    assert_eq!(explicit.steps(), step);
+    let mut single = racket("symplectic-euler", Rule::Splitting);
+    single.set_angular_form(AngularForm::VelocityGyroscopic);
+    single.step(step).unwrap();
+    assert_eq!(single.state_hash(), explicit.state_hash());
     let mut implicit = racket("symplectic-euler", Rule::Splitting);
     implicit.set_angular_form(AngularForm::VelocityImplicit);
     let e0 = implicit.energy().unwrap();

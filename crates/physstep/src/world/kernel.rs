@@ -361,6 +361,18 @@ impl World {
         let layout = self.layout();
         self.call.save(&self.state, &self.integrator, layout);
         let start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
+        if self.lazy_rate && self.constraints.is_empty() && self.balls.is_empty() {
+            let good = self.parts_loop(n, h);
+            if good == n {
+                return Ok(());
+            }
+            // As below: back, the good steps again (the same bits), the failing one staged.
+            self.call.restore(&mut self.state, &mut self.integrator, layout);
+            (self.state.t, self.state.steps, self.state.evals, self.epoch) = start;
+            self.parts_loop(good, h);
+            self.step_inner(h, None)?;
+            return self.run_staged(n - good - 1, h);
+        }
         for k in 0..n {
             if self.step_unsaved(h).is_ok() {
                 continue;
@@ -375,6 +387,36 @@ impl World {
             return self.run_staged(n - k - 1, h);
         }
         Ok(())
+    }
+
+    /// Up to `n` steps of a world with bodies under a split method, the parts built once and
+    /// stepped in one loop: what `step_unsaved` does but its stages with nothing to do here
+    /// (no hand loads, no user code, no constraints, no balls: [`World::replayable`]), the
+    /// same bits. Stops before the first step that fails (the state then part-way: the caller
+    /// restores its checkpoint); returns the steps taken.
+    fn parts_loop(&mut self, n: u64, h: f64) -> u64 {
+        let Ok(ctx) = self.context(h) else { return 0 };
+        let (epoch, layout) = (ctx.epoch, self.layout());
+        self.prev_x.clear();
+        let mut parts = super::parts::of(&mut self.model, &self.bodies, &mut self.body_loads);
+        parts.lazy = true;
+        let mut good = 0;
+        while good < n {
+            let t_end = epoch.time(self.state.steps + 1).unwrap_or(f64::NAN);
+            if !(t_end > self.state.t && t_end.is_finite())
+                || self.integrator.advance(&mut parts, &mut self.state, h, None).is_err()
+                || self.integrator.check(&self.state, layout).is_err()
+            {
+                break;
+            }
+            self.state.steps += 1;
+            self.state.t = t_end;
+            good += 1;
+        }
+        if good > 0 {
+            self.epoch = epoch;
+        }
+        good
     }
 
     /// The fused steps of [`World::run`], with the call's checkpoint in `saved`.
