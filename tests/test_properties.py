@@ -403,7 +403,7 @@ def check_cli(argv: list[str], fmt: str, status: Any, stdout: str, stderr: str) 
         note(f"status = {status!r}\nstdout = {stdout[:2000]!r}\nstderr = {stderr[:2000]!r}")
     assert "Traceback" not in stderr
     assert "internal error" not in stderr, "an exception the CLI did not expect"
-    assert status in (0, 1, 2, 130), f"exit status {status!r}"
+    assert status in (0, 1, 2, 3, 130), f"exit status {status!r}"
     m = NONFINITE.search(stdout)
     assert m is None, f"non-finite token {m.group(0)!r} in stdout"
     if status == 2:

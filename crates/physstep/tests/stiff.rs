@@ -109,3 +109,15 @@ fn the_sparse_solve_holds_memory_linear_in_the_particles() {
     // dense Jacobian of 1604 unknowns.
     assert!(large < 400 * 400, "{large} bytes for 400 particles");
 }
+
+#[test]
+fn an_empty_world_steps_under_the_implicit_methods() {
+    // Found by the property tests: the dense solve's stiffness measure split an empty
+    // Jacobian into rows of zero length (a panic).
+    for method in ["backward-euler", "implicit-midpoint"] {
+        let mut w =
+            World::new(WorldParams { dim: 1, method: method.into(), ..WorldParams::default() }).unwrap();
+        w.step(3).unwrap();
+        assert_eq!(w.steps(), 3);
+    }
+}

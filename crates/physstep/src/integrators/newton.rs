@@ -125,20 +125,8 @@ impl Newton {
         // One more pass than updates: the last one only checks the final update.
         for iter in 0..=self.params.max_iter {
             flow.deriv(tau, z, fz);
-            residual = 0.0;
-            let mut scale = 0.0f64;
-            for i in 0..n {
-                let cf = c * fz[i];
-                g[i] = z[i] - y0[i] - cf;
-                residual = residual.max(g[i].abs());
-                scale = scale.max(z[i].abs()).max(y0[i].abs()).max(cf.abs());
-            }
-            scale = scale.max(stiffness * z.iter().fold(0.0f64, |m, zi| m.max(zi.abs())));
-            // f64::max skips NaN: a NaN in f(z) would otherwise pass for a zero residual and
-            // be accepted as converged.
-            if g.iter().any(|gi| gi.is_nan()) {
-                residual = f64::NAN;
-            }
+            let scale;
+            (residual, scale) = measure(g, z, y0, fz, c, stiffness);
             if !residual.is_finite() {
                 break;
             }
@@ -177,8 +165,10 @@ impl Newton {
             for e in j.iter_mut() {
                 *e *= -c;
             }
-            stiffness =
-                j.chunks_exact(n).map(|row| row.iter().map(|e| e.abs()).sum::<f64>()).fold(0.0, f64::max);
+            stiffness = j
+                .chunks_exact(n.max(1))
+                .map(|row| row.iter().map(|e| e.abs()).sum::<f64>())
+                .fold(0.0, f64::max);
             for i in 0..n {
                 j[i * n + i] += 1.0;
             }
@@ -221,19 +211,10 @@ impl Newton {
         let mut cg_total = 0;
         for iter in 0..=self.params.max_iter {
             flow.deriv(tau, z, fz);
-            residual = 0.0;
-            let mut scale = 0.0f64;
-            for i in 0..n {
-                let cf = c * fz[i];
-                g[i] = z[i] - y0[i] - cf;
-                residual = residual.max(g[i].abs());
-                scale = scale.max(z[i].abs()).max(y0[i].abs()).max(cf.abs());
-            }
-            // c |df/dz| |z|, as the dense solve measures it (from the blocks at z's start).
-            let stiffness = c * self.blocks.rate_norm() + 1.0;
-            scale = scale.max(stiffness * z.iter().fold(0.0f64, |m, zi| m.max(zi.abs())));
-            if g.iter().any(|gi| gi.is_nan()) || !residual.is_finite() {
-                residual = f64::NAN;
+            // c |df/dz|, as the dense solve measures it (from the blocks at z's start).
+            let scale;
+            (residual, scale) = measure(g, z, y0, fz, c, c * self.blocks.rate_norm());
+            if !residual.is_finite() {
                 break;
             }
             if iter > 0 && residual <= self.params.tol * scale.max(SCALE_FLOOR) {
@@ -299,6 +280,24 @@ impl Newton {
         self.stats = SolveStats { newton: self.params.max_iter, cg: cg_total, residual, sparse: true };
         Err(Error::NotConverged { method: method.into(), iterations: self.params.max_iter, residual })
     }
+}
+
+/// The residual `g = z - y0 - c f(z)` into `g`, and `(max |g|, the size of its terms)`: the
+/// max norms of `z`, `y0`, `c f(z)` and `stiffness |z|` (`stiffness` = `c |df/dz|`). A NaN in
+/// `g` makes the residual NaN (`f64::max` skips NaN: it would pass for a zero residual).
+fn measure(g: &mut [f64], z: &[f64], y0: &[f64], fz: &[f64], c: f64, stiffness: f64) -> (f64, f64) {
+    let (mut residual, mut scale, mut z_max) = (0.0f64, 0.0f64, 0.0f64);
+    for i in 0..g.len() {
+        let cf = c * fz[i];
+        g[i] = z[i] - y0[i] - cf;
+        residual = residual.max(g[i].abs());
+        scale = scale.max(z[i].abs()).max(y0[i].abs()).max(cf.abs());
+        z_max = z_max.max(z[i].abs());
+    }
+    if g.iter().any(|gi| gi.is_nan()) {
+        residual = f64::NAN;
+    }
+    (residual, scale.max(stiffness * z_max))
 }
 
 /// The smallest size of the terms the relative stopping test measures against: below it

@@ -159,7 +159,7 @@ impl NewtonMatrix {
         let d = self.dim;
         for (p, (yp, xp)) in y.chunks_exact_mut(d).zip(x.chunks_exact(d)).enumerate() {
             let m = if self.free[p] { &self.diag[p] } else { &IDENTITY };
-            mul_into(m, xp, yp, d, false);
+            mul_into(m, xp, yp, d);
         }
         for &(i, j, ref m) in &self.pairs {
             // Rows i and j get -B (x_j) and -B (x_i): the off-diagonal blocks.
@@ -185,7 +185,7 @@ impl NewtonMatrix {
     pub fn precondition(&self, r: &[f64], z: &mut [f64]) {
         let d = self.dim;
         for (p, (zp, rp)) in z.chunks_exact_mut(d).zip(r.chunks_exact(d)).enumerate() {
-            mul_into(&self.inv[p], rp, zp, d, false);
+            mul_into(&self.inv[p], rp, zp, d);
         }
     }
 
@@ -218,20 +218,11 @@ pub(crate) fn mul_add(m: &Block, x: &[f64], y: &mut [f64], d: usize, s: f64) {
     }
 }
 
-/// `y = m x` (or `y += m x`) on the leading `d` entries.
+/// `y = m x` on the leading `d` entries.
 #[inline]
-pub(crate) fn mul_into(m: &Block, x: &[f64], y: &mut [f64], d: usize, accumulate: bool) {
-    for r in 0..d {
-        let mut s = 0.0;
-        for k in 0..d {
-            s += m[r][k] * x[k];
-        }
-        if accumulate {
-            y[r] += s;
-        } else {
-            y[r] = s;
-        }
-    }
+pub(crate) fn mul_into(m: &Block, x: &[f64], y: &mut [f64], d: usize) {
+    y[..d].fill(0.0);
+    mul_add(m, x, y, d, 1.0);
 }
 
 /// The inverse of a 3 x 3 block by its adjugate; `None` when it is singular or not finite.
