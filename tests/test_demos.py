@@ -29,14 +29,15 @@ def _key(key: app.Key) -> pygame.event.Event:
     return pygame.event.Event(pygame.KEYDOWN, key=key.keys[0], mod=mod, unicode="", scancode=0)
 
 
-def _script() -> dict[int, list[app.Scripted]]:
-    """Every key action but quit, twice where it toggles, a drag, and quit on the last frame."""
+def _script(name: str = "orbit") -> dict[int, list[app.Scripted]]:
+    """Every key action of demo ``name`` but quit (the common ones and its own), twice where
+    it toggles, a drag, and quit on the last frame."""
     script: dict[int, list[app.Scripted]] = {}
     frame = 2
-    for key in app.KEYS:
+    for key in app.KEYS + demos.load(name).keys:
         if key.action == "quit":
             continue
-        presses = 2 if key.action in ("help", "pause") else 1
+        presses = 2 if key.action in ("help", "pause", "wind") else 1
         for _ in range(presses):
             script.setdefault(frame, []).append(_key(key))
             frame += 3
@@ -85,16 +86,20 @@ def _assert_not_blank(path: str) -> None:
 @pytest.mark.parametrize("name", demos.names())
 def test_every_demo_runs_every_key_and_draws_a_frame(name: str, tmp_path) -> None:
     shot = str(tmp_path / f"{name}.png")
-    summary = app.run(name, headless=True, frames=FRAMES, screenshot=shot, script=_script())
+    summary = app.run(name, headless=True, frames=FRAMES, screenshot=shot, script=_script(name))
     assert summary["frames"] == FRAMES
     assert summary["t"] > 0
     _assert_not_blank(shot)
 
 
-def test_the_script_presses_every_key_action() -> None:
-    events = [e for es in _script().values() for e in es if isinstance(e, pygame.event.Event)]
+@pytest.mark.parametrize("name", demos.names())
+def test_the_script_presses_every_key_action(name: str) -> None:
+    events = [e for es in _script(name).values() for e in es if isinstance(e, pygame.event.Event)]
     pressed = {(e.key, bool(e.mod)) for e in events if e.type == pygame.KEYDOWN}
-    assert all((k.keys[0], bool(k.shift)) in pressed for k in app.KEYS)
+    keys = app.KEYS + demos.load(name).keys
+    assert all((k.keys[0], bool(k.shift)) in pressed for k in keys)
+    common = {k for key in app.KEYS for k in key.keys}  # a demo's own keys are keys of its own
+    assert not any(k in common for key in demos.load(name).keys for k in key.keys)
 
 
 def test_a_headless_run_is_deterministic(tmp_path, capsys) -> None:
@@ -163,7 +168,7 @@ def test_the_demos_page_lists_every_demo_and_key() -> None:
 
     page = (Path(__file__).parent.parent / "docs" / "demos.md").read_text()
     assert all(f"| `{name}` |" in page for name in demos.names())
-    for key in app.KEYS:
+    for key in app.KEYS + tuple(k for name in demos.names() for k in demos.load(name).keys):
         for token in key.label.split(" or "):
             assert f"`{token}`" in page, token
 
