@@ -210,3 +210,57 @@ def test_a_loop_change_carries_the_state_over_bitwise() -> None:
     w2 = base.relooped(w, "step-per-frame", 1)
     assert w2.state_hash() == w.state_hash() and w2.time == w.time
     assert w2.advance(0.01) == 1 and w.advance(0.01) == 0  # a step a frame; the accumulator waits
+
+
+def _runner(name: str) -> app.Runner:
+    return app.Runner(demos.load(name)())
+
+
+def test_balls_pull_a_ball_by_its_velocity_and_e_changes_the_restitution() -> None:
+    r = _runner("balls")
+    w = r.panels[0].world
+    x = np.array(w.positions[0])
+    target = r.demo.to_world(r.rects[0], r.screen_position(0, 0), 2) + [0.2, 0.0]
+    r.demo.hold(w, 0, r.rects[0], r.demo.to_screen(r.rects[0], target))
+    np.testing.assert_array_equal(w.positions[0], x)  # not moved: the contacts see it go
+    v = np.array(w.velocities[0])
+    assert v[0] > 1.0 and abs(v[1]) < 0.2 * v[0]  # towards the pointer (pixel rounding aside)
+    assert w.restitution == 1.0
+    r.act("restitution")
+    assert r.panels[0].world.restitution == 0.9
+    r.reset()  # a demo's settings survive a reset
+    assert r.panels[0].world.restitution == 0.9
+
+
+def test_cloth_sweeps_and_wind_keys_keep_the_state() -> None:
+    r = _runner("cloth")
+    r.update(1 / 60)
+    w = r.panels[0].world
+    r.act("iterations_down")
+    assert w.constraint_iterations == 8
+    x, t = np.array(w.positions), w.time
+    r.next_loop()  # the wind rebuild keeps the loop variant too
+    r.act("wind")
+    w2 = r.panels[0].world
+    assert w2 is not w and w2.time == t and w2.constraint_iterations == 8
+    np.testing.assert_array_equal(w2.positions, x)
+    assert w2.__reduce__()[1][0]["loop"] == app.LOOPS[1][0]
+    z = float(w2.positions[:, 2].max())
+    for _ in range(30):
+        r.update(1 / 60)
+    assert float(w2.positions[:, 2].max()) > z + 0.05  # blown along +z
+    r.reset()
+    assert r.panels[0].world.constraint_iterations == 8
+
+
+def test_ragdoll_kick_sends_it_up() -> None:
+    r = _runner("ragdoll")
+    for _ in range(90):  # 1.5 s: it lands
+        r.update(1 / 60)
+    r.act("kick")
+    v = np.array(r.panels[0].world.velocities)
+    assert v[:, 1].mean() > 4.0
+    y = float(r.panels[0].world.positions[:, 1].mean())
+    for _ in range(12):
+        r.update(1 / 60)
+    assert float(r.panels[0].world.positions[:, 1].mean()) > y + 0.5

@@ -21,7 +21,7 @@ FRONT, BACK = (110, 170, 255), (255, 150, 70)
 def _camera() -> np.ndarray:
     """Rows: screen right, screen up, towards the eye (orthographic, from the front right,
     a little above: the cloth hangs in the x-y plane, the wind blows it along +z)."""
-    eye = np.array([0.7, 0.25, 1.0])
+    eye = np.array([1.0, 0.3, 0.85])
     eye /= np.linalg.norm(eye)
     right = np.cross([0.0, 1.0, 0.0], eye)
     right /= np.linalg.norm(right)
@@ -29,10 +29,11 @@ def _camera() -> np.ndarray:
 
 
 CAMERA = _camera()
-#: The point drawn at the panel's centre, m (a little below the cloth's middle: it swings).
-CENTRE = np.array([(W - 1) * SPACING / 2, -(H - 1) * SPACING / 2 - 0.1, 0.0])
+#: The point drawn at the panel's centre, m: the middle of where the cloth may swing (down,
+#: and out along +z in the wind).
+CENTRE = np.array([(W - 1) * SPACING / 2, -(H - 1) * SPACING / 2, 0.45])
 #: Half the height of the view, m.
-HALF = 0.95
+HALF = 1.05
 
 
 class ClothDemo(Demo):
@@ -123,7 +124,11 @@ class ClothDemo(Demo):
         cam = (x - CENTRE) @ CAMERA.T  # camera coordinates of every particle
         scr = np.column_stack([rect.centerx + cam[:, 0] * s, rect.centery - cam[:, 1] * s])
         scr = np.clip(np.nan_to_num(scr, nan=-30000.0), -30000, 30000).astype(int)
-        # The bar the cloth hangs from, and the pins.
+        # Where the cloth hangs at rest without wind (the x-y plane), for depth, then the bar
+        # it hangs from.
+        rest = [[0.0, 0.0, 0.0], [(W - 1) * SPACING, 0.0, 0.0], [(W - 1) * SPACING, -(H - 1) * SPACING, 0.0]]
+        rest.append([0.0, -(H - 1) * SPACING, 0.0])
+        pygame.draw.polygon(surf, base.GRID, [self.to_screen(rect, p) for p in rest], 1)
         left, right = self.to_screen(rect, [0.0, 0.0, 0.0]), self.to_screen(rect, [(W - 1) * SPACING, 0, 0])
         pygame.draw.line(surf, base.GRID, left, right, 5)
         # The quads, far first, shaded by their normal: blue the front (+z), orange the back.
@@ -150,7 +155,7 @@ class ClothDemo(Demo):
         base.text(
             surf,
             base.font(18),
-            "orthographic view from the front right; blue: the front (+z) of the cloth, orange its back",
+            "orthographic view from the front right; blue: the front (+z), orange the back; grey: at rest",
             (rect.x + 10, rect.bottom - 6),
             base.DIM,
             "bottomleft",
