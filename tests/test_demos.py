@@ -152,6 +152,8 @@ def test_a_method_that_does_not_apply_is_one_line(capsys) -> None:
         capsys, ["demo", "lorenz", "--headless", "--method", "leapfrog"]
     )
     assert "unknown method 'nope'" in _fails(capsys, ["demo", "orbit", "--headless", "--method", "nope"])
+    err = _fails(capsys, ["demo", "ragdoll", "--headless", "--dt", "5"])
+    assert "invalid --dt '5': must be from 0.001 to 0.03333 s for demo ragdoll" in err
 
 
 def test_without_pygame_the_demo_says_how_to_install_it(capsys, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -74,6 +74,9 @@ class Runner:
         self.panel_methods = list(demo.methods)
         if method is not None:
             self.panel_methods[0] = method
+        lo, hi = demo.dt_range
+        if dt is not None and not lo <= dt <= hi:  # the range the [ and ] keys keep to
+            raise ValueError(f"invalid --dt '{dt:g}': must be from {lo:g} to {hi:.4g} s for demo {demo.name}")
         self.dt = float(demo.dt if dt is None else dt)
         self.loop = 0
         self.paused = False
