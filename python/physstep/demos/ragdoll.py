@@ -18,6 +18,7 @@ ITERATIONS = (1, 256)
 #: What the ``k`` key adds: an upward speed, m/s, and a spin about the centre of mass, rad/s.
 KICK_SPEED, KICK_SPIN = 5.0, 4.0
 BONE = (230, 232, 240)
+LIMIT = (78, 86, 110)
 JOINT = (110, 190, 255)
 
 
@@ -97,7 +98,7 @@ class RagdollDemo(Demo):
             base.text(surf, base.font(18), f"{k} m", (gx, ground + 10), base.DIM, "midtop")
         pts = [self.to_screen(rect, p) for p in x]
         for a, b in LIMITS:
-            pygame.draw.line(surf, base.GRID, pts[a], pts[b], 1)
+            pygame.draw.line(surf, LIMIT, pts[a], pts[b], 1)
         for a, b in BONES:
             pygame.draw.line(surf, BONE, pts[a], pts[b], 6)
         for p in pts:
