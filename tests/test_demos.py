@@ -29,14 +29,15 @@ def _key(key: app.Key) -> pygame.event.Event:
     return pygame.event.Event(pygame.KEYDOWN, key=key.keys[0], mod=mod, unicode="", scancode=0)
 
 
-def _script() -> dict[int, list[app.Scripted]]:
-    """Every key action but quit, twice where it toggles, a drag, and quit on the last frame."""
+def _script(name: str = "orbit") -> dict[int, list[app.Scripted]]:
+    """Every key action of demo ``name`` but quit (the common ones and its own), twice where
+    it toggles, a drag, and quit on the last frame."""
     script: dict[int, list[app.Scripted]] = {}
     frame = 2
-    for key in app.KEYS:
+    for key in app.KEYS + demos.load(name).keys:
         if key.action == "quit":
             continue
-        presses = 2 if key.action in ("help", "pause") else 1
+        presses = 2 if key.action in ("help", "pause", "wind") else 1
         for _ in range(presses):
             script.setdefault(frame, []).append(_key(key))
             frame += 3
@@ -85,16 +86,20 @@ def _assert_not_blank(path: str) -> None:
 @pytest.mark.parametrize("name", demos.names())
 def test_every_demo_runs_every_key_and_draws_a_frame(name: str, tmp_path) -> None:
     shot = str(tmp_path / f"{name}.png")
-    summary = app.run(name, headless=True, frames=FRAMES, screenshot=shot, script=_script())
+    summary = app.run(name, headless=True, frames=FRAMES, screenshot=shot, script=_script(name))
     assert summary["frames"] == FRAMES
     assert summary["t"] > 0
     _assert_not_blank(shot)
 
 
-def test_the_script_presses_every_key_action() -> None:
-    events = [e for es in _script().values() for e in es if isinstance(e, pygame.event.Event)]
+@pytest.mark.parametrize("name", demos.names())
+def test_the_script_presses_every_key_action(name: str) -> None:
+    events = [e for es in _script(name).values() for e in es if isinstance(e, pygame.event.Event)]
     pressed = {(e.key, bool(e.mod)) for e in events if e.type == pygame.KEYDOWN}
-    assert all((k.keys[0], bool(k.shift)) in pressed for k in app.KEYS)
+    keys = app.KEYS + demos.load(name).keys
+    assert all((k.keys[0], bool(k.shift)) in pressed for k in keys)
+    common = {k for key in app.KEYS for k in key.keys}  # a demo's own keys are keys of its own
+    assert not any(k in common for key in demos.load(name).keys for k in key.keys)
 
 
 def test_a_headless_run_is_deterministic(tmp_path, capsys) -> None:
@@ -147,6 +152,8 @@ def test_a_method_that_does_not_apply_is_one_line(capsys) -> None:
         capsys, ["demo", "lorenz", "--headless", "--method", "leapfrog"]
     )
     assert "unknown method 'nope'" in _fails(capsys, ["demo", "orbit", "--headless", "--method", "nope"])
+    err = _fails(capsys, ["demo", "ragdoll", "--headless", "--dt", "5"])
+    assert "invalid --dt '5': must be from 0.001 to 0.03333 s for demo ragdoll" in err
 
 
 def test_without_pygame_the_demo_says_how_to_install_it(capsys, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -163,7 +170,7 @@ def test_the_demos_page_lists_every_demo_and_key() -> None:
 
     page = (Path(__file__).parent.parent / "docs" / "demos.md").read_text()
     assert all(f"| `{name}` |" in page for name in demos.names())
-    for key in app.KEYS:
+    for key in app.KEYS + tuple(k for name in demos.names() for k in demos.load(name).keys):
         for token in key.label.split(" or "):
             assert f"`{token}`" in page, token
 
@@ -205,3 +212,57 @@ def test_a_loop_change_carries_the_state_over_bitwise() -> None:
     w2 = base.relooped(w, "step-per-frame", 1)
     assert w2.state_hash() == w.state_hash() and w2.time == w.time
     assert w2.advance(0.01) == 1 and w.advance(0.01) == 0  # a step a frame; the accumulator waits
+
+
+def _runner(name: str) -> app.Runner:
+    return app.Runner(demos.load(name)())
+
+
+def test_balls_pull_a_ball_by_its_velocity_and_e_changes_the_restitution() -> None:
+    r = _runner("balls")
+    w = r.panels[0].world
+    x = np.array(w.positions[0])
+    target = r.demo.to_world(r.rects[0], r.screen_position(0, 0), 2) + [0.2, 0.0]
+    r.demo.hold(w, 0, r.rects[0], r.demo.to_screen(r.rects[0], target))
+    np.testing.assert_array_equal(w.positions[0], x)  # not moved: the contacts see it go
+    v = np.array(w.velocities[0])
+    assert v[0] > 1.0 and abs(v[1]) < 0.2 * v[0]  # towards the pointer (pixel rounding aside)
+    assert w.restitution == 1.0
+    r.act("restitution")
+    assert r.panels[0].world.restitution == 0.9
+    r.reset()  # a demo's settings survive a reset
+    assert r.panels[0].world.restitution == 0.9
+
+
+def test_cloth_sweeps_and_wind_keys_keep_the_state() -> None:
+    r = _runner("cloth")
+    r.update(1 / 60)
+    w = r.panels[0].world
+    r.act("iterations_down")
+    assert w.constraint_iterations == 8
+    x, t = np.array(w.positions), w.time
+    r.next_loop()  # the wind rebuild keeps the loop variant too
+    r.act("wind")
+    w2 = r.panels[0].world
+    assert w2 is not w and w2.time == t and w2.constraint_iterations == 8
+    np.testing.assert_array_equal(w2.positions, x)
+    assert w2.__reduce__()[1][0]["loop"] == app.LOOPS[1][0]
+    z = float(w2.positions[:, 2].max())
+    for _ in range(30):
+        r.update(1 / 60)
+    assert float(w2.positions[:, 2].max()) > z + 0.05  # blown along +z
+    r.reset()
+    assert r.panels[0].world.constraint_iterations == 8
+
+
+def test_ragdoll_kick_sends_it_up() -> None:
+    r = _runner("ragdoll")
+    for _ in range(90):  # 1.5 s: it lands
+        r.update(1 / 60)
+    r.act("kick")
+    v = np.array(r.panels[0].world.velocities)
+    assert v[:, 1].mean() > 4.0
+    y = float(r.panels[0].world.positions[:, 1].mean())
+    for _ in range(12):
+        r.update(1 / 60)
+    assert float(r.panels[0].world.positions[:, 1].mean()) > y + 0.5

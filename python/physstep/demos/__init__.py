@@ -39,8 +39,7 @@ class DemoEntry:
         return {"name": self.name, "doc": self.doc}
 
 
-#: The demos, in the order ``--list`` shows them. ``balls``, ``cloth`` and ``ragdoll`` join
-#: here once the collision and constraint parts are in the core.
+#: The demos, in the order ``--list`` shows them.
 DEMOS: tuple[DemoEntry, ...] = (
     DemoEntry(
         "spring", "particles", "SpringDemo", "the notes' spring (m = 10, k = 5, x0 = 20); drag the mass"
@@ -62,6 +61,21 @@ DEMOS: tuple[DemoEntry, ...] = (
         "compare",
         "CompareDemo",
         "one orbit under four methods side by side (the notes' picture, live)",
+    ),
+    DemoEntry(
+        "balls",
+        "balls",
+        "BallsDemo",
+        "balls in a box, contacts at their time of impact; pull a ball, e: restitution",
+    ),
+    DemoEntry(
+        "cloth",
+        "cloth",
+        "ClothDemo",
+        "a cloth hung from two corners, in 3D; i: constraint sweeps, w: wind; drag a particle",
+    ),
+    DemoEntry(
+        "ragdoll", "ragdoll", "RagdollDemo", "a ragdoll falling onto the ground; drag a joint, k: kick it up"
     ),
 )
 

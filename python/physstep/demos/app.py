@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -20,7 +19,9 @@ import pygame
 import physstep
 from physstep import _files as files
 from physstep.demos import base, load
-from physstep.demos.base import LOOPS, Demo, Panel
+from physstep.demos.base import LOOPS, Demo, Key, Panel
+
+__all__ = ["KEYS", "Key", "Runner", "run"]
 
 #: Window size, px.
 SIZE = (1000, 640)
@@ -30,18 +31,6 @@ SIDEBAR = 300
 HEADLESS_FRAME_TIME = 1.0 / 60.0
 #: Frames per second an interactive run aims at.
 FPS = 60
-
-
-@dataclass(frozen=True)
-class Key:
-    """A key binding: the action, the pygame keys, how the help shows them, what it does.
-    ``shift``: True only with shift held, False only without it, None either way."""
-
-    action: str
-    keys: tuple[int, ...]
-    label: str
-    doc: str
-    shift: bool | None = None
 
 
 #: Every key binding, in the order the help lists them.
@@ -63,8 +52,6 @@ KEYS: tuple[Key, ...] = (
     Key("help", (pygame.K_h, pygame.K_F1), "h or F1", "show / hide this help"),
     Key("quit", (pygame.K_ESCAPE, pygame.K_q), "esc or q", "quit"),
 )
-#: What the mouse does, for the help.
-MOUSE_HELP = ("drag", "move a particle (spring, orbit); the drift restarts on release")
 
 
 def _one_line(s: str) -> str:
@@ -87,6 +74,9 @@ class Runner:
         self.panel_methods = list(demo.methods)
         if method is not None:
             self.panel_methods[0] = method
+        lo, hi = demo.dt_range
+        if dt is not None and not lo <= dt <= hi:  # the range the [ and ] keys keep to
+            raise ValueError(f"invalid --dt '{dt:g}': must be from {lo:g} to {hi:.4g} s for demo {demo.name}")
         self.dt = float(demo.dt if dt is None else dt)
         self.loop = 0
         self.paused = False
@@ -187,7 +177,7 @@ class Runner:
             self.running = False
         elif event.type == pygame.KEYDOWN:
             shift = bool(event.mod & pygame.KMOD_SHIFT)
-            for key in KEYS:
+            for key in KEYS + self.demo.keys:
                 if event.key in key.keys and key.shift in (None, shift):
                     self.act(key.action)
                     break
@@ -228,6 +218,8 @@ class Runner:
             self.help = not self.help
         elif action == "quit":
             self.running = False
+        elif action in (k.action for k in self.demo.keys):
+            self.demo.act(self.panels, action)
         else:
             raise ValueError(f"invalid action '{action}': not one of {', '.join(k.action for k in KEYS)}")
 
@@ -238,14 +230,10 @@ class Runner:
         return w.interpolated_positions() if p.interpolate else np.array(w.positions)
 
     def _hold(self, p: Panel) -> None:
-        """Puts the dragged particle under the mouse, at rest."""
+        """Drags the dragged particle to the mouse, as the demo does it (:meth:`Demo.hold`)."""
         assert self.drag is not None and self.drag_to is not None
-        w = p.world
-        x, v = np.array(w.positions), np.array(w.velocities)
-        x[self.drag] = self.demo.to_world(self.rects[self.focus], self.drag_to, w.dim)
-        v[self.drag] = 0.0
-        w.positions, w.velocities = x, v
-        p.interpolate = False
+        if self.demo.hold(p.world, self.drag, self.rects[self.focus], self.drag_to):
+            p.interpolate = False
 
     def _after_frame(self, p: Panel) -> None:
         self.demo.record(p, self._positions(p))
@@ -289,6 +277,10 @@ class Runner:
                 self._caption(surf, rect, p)
             if p.error:
                 self._error(surf, rect, p.error)
+            if k == self.focus and self.drag is not None and self.drag_to is not None:
+                at = self.demo.to_screen(rect, self._positions(p)[self.drag])
+                pygame.draw.line(surf, base.ACCENT, at, self.drag_to, 1)
+                pygame.draw.circle(surf, base.ACCENT, self.drag_to, 5, 1)
             surf.set_clip(clip)
             if many and k == self.focus:
                 pygame.draw.rect(surf, base.ACCENT, rect, 2, border_radius=6)
@@ -339,6 +331,7 @@ class Runner:
         else:
             rows.append(("energy", f"{e:.6g} J", base.TEXT))
             rows.append(("drift", "-" if d is None else f"{d:+.3e}", base.TEXT))
+        rows.extend(self.demo.hud(p))
         fps = "fixed 60 (headless)" if self.fps is None else f"{self.fps:.0f}"
         rows.append(("fps", fps, base.TEXT))
         state = "paused" if self.paused else "running"
@@ -375,7 +368,9 @@ class Runner:
 
     def _help(self, surf: pygame.Surface) -> None:
         f, big = base.font(22), base.font(28)
-        lines = [(k.label, k.doc) for k in KEYS] + [MOUSE_HELP]
+        lines = [(k.label, k.doc) for k in KEYS + self.demo.keys]
+        if self.demo.draggable:
+            lines.append(("drag", self.demo.mouse))
         w = 60 + max(f.size(label)[0] for label, _ in lines) + max(f.size(doc)[0] for _, doc in lines) + 40
         h = 70 + 26 * len(lines)
         box = pygame.Rect((SIZE[0] - w) // 2, (SIZE[1] - h) // 2, w, h)

@@ -43,6 +43,18 @@ PANEL_COLOURS = ((255, 120, 90), (90, 200, 140), (110, 170, 255), (230, 140, 255
 TRAIL_POINTS = 3000
 
 
+@dataclass(frozen=True)
+class Key:
+    """A key binding: the action, the pygame keys, how the help shows them, what it does.
+    ``shift``: True only with shift held, False only without it, None either way."""
+
+    action: str
+    keys: tuple[int, ...]
+    label: str
+    doc: str
+    shift: bool | None = None
+
+
 def relooped(world: physstep.World, loop: str, substeps: int) -> physstep.World:
     """``world`` under another loop variant, its state (integrator memory and clock
     included) carried over bitwise: rebuilt from its parts and snapshot, as a pickle is."""
@@ -99,6 +111,28 @@ class Demo:
     no_energy = "unknown"
     #: Whether the mouse drags a particle.
     draggable = False
+    #: What the mouse does in this demo, for the help (when ``draggable``).
+    mouse = "move a particle; it is held at rest under the pointer, the drift restarts on release"
+    #: The demo's own keys (the help lists them after the common ones; :meth:`act` does them).
+    keys: tuple[Key, ...] = ()
+
+    def act(self, panels: list[Panel], action: str) -> None:
+        """Does the demo's own key action ``action`` (one of :attr:`keys`) on ``panels``."""
+        raise ValueError(f"invalid action '{action}' for demo {self.name}")
+
+    def hud(self, panel: Panel) -> list[tuple[str, str, tuple[int, int, int]]]:
+        """The demo's own HUD rows for ``panel``: (label, value, colour)."""
+        return []
+
+    def hold(self, world: physstep.World, i: int, rect: pygame.Rect, pos: tuple[int, int]) -> bool:
+        """Drags particle ``i`` of ``world`` (drawn in ``rect``) to screen pixel ``pos``: by
+        default puts it there at rest. Returns whether it moved it (the frame is then drawn
+        from the current positions, not interpolated)."""
+        x, v = np.array(world.positions), np.array(world.velocities)
+        x[i] = self.to_world(rect, pos, world.dim)
+        v[i] = 0.0
+        world.positions, world.velocities = x, v
+        return True
 
     def applies(self, info: physstep.MethodInfo) -> bool:
         """Whether method ``info`` applies to this demo's world (the ``m`` key skips others)."""
