@@ -288,10 +288,11 @@ fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording) -> Res
             t: r.t,
         });
     }
-    rec.a.extend_from_slice(r.a);
+    // Rows of a small world: element by element, not a copy call per few numbers.
+    rec.a.extend(r.a.iter().copied());
     rec.t.push(r.t);
-    rec.x.extend_from_slice(r.x);
-    rec.v.extend_from_slice(r.v);
+    rec.x.extend(r.x.iter().copied());
+    rec.v.extend(r.v.iter().copied());
     if let Some(e) = e {
         rec.energy.push(e);
     }

@@ -150,6 +150,7 @@ unsafe fn lane_avx2<const D: usize>(
 }
 
 /// `-sum_{i<j} G m_i m_j / sqrt(r^2 + eps^2)`, J (pairs with `r^2 + eps^2 = 0` skipped).
+#[inline(never)]
 pub(super) fn potential(dim: usize, g: f64, eps: f64, x: &[f64], mass: &[f64]) -> f64 {
     let eps2 = eps * eps;
     let mut u = 0.0;

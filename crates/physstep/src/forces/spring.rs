@@ -40,6 +40,7 @@ pub(super) fn force(dim: usize, x: &[f64], v: &[f64], i: usize, j: Endpoint, p: 
 }
 
 /// Elastic energy `k (r - rest)^2 / 2`, J.
+#[inline]
 pub(super) fn potential(dim: usize, x: &[f64], i: usize, j: Endpoint, k: f64, rest: f64) -> f64 {
     let d = separation(dim, x, i, j);
     if rest == 0.0 {

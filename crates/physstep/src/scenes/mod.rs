@@ -155,6 +155,13 @@ fn oscillator(w0: f64, zeta: f64, x0: f64, v0: f64, t: f64) -> (f64, f64) {
         // the caller passes zeta = 0 then.
         return (x0 + v0 * t, v0);
     }
+    if zeta == 0.0 {
+        // Undamped (what the general branch below computes, bit for bit, without its sqrt
+        // and exp: a recording asks once per row).
+        let (sn, cs) = (w0 * t).sin_cos();
+        let b = v0 / w0;
+        return (x0 * cs + b * sn, w0 * (-x0 * sn + b * cs));
+    }
     let s = zeta * w0;
     if (zeta - 1.0).abs() < 1e-12 {
         // Critical: x = (A + B t) e^{-s t}
