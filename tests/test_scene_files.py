@@ -1,6 +1,7 @@
 """Scene files at the boundary: physstep.load_scene and SceneFile, export of every built-in
 scene (loading it gives bitwise the built-in trajectory), the command line's run, compare
-and scenes --export on a file, and bad files as one-line ValueErrors and exit status 2."""
+and scenes --export on a file, and bad files as one-line ValueErrors and exit status 2
+(tests/test_scene_fuzz.py fuzzes load_scene)."""
 
 from __future__ import annotations
 
@@ -10,8 +11,6 @@ from pathlib import Path
 import physstep
 import pytest
 from conftest import run_cli
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
 
 
 def _write(tmp_path: Path, text: str, name: str = "s.toml") -> Path:
@@ -129,82 +128,3 @@ def test_a_world_with_a_python_force_cannot_be_exported() -> None:
 def test_a_path_that_is_not_a_path_is_named() -> None:
     with pytest.raises(ValueError, match="invalid path = 3"):
         physstep.load_scene(3)  # type: ignore[arg-type]
-
-
-@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(st.text(max_size=300))
-def test_fuzz_any_text_loads_or_is_one_line_value_error(tmp_path: Path, text: str) -> None:
-    p = tmp_path / "f.toml"
-    p.write_text(text, encoding="utf-8")
-    try:
-        physstep.load_scene(p)
-    except ValueError as e:
-        assert "\n" not in str(e)
-        assert str(e).startswith("scene file ")
-
-
-_KEYS = [
-    "dimension",
-    "dt",
-    "method",
-    "until",
-    "particles",
-    "springs",
-    "constraints",
-    "forces",
-    "mass",
-    "i",
-    "j",
-]
-_VALUES = [
-    "1",
-    "2",
-    "3",
-    "-1",
-    "0.5",
-    "inf",
-    "nan",
-    '"rk4"',
-    "[0.0, 1.0]",
-    "[1]",
-    "true",
-    "{}",
-    "[[0, 1, 2]]",
-]
-
-
-@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(
-    st.lists(st.tuples(st.sampled_from(_KEYS), st.sampled_from(_VALUES)), max_size=6),
-    st.lists(
-        st.tuples(
-            st.sampled_from(["particles", "springs", "constraints", "forces", "bodies"]),
-            st.lists(
-                st.tuples(
-                    st.sampled_from([*_KEYS, "kind", "position", "stiffness", "length"]),
-                    st.sampled_from([*_VALUES, '"pin"', '"gravity"', '"distance"']),
-                ),
-                max_size=4,
-            ),
-        ),
-        max_size=4,
-    ),
-)
-def test_fuzz_structured_files_load_or_are_one_line_value_errors(
-    tmp_path: Path, top: list, tables: list
-) -> None:
-    lines = ["dimension = 2"] + [f"{k} = {v}" for k, v in dict(top).items() if k != "dimension"]
-    for name, fields in tables:
-        lines.append(f"[[{name}]]")
-        lines += [f"{k} = {v}" for k, v in dict(fields).items()]
-    p = tmp_path / "f.toml"
-    p.write_text("\n".join(lines) + "\n")
-    try:
-        w = physstep.load_scene(p)
-    except ValueError as e:
-        assert "\n" not in str(e) and str(e).startswith("scene file "), str(e)
-        return
-    try:
-        w.step(3)
-    except (ValueError, physstep.StepError):
-        pass
