@@ -128,3 +128,19 @@ def test_a_world_with_a_python_force_cannot_be_exported() -> None:
 def test_a_path_that_is_not_a_path_is_named() -> None:
     with pytest.raises(ValueError, match="invalid path = 3"):
         physstep.load_scene(3)  # type: ignore[arg-type]
+
+
+def test_the_readme_example_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    text = (Path(__file__).parent.parent / "README.md").read_text()
+    section = text[text.index("### Scene files") :]
+    start = section.index("```sh") + len("```sh")
+    for line in section[start : section.index("```", start)].strip().splitlines():
+        argv = line.split("#")[0].split()
+        assert argv[0] == "physstep"
+        monkeypatch.chdir(tmp_path)
+        res = run_cli(*argv[1:])
+        assert res.returncode == 0, res.stderr
+    start = section.index("```python") + len("```python")
+    scope: dict[str, object] = {"physstep": physstep}
+    exec(compile(section[start : section.index("```", start)], "README.md", "exec"), scope)  # noqa: S102
+    assert len(scope["world"]) == 11  # type: ignore[arg-type]
