@@ -144,3 +144,11 @@ def test_the_readme_example_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch
     scope: dict[str, object] = {"physstep": physstep}
     exec(compile(section[start : section.index("```", start)], "README.md", "exec"), scope)  # noqa: S102
     assert len(scope["world"]) == 11  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("name", [s["name"] for s in physstep.scenes()])
+def test_the_example_files_are_the_exported_scenes(name: str) -> None:
+    """examples/scenes/NAME.toml is `physstep scenes --export NAME`: regenerate them with
+    `for s in ...; do physstep scenes --export $s --out examples/scenes/$s.toml; done`."""
+    path = Path(__file__).parent.parent / "examples" / "scenes" / f"{name}.toml"
+    assert path.read_text() == physstep.export_scene(name)
