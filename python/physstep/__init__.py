@@ -38,6 +38,7 @@ from physstep._core import (
     angular_forms,
     orientation_rules,
 )
+from physstep._scenefile import SceneFile, export_scene, load_scene, scene_text
 
 __all__ = [
     "Box",
@@ -49,6 +50,7 @@ __all__ = [
     "MassProperties",
     "Mesh",
     "MethodInfo",
+    "SceneFile",
     "Shape",
     "Sphere",
     "StepError",
@@ -56,10 +58,13 @@ __all__ = [
     "World",
     "WorldBusyError",
     "angular_forms",
+    "export_scene",
+    "load_scene",
     "method",
     "methods",
     "orientation_rules",
     "scene",
+    "scene_text",
     "scenes",
     "simulate",
     "summarize",

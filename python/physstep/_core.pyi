@@ -30,6 +30,8 @@ __all__ = [
     "method_info",
     "methods",
     "orientation_rules",
+    "read_scene",
+    "scene_file_text",
     "scenes",
     "simulate",
 ]
@@ -204,6 +206,15 @@ class Mesh(Shape):
     @property
     def triangles(self) -> npt.NDArray[np.int64]:
         """Triangles (m, 3), vertex indices: a copy."""
+
+def read_scene(path: str) -> tuple[World, float | None]:
+    """Reads the scene file at ``path``: the World it describes and its ``until`` (None when
+    the file has none). ValueError naming the file, the line and the field for a bad file."""
+
+def scene_file_text(world: World, title: Any, until: Any = None) -> str:
+    """``world`` as the text of a scene file (``title`` in its first comment line, ``until``
+    if given). ValueError for what a file cannot hold (Python forces and flows, body
+    springs, bodies of a world that has stepped)."""
 
 def _world_from_parts(parts: dict[str, Any], snapshot: bytes) -> World:
     """Rebuilds a World pickled by ``World.__reduce__``."""

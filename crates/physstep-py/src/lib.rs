@@ -3,7 +3,8 @@
 //! One file per concern: `errors` (exception types and the mapping of engine errors),
 //! `convert` (arguments in, arrays out), `registry` (methods and scenes), `record`
 //! (`simulate`), `views` (zero-copy `positions` and `velocities`), `world` (`World`; `world_build`, `world_state`, `world_bodies`, `world_constraints` hold its
-//! methods by concern), `shapes` (rigid-body shapes and their mass properties). Nothing
+//! methods by concern), `shapes` (rigid-body shapes and their mass properties), `scene_file` (TOML scene files in
+//! and out). Nothing
 //! panics across the boundary: every engine call returns a `Result`, and every bad argument
 //! is a `ValueError` that names it.
 
@@ -13,6 +14,7 @@ mod force;
 mod pickle;
 mod record;
 mod registry;
+mod scene_file;
 mod shapes;
 mod views;
 mod world;
@@ -32,6 +34,8 @@ pub(crate) use errors::py_err;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     registry::register(m)?;
     m.add_function(wrap_pyfunction!(record::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_file::read_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_file::scene_file_text, m)?)?;
     m.add_class::<world::World>()?;
     m.add_class::<shapes::Shape>()?;
     m.add_class::<shapes::Sphere>()?;

@@ -95,7 +95,8 @@ impl World {
         }
     }
 
-    fn wrap(engine: Engine) -> Self {
+    /// A World around an engine world with no Python parts (a scene, a loaded scene file).
+    pub(crate) fn wrap(engine: Engine) -> Self {
         Self::with_parts(engine, Slot::default(), Vec::new(), None)
     }
 

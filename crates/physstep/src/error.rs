@@ -100,6 +100,17 @@ pub enum Error {
         /// What was wrong.
         reason: String,
     },
+    /// A scene file that cannot be loaded: where, which field, and what was expected.
+    SceneFile {
+        /// The file as the user named it.
+        file: String,
+        /// Line of the bad value (1-based; 0 when the file could not be read at all).
+        line: usize,
+        /// The field, as a path into the file (`particles[2].mass`).
+        field: String,
+        /// What is wrong and what was expected, with the value.
+        reason: String,
+    },
 }
 
 impl Error {
@@ -180,6 +191,11 @@ impl fmt::Display for Error {
                 "method '{method}': the contacts of step {step} (t = {t}) did not end within {contacts} collisions (balls packed at rest); state rolled back"
             ),
             Self::Corrupt { reason } => write!(f, "corrupt snapshot: {reason}"),
+            Self::SceneFile { file, line, field, reason } => {
+                let at = if *line > 0 { format!(":{line}") } else { String::new() };
+                let field = if field.is_empty() { String::new() } else { format!(" {}:", one_line(field)) };
+                write!(f, "scene file {}{at}:{field} {}", one_line(file), one_line(reason))
+            }
         }
     }
 }

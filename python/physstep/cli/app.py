@@ -16,7 +16,7 @@ import sys
 from typing import NoReturn
 
 import physstep
-from physstep.cli import basic, demo, lab, output
+from physstep.cli import basic, demo, lab, options, output
 from physstep.cli.options import UsageError
 
 
@@ -68,6 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     """
     try:
         args = parser().parse_args(argv)
+        options.resolve_scene(args)
         status = int(args.func(args))
         sys.stdout.flush()
         return status

@@ -51,7 +51,18 @@ def _cmd_methods(args: argparse.Namespace) -> int:
 
 
 def _cmd_scenes(args: argparse.Namespace) -> int:
-    """``physstep scenes``: the built-in scenes and their parameters."""
+    """``physstep scenes``: the built-in scenes and their parameters; with ``--export NAME``
+    the scene as a scene file, to ``--out`` (written whole) or stdout."""
+    if args.export is not None:
+        if args.out is not None:
+            files.check(args.out, "--out")
+        text = physstep.export_scene(args.export, options.parse_params(args.param))
+        if args.out is None:
+            sys.stdout.write(text)
+        else:
+            files.write_text(args.out, text, "--out")
+            print(f"wrote {args.out}")
+        return 0
     rows = physstep.scenes()
     if args.format == "json":
         print(output.dump(rows))
@@ -220,7 +231,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
 def _add_run_args(p: argparse.ArgumentParser) -> None:
     """The arguments ``table`` and ``run`` share: scene, method, dt, until and params."""
     p.add_argument("scene", help=options.SCENE_HELP)
-    p.add_argument("--method", default="symplectic-euler", help=options.METHOD_HELP)
+    p.add_argument(
+        "--method",
+        default=None,
+        help=options.METHOD_HELP + " (default: symplectic-euler, or the scene file's)",
+    )
     p.add_argument("--dt", type=options.DT, default=None, help="step, s (default: the scene's)")
     p.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
     options.add_param(p)
@@ -234,6 +249,9 @@ def register(subparsers: Any) -> None:
 
     s = subparsers.add_parser("scenes", help="list the built-in scenes and their parameters")
     options.add_format(s)
+    s.add_argument("--export", metavar="NAME", help="write built-in scene NAME as a scene file (TOML)")
+    s.add_argument("--out", metavar="FILE.toml", help="with --export: the file to write (default: stdout)")
+    options.add_param(s)
     s.set_defaults(func=_cmd_scenes)
 
     t = subparsers.add_parser("table", help="the state at every step, as the notes print it")

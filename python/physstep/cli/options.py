@@ -13,7 +13,7 @@ from typing import Any
 
 import physstep
 
-SCENE_HELP = "built-in scene (physstep scenes lists them)"
+SCENE_HELP = "built-in scene (physstep scenes lists them), or a scene file FILE.toml"
 METHOD_HELP = "integrator (physstep methods lists them)"
 UNTIL_HELP = (
     "end time, s (default: the scene's); a whole number of steps is run, the output says where "
@@ -80,9 +80,40 @@ def parse_params(items: list[str] | None) -> dict[str, float]:
     return out
 
 
-def requested_until(scene: str, until: float | None) -> float:
-    """The end time the user asked for, s: ``--until`` or the scene's default."""
-    return float(physstep.scene(scene)["until"] if until is None else until)
+def requested_until(scene: Any, until: float | None) -> float:
+    """The end time the user asked for, s: ``--until`` or the scene's default (a scene
+    file's ``until``)."""
+    if until is not None:
+        return float(until)
+    if isinstance(scene, physstep.SceneFile):
+        return float(scene.until) if scene.until is not None else 0.0
+    return float(physstep.scene(scene)["until"])
+
+
+def is_scene_file(scene: Any) -> bool:
+    """Whether a command's scene argument names a scene file (it ends in ``.toml``)."""
+    return isinstance(scene, str) and scene.lower().endswith(".toml")
+
+
+def resolve_scene(args: argparse.Namespace) -> None:
+    """Replaces a scene-file argument (``FILE.toml``) by its :class:`physstep.SceneFile`, with
+    ``--dt`` and ``--until`` defaulting to the file's; ValueError (exit status 2) naming the
+    file, line and field for a bad file, or the file when it has no ``until`` and none is
+    given. A built-in scene's name is left as it is."""
+    if not is_scene_file(getattr(args, "scene", None)):
+        return
+    if getattr(args, "param", None):
+        raise UsageError(
+            f"invalid --param for scene file '{args.scene}': a scene file has no parameters (edit the file)"
+        )
+    sf = physstep.SceneFile(args.scene)
+    args.scene = sf
+    if hasattr(args, "dt") and args.dt is None:
+        args.dt = sf.dt
+    if hasattr(args, "until") and args.until is None:
+        if sf.until is None:
+            raise UsageError(f"scene file '{sf.path}' has no until: give --until or add until = SECONDS")
+        args.until = sf.until
 
 
 def add_format(p: argparse.ArgumentParser, formats: tuple[str, ...] = ("text", "json")) -> None:

@@ -5,6 +5,7 @@
 pub mod balls;
 mod bodies;
 mod constrained;
+pub mod file;
 mod specs;
 mod stiff;
 

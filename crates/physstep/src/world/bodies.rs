@@ -133,6 +133,7 @@ impl World {
         b.offset.push(offset);
         b.pinned.push(p.pivot.is_some());
         b.angular_drag.push(p.angular_drag);
+        b.added.push(p.clone());
         b.force.push(DVec3::ZERO);
         b.torque.push(DVec3::ZERO);
         let slot = b.slot(b.form, b.len() - 1, q, l);
@@ -148,6 +149,12 @@ impl World {
         self.state.f.resize(self.state.y.len(), 0.0);
         self.touch();
         Ok(self.bodies.len() - 1)
+    }
+
+    /// Each body's parameters as it was added (its shape, mass, initial pose and velocities).
+    #[must_use]
+    pub fn body_params(&self) -> &[BodyParams] {
+        &self.bodies.added
     }
 
     /// The world's bodies (masses, inertia, the orientation rule).

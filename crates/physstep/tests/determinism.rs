@@ -1,0 +1,113 @@
+//! Determinism you can check: every built-in scene, at its default parameters and step (but
+//! see [`params`]),
+//! after 1,000 steps has the recorded state hash below, run on one rayon thread and on two.
+//!
+//! The method is the command line's default, symplectic Euler, except for the first-order
+//! flows (lorenz, rossler, thomas), which a split method refuses: those run RK4; and the stiff
+//! spring networks, built to make explicit methods explode at their step: those run backward
+//! Euler (its Newton and conjugate-gradient iterations are in the hash too). A change of
+//! any hash means a change of the trajectory's bits: docs/determinism.md says which changes
+//! (compiler flags, fused multiply-add, the target CPU, libm) may do that, and how to record
+//! the new table (`PHYSSTEP_PRINT_HASHES=1 cargo test -p physstep --test determinism`).
+
+use physstep::prelude::*;
+
+/// Steps taken before the hash is read.
+const STEPS: u64 = 1000;
+
+/// `(scene, hash after STEPS steps)`, in registry order.
+const HASHES: [(&str, u64); 19] = [
+    ("spring", 0x283e5130c3fd2cfe),
+    ("projectile", 0xfe742e718de6e989),
+    ("drag", 0x5904922d8dd79415),
+    ("orbit", 0x07686ceb5dbdea0e),
+    ("kepler", 0x60338ab2d6f46ef5),
+    ("pendulum", 0xaf0e1c261d108a91),
+    ("nbody", 0x964dcb1557bd91eb),
+    ("chain", 0xd505b63cd74f8d89),
+    ("lorenz", 0x5ea31c43455e0f20),
+    ("rossler", 0x553296e14b32b8b6),
+    ("thomas", 0x903e8b72ee279c63),
+    ("stiff-chain", 0x8129a5004f3edd84),
+    ("stiff-cloth", 0xb549c831527a633a),
+    ("racket", 0x61739902e34aadf3),
+    ("top", 0xb2a0192949590096),
+    ("tumble", 0x12edbb6dd7caa1c9),
+    ("cloth", 0x955a06a8492adc26),
+    ("ragdoll", 0x1453c0f1cb06b77e),
+    ("balls", 0x574ca61f53073d01),
+];
+
+/// The method a scene's hash is recorded with.
+fn method(scene: &str) -> &'static str {
+    if ["lorenz", "rossler", "thomas"].contains(&scene) {
+        "rk4"
+    } else if scene.starts_with("stiff-") {
+        "backward-euler"
+    } else {
+        "symplectic-euler"
+    }
+}
+
+/// The parameters a scene's hash is recorded with: its defaults, but for stiff-cloth, whose
+/// 12 x 12 default takes 12 s for 1,000 backward-Euler steps in the test profile (6 x 6: 1 s).
+fn params(scene: &str) -> &'static [(&'static str, f64)] {
+    if scene == "stiff-cloth" {
+        &[("n", 6.0)]
+    } else {
+        &[]
+    }
+}
+
+/// The hash of `scene` after `STEPS` steps on a pool of `threads` rayon threads.
+fn hash(scene: &str, threads: usize) -> u64 {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    pool.install(|| {
+        let spec = scenes::spec(scene).unwrap();
+        let mut s = scenes::build(scene, params(scene), method(scene), spec.dt).unwrap();
+        s.world.step(STEPS).unwrap();
+        assert_eq!(s.world.steps(), STEPS, "{scene}");
+        s.world.state_hash()
+    })
+}
+
+#[test]
+fn the_table_names_every_scene_in_registry_order() {
+    let names: Vec<&str> = scenes::SCENES.iter().map(|s| s.name).collect();
+    let table: Vec<&str> = HASHES.iter().map(|(n, _)| *n).collect();
+    assert_eq!(names, table);
+}
+
+#[test]
+fn every_scene_has_its_recorded_hash_on_one_thread_and_on_two() {
+    let print = std::env::var_os("PHYSSTEP_PRINT_HASHES").is_some();
+    let mut wrong = Vec::new();
+    for (scene, want) in HASHES {
+        let start = std::time::Instant::now();
+        let one = hash(scene, 1);
+        if print {
+            eprintln!("{scene}: {:.2} s for {STEPS} steps", start.elapsed().as_secs_f64());
+        }
+        let two = hash(scene, 2);
+        assert_eq!(one, two, "{scene}: one thread and two threads differ");
+        if print {
+            println!("    (\"{scene}\", {one:#018x}),");
+        }
+        if one != want {
+            wrong.push(format!("{scene}: {one:#018x}, recorded {want:#018x}"));
+        }
+    }
+    assert!(wrong.is_empty(), "hashes changed (see docs/determinism.md):\n{}", wrong.join("\n"));
+}
+
+#[test]
+fn the_hash_sees_a_one_bit_change() {
+    let mut a = scenes::build("chain", &[], "symplectic-euler", 1e-3).unwrap();
+    let mut b = a.clone();
+    let mut x = b.world.positions().to_vec();
+    x[2] = f64::from_bits(x[2].to_bits() ^ 1);
+    b.world.set_positions(&x).unwrap();
+    a.world.step(100).unwrap();
+    b.world.step(100).unwrap();
+    assert_ne!(a.world.state_hash(), b.world.state_hash());
+}
