@@ -455,10 +455,10 @@ impl Scratch {
     /// packed at rest).
     pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
         let (d, nb) = (inp.d, inp.radius.len());
-        self.p.clear();
-        self.p.extend_from_slice(&self.x0);
         self.u.clear();
         self.u.extend(inp.x1.iter().zip(&self.x0).map(|(x1, x0)| x1 - x0));
+        // The start positions are the paths' origins: taken over (the next step refills x0).
+        std::mem::swap(&mut self.p, &mut self.x0);
         self.vel.clear();
         self.vel.extend_from_slice(inp.v1);
         self.tau.clear();

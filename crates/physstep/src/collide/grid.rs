@@ -111,7 +111,8 @@ impl Grid {
         self.order.resize(n, 0);
         self.sorted.resize(n * D, 0.0);
         for (i, x) in p.chunks_exact(D).enumerate() {
-            let e = self.entry(self.keys[i].0);
+            let k = self.keys[i].0;
+            let e = if self.dense { k as usize } else { self.entry(k) };
             let at = self.start[e];
             self.order[at as usize] = i as u32;
             self.pos[i] = at;
