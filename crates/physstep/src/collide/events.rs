@@ -52,7 +52,8 @@ pub(crate) struct Input<'a> {
 /// The scratch of the stage, kept from step to step (no allocation once warm).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Scratch {
-    /// Start-of-step positions and velocities, by slot.
+    /// Start-of-step positions and velocities, by slot (`x0` is taken over as the paths'
+    /// origins `p` by [`Scratch::resolve`]: refilled before every step).
     pub x0: Vec<f64>,
     pub v0: Vec<f64>,
     /// Each ball's position `p` at its own time `tau`, its path `u` (displacement over a

@@ -52,7 +52,9 @@ pub(crate) struct Balls {
     pub stats: CollisionStats,
     /// The statistics before the current step (its rollback).
     pub saved: CollisionStats,
-    /// Radii and inverse masses by slot, and the end-of-integration state by slot.
+    /// Radii and inverse masses by slot, and the end-of-integration state by slot, gathered
+    /// only when the balls are not consecutive particles (else read in place); `v1` then
+    /// holds the velocities before the stage of the balls that were hit (leapfrog's memory).
     pub slot_radius: Vec<f64>,
     pub slot_inv_mass: Vec<f64>,
     pub x1: Vec<f64>,
