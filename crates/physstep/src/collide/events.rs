@@ -255,7 +255,7 @@ impl Scratch {
     /// that can meet on the current paths (`|x_b - x_a| <= r_a + r_b + (1 - tg)(|u_a| + |u_b|)`,
     /// with a relative margin of 1e-9 over the rounding of the prediction) predicted at once.
     /// Counts the pairs tested.
-    fn scan(&mut self, inp: &Input<'_>, rem: f64, tg: f64, tests: &mut u64) {
+    fn scan(&mut self, inp: &Input<'_>, rem: f64, tests: &mut u64) {
         let d = inp.d;
         let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
         self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
@@ -263,11 +263,6 @@ impl Scratch {
         let grid = std::mem::take(&mut self.grid);
         // Radius and path left of each ball, in the grid's order.
         let order = grid.order();
-        let nb = order.len();
-        self.ext.resize(nb, 0.0);
-        for b in 0..nb {
-            self.ext[b] = (1.0 - tg) * self.speed2(b, d).sqrt();
-        }
         let mut aux = std::mem::take(&mut self.aux);
         aux.clear();
         aux.extend(order.iter().map(|&b| [inp.radius[b as usize], self.ext[b as usize]]));
@@ -474,10 +469,19 @@ impl Scratch {
         let cap = 64 * nb as u64 + 1024;
         let mut tg = 0.0;
         'pass: loop {
+            // Every ball at tg (the first pass starts where they all are, at 0), and the
+            // path each has left: `ext`, how far it gets from there by the end of the step.
+            self.ext.resize(nb, 0.0);
+            let mut most = 0.0_f64;
             for b in 0..nb {
-                self.advance(b, tg, d);
+                if tg != 0.0 {
+                    self.advance(b, tg, d);
+                }
+                let s2 = self.speed2(b, d);
+                most = most.max(s2);
+                self.ext[b] = (1.0 - tg) * s2.sqrt();
             }
-            let umax = (0..nb).map(|b| self.speed2(b, d)).fold(0.0, f64::max).sqrt();
+            let umax = most.sqrt();
             // A path may grow in a collision: between equal masses to at most sqrt(2) times the
             // longer of the two (|v'|^2 <= |v_a|^2 + |v_b|^2), more when a light ball is struck
             // by a heavy one. The pairs are chosen for paths up to 1.5 times the longest, and
@@ -485,7 +489,7 @@ impl Scratch {
             let bound = 1.5 * umax;
             let rem = bound * (1.0 - tg);
             self.heap.clear();
-            self.scan(inp, rem, tg, &mut out.tests);
+            self.scan(inp, rem, &mut out.tests);
             for b in 0..nb {
                 if self.near_wall(b, rem, inp) {
                     self.predict_walls(b, inp);
