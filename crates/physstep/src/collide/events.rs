@@ -12,10 +12,15 @@
 //! centres changes their velocities, the same change (times `h`) their paths, and their
 //! next events are predicted. Every ball that was hit ends at the end of its new path.
 
+mod narrow;
+
 use super::grid::Grid;
 use super::Walls;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+
+/// The relative margin of the filters before a pair's prediction, far above its rounding.
+const MARGIN: f64 = 1.0 + 1e-9;
 
 /// Second index of an event against a wall: `WALL + 2 axis + side` (side 1: the upper).
 const WALL: u32 = u32::MAX - 8;
@@ -49,7 +54,8 @@ pub(crate) struct Input<'a> {
 /// The scratch of the stage, kept from step to step (no allocation once warm).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Scratch {
-    /// Start-of-step positions and velocities, by slot.
+    /// Start-of-step positions and velocities, by slot (`x0` is taken over as the paths'
+    /// origins `p` by [`Scratch::resolve`]: refilled before every step).
     pub x0: Vec<f64>,
     pub v0: Vec<f64>,
     /// Each ball's position `p` at its own time `tau`, its path `u` (displacement over a
@@ -63,10 +69,11 @@ pub(crate) struct Scratch {
     last: Vec<f64>,
     /// Whether the ball was hit this step.
     pub hit: Vec<bool>,
-    /// The candidate pairs of the latest pass, and each slot's partners (CSR).
-    pub pairs: Vec<(u32, u32)>,
-    start: Vec<u32>,
-    adj: Vec<u32>,
+    /// How far each ball gets by the end of the step, on its current path, from the position
+    /// the grid was built from (at most `rem`: the paths are within the bound).
+    ext: Vec<f64>,
+    /// Radius and path left of each ball in the grid's order (the scan's).
+    aux: Vec<[f64; 2]>,
     heap: BinaryHeap<Reverse<Event>>,
     grid: Grid,
 }
@@ -244,76 +251,6 @@ impl Scratch {
         self.u[b * d..(b + 1) * d].iter().map(|c| c * c).sum()
     }
 
-    /// Finds the candidate pairs of the balls at their positions at `tg` that can meet before
-    /// the end of the step while no path is longer than `reach`, and their partners (CSR).
-    fn candidates(&mut self, inp: &Input<'_>, rem: f64, tests: &mut u64) {
-        let (d, nb) = (inp.d, inp.radius.len());
-        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
-        self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
-        self.pairs.clear();
-        let (grid, p, pairs) = (&self.grid, &self.p, &mut self.pairs);
-        let order = grid.order();
-        let mut found = 0u64;
-        let mut spans = [(0u32, 0u32, 0u64); 14];
-        for i in 0..nb {
-            let (pi, ri) = (&p[i * d..(i + 1) * d], inp.radius[i] + 2.0 * rem);
-            let mut test = |j: usize| {
-                let reach = ri + inp.radius[j];
-                let pj = &p[j * d..(j + 1) * d];
-                let dist2: f64 = pi.iter().zip(pj).map(|(a, b)| (b - a) * (b - a)).sum();
-                if dist2 <= reach * reach {
-                    pairs.push((i.min(j) as u32, i.max(j) as u32));
-                }
-            };
-            let count = grid.partners(i, d, &mut spans);
-            for &(a, b, key) in &spans[..count] {
-                let range = &order[a as usize..b.max(a) as usize];
-                if key == super::grid::ANY {
-                    found += range.len() as u64;
-                    range.iter().for_each(|&j| test(j as usize));
-                } else {
-                    for &j in range.iter().filter(|&&j| grid.key_of(j as usize) == key) {
-                        found += 1;
-                        test(j as usize);
-                    }
-                }
-            }
-        }
-        *tests += found;
-        self.start.clear();
-        self.start.resize(nb + 1, 0);
-        for &(i, j) in &self.pairs {
-            self.start[i as usize + 1] += 1;
-            self.start[j as usize + 1] += 1;
-        }
-        for b in 0..nb {
-            self.start[b + 1] += self.start[b];
-        }
-        self.adj.clear();
-        self.adj.resize(self.start[nb] as usize, 0);
-        // Filled back to front from each slot's end, then the ends moved back to the starts.
-        for &(i, j) in &self.pairs {
-            for (x, y) in [(i, j), (j, i)] {
-                let at = self.start[x as usize + 1] - 1;
-                self.adj[at as usize] = y;
-                self.start[x as usize + 1] = at;
-            }
-        }
-        // `start[b + 1]` now holds slot b's start; shift down to make `start[b]` it.
-        for b in 0..nb {
-            self.start[b] = self.start[b + 1];
-        }
-        self.start[nb] = self.adj.len() as u32;
-    }
-
-    fn predict(&mut self, b: usize, inp: &Input<'_>) {
-        self.predict_walls(b, inp);
-        for q in self.start[b]..self.start[b + 1] {
-            let c = self.adj[q as usize] as usize;
-            self.predict_pair(b.min(c), b.max(c), inp);
-        }
-    }
-
     /// Resolves every contact of the step; the balls that were hit end at `p + (1 - tau) u`
     /// with velocity `vel` (the caller writes them back).
     ///
@@ -322,10 +259,10 @@ impl Scratch {
     /// packed at rest).
     pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
         let (d, nb) = (inp.d, inp.radius.len());
-        self.p.clear();
-        self.p.extend_from_slice(&self.x0);
         self.u.clear();
         self.u.extend(inp.x1.iter().zip(&self.x0).map(|(x1, x0)| x1 - x0));
+        // The start positions are the paths' origins: taken over (the next step refills x0).
+        std::mem::swap(&mut self.p, &mut self.x0);
         self.vel.clear();
         self.vel.extend_from_slice(inp.v1);
         self.tau.clear();
@@ -340,24 +277,31 @@ impl Scratch {
         let cap = 64 * nb as u64 + 1024;
         let mut tg = 0.0;
         'pass: loop {
+            // Every ball at tg (the first pass starts where they all are, at 0), and the
+            // path each has left: `ext`, how far it gets from there by the end of the step.
+            self.ext.resize(nb, 0.0);
+            let mut most = 0.0_f64;
             for b in 0..nb {
-                self.advance(b, tg, d);
+                if tg != 0.0 {
+                    self.advance(b, tg, d);
+                }
+                let s2 = self.speed2(b, d);
+                most = most.max(s2);
+                self.ext[b] = (1.0 - tg) * s2.sqrt();
             }
-            let umax = (0..nb).map(|b| self.speed2(b, d)).fold(0.0, f64::max).sqrt();
+            let umax = most.sqrt();
             // A path may grow in a collision: between equal masses to at most sqrt(2) times the
             // longer of the two (|v'|^2 <= |v_a|^2 + |v_b|^2), more when a light ball is struck
             // by a heavy one. The pairs are chosen for paths up to 1.5 times the longest, and
             // found again (from the time of that contact) when one grows past that.
             let bound = 1.5 * umax;
             let rem = bound * (1.0 - tg);
-            self.candidates(inp, rem, &mut out.tests);
             self.heap.clear();
-            for q in 0..self.pairs.len() {
-                let (i, j) = self.pairs[q];
-                self.predict_pair(i as usize, j as usize, inp);
-            }
+            self.scan(inp, rem, &mut out.tests);
             for b in 0..nb {
-                self.predict_walls(b, inp);
+                if self.near_wall(b, rem, inp) {
+                    self.predict_walls(b, inp);
+                }
             }
             while let Some(Reverse(ev)) = self.heap.pop() {
                 let (a, s) = (ev.a as usize, f64::from_bits(ev.s));
@@ -386,6 +330,10 @@ impl Scratch {
                 if moved.iter().any(|&m| self.speed2(m, d) > bound * bound) {
                     tg = s;
                     continue 'pass;
+                }
+                self.extent(a, s, d);
+                if moved[1] != a {
+                    self.extent(moved[1], s, d);
                 }
                 self.predict(a, inp);
                 if moved[1] != a {

@@ -31,6 +31,8 @@ pub(crate) struct Grid {
     /// The balls entry by entry, and each slot's place in it.
     order: Vec<u32>,
     pos: Vec<u32>,
+    /// The positions in the order of `order` (`d` per ball), read by the narrow phase.
+    sorted: Vec<f64>,
     /// Whether the table has an entry per cell (else per hash of a cell, `64 - shift` bits).
     dense: bool,
     shift: u32,
@@ -44,37 +46,42 @@ impl Grid {
     /// Sorts the `n` balls at positions `p` (`n * d`, flat) into cells of at least `cell`
     /// metres (larger when the balls spread over more than 2^20 cells on an axis).
     pub fn build(&mut self, p: &[f64], d: usize, cell: f64) {
-        let n = p.len() / d;
-        let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
-        for k in 0..d {
-            lo[k] = f64::INFINITY;
-            hi[k] = f64::NEG_INFINITY;
+        match d {
+            1 => self.build_d::<1>(p, cell),
+            2 => self.build_d::<2>(p, cell),
+            _ => self.build_d::<3>(p, cell),
         }
-        for b in 0..n {
-            for k in 0..d {
-                lo[k] = p[b * d + k].min(lo[k]);
-                hi[k] = p[b * d + k].max(hi[k]);
+    }
+
+    fn build_d<const D: usize>(&mut self, p: &[f64], cell: f64) {
+        let n = p.len() / D;
+        let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
+        for c in p.chunks_exact(D) {
+            for k in 0..D {
+                lo[k] = c[k].min(lo[k]);
+                hi[k] = c[k].max(hi[k]);
             }
         }
         let mut cell = cell;
-        for k in 0..d {
+        for k in 0..D {
             cell = cell.max((hi[k] - lo[k]) / (MAX_CELLS - 4.0));
         }
         let inv = 1.0 / cell;
         self.m = [1; 3];
-        for k in 0..d {
+        for k in 0..D {
             // Cells 1..=count hold balls; 0 and count + 1 are the margins.
             self.m[k] = ((hi[k] - lo[k]) * inv) as u64 + 3;
         }
-        self.cells.clear();
-        self.keys.clear();
-        for b in 0..n {
+        self.cells.resize(n, [0; 3]);
+        self.keys.resize(n, (0, 0));
+        for (b, x) in p.chunks_exact(D).enumerate() {
             let mut c = [0u64; 3];
-            for k in 0..d {
-                c[k] = (((p[b * d + k] - lo[k]) * inv) as u64).min(self.m[k] - 3) + 1;
+            for k in 0..D {
+                // Through i64 (one conversion): `x - lo >= 0`, the same cell as `as u64`.
+                c[k] = (((x[k] - lo[k]) * inv) as i64 as u64).min(self.m[k] - 3) + 1;
             }
-            self.cells.push(c);
-            self.keys.push((self.key(c), b as u32));
+            self.cells[b] = c;
+            self.keys[b] = (self.key(c), b as u32);
         }
         let total = self.m[0] * self.m[1] * self.m[2];
         self.dense = total <= 4 * n as u64 + 4096;
@@ -85,30 +92,34 @@ impl Grid {
         // shifted back by one.
         self.shift = if self.dense { 0 } else { 64 - (2 * n).next_power_of_two().max(16).trailing_zeros() };
         let entries = if self.dense { total as usize } else { 1usize << (64 - self.shift) };
-        self.pos.clear();
         self.pos.resize(n, 0);
         self.start.clear();
         self.start.resize(entries + 1, 0);
-        for i in 0..n {
-            let e = self.entry(self.keys[i].0);
-            self.start[e + 1] += 1;
+        if self.dense {
+            for &(k, _) in &self.keys {
+                self.start[k as usize + 1] += 1;
+            }
+        } else {
+            for i in 0..n {
+                let e = self.entry(self.keys[i].0);
+                self.start[e + 1] += 1;
+            }
         }
         for e in 0..entries {
             self.start[e + 1] += self.start[e];
         }
-        self.order.clear();
         self.order.resize(n, 0);
-        for i in 0..n {
-            let (k, b) = self.keys[i];
-            let e = self.entry(k);
+        self.sorted.resize(n * D, 0.0);
+        for (i, x) in p.chunks_exact(D).enumerate() {
+            let k = self.keys[i].0;
+            let e = if self.dense { k as usize } else { self.entry(k) };
             let at = self.start[e];
-            self.order[at as usize] = b;
-            self.pos[b as usize] = at;
+            self.order[at as usize] = i as u32;
+            self.pos[i] = at;
+            self.sorted[at as usize * D..(at as usize + 1) * D].copy_from_slice(&x[..D]);
             self.start[e] = at + 1;
         }
-        for e in (1..=entries).rev() {
-            self.start[e] = self.start[e - 1];
-        }
+        self.start.copy_within(0..entries, 1);
         self.start[0] = 0;
     }
 
@@ -126,6 +137,80 @@ impl Grid {
     #[inline]
     pub fn order(&self) -> &[u32] {
         &self.order
+    }
+
+    /// The positions the grid was built from, in the order of [`Grid::order`].
+    #[inline]
+    pub fn sorted(&self) -> &[f64] {
+        &self.sorted
+    }
+
+    /// Whether the table has an entry per cell (the ranges of [`Grid::partners`] and
+    /// [`Grid::shell`] then hold only the cells asked for).
+    #[inline]
+    pub fn dense(&self) -> bool {
+        self.dense
+    }
+
+    /// The place of slot `b` in [`Grid::order`].
+    #[inline]
+    pub fn pos_of(&self, b: usize) -> usize {
+        self.pos[b] as usize
+    }
+
+    /// In a dense table, the ranges of [`Grid::order`] that hold the half shell of the ball at
+    /// place `q` of the order (as [`Grid::partners`]): the rest of its cell and the next cell
+    /// of its row as one range, the three cells of the next row as one, in 3D the three rows
+    /// of the next layer. Returns how many of `out` were filled.
+    #[inline]
+    pub fn half_dense(&self, q: usize, d: usize, out: &mut [(u32, u32); 5]) -> usize {
+        let b = self.order[q] as usize;
+        let key = self.keys[b].0 as usize;
+        let (m0, m01) = (self.m[0] as usize, (self.m[0] * self.m[1]) as usize);
+        out[0] = (q as u32 + 1, self.start[key + 2]);
+        if d == 1 {
+            return 1;
+        }
+        let row = |k: usize| (self.start[k - 1], self.start[k + 2]);
+        out[1] = row(key + m0);
+        if d == 2 {
+            return 2;
+        }
+        out[2] = row(key + m01 - m0);
+        out[3] = row(key + m01);
+        out[4] = row(key + m01 + m0);
+        5
+    }
+
+    /// The ranges of [`Grid::order`] that hold the balls of the cells around slot `i` and its
+    /// own (the full shell: `3^d` cells), each with the cell key its balls must have ([`ANY`]
+    /// in a dense table, where a row of three cells is one range). Slot `i` is among them.
+    /// Returns how many of `out` were filled.
+    #[inline]
+    pub fn shell(&self, i: usize, d: usize, out: &mut [(u32, u32, u64); 27]) -> usize {
+        let c = self.cells[i];
+        let mut n = 0;
+        let (ys, zs) = match d {
+            1 => (c[1]..=c[1], c[2]..=c[2]),
+            2 => (c[1] - 1..=c[1] + 1, c[2]..=c[2]),
+            _ => (c[1] - 1..=c[1] + 1, c[2] - 1..=c[2] + 1),
+        };
+        for z in zs {
+            for y in ys.clone() {
+                let (k0, k1) = (self.key([c[0] - 1, y, z]), self.key([c[0] + 1, y, z]));
+                if self.dense {
+                    out[n] = (self.start[k0 as usize], self.start[k1 as usize + 1], ANY);
+                    n += 1;
+                } else {
+                    for k in k0..=k1 {
+                        let e = self.entry(k);
+                        out[n] = (self.start[e], self.start[e + 1], k);
+                        n += 1;
+                    }
+                }
+            }
+        }
+        n
     }
 
     /// The cell key of slot `b`.

@@ -52,7 +52,9 @@ pub(crate) struct Balls {
     pub stats: CollisionStats,
     /// The statistics before the current step (its rollback).
     pub saved: CollisionStats,
-    /// Radii and inverse masses by slot, and the end-of-integration state by slot.
+    /// Radii and inverse masses by slot, and the end-of-integration state by slot, gathered
+    /// only when the balls are not consecutive particles (else read in place); `v1` then
+    /// holds the velocities before the stage of the balls that were hit (leapfrog's memory).
     pub slot_radius: Vec<f64>,
     pub slot_inv_mass: Vec<f64>,
     pub x1: Vec<f64>,
@@ -147,41 +149,6 @@ pub(crate) fn check_inside(field: &str, x: &[f64], r: f64, walls: &Walls) -> Res
         }
     }
     Ok(())
-}
-
-/// The deepest overlap at the end of a step of the candidate pairs with a ball that was hit,
-/// and past the walls of the balls that were hit, of balls at `x` (by slot). A ball that was
-/// not hit kept its integrated straight path, on which no contact was found: it overlaps
-/// nothing that was not hit (the tests check all pairs independently).
-pub(crate) fn overlap(
-    x: &[f64],
-    d: usize,
-    radius: &[f64],
-    pairs: &[(u32, u32)],
-    hit: &[bool],
-    walls: Option<&Walls>,
-) -> f64 {
-    let mut worst = 0.0_f64;
-    for &(i, j) in pairs {
-        let (i, j) = (i as usize, j as usize);
-        if !(hit[i] || hit[j]) {
-            continue;
-        }
-        let dist2: f64 = (0..d).map(|k| (x[j * d + k] - x[i * d + k]).powi(2)).sum();
-        worst = worst.max(radius[i] + radius[j] - dist2.sqrt());
-    }
-    if let Some(w) = walls {
-        for (b, r) in radius.iter().enumerate() {
-            if !hit[b] {
-                continue;
-            }
-            for k in 0..d {
-                let xk = x[b * d + k];
-                worst = worst.max(w.lo[k] - (xk - r)).max(xk + r - w.hi[k]);
-            }
-        }
-    }
-    worst
 }
 
 /// The first pair of balls (slots `i < j`) among `x` (by slot, `d` per ball) that overlap,

@@ -216,18 +216,32 @@ impl World {
         self.balls.stats
     }
 
+    /// The first particle of the balls when they are consecutive particles (the Collide
+    /// stage then reads them in place), else `None` (it gathers them by slot).
+    fn balls_run(&self) -> Option<usize> {
+        let idx = &self.balls.index;
+        let first = *idx.first()?;
+        (idx[idx.len() - 1] - first + 1 == idx.len()).then_some(first)
+    }
+
     /// Before a step: the start-of-step positions and velocities of the balls, and the
     /// statistics to roll back to.
     pub(super) fn balls_begin(&mut self) {
         if self.balls.is_empty() {
             return;
         }
-        let (d, nx) = (self.dim(), self.nx());
+        let (d, nx, run) = (self.dim(), self.nx(), self.balls_run());
         let b = &mut self.balls;
         b.saved = b.stats;
         let s = &mut b.scratch;
         s.x0.clear();
         s.v0.clear();
+        if let Some(p0) = run {
+            let len = b.index.len() * d;
+            s.x0.extend_from_slice(&self.state.y[p0 * d..p0 * d + len]);
+            s.v0.extend_from_slice(&self.state.y[nx + p0 * d..nx + p0 * d + len]);
+            return;
+        }
         for &p in &b.index {
             s.x0.extend_from_slice(&self.state.y[p * d..(p + 1) * d]);
             s.v0.extend_from_slice(&self.state.y[nx + p * d..nx + (p + 1) * d]);
@@ -237,35 +251,47 @@ impl World {
     /// The Collide stage: every contact of the step resolved at its time of impact; then the
     /// derivative evaluated again (f = deriv(y)) and the method's memory resynchronised for
     /// the balls that were hit (Verlet's previous positions `x - v h`, leapfrog's half-step
-    /// velocities moved by the same impulse).
+    /// velocities moved by the same impulse). Balls that are consecutive particles are read
+    /// in place (no copy of the state).
     pub(super) fn collide_balls(&mut self, ctx: &StepContext) -> Result<()> {
         if self.balls.is_empty() {
             return Ok(());
         }
-        let (d, nx) = (self.dim(), self.nx());
+        let (d, nx, nb, run) = (self.dim(), self.nx(), self.balls.index.len(), self.balls_run());
         let name = self.integrator.info().name;
         let b = &mut self.balls;
         let y = &mut self.state.y;
-        b.x1.clear();
-        b.v1.clear();
-        b.slot_radius.clear();
-        b.slot_inv_mass.clear();
-        for &p in &b.index {
-            b.x1.extend_from_slice(&y[p * d..(p + 1) * d]);
-            b.v1.extend_from_slice(&y[nx + p * d..nx + (p + 1) * d]);
-            b.slot_radius.push(b.radius[p]);
-            b.slot_inv_mass.push(self.model.inv_mass[p]);
+        if run.is_none() {
+            b.x1.clear();
+            b.v1.clear();
+            for &p in &b.index {
+                b.x1.extend_from_slice(&y[p * d..(p + 1) * d]);
+                b.v1.extend_from_slice(&y[nx + p * d..nx + (p + 1) * d]);
+            }
         }
-        let inp = Input {
-            d,
-            h: ctx.h,
-            e: b.restitution,
-            radius: &b.slot_radius,
-            inv_mass: &b.slot_inv_mass,
-            walls: b.walls.as_ref(),
-            x1: &b.x1,
-            v1: &b.v1,
+        let p0 = run.unwrap_or(0);
+        // Radii and inverse masses by slot: slices of the particles' when the balls are
+        // consecutive (and every particle has a radius entry), else gathered.
+        let in_place = run.is_some() && b.radius.len() >= p0 + nb;
+        if !in_place {
+            b.slot_radius.clear();
+            b.slot_inv_mass.clear();
+            for &p in &b.index {
+                b.slot_radius.push(b.radius[p]);
+                b.slot_inv_mass.push(self.model.inv_mass[p]);
+            }
+        }
+        let (radius, inv_mass) = if in_place {
+            (&b.radius[p0..p0 + nb], &self.model.inv_mass[p0..p0 + nb])
+        } else {
+            (&b.slot_radius[..], &b.slot_inv_mass[..])
         };
+        let (x1, v1) = if run.is_some() {
+            (&y[p0 * d..(p0 + nb) * d], &y[nx + p0 * d..nx + (p0 + nb) * d])
+        } else {
+            (&b.x1[..], &b.v1[..])
+        };
+        let inp = Input { d, h: ctx.h, e: b.restitution, radius, inv_mass, walls: b.walls.as_ref(), x1, v1 };
         let out = b.scratch.resolve(&inp).map_err(|contacts| Error::Contacts {
             method: name.into(),
             step: ctx.step,
@@ -275,24 +301,22 @@ impl World {
         b.stats.count += out.contacts;
         b.stats.pair_tests += out.tests;
         let s = &b.scratch;
-        let mut hits = 0;
-        for (slot, &p) in b.index.iter().enumerate() {
-            if !s.hit[slot] {
-                continue;
-            }
-            hits += 1;
+        let depth = s.overlap(&inp);
+        b.stats.max_overlap = b.stats.max_overlap.max(depth);
+        if out.contacts == 0 {
+            return Ok(());
+        }
+        // The end of the hit balls' new paths, and their velocities, written back; their
+        // velocities before the stage kept (leapfrog's memory moves by the same impulse).
+        b.v1.resize(nb * d, 0.0);
+        for slot in (0..nb).filter(|&slot| s.hit[slot]) {
+            let p = run.map_or_else(|| b.index[slot], |p0| p0 + slot);
             for k in 0..d {
                 let i = slot * d + k;
-                let x = s.p[i] + (1.0 - s.tau[slot]) * s.u[i];
-                y[p * d + k] = x;
+                b.v1[i] = y[nx + p * d + k];
+                y[p * d + k] = s.p[i] + (1.0 - s.tau[slot]) * s.u[i];
                 y[nx + p * d + k] = s.vel[i];
-                b.x1[i] = x;
             }
-        }
-        let depth = collide::overlap(&b.x1, d, &b.slot_radius, &s.pairs, &s.hit, b.walls.as_ref());
-        b.stats.max_overlap = b.stats.max_overlap.max(depth);
-        if hits == 0 {
-            return Ok(());
         }
         self.resync_memory(ctx.h)?;
         self.stale = true;

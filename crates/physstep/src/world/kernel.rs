@@ -324,11 +324,11 @@ impl World {
 
     /// Whether a step can be taken again with the same result: no user code runs in it (a
     /// Python force could answer differently, or count its calls) and no load applied by hand
-    /// waits for it (a step consumes those), and no balls (their contact statistics roll back
-    /// with each step's own checkpoint).
+    /// waits for it (a step consumes those). Balls replay: their Collide stage is a function of
+    /// the state (the same contacts in the same order, the same bits), and their contact
+    /// statistics go back with the call's checkpoint.
     fn replayable(&self) -> bool {
         self.model.user.is_empty()
-            && self.balls.is_empty()
             && self.bodies.forces.is_empty()
             && self.bodies.force.iter().chain(&self.bodies.torque).all(|v| *v == glam::DVec3::ZERO)
     }
@@ -373,12 +373,14 @@ impl World {
             self.step_inner(h, None)?;
             return self.run_staged(n - good - 1, h);
         }
+        let stats = self.balls.stats;
         for k in 0..n {
             if self.step_unsaved(h).is_ok() {
                 continue;
             }
             self.call.restore(&mut self.state, &mut self.integrator, layout);
             (self.state.t, self.state.steps, self.state.evals, self.epoch) = start;
+            self.balls.stats = stats;
             for _ in 0..k {
                 self.step_unsaved(h)?;
             }
@@ -391,7 +393,7 @@ impl World {
 
     /// Up to `n` steps of a world with bodies under a split method, the parts built once and
     /// stepped in one loop: what `step_unsaved` does but its stages with nothing to do here
-    /// (no hand loads, no user code, no constraints, no balls: [`World::replayable`]), the
+    /// (no hand loads or user code, [`World::replayable`]; no constraints, no balls), the
     /// same bits. Stops before the first step that fails (the state then part-way: the caller
     /// restores its checkpoint); returns the steps taken.
     fn parts_loop(&mut self, n: u64, h: f64) -> u64 {

@@ -1,0 +1,202 @@
+//! The narrow phase of the events: the scan of a pass (each pair of the grid's half shell
+//! that can meet on the current paths, predicted at once), a hit ball's re-query of the full
+//! shell around it, and the deepest overlap at the end of the step. See docs/collisions.md.
+
+use super::super::grid::{Grid, ANY};
+use super::{Input, Scratch, MARGIN};
+
+impl Scratch {
+    /// The narrow phase of a pass: the grid built from the balls at their positions at the
+    /// pass's start `tg` (cells wide enough for every pair that can meet while no path is
+    /// longer than the bound: `reach = r_a + r_b + 2 rem`), and each pair of the half shell
+    /// that can meet on the current paths (`|x_b - x_a| <= r_a + r_b + (1 - tg)(|u_a| + |u_b|)`,
+    /// with a relative margin of 1e-9 over the rounding of the prediction) predicted at once.
+    /// Counts the pairs tested.
+    pub(super) fn scan(&mut self, inp: &Input<'_>, rem: f64, tests: &mut u64) {
+        let d = inp.d;
+        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
+        self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
+        // The grid is read while the predictions push events: moved out for the scan.
+        let grid = std::mem::take(&mut self.grid);
+        // Radius and path left of each ball, in the grid's order.
+        let order = grid.order();
+        let mut aux = std::mem::take(&mut self.aux);
+        aux.clear();
+        aux.extend(order.iter().map(|&b| [inp.radius[b as usize], self.ext[b as usize]]));
+        *tests += match d {
+            1 => self.scan_d::<1>(&grid, &aux, inp),
+            2 => self.scan_d::<2>(&grid, &aux, inp),
+            _ => self.scan_d::<3>(&grid, &aux, inp),
+        };
+        self.aux = aux;
+        self.grid = grid;
+    }
+
+    #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
+    fn scan_d<const D: usize>(&mut self, grid: &Grid, aux: &[[f64; 2]], inp: &Input<'_>) -> u64 {
+        let (order, sorted) = (grid.order(), grid.sorted());
+        let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
+        let mut found = 0u64;
+        let test = |me: &mut Self, i: usize, q: usize, t: usize| {
+            let (pi, pj) = (at(q), at(t));
+            let mut dist2 = 0.0;
+            for k in 0..D {
+                dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+            }
+            let reach = (aux[q][0] + aux[t][0] + aux[q][1] + aux[t][1]) * MARGIN;
+            if dist2 <= reach * reach {
+                let j = order[t] as usize;
+                me.predict_pair(i.min(j), i.max(j), inp);
+            }
+        };
+        if grid.dense() {
+            let mut ranges = [(0u32, 0u32); 5];
+            for q in 0..order.len() {
+                let i = order[q] as usize;
+                let count = grid.half_dense(q, D, &mut ranges);
+                for &(lo, hi) in &ranges[..count] {
+                    found += u64::from(hi.saturating_sub(lo));
+                    for t in lo as usize..hi as usize {
+                        test(self, i, q, t);
+                    }
+                }
+            }
+        } else {
+            let mut spans = [(0u32, 0u32, 0u64); 14];
+            for i in 0..order.len() {
+                let q = grid.pos_of(i);
+                let count = grid.partners(i, D, &mut spans);
+                for &(lo, hi, key) in &spans[..count] {
+                    for t in lo as usize..hi.max(lo) as usize {
+                        if key == ANY || grid.key_of(order[t] as usize) == key {
+                            found += 1;
+                            test(self, i, q, t);
+                        }
+                    }
+                }
+            }
+        }
+        found
+    }
+
+    /// Whether slot `b` (at its position at the pass's start) is within `r + rem` of a wall:
+    /// only such a ball can reach one within the pass (its path left is at most `rem`).
+    pub(super) fn near_wall(&self, b: usize, rem: f64, inp: &Input<'_>) -> bool {
+        let Some(w) = inp.walls else { return false };
+        let (d, r) = (inp.d, inp.radius[b]);
+        (0..d).any(|k| {
+            let pk = self.p[b * d + k];
+            pk - r - w.lo[k] <= rem || w.hi[k] - r - pk <= rem
+        })
+    }
+
+    /// The next events of slot `b`: against the walls, and against the balls of the full
+    /// shell of its cell that it can still meet: `|P_b - P_j| <= r_b + r_j + ext_b + ext_j`,
+    /// `P` the positions the grid was built from and `ext` how far a ball gets from its `P`
+    /// by the end of the step on its current path (with the scan's margin).
+    pub(super) fn predict(&mut self, b: usize, inp: &Input<'_>) {
+        self.predict_walls(b, inp);
+        match inp.d {
+            1 => self.predict_d::<1>(b, inp),
+            2 => self.predict_d::<2>(b, inp),
+            _ => self.predict_d::<3>(b, inp),
+        }
+    }
+
+    #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
+    fn predict_d<const D: usize>(&mut self, b: usize, inp: &Input<'_>) {
+        let grid = std::mem::take(&mut self.grid);
+        let (order, sorted) = (grid.order(), grid.sorted());
+        let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
+        let pb = at(grid.pos_of(b));
+        let rb = inp.radius[b] + self.ext[b];
+        let mut spans = [(0u32, 0u32, 0u64); 27];
+        let count = grid.shell(b, D, &mut spans);
+        for &(lo, hi, key) in &spans[..count] {
+            for t in lo as usize..hi.max(lo) as usize {
+                let j = order[t] as usize;
+                if j == b || (key != ANY && grid.key_of(j) != key) {
+                    continue;
+                }
+                let pj = at(t);
+                let mut dist2 = 0.0;
+                for k in 0..D {
+                    dist2 += (pj[k] - pb[k]) * (pj[k] - pb[k]);
+                }
+                let reach = (rb + inp.radius[j] + self.ext[j]) * MARGIN;
+                if dist2 <= reach * reach {
+                    self.predict_pair(b.min(j), b.max(j), inp);
+                }
+            }
+        }
+        self.grid = grid;
+    }
+
+    /// After a contact of slot `b` at `s`: how far it gets from the position the grid was
+    /// built from by the end of the step, `|p(s) - P| + (1 - s) |u|`.
+    pub(super) fn extent(&mut self, b: usize, s: f64, d: usize) {
+        let q = self.grid.pos_of(b);
+        let from = &self.grid.sorted()[q * d..(q + 1) * d];
+        let gone: f64 = (0..d).map(|k| (self.p[b * d + k] - from[k]).powi(2)).sum();
+        self.ext[b] = gone.sqrt() + (1.0 - s) * self.speed2(b, d).sqrt();
+    }
+
+    /// The end-of-step position of slot `b` along `k`: on its new path if it was hit, else as
+    /// integrated.
+    #[inline]
+    pub fn end(&self, b: usize, k: usize, inp: &Input<'_>) -> f64 {
+        let i = b * inp.d + k;
+        if self.hit[b] {
+            self.p[i] + (1.0 - self.tau[b]) * self.u[i]
+        } else {
+            inp.x1[i]
+        }
+    }
+
+    /// The deepest overlap at the end of the step of the balls that were hit, with the balls
+    /// within reach of them (every pair that can overlap: the paths are within the bound) and
+    /// with the walls. A ball that was not hit kept its integrated straight path, on which no
+    /// contact was found: it overlaps nothing that was not hit (the tests check all pairs
+    /// independently).
+    pub fn overlap(&self, inp: &Input<'_>) -> f64 {
+        let d = inp.d;
+        let (grid, mut worst) = (&self.grid, 0.0_f64);
+        let sorted = grid.sorted();
+        let mut spans = [(0u32, 0u32, 0u64); 27];
+        for b in (0..self.hit.len()).filter(|&b| self.hit[b]) {
+            let (mut eb, q) = ([0.0; 3], grid.pos_of(b));
+            for (k, e) in eb.iter_mut().enumerate().take(d) {
+                *e = self.end(b, k, inp);
+            }
+            let count = grid.shell(b, d, &mut spans);
+            for &(lo, hi, key) in &spans[..count] {
+                for t in lo as usize..hi.max(lo) as usize {
+                    let j = grid.order()[t] as usize;
+                    if j == b || (key != ANY && grid.key_of(j) != key) {
+                        continue;
+                    }
+                    let r = inp.radius[b] + inp.radius[j];
+                    // Each ends within `ext` of the position the grid holds: farther apart
+                    // there than `r + ext_b + ext_j`, they do not overlap.
+                    let far: f64 = (0..d).map(|k| (sorted[t * d + k] - sorted[q * d + k]).powi(2)).sum();
+                    let reach = (r + self.ext[b] + self.ext[j]) * MARGIN;
+                    if far > reach * reach {
+                        continue;
+                    }
+                    let dist2: f64 = (0..d).map(|k| (self.end(j, k, inp) - eb[k]).powi(2)).sum();
+                    // Farther than r (by more than a rounding of the square): no overlap.
+                    if dist2 < r * r * (1.0 + 1e-12) {
+                        worst = worst.max(r - dist2.sqrt());
+                    }
+                }
+            }
+            if let Some(w) = inp.walls {
+                for (k, &xk) in eb.iter().enumerate().take(d) {
+                    let r = inp.radius[b];
+                    worst = worst.max(w.lo[k] - (xk - r)).max(xk + r - w.hi[k]);
+                }
+            }
+        }
+        worst
+    }
+}
