@@ -1,4 +1,5 @@
-//! The step of a world, as named stages over a [`StepContext`]:
+//! The step of a world: the public calls that take steps ([`World::step`], [`World::advance`]
+//! and the rest), and one step as named stages over a [`StepContext`]:
 //!
 //! ```text
 //! ctx        = StepContext::new(...)   // h validated once, here; t + h must move time
@@ -9,7 +10,8 @@
 //! Finish       t = t0 + k h; or, on any failure, the world restored from its checkpoint
 //! ```
 
-use super::{Epoch, World};
+use super::{Epoch, Frame, World};
+use crate::clock::Clock;
 use crate::dynamics::{First, Second, SecondOrder};
 use crate::error::{Error, Result};
 use crate::integrators::Log;
@@ -41,6 +43,77 @@ pub enum Stage {
     Collide,
     /// The divergence check.
     Check,
+}
+
+/// The stepping API: calls of steps and frames of the game loop.
+impl World {
+    /// Takes `n` steps of the fixed dt.
+    ///
+    /// # Errors
+    /// [`Error::Diverged`] or [`Error::NotConverged`]: the failing step is rolled back, the
+    /// steps before it stay taken.
+    pub fn step(&mut self, n: u64) -> Result<()> {
+        self.run(n, self.dt())
+    }
+
+    /// `n` steps of `dt` seconds (not necessarily the fixed one), as [`World::step`] takes
+    /// them: a failing step is rolled back, the steps before it stay taken.
+    ///
+    /// # Errors
+    /// As [`World::step_by`].
+    pub fn step_n_by(&mut self, n: u64, dt: f64) -> Result<()> {
+        self.run(n, dt)
+    }
+
+    /// One step of `dt` seconds (not necessarily the fixed one).
+    ///
+    /// # Errors
+    /// As [`World::step`], and [`Error::InvalidValue`] for a bad `dt`.
+    pub fn step_by(&mut self, dt: f64) -> Result<()> {
+        self.run(1, dt)
+    }
+
+    /// [`World::step_by`] that records the intermediate evaluation points (midpoint's half
+    /// step, RK4's xa, xb, xc).
+    ///
+    /// # Errors
+    /// As [`World::step_by`].
+    pub fn step_logged(&mut self, dt: f64, log: &mut crate::integrators::StageLog) -> Result<()> {
+        self.step_inner(dt, Some(log))
+    }
+
+    /// Runs one frame of the game loop: `frame_time` seconds of wall time become fixed steps
+    /// as the loop mode says, with the frame-time clamp and the steps-per-frame cap.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] for a bad `frame_time`; a failing step as [`World::step`].
+    pub fn advance(&mut self, frame_time: f64) -> Result<Frame> {
+        let plan = self.clock.frame(frame_time)?;
+        if plan.steps > 0 {
+            self.run(u64::from(plan.steps) - 1, plan.dt)?;
+            // The state before the frame's last step, for render interpolation; the buffer
+            // is reused from frame to frame.
+            let mut prev = std::mem::take(&mut self.prev_x);
+            prev.clear();
+            prev.extend_from_slice(self.positions());
+            self.keep_orientations();
+            self.run(1, plan.dt)?;
+            self.prev_x = prev;
+        }
+        Ok(Frame { plan, alpha: self.clock.alpha() })
+    }
+
+    /// The clock (loop mode, stats).
+    #[must_use]
+    pub fn clock(&self) -> &Clock {
+        &self.clock
+    }
+
+    /// Render interpolation factor in [0, 1) after the latest [`World::advance`].
+    #[must_use]
+    pub fn alpha(&self) -> f64 {
+        self.clock.alpha()
+    }
 }
 
 impl World {
