@@ -10,6 +10,7 @@ VENV=${PHYSSTEP_VENV:-.venv}
 cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace --exclude physstep-py
+RUSTDOCFLAGS="-D warnings" cargo doc -q -p physstep --no-deps
 cargo run -q -p physstep --example custom_force
 "$VENV/bin/ruff" check python tests scripts bench examples
 "$VENV/bin/ruff" format --check python tests scripts bench examples

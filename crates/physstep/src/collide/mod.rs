@@ -2,9 +2,9 @@
 //! of an axis-aligned box, by the collision formula along the line of centres with a
 //! coefficient of restitution `e` (1: elastic), at their time of impact inside the step.
 //!
-//! - [`grid`]: the broad phase, a uniform grid kept as a sorted list (no allocation once
+//! - `grid`: the broad phase, a uniform grid kept as a sorted list (no allocation once
 //!   warm, a deterministic order), so the pairs tested grow with N, not N^2;
-//! - [`events`]: the contacts of a step resolved in time order (event-driven within the fixed
+//! - `events`: the contacts of a step resolved in time order (event-driven within the fixed
 //!   step), so kinetic energy is kept to rounding when `e = 1` and balls neither overlap nor
 //!   pass through each other.
 //!

@@ -120,7 +120,7 @@ impl ForceSet {
     /// nothing.
     ///
     /// The per-particle forces come first, particle by particle, as the fused kernels compute
-    /// them ([`Local`]); then the springs between particles (`a += F / m`), n-body gravity,
+    /// them (`forces::local`); then the springs between particles (`a += F / m`), n-body gravity,
     /// and the rods, each in canonical order.
     #[allow(clippy::too_many_arguments)]
     pub fn accel(
