@@ -368,7 +368,8 @@ class Runner:
 
     def _help(self, surf: pygame.Surface) -> None:
         f, big = base.font(22), base.font(28)
-        lines = [(k.label, k.doc) for k in KEYS + self.demo.keys]
+        reset = self.demo.reset_doc
+        lines = [(k.label, reset if k.action == "reset" and reset else k.doc) for k in KEYS + self.demo.keys]
         if self.demo.draggable:
             lines.append(("drag", self.demo.mouse))
         w = 60 + max(f.size(label)[0] for label, _ in lines) + max(f.size(doc)[0] for _, doc in lines) + 40

@@ -112,6 +112,8 @@ class Demo:
     no_energy = "unknown"
     #: The loop variant (a :data:`LOOPS` name) the demo starts in.
     loop = "accumulator"
+    #: What the help says ``r`` does, where the demo's reset differs from the common one.
+    reset_doc: str | None = None
     #: Whether the mouse drags a particle.
     draggable = False
     #: What the mouse does in this demo, for the help (when ``draggable``).

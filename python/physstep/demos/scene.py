@@ -83,6 +83,7 @@ class SceneDemo(Demo):
     name = "scene"
     draggable = True
     mouse = "move a particle (a ball: pull it by its velocity); the drift restarts on release"
+    reset_doc = "reload the file (keeps method, dt, loop)"
 
     def __init__(self, path: str) -> None:
         self.path = str(path)
