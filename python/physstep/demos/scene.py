@@ -36,6 +36,8 @@ GROW_MAX = 50.0
 TRAIL_MAX = 16
 #: The plane a flow is drawn in: the coordinates across and up.
 FLOW_AXES = {"lorenz": (0, 2), "rossler": (0, 1), "thomas": (0, 1)}
+#: The corners of a box as (x, y, z) bits: the high or low side of each axis.
+_CORNERS = [np.array([sx, sy, sz], dtype=bool) for sx in (0, 1) for sy in (0, 1) for sz in (0, 1)]
 PARTICLE = (232, 234, 242)
 SPRING = (90, 200, 140)
 LINK = (150, 170, 215)
@@ -198,8 +200,9 @@ class SceneDemo(Demo):
         pts += [self.plane(a) for _, _, a, _ in self.links if a is not None]
         pts += [self.plane(p) for p in self.pins]
         walls = world.walls if len(world) else None
-        if walls is not None:
-            pts += [self.plane(walls[0]), self.plane(walls[1])]
+        if walls is not None:  # every corner: in 3D the box's outline is their projection
+            lo, hi = np.array(walls[0], dtype=float), np.array(walls[1], dtype=float)
+            pts += [self.plane(np.where(bits[: self.dim], hi, lo)) for bits in _CORNERS]
         w = copy.copy(world)
         cap = max(FIT_STEPS, FIT_WORK // max(1, len(w) + w.body_count))
         if physstep.method(w.method).implicit:
@@ -303,7 +306,13 @@ class SceneDemo(Demo):
             rows.append(("flow", self.flow, base.TEXT))
         elif len(w):
             balls = int(np.count_nonzero(w.radii > 0))
-            rows.append(("balls" if balls else "particles", f"{balls or len(w)}", base.TEXT))
+            rows.append(
+                (
+                    "particles",
+                    f"{len(w)}" + (f" ({balls} ball{'s' if balls > 1 else ''})" if balls else ""),
+                    base.TEXT,
+                )
+            )
         for n, word in (
             (w.body_count, "bodies"),
             (len(self.springs), "springs"),
@@ -387,12 +396,7 @@ class SceneDemo(Demo):
                 pygame.draw.rect(surf, base.BACKGROUND, box)
                 pygame.draw.rect(surf, base.DIM, box.inflate(4, 4), 2)
             else:
-                corners = [
-                    np.where([sx, sy, sz][: self.dim], hi, lo)
-                    for sx in (0, 1)
-                    for sy in (0, 1)
-                    for sz in (0, 1)
-                ]
+                corners = [np.where(bits[: self.dim], hi, lo) for bits in _CORNERS]
                 self._wire(surf, rect, corners, base.DIM)
 
     def _wire(
