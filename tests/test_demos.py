@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -29,12 +30,13 @@ def _key(key: app.Key) -> pygame.event.Event:
     return pygame.event.Event(pygame.KEYDOWN, key=key.keys[0], mod=mod, unicode="", scancode=0)
 
 
-def _script(name: str = "orbit") -> dict[int, list[app.Scripted]]:
-    """Every key action of demo ``name`` but quit (the common ones and its own), twice where
-    it toggles, a drag, and quit on the last frame."""
+def _script(name: str | None = "orbit") -> dict[int, list[app.Scripted]]:
+    """Every key action of demo ``name`` but quit (the common ones and its own; None: a
+    scene file's demo, the common ones), twice where it toggles, a drag, and quit on the
+    last frame."""
     script: dict[int, list[app.Scripted]] = {}
     frame = 2
-    for key in app.KEYS + demos.load(name).keys:
+    for key in app.KEYS + (demos.load(name).keys if name else ()):
         if key.action == "quit":
             continue
         presses = 2 if key.action in ("help", "pause", "wind") else 1
@@ -75,7 +77,8 @@ def _pixels(path: str) -> np.ndarray:
 
 def _assert_not_blank(path: str) -> None:
     px = _pixels(path).reshape(-1, 3)
-    colours, counts = np.unique(px, axis=0, return_counts=True)
+    packed = (px[:, 0].astype(np.int32) << 16) | (px[:, 1].astype(np.int32) << 8) | px[:, 2]
+    colours, counts = np.unique(packed, return_counts=True)  # one int a colour: fast
     assert len(colours) >= 50, len(colours)  # text, lines, shading: many colours
     top2 = np.sort(counts)[-2:].sum()
     assert counts.max() / len(px) < 0.95  # not one flat fill
@@ -130,7 +133,7 @@ def _fails(capsys, argv: list[str]) -> str:
 def test_an_unknown_demo_lists_the_valid_ones(capsys) -> None:
     err = _fails(capsys, ["demo", "pinball"])
     assert "unknown demo 'pinball'" in err and ", ".join(demos.names()) in err
-    assert "give a demo NAME or --list" in _fails(capsys, ["demo"])
+    assert "give a demo NAME, --scene FILE.toml or --list" in _fails(capsys, ["demo"])
 
 
 def test_bad_frames_and_screenshot_paths_are_one_line(capsys, tmp_path) -> None:
@@ -266,3 +269,102 @@ def test_ragdoll_kick_sends_it_up() -> None:
     for _ in range(12):
         r.update(1 / 60)
     assert float(r.panels[0].world.positions[:, 1].mean()) > y + 0.5
+
+
+SCENES = sorted((Path(__file__).parent.parent / "examples" / "scenes").glob("*.toml"))
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
+def test_every_scene_file_runs_in_the_scene_demo(path: Path, tmp_path) -> None:
+    shot = str(tmp_path / "shot.png")
+    summary = app.run(scene=str(path), headless=True, frames=3, screenshot=shot)
+    assert summary["frames"] == 3 and summary["demo"] == "scene" and summary["scene"] == str(path)
+    assert not summary["errors"]
+    _assert_not_blank(shot)
+
+
+@pytest.mark.parametrize("stem", ["chain", "top", "lorenz"])
+def test_the_scene_demo_takes_every_key_and_a_drag(stem: str, tmp_path) -> None:
+    path = Path(__file__).parent.parent / "examples" / "scenes" / f"{stem}.toml"
+    shot = str(tmp_path / "shot.png")
+    summary = app.run(scene=str(path), headless=True, frames=FRAMES, screenshot=shot, script=_script(None))
+    assert summary["frames"] == FRAMES and summary["t"] > 0
+    _assert_not_blank(shot)
+
+
+def test_the_scene_demo_methods_and_a_drag() -> None:
+    from physstep.demos.scene import SceneDemo
+
+    scenes = Path(__file__).parent.parent / "examples" / "scenes"
+    r = app.Runner(SceneDemo(str(scenes / "lorenz.toml")))
+    assert all(not m.split for m in r.methods) and r.panels[0].info.name == "rk4"
+    r = app.Runner(SceneDemo(str(scenes / "racket.toml")))
+    assert all(not m.vector_positions for m in r.methods)
+    r = app.Runner(SceneDemo(str(scenes / "stiff-chain.toml")))
+    assert r.panels[0].info.name == "backward-euler" and r.dt == pytest.approx(1 / 60)
+    r = app.Runner(SceneDemo(str(scenes / "pendulum.toml")))
+    w = r.panels[0].world
+    target = (r.screen_position(0, 0)[0] + 40, r.screen_position(0, 0)[1] + 30)
+    assert r.demo.hold(w, 0, r.rects[0], target)
+    assert r.screen_position(0, 0) == target and np.all(w.velocities[0] == 0.0)
+    r = app.Runner(SceneDemo(str(scenes / "cloth.toml")))  # 3D: held at its depth
+    w = r.panels[0].world
+    depth = float(r.demo.camera[2] @ w.positions[70])
+    target = (r.screen_position(0, 70)[0] - 25, r.screen_position(0, 70)[1] + 15)
+    r.demo.hold(w, 70, r.rects[0], target)
+    assert np.abs(np.subtract(r.screen_position(0, 70), target)).max() <= 1  # pixel rounding
+    assert float(r.demo.camera[2] @ w.positions[70]) == pytest.approx(depth)
+
+
+def test_reset_reloads_the_scene_file(tmp_path) -> None:
+    from physstep.demos.scene import SceneDemo
+
+    path = tmp_path / "s.toml"
+    path.write_text("dimension = 2\ndt = 0.01\n[[particles]]\nposition = [1.0, 0.0]\n")
+    r = app.Runner(SceneDemo(str(path)))
+    r.act("method_next")
+    method = r.panels[0].info.name
+    path.write_text("dimension = 2\ndt = 0.01\n[[particles]]\nposition = [0.0, 2.0]\n")
+    r.act("reset")
+    np.testing.assert_array_equal(r.panels[0].world.positions[0], [0.0, 2.0])
+    assert r.panels[0].info.name == method  # a reset keeps the method
+    path.write_text("dimension = 2\n[[particles]]\nmass = -1\n")  # broken: the last good file runs
+    r.act("reset")
+    np.testing.assert_array_equal(r.panels[0].world.positions[0], [0.0, 2.0])
+    assert r.demo.reload_error and "s.toml" in r.demo.reload_error
+
+
+def test_a_bad_scene_file_is_one_line_naming_it(capsys, tmp_path) -> None:
+    missing = str(tmp_path / "nope.toml")
+    err = _fails(capsys, ["demo", "--scene", missing, "--headless"])
+    assert f"scene file {missing}" in err and "cannot be read" in err
+    bad = tmp_path / "bad.toml"
+    bad.write_text("dimension = 2\n[[particles]]\npositon = [1.0, 2.0]\n")
+    err = _fails(capsys, ["demo", "--scene", str(bad), "--headless"])
+    assert f"scene file {bad}:3: particles[0].positon: unknown key" in err
+    err = _fails(capsys, ["demo", "orbit", "--scene", str(bad)])
+    assert "give a demo NAME or --scene FILE.toml, not both" in err
+
+
+def test_the_scene_demo_on_the_command_line(capsys) -> None:
+    path = str(Path(__file__).parent.parent / "examples" / "scenes" / "pendulum.toml")
+    assert main(["demo", "--scene", path, "--headless", "--frames", "2", "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["scene"] == path and out["demo"] == "scene" and out["frames"] == 2
+    assert main(["demo", "--scene", path, "--headless", "--frames", "2", "--method", "rk4"]) == 0
+    assert capsys.readouterr().out.startswith(f"scene {path}: 2 frames")
+
+
+def test_the_scene_view_widens_to_follow_and_a_reset_restores_it() -> None:
+    from physstep.demos.scene import SceneDemo
+
+    r = app.Runner(SceneDemo(str(Path(__file__).parent.parent / "examples" / "scenes" / "tumble.toml")))
+    fitted = r.demo.bounds
+    for _ in range(120):  # 2 s: past the file's until = 1 s, the box falls below the fitted view
+        r.update(1 / 60)
+    centre = r.screen_position(0, 0)  # no particles: the panel's centre
+    assert r.demo.bounds[1][1] > fitted[1][1]
+    x, y = r.demo.to_screen(r.rects[0], r.panels[0].world.body_positions()[0])
+    assert r.rects[0].collidepoint(x, y) and centre == r.rects[0].center
+    r.act("reset")
+    assert r.demo.bounds is r.demo.fitted

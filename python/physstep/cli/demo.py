@@ -10,6 +10,7 @@ import argparse
 import os
 from typing import Any
 
+import physstep
 from physstep import _files as files
 from physstep import demos
 from physstep.cli import options, output
@@ -28,9 +29,16 @@ def _cmd_demo(args: argparse.Namespace) -> int:
             for r in rows:
                 print(f"{r['name']:<9} {r['doc']}")
         return 0
-    if args.name is None:
-        raise options.UsageError(f"give a demo NAME or --list; valid demos: {', '.join(demos.names())}")
-    demos.entry(args.name)  # an unknown name lists the valid ones, before pygame is needed
+    if args.name is not None and args.scene_file is not None:
+        raise options.UsageError(f"give a demo NAME or --scene FILE.toml, not both (got '{args.name}')")
+    if args.scene_file is not None:
+        physstep.load_scene(args.scene_file)  # a bad file: the loader's one line, before pygame
+    elif args.name is None:
+        raise options.UsageError(
+            f"give a demo NAME, --scene FILE.toml or --list; valid demos: {', '.join(demos.names())}"
+        )
+    else:
+        demos.entry(args.name)  # an unknown name lists the valid ones, before pygame is needed
     if args.screenshot is not None:
         if not args.screenshot.lower().endswith(".png"):
             raise options.UsageError(f"invalid --screenshot '{args.screenshot}': must be a .png file")
@@ -44,6 +52,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
     summary = app.run(
         args.name,
+        scene=args.scene_file,
         headless=args.headless,
         frames=args.frames,
         screenshot=args.screenshot,
@@ -54,8 +63,9 @@ def _cmd_demo(args: argparse.Namespace) -> int:
         print(output.dump(summary))
     else:
         shot = f", screenshot {summary['screenshot']}" if summary["screenshot"] else ""
+        what = f"scene {summary['scene']}" if summary["scene"] else f"demo {summary['demo']}"
         print(
-            f"demo {summary['demo']}: {summary['frames']} frames, t = {summary['t']:.4g} s, "
+            f"{what}: {summary['frames']} frames, t = {summary['t']:.4g} s, "
             f"{', '.join(summary['methods'])} at dt = {summary['dt']:g} s{shot}"
         )
     return 0
@@ -66,6 +76,13 @@ def register(subparsers: Any) -> None:
     d = subparsers.add_parser("demo", help="interactive demos (pygame-ce): physstep demo --list")
     d.add_argument("name", nargs="?", help="the demo (physstep demo --list lists them)")
     d.add_argument("--list", action="store_true", help="list the demos")
+    d.add_argument(
+        "--scene",
+        dest="scene_file",
+        metavar="FILE.toml",
+        default=None,
+        help="open the world a scene file describes in a generic demo (instead of NAME)",
+    )
     d.add_argument(
         "--headless",
         action="store_true",

@@ -78,7 +78,7 @@ class Runner:
         if dt is not None and not lo <= dt <= hi:  # the range the [ and ] keys keep to
             raise ValueError(f"invalid --dt '{dt:g}': must be from {lo:g} to {hi:.4g} s for demo {demo.name}")
         self.dt = float(demo.dt if dt is None else dt)
-        self.loop = 0
+        self.loop = [name for name, _ in LOOPS].index(demo.loop) if demo.loop in dict(LOOPS) else 0
         self.paused = False
         self.help = False
         self.running = True
@@ -109,7 +109,7 @@ class Runner:
     def _panel(self, method: str, colour: tuple[int, int, int]) -> Panel:
         world = self.demo.world(method, self.dt)
         name, substeps = LOOPS[self.loop]
-        if name != "accumulator":
+        if name != world.__reduce__()[1][0]["loop"]:  # a scene file's own loop is kept as it is
             world = base.relooped(world, name, substeps)
         panel = Panel(world, physstep.method(method), None, colour=colour)
         panel.e0 = panel.energy()
@@ -368,7 +368,8 @@ class Runner:
 
     def _help(self, surf: pygame.Surface) -> None:
         f, big = base.font(22), base.font(28)
-        lines = [(k.label, k.doc) for k in KEYS + self.demo.keys]
+        reset = self.demo.reset_doc
+        lines = [(k.label, reset if k.action == "reset" and reset else k.doc) for k in KEYS + self.demo.keys]
         if self.demo.draggable:
             lines.append(("drag", self.demo.mouse))
         w = 60 + max(f.size(label)[0] for label, _ in lines) + max(f.size(doc)[0] for _, doc in lines) + 40
@@ -414,8 +415,9 @@ Scripted = pygame.event.Event | Callable[[Runner], pygame.event.Event]
 
 
 def run(
-    name: str,
+    name: str | None = None,
     *,
+    scene: str | None = None,
     headless: bool = False,
     frames: int | None = None,
     screenshot: str | None = None,
@@ -423,14 +425,21 @@ def run(
     dt: float | None = None,
     script: Mapping[int, Sequence[Scripted]] | None = None,
 ) -> dict[str, Any]:
-    """Runs demo ``name`` and returns a summary of its last frame.
+    """Runs demo ``name``, or the generic demo of the scene file ``scene``
+    (:class:`physstep.demos.scene.SceneDemo`), and returns a summary of its last frame.
 
     ``headless``: the dummy video driver and a fixed frame time (deterministic), 120 frames
     unless ``frames`` says otherwise; ``screenshot`` saves the last frame as PNG, written
     whole (temp file + rename). ``script`` maps a frame number to events posted before that
-    frame (the smoke test's key presses and drags). ValueError for a bad name or setting.
+    frame (the smoke test's key presses and drags). ValueError for a bad name, setting or
+    scene file (the loader's one line naming the file).
     """
-    cls = load(name)
+    if scene is not None:
+        from physstep.demos.scene import SceneDemo
+
+        demo: Demo = SceneDemo(scene)
+    else:
+        demo = load(name or "")()
     if screenshot is not None:
         files.check(screenshot, "--screenshot")
     if headless:
@@ -447,8 +456,9 @@ def run(
             raise ValueError(
                 f"cannot open a window ({_one_line(str(e))}): run with --headless --screenshot FILE.png"
             ) from None
-        pygame.display.set_caption(f"physstep demo {name} (h: help)")
-        runner = Runner(cls(), method, dt)
+        title = f"--scene {scene}" if scene is not None else name
+        pygame.display.set_caption(f"physstep demo {title} (h: help)")
+        runner = Runner(demo, method, dt)
         clock = pygame.time.Clock()
         n = 0
         while runner.running and (frames is None or n < frames):
@@ -470,7 +480,8 @@ def run(
             files.write(screenshot, lambda fh: pygame.image.save(screen, fh, "shot.png"), "--screenshot")
         p = runner.panels[0]
         return {
-            "demo": name,
+            "demo": demo.name,
+            "scene": scene,
             "frames": n,
             "methods": [q.info.name for q in runner.panels],
             "dt": runner.dt,

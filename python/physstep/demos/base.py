@@ -90,11 +90,12 @@ class Panel:
             return None
 
     def drift_now(self) -> float | None:
-        """Relative energy drift (E - E0) / |E0| (absolute where E0 = 0), or None."""
+        """Relative energy drift (E - E0) / |E0| (absolute where |E0| < 1e-12 J: zero up to
+        rounding, as a chain at rest length starts), or None."""
         e = self.energy()
         if e is None or self.e0 is None:
             return None
-        return (e - self.e0) / (abs(self.e0) if self.e0 != 0 else 1.0)
+        return (e - self.e0) / (abs(self.e0) if abs(self.e0) >= 1e-12 else 1.0)
 
 
 class Demo:
@@ -109,6 +110,10 @@ class Demo:
     methods: tuple[str, ...] = ("symplectic-euler",)
     #: What the HUD says when the world's energy is unknown.
     no_energy = "unknown"
+    #: The loop variant (a :data:`LOOPS` name) the demo starts in.
+    loop = "accumulator"
+    #: What the help says ``r`` does, where the demo's reset differs from the common one.
+    reset_doc: str | None = None
     #: Whether the mouse drags a particle.
     draggable = False
     #: What the mouse does in this demo, for the help (when ``draggable``).
