@@ -6,6 +6,10 @@ level), with the subheadings raised so the section's own level maps to the page'
 and links written for the README (``docs/x.md``, ``docs/figures/y.png``) made relative to docs/.
 Add ``intro`` (``<!-- readme: HEADING intro -->``) to stop at the first subheading. Read on a code
 host, the page shows its own text and the comment is invisible.
+
+``SphinxRoles`` (a griffe extension, named in mkdocs.yml) shows the docstrings' Sphinx roles
+(``:func:`compare```, ``:mod:`~physstep.lab.system```) as the code spans they stand for, and
+``on_post_build`` fails the build when a public object of the API pages has no docstring.
 """
 
 from __future__ import annotations
@@ -13,6 +17,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 from typing import Any
+
+import griffe
 
 README = Path(__file__).resolve().parent.parent / "README.md"
 MARKER = re.compile(r"^<!-- readme: (?P<heading>.+?)(?P<intro> intro)? -->$", re.MULTILINE)
@@ -53,6 +59,22 @@ def readme_section(heading: str, intro: bool = False) -> str:
     return re.sub(r"\]\(docs/", "](", text)
 
 
+ROLE = re.compile(r":(?:func|class|mod|meth|attr|data|exc|obj):`~?(?P<name>[^`]+)`")
+
+
+def _role(m: re.Match[str]) -> str:
+    name = m["name"]
+    return f"`{name.rsplit('.', 1)[-1]}`" if m[0].split("`")[1].startswith("~") else f"`{name}`"
+
+
+class SphinxRoles(griffe.Extension):
+    """``:func:`x``` -> ```x```, ``:mod:`~a.b``` -> ```b``` in every docstring the API pages read."""
+
+    def on_object(self, *, obj: griffe.Object, **kwargs: Any) -> None:
+        if obj.docstring is not None:
+            obj.docstring.value = ROLE.sub(_role, obj.docstring.value)
+
+
 def on_page_markdown(markdown: str, **kwargs: Any) -> str:
     return MARKER.sub(lambda m: readme_section(m["heading"], bool(m["intro"])), markdown)
 
@@ -60,8 +82,6 @@ def on_page_markdown(markdown: str, **kwargs: Any) -> str:
 def _undocumented() -> tuple[int, list[str]]:
     """Public functions, classes and methods of the documented modules that have no docstring
     (read as the API pages read them: physstep._core through its stub)."""
-    import griffe
-
     loader = griffe.GriffeLoader(search_paths=[str(README.parent / "python")])
     package = loader.load("physstep")
     loader.resolve_aliases(implicit=False, external=False)
