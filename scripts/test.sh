@@ -16,7 +16,8 @@ cargo run -q -p physstep --example custom_force
 "$VENV/bin/python" -m mypy.stubtest physstep._core
 for example in examples/*.py; do MPLBACKEND=Agg "$VENV/bin/python" "$example" >/dev/null; done
 MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q
-# The documentation site: a broken link, a README section gone or a missing docstring fails it.
+# The documentation site: a broken link or anchor, a README section gone or a missing docstring
+# fails it (not --quiet: mkdocs then drops the warnings that --strict counts).
 SITE=$(mktemp -d)
-NO_MKDOCS_2_WARNING=1 "$VENV/bin/mkdocs" build --strict --quiet --site-dir "$SITE"
-rm -rf "$SITE"
+trap 'rm -rf "$SITE"' EXIT
+NO_MKDOCS_2_WARNING=1 "$VENV/bin/mkdocs" build --strict --site-dir "$SITE"
