@@ -4,12 +4,14 @@
 
 Both step the same N balls (2D, radius 0.05 m, 1 kg, 30% of the box's area, random velocities
 up to 1 m/s per component, restitution 1, no gravity, dt = 1/120 s), placed by physstep's
-`balls` scene. physstep resolves each contact at its time of impact inside the step (one
-thread: the Collide stage is serial); pymunk resolves contacts with its iterative impulse
-solver (10 iterations, elasticity 1 on balls and walls, no friction, rotation locked), the
-way a game would set it up. Printed: ms per step (median of repeats), the ratio pymunk /
-physstep (above 1: physstep faster), the relative kinetic-energy drift of each after the
-whole run, and the deepest overlap left at the end.
+`balls` scene. physstep resolves each contact at its time of impact inside the step (its
+scan of the grid runs on the rayon pool); pymunk resolves contacts with its iterative
+impulse solver (10 iterations, elasticity 1 on balls and walls, no friction, rotation
+locked), the way a game would set it up. Each is run on one thread and on two (physstep
+with RAYON_NUM_THREADS; pymunk with `Space(threaded=True)`, `space.threads = 2`), and the
+pairs compared thread count for thread count. Printed: ms per step (median of repeats), the
+ratios pymunk / physstep (above 1: physstep faster), the relative kinetic-energy drift of
+each after the whole run, and the deepest overlap left at the end.
 """
 
 from __future__ import annotations
@@ -64,12 +66,14 @@ print(json.dumps({{"ms": statistics.median(times) / {steps} * 1e3, "v": w.veloci
 """
 
 
-def pymunk_run(n: int, steps: int, repeat: int) -> dict[str, object]:
+def pymunk_run(n: int, steps: int, repeat: int, threads: int = 1) -> dict[str, object]:
     import pymunk
 
     s = scene(n)
     x, v, side = s["x"], s["v"], s["side"]
-    space = pymunk.Space()
+    space = pymunk.Space(threaded=threads > 1)
+    if threads > 1:
+        space.threads = threads
     space.iterations = 10
     walls = [((0, 0), (side, 0)), ((side, 0), (side, side)), ((side, side), (0, side)), ((0, side), (0, 0))]
     for a, b in walls:
@@ -109,28 +113,39 @@ def main() -> None:
         import pymunk
     except ImportError:
         sys.exit("pymunk is not installed: pip install -e .[bench]")
-    ours = in_subprocess(PHYSSTEP.format(n=n, r=R, f=FRACTION, steps=steps, repeat=repeat), 1)
-    ref = pymunk_run(n, steps, repeat)
+    code = PHYSSTEP.format(n=n, r=R, f=FRACTION, steps=steps, repeat=repeat)
+    ours = {t: in_subprocess(code, t) for t in (1, 2)}
+    ref = {t: pymunk_run(n, steps, repeat, t) for t in (1, 2)}
     k0 = kinetic(scene(n)["v"])
     total = 2 + steps * repeat
     print(f"balls N = {n}, 2D, radius {R} m, {FRACTION:.0%} of the area, dt = 1/120 s, {total} steps")
     print(f"pymunk {pymunk.version} (Chipmunk2D, 10 iterations, elasticity 1)")
-    row("pymunk", ref["ms"], "ms/step")
-    row("physstep (time of impact, 1 thread)", ours["ms"], "ms/step", ref["ms"], "of pymunk")
-    speedup = ref["ms"] / ours["ms"]
-    print(f"{'':<44} speed-up over pymunk: {speedup:.2f}x")
+    speedup = {}
+    for t in (1, 2):
+        threads = f"{t} thread{'s' * (t > 1)}"
+        row(f"pymunk ({threads})", ref[t]["ms"], "ms/step")
+        row(f"physstep (time of impact, {threads})", ours[t]["ms"], "ms/step", ref[t]["ms"], "of pymunk")
+        speedup[t] = ref[t]["ms"] / ours[t]["ms"]
+        print(f"{'':<44} speed-up over pymunk, {t} against {t}: {speedup[t]:.2f}x")
+    if ours[1]["x"] != ours[2]["x"] or ours[1]["v"] != ours[2]["v"]:
+        sys.exit("physstep on 1 and 2 threads differ")
 
     def drift(r: dict[str, object]) -> float:
         return abs(kinetic(np.array(r["v"])) - k0) / k0
 
-    print(f"relative kinetic-energy drift after the run: physstep {drift(ours):.2e}, pymunk {drift(ref):.2e}")
     print(
-        f"deepest overlap at the end: physstep {overlap(np.array(ours['x'])):.2e} m, "
-        f"pymunk {overlap(np.array(ref['x'])):.2e} m (radius {R} m)"
+        f"relative kinetic-energy drift after the run: physstep {drift(ours[1]):.2e}, "
+        f"pymunk {drift(ref[1]):.2e}"
     )
-    print(f"physstep contacts resolved: {ours['collisions']['count']}")
-    summary = {"physstep": ours["ms"], "pymunk": ref["ms"], "speedup": speedup}
-    summary |= {"drift_physstep": drift(ours), "drift_pymunk": drift(ref)}
+    print(
+        f"deepest overlap at the end: physstep {overlap(np.array(ours[1]['x'])):.2e} m, "
+        f"pymunk {overlap(np.array(ref[1]['x'])):.2e} m (radius {R} m)"
+    )
+    count = ours[1]["collisions"]["count"]
+    print(f"physstep contacts resolved: {count} (bitwise the same on 1 and 2 threads)")
+    summary = {"physstep_1": ours[1]["ms"], "pymunk_1": ref[1]["ms"], "speedup_1": speedup[1]}
+    summary |= {"physstep_2": ours[2]["ms"], "pymunk_2": ref[2]["ms"], "speedup_2": speedup[2]}
+    summary |= {"drift_physstep": drift(ours[1]), "drift_pymunk": drift(ref[1])}
     print(json.dumps(summary))
 
 

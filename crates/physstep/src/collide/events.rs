@@ -75,6 +75,8 @@ pub(crate) struct Scratch {
     /// Radius and path left of each ball in the grid's order (the scan's).
     aux: Vec<[f64; 2]>,
     heap: BinaryHeap<Reverse<Event>>,
+    /// The events found by each chunk of the scan.
+    chunks: Vec<Vec<Reverse<Event>>>,
     grid: Grid,
 }
 
@@ -99,13 +101,25 @@ impl Scratch {
     }
 
     fn push(&mut self, s: f64, a: usize, b: u32) {
+        let ev = self.event(s, a, b);
+        self.heap.push(Reverse(ev));
+    }
+
+    fn event(&self, s: f64, a: usize, b: u32) -> Event {
         let s = if s <= 0.0 { 0.0 } else { s };
         let vb = if b >= WALL { 0 } else { self.ver[b as usize] };
-        self.heap.push(Reverse(Event { s: s.to_bits(), a: a as u32, b, va: self.ver[a], vb }));
+        Event { s: s.to_bits(), a: a as u32, b, va: self.ver[a], vb }
     }
 
     /// The earliest impact of slots `a < b` from the later of their times, if in the step.
     fn predict_pair(&mut self, a: usize, b: usize, inp: &Input<'_>) {
+        if let Some(ev) = self.pair_event(a, b, inp) {
+            self.heap.push(Reverse(ev));
+        }
+    }
+
+    /// The event of [`Scratch::predict_pair`], read-only (the scan's chunks share the state).
+    fn pair_event(&self, a: usize, b: usize, inp: &Input<'_>) -> Option<Event> {
         let d = inp.d;
         let s0 = self.tau[a].max(self.tau[b]);
         let (mut dd, mut dw, mut ww) = (0.0, 0.0, 0.0);
@@ -118,7 +132,7 @@ impl Scratch {
             ww += wk * wk;
         }
         if dw >= 0.0 {
-            return;
+            return None;
         }
         let r = inp.radius[a] + inp.radius[b];
         let c = dd - r * r;
@@ -127,14 +141,12 @@ impl Scratch {
         } else {
             let disc = dw * dw - ww * c;
             if disc < 0.0 {
-                return;
+                return None;
             }
             // The smaller root of ww s^2 + 2 dw s + c, in the form without cancellation.
             s0 + c / (-dw + disc.sqrt())
         };
-        if s <= 1.0 {
-            self.push(s, a, b as u32);
-        }
+        (s <= 1.0).then(|| self.event(s, a, b as u32))
     }
 
     fn predict_walls(&mut self, a: usize, inp: &Input<'_>) {

@@ -162,7 +162,7 @@ impl Grid {
     /// place `q` of the order (as [`Grid::partners`]): the rest of its cell and the next cell
     /// of its row as one range, the three cells of the next row as one, in 3D the three rows
     /// of the next layer. Returns how many of `out` were filled.
-    #[inline]
+    #[inline(always)]
     pub fn half_dense(&self, q: usize, d: usize, out: &mut [(u32, u32); 5]) -> usize {
         let b = self.order[q] as usize;
         let key = self.keys[b].0 as usize;

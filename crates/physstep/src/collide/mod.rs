@@ -8,7 +8,9 @@
 //!   step), so kinetic energy is kept to rounding when `e = 1` and balls neither overlap nor
 //!   pass through each other.
 //!
-//! The stage is serial: its result never depends on the thread count. See docs/collisions.md.
+//! The scan of the grid runs on the rayon pool in fixed chunks whose events are heaped, and
+//! the heap pops them in their total order (time, then slots): the result never depends on
+//! the thread count. The rest of the stage is serial. See docs/collisions.md.
 
 mod events;
 mod grid;

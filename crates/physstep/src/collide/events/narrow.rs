@@ -3,7 +3,13 @@
 //! shell around it, and the deepest overlap at the end of the step. See docs/collisions.md.
 
 use super::super::grid::{Grid, ANY};
-use super::{Input, Scratch, MARGIN};
+use super::{Event, Input, Scratch, MARGIN};
+use rayon::prelude::*;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+/// Balls per chunk of the scan (fixed: the chunks never depend on the thread count).
+const CHUNK: usize = 512;
 
 impl Scratch {
     /// The narrow phase of a pass: the grid built from the balls at their positions at the
@@ -32,12 +38,51 @@ impl Scratch {
         self.grid = grid;
     }
 
-    #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
+    /// The scan in fixed chunks of the grid's order (of slots in a hashed table), on the rayon
+    /// pool, each into its own list of events; the lists are then heaped. The heap pops its
+    /// events in their total order (time, slots, counters), whatever the order they were
+    /// pushed in: the contacts do not depend on the chunks or the thread count.
     fn scan_d<const D: usize>(&mut self, grid: &Grid, aux: &[[f64; 2]], inp: &Input<'_>) -> u64 {
+        let n = grid.order().len();
+        let count = n.div_ceil(CHUNK).max(1);
+        let mut chunks = std::mem::take(&mut self.chunks);
+        chunks.resize_with(count, Vec::new);
+        let me = &*self;
+        let run = |(c, out): (usize, &mut Vec<Reverse<Event>>)| -> u64 {
+            out.clear();
+            me.scan_span::<D>(grid, aux, inp, c * CHUNK..((c + 1) * CHUNK).min(n), out)
+        };
+        let found = if count > 1 {
+            chunks.par_iter_mut().enumerate().map(run).sum()
+        } else {
+            chunks.iter_mut().enumerate().map(run).sum()
+        };
+        let mut heap = std::mem::take(&mut self.heap).into_vec();
+        heap.clear();
+        for c in &chunks {
+            heap.extend_from_slice(c);
+        }
+        self.heap = BinaryHeap::from(heap);
+        self.chunks = chunks;
+        found
+    }
+
+    /// The scan of the places `span` of the grid's order (of the slots `span` in a hashed
+    /// table): their events pushed to `out`; returns the pairs tested.
+    #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
+    #[inline(always)]
+    fn scan_span<const D: usize>(
+        &self,
+        grid: &Grid,
+        aux: &[[f64; 2]],
+        inp: &Input<'_>,
+        span: std::ops::Range<usize>,
+        out: &mut Vec<Reverse<Event>>,
+    ) -> u64 {
         let (order, sorted) = (grid.order(), grid.sorted());
         let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
         let mut found = 0u64;
-        let test = |me: &mut Self, i: usize, q: usize, t: usize| {
+        let mut test = |i: usize, q: usize, t: usize| {
             let (pi, pj) = (at(q), at(t));
             let mut dist2 = 0.0;
             for k in 0..D {
@@ -46,31 +91,45 @@ impl Scratch {
             let reach = (aux[q][0] + aux[t][0] + aux[q][1] + aux[t][1]) * MARGIN;
             if dist2 <= reach * reach {
                 let j = order[t] as usize;
-                me.predict_pair(i.min(j), i.max(j), inp);
+                if let Some(ev) = self.pair_event(i.min(j), i.max(j), inp) {
+                    out.push(Reverse(ev));
+                }
             }
         };
         if grid.dense() {
             let mut ranges = [(0u32, 0u32); 5];
-            for q in 0..order.len() {
+            for q in span {
                 let i = order[q] as usize;
                 let count = grid.half_dense(q, D, &mut ranges);
                 for &(lo, hi) in &ranges[..count] {
                     found += u64::from(hi.saturating_sub(lo));
+                    // The test written out (not the closure): the hot loop stays inlined.
                     for t in lo as usize..hi as usize {
-                        test(self, i, q, t);
+                        let (pi, pj) = (at(q), at(t));
+                        let mut dist2 = 0.0;
+                        for k in 0..D {
+                            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+                        }
+                        let reach = (aux[q][0] + aux[t][0] + aux[q][1] + aux[t][1]) * MARGIN;
+                        if dist2 <= reach * reach {
+                            let j = order[t] as usize;
+                            if let Some(ev) = self.pair_event(i.min(j), i.max(j), inp) {
+                                out.push(Reverse(ev));
+                            }
+                        }
                     }
                 }
             }
         } else {
             let mut spans = [(0u32, 0u32, 0u64); 14];
-            for i in 0..order.len() {
+            for i in span {
                 let q = grid.pos_of(i);
                 let count = grid.partners(i, D, &mut spans);
                 for &(lo, hi, key) in &spans[..count] {
                     for t in lo as usize..hi.max(lo) as usize {
                         if key == ANY || grid.key_of(order[t] as usize) == key {
                             found += 1;
-                            test(self, i, q, t);
+                            test(i, q, t);
                         }
                     }
                 }
