@@ -189,6 +189,21 @@ class Demo:
 _FONTS: dict[int, pygame.font.Font] = {}
 
 
+#: The constraint sweeps a demo's keys can set (doubled and halved within this range).
+SWEEPS = (1, 256)
+
+
+def sweeps(current: int, action: str, panels: list[Panel]) -> int:
+    """The constraint sweeps after an ``iterations_up`` / ``iterations_down`` action (doubled
+    or halved within :data:`SWEEPS`), set on every panel that still runs."""
+    n = current * 2 if action == "iterations_up" else current // 2
+    n = min(SWEEPS[1], max(SWEEPS[0], n))
+    for p in panels:
+        if not p.error:
+            p.world.constraint_iterations = n
+    return n
+
+
 def font(size: int) -> pygame.font.Font:
     """pygame's default font at ``size`` px, loaded once per run (:func:`forget_fonts`)."""
     if size not in _FONTS:

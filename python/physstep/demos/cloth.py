@@ -13,8 +13,6 @@ from physstep.demos.base import Demo, Key, Panel
 W, H, SPACING = 12, 12, 0.1
 #: The wind the ``w`` key turns on: a uniform acceleration along +z, m/s^2.
 WIND = 6.0
-#: The sweep counts the ``i`` keys reach.
-ITERATIONS = (1, 256)
 FRONT, BACK = (110, 170, 255), (255, 150, 70)
 
 
@@ -65,11 +63,7 @@ class ClothDemo(Demo):
 
     def act(self, panels: list[Panel], action: str) -> None:
         if action in ("iterations_up", "iterations_down"):
-            n = self.iterations * 2 if action == "iterations_up" else self.iterations // 2
-            self.iterations = min(ITERATIONS[1], max(ITERATIONS[0], n))
-            for p in panels:
-                if not p.error:
-                    p.world.constraint_iterations = self.iterations
+            self.iterations = base.sweeps(self.iterations, action, panels)
         elif action == "wind":
             self.wind = not self.wind
             for p in panels:

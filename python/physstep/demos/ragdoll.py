@@ -13,8 +13,6 @@ from physstep.demos.base import Demo, Key, Panel
 BONES = ((0, 1), (1, 2), (1, 3), (3, 4), (1, 5), (5, 6), (2, 7), (7, 8), (2, 9), (9, 10))
 #: Its joint limits (min/max distances), drawn faintly.
 LIMITS = ((1, 4), (1, 6), (2, 8), (2, 10), (0, 2), (7, 9), (3, 2), (5, 2))
-#: The sweep counts the ``i`` keys reach.
-ITERATIONS = (1, 256)
 #: What the ``k`` key adds: an upward speed, m/s, and a spin about the centre of mass, rad/s.
 KICK_SPEED, KICK_SPIN = 5.0, 4.0
 BONE = (230, 232, 240)
@@ -51,11 +49,7 @@ class RagdollDemo(Demo):
 
     def act(self, panels: list[Panel], action: str) -> None:
         if action in ("iterations_up", "iterations_down"):
-            n = self.iterations * 2 if action == "iterations_up" else self.iterations // 2
-            self.iterations = min(ITERATIONS[1], max(ITERATIONS[0], n))
-            for p in panels:
-                if not p.error:
-                    p.world.constraint_iterations = self.iterations
+            self.iterations = base.sweeps(self.iterations, action, panels)
         elif action == "kick":
             self.kicks += 1
             spin = KICK_SPIN if self.kicks % 2 else -KICK_SPIN  # alternate the sense
