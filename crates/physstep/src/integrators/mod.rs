@@ -24,6 +24,7 @@ mod newton;
 mod predictor_corrector;
 pub mod registry;
 mod rk4;
+mod state;
 mod symplectic_euler;
 mod verlet;
 mod yoshida;
