@@ -136,8 +136,7 @@ class Runner:
             return
         p.world.method = name
         p.info = physstep.method(name)
-        p.e0 = p.energy()
-        p.drift.clear()
+        p.restart_drift()
 
     def change_dt(self, factor: float) -> None:
         """dt times ``factor`` within the demo's range, for every panel."""
@@ -191,8 +190,7 @@ class Runner:
         elif event.type == pygame.MOUSEBUTTONUP and event.button == 1 and self.drag is not None:
             self.drag = None
             p = self.panels[self.focus]
-            p.e0 = p.energy()
-            p.drift.clear()
+            p.restart_drift()
 
     def act(self, action: str) -> None:
         """Does what key action ``action`` (a :data:`KEYS` name) says."""

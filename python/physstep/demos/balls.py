@@ -77,8 +77,7 @@ class BallsDemo(Demo):
         for p in panels:
             if not p.error:
                 p.world.restitution = self.restitution
-                p.e0 = p.energy()
-                p.drift.clear()
+                p.restart_drift()
 
     def hud(self, panel: Panel) -> list[tuple[str, str, tuple[int, int, int]]]:
         c = panel.world.collisions

@@ -89,6 +89,12 @@ class Panel:
             self.error = str(e)
             return None
 
+    def restart_drift(self) -> None:
+        """Measures the drift from the current energy on (after a change by hand: a new
+        method, a drag, a kick, a new world)."""
+        self.e0 = self.energy()
+        self.drift.clear()
+
     def drift_now(self) -> float | None:
         """Relative energy drift (E - E0) / |E0| (absolute where |E0| < 1e-12 J: zero up to
         rounding, as a chain at rest length starts), or None."""

@@ -79,8 +79,7 @@ class ClothDemo(Demo):
                 w.constraint_iterations = self.iterations
                 w.restore(p.world.snapshot())
                 p.world = w
-                p.e0 = p.energy()
-                p.drift.clear()
+                p.restart_drift()
         else:
             super().act(panels, action)
 

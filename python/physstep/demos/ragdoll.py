@@ -60,8 +60,7 @@ class RagdollDemo(Demo):
                 r = x - x.mean(axis=0)
                 v += np.column_stack([-spin * r[:, 1], KICK_SPEED + spin * r[:, 0]])
                 p.world.velocities = v
-                p.e0 = p.energy()
-                p.drift.clear()
+                p.restart_drift()
         else:
             super().act(panels, action)
 
