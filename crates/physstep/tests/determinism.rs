@@ -10,6 +10,8 @@
 //! (compiler flags, fused multiply-add, the target CPU, libm) may do that, and how to record
 //! the new table (`PHYSSTEP_PRINT_HASHES=1 cargo test -p physstep --test determinism`).
 
+mod common;
+
 use physstep::prelude::*;
 
 /// Steps taken before the hash is read.
@@ -38,17 +40,6 @@ const HASHES: [(&str, u64); 19] = [
     ("balls", 0x574ca61f53073d01),
 ];
 
-/// The method a scene's hash is recorded with.
-fn method(scene: &str) -> &'static str {
-    if ["lorenz", "rossler", "thomas"].contains(&scene) {
-        "rk4"
-    } else if scene.starts_with("stiff-") {
-        "backward-euler"
-    } else {
-        "symplectic-euler"
-    }
-}
-
 /// The parameters a scene's hash is recorded with: its defaults, but for stiff-cloth, whose
 /// 12 x 12 default takes 12 s for 1,000 backward-Euler steps in the test profile (6 x 6: 1 s).
 fn params(scene: &str) -> &'static [(&'static str, f64)] {
@@ -64,7 +55,7 @@ fn hash(scene: &str, threads: usize) -> u64 {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
         let spec = scenes::spec(scene).unwrap();
-        let mut s = scenes::build(scene, params(scene), method(scene), spec.dt).unwrap();
+        let mut s = scenes::build(scene, params(scene), common::recorded_method(scene), spec.dt).unwrap();
         s.world.step(STEPS).unwrap();
         assert_eq!(s.world.steps(), STEPS, "{scene}");
         s.world.state_hash()

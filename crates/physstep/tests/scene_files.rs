@@ -1,25 +1,16 @@
 //! Scene files: every built-in scene exported and loaded back runs bitwise the built-in
 //! trajectory; bad files are refused with one line naming the file, the line and the field.
 
+mod common;
+
 use physstep::prelude::*;
 use physstep::scenes::file;
-
-/// The method the determinism table uses for a scene (see tests/determinism.rs).
-fn method(scene: &str) -> &'static str {
-    if ["lorenz", "rossler", "thomas"].contains(&scene) {
-        "rk4"
-    } else if scene.starts_with("stiff-") {
-        "backward-euler"
-    } else {
-        "symplectic-euler"
-    }
-}
 
 #[test]
 fn every_scene_exported_and_loaded_back_runs_bitwise_the_same() {
     for spec in &scenes::SCENES {
         let small: &[(&str, f64)] = if spec.name == "stiff-cloth" { &[("n", 5.0)] } else { &[] };
-        let mut built = scenes::build(spec.name, small, method(spec.name), spec.dt).unwrap();
+        let mut built = scenes::build(spec.name, small, common::recorded_method(spec.name), spec.dt).unwrap();
         let text = file::export(&built.world, spec.name, Some(spec.until)).unwrap();
         let mut loaded =
             file::parse(&text, "x.toml").unwrap_or_else(|e| panic!("{}: {e}\n{text}", spec.name));

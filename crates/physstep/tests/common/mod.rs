@@ -55,3 +55,16 @@ pub fn slope(dts: &[f64], errors: &[f64]) -> f64 {
     let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
     sxy / sxx
 }
+
+/// The method a scene's recorded hash and exported file use: RK4 for the flows (split
+/// methods refuse them), backward Euler for the stiff scenes (symplectic Euler diverges),
+/// symplectic Euler otherwise.
+pub fn recorded_method(scene: &str) -> &'static str {
+    if ["lorenz", "rossler", "thomas"].contains(&scene) {
+        "rk4"
+    } else if scene.starts_with("stiff-") {
+        "backward-euler"
+    } else {
+        "symplectic-euler"
+    }
+}
