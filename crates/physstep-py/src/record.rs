@@ -60,11 +60,7 @@ pub(crate) fn simulate<'py>(
         params_out.set_item(p.name, *v)?;
     }
     d.set_item("params", params_out)?;
-    if built.has_exact() {
-        let (mut ex, mut ev) = (Vec::with_capacity(rec.x.len()), Vec::with_capacity(rec.x.len()));
-        for t in &rec.t {
-            built.exact_into(*t, &mut ex, &mut ev);
-        }
+    if let Some((ex, ev)) = built.exact_rows(&rec.t) {
         d.set_item("exact_x", matrix(py, ex, n)?)?;
         d.set_item("exact_v", matrix(py, ev, n)?)?;
     } else {
