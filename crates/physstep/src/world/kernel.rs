@@ -106,7 +106,7 @@ pub(crate) struct Row<'a> {
 
 /// Up to `n` steps of a small world with a look at every one, as work for
 /// [`Integrator::visit`].
-struct Observe<'a, 'b, const D: usize> {
+struct Observe<'a, 'b, const D: usize, F> {
     forces: Forces<'a>,
     model: &'a super::Model,
     y: &'a mut [f64],
@@ -117,10 +117,10 @@ struct Observe<'a, 'b, const D: usize> {
     epoch: Epoch,
     h: f64,
     n: u64,
-    on_row: &'b mut dyn FnMut(Row<'_>) -> bool,
+    on_row: &'b mut F,
 }
 
-impl<const D: usize> Visit for Observe<'_, '_, D> {
+impl<const D: usize, F: FnMut(Row<'_>) -> bool> Visit for Observe<'_, '_, D, F> {
     type Out = (u64, Option<Stop>);
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, Option<Stop>) {
@@ -152,12 +152,13 @@ impl World {
     /// `n` steps of `h` seconds as [`World::run`] takes them, `on_row` called with the state
     /// after each good step (it stops the run after that step by returning `false`), when the
     /// world is small (one tile) and the fused kernel applies; `None` otherwise, nothing done.
-    /// A recording of every step takes its rows this way, inside the kernel's loop.
-    pub(crate) fn run_observed(
+    /// A recording of every step takes its rows this way, inside the kernel's loop (`on_row`
+    /// compiled into it, not called through a pointer).
+    pub(crate) fn run_observed<F: FnMut(Row<'_>) -> bool>(
         &mut self,
         n: u64,
         h: f64,
-        on_row: &mut dyn FnMut(Row<'_>) -> bool,
+        on_row: &mut F,
     ) -> Option<Result<()>> {
         let small = n > 0 && self.model.mass.len() <= tiles::OBSERVED_MAX;
         let mut method = self.fused().filter(|_| small)?;
@@ -167,13 +168,13 @@ impl World {
         Some(r)
     }
 
-    fn observe(
+    fn observe<F: FnMut(Row<'_>) -> bool>(
         &mut self,
         method: &mut Integrator,
         saved: &mut Vec<f64>,
         n: u64,
         h: f64,
-        on_row: &mut dyn FnMut(Row<'_>) -> bool,
+        on_row: &mut F,
     ) -> Result<()> {
         let ctx = self.context(h)?;
         if self.stale {
@@ -187,7 +188,7 @@ impl World {
         let State { t, y, steps, evals, .. } = &mut self.state;
         let (epoch, saved_slice) = (ctx.epoch, saved.as_mut_slice());
         let (good, stop) = match model.dim {
-            1 => method.visit(Observe::<1> {
+            1 => method.visit(Observe::<1, F> {
                 forces,
                 model,
                 y,
@@ -200,7 +201,7 @@ impl World {
                 n,
                 on_row,
             }),
-            2 => method.visit(Observe::<2> {
+            2 => method.visit(Observe::<2, F> {
                 forces,
                 model,
                 y,
@@ -213,7 +214,7 @@ impl World {
                 n,
                 on_row,
             }),
-            _ => method.visit(Observe::<3> {
+            _ => method.visit(Observe::<3, F> {
                 forces,
                 model,
                 y,

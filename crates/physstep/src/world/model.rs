@@ -3,6 +3,7 @@
 use crate::dynamics::SecondOrder;
 use crate::error::Error;
 use crate::forces::{ForceSet, UserForce};
+use crate::integrators::registry::RUNAWAY;
 
 /// The force model: what the integrators see as a [`SecondOrder`] system.
 #[derive(Debug, Clone, Default)]
@@ -160,5 +161,39 @@ impl Model {
             }
         }
         e
+    }
+
+    /// Whether the energy of every state within [`RUNAWAY`] (each coordinate and velocity
+    /// component at most that in size, as after every accepted step) is finite: then a
+    /// recording need not check it row by row. Holds where there are particles, no user force,
+    /// no force that grows without bound (central gravity, n-body), and the bounds of the kinetic
+    /// and potential energies at that reach sum to at most 1e300 (far from overflow, whatever
+    /// the rounding of the sums).
+    pub(crate) fn energy_bounded(&self) -> bool {
+        if !self.user.is_empty() || self.mass.is_empty() {
+            return false;
+        }
+        // The largest |x| or |v| of a particle.
+        let reach = RUNAWAY * (self.dim as f64).sqrt();
+        let moving = self.mass.iter().zip(&self.inv_mass).filter(|(_, w)| **w > 0.0);
+        let kinetic: f64 = moving.map(|(m, _)| 0.5 * m * reach * reach).sum();
+        let potential = self.forces.potential_bound(reach, &self.mass);
+        potential.is_some_and(|u| kinetic + u <= 1e300)
+    }
+
+    /// Appends the kinetic energy ([`Model::kinetic`]) and the energy (that plus
+    /// [`Model::potential`]) of every row of positions `xs` and velocities `vs` (flat rows of
+    /// `len()` values) to `kinetic` and `energy`, bit for bit as row by row. The forces'
+    /// potentials only: for a model without user forces.
+    pub(crate) fn energy_rows(&self, xs: &[f64], vs: &[f64], kinetic: &mut Vec<f64>, energy: &mut Vec<f64>) {
+        debug_assert!(self.user.is_empty());
+        let (from, n) = (energy.len(), self.len());
+        kinetic.extend(vs.chunks_exact(n).map(|v| self.kinetic(v)));
+        energy.resize(from + xs.len() / n, 0.0);
+        let e = &mut energy[from..];
+        self.forces.potential_rows(self.dim, xs, &self.mass, e);
+        for (e, k) in e.iter_mut().zip(&kinetic[kinetic.len() - vs.len() / n..]) {
+            *e = k + *e;
+        }
     }
 }
