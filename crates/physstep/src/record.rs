@@ -312,11 +312,14 @@ fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording) -> Res
 /// `true` (the run goes on).
 #[inline]
 fn push_state(r: &crate::world::Row<'_>, rec: &mut Recording) -> bool {
-    // Rows of a small world: element by element, not a copy call per few numbers.
-    rec.a.extend(r.a.iter().copied());
+    // Rows of a small world: element by element, not a copy call per few numbers (the
+    // columns have room for the whole run: a push is a store).
     rec.t.push(r.t);
-    rec.x.extend(r.x.iter().copied());
-    rec.v.extend(r.v.iter().copied());
+    for (col, row) in [(&mut rec.x, r.x), (&mut rec.v, r.v), (&mut rec.a, r.a)] {
+        for &c in row {
+            col.push(c);
+        }
+    }
     true
 }
 

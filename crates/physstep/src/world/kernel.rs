@@ -14,6 +14,7 @@
 //! way, rolls back, and names the particle.
 
 use super::flat::{Flat, Recipe};
+use super::small::{self, Elements};
 use super::tiles::{self, Forces, Run};
 use super::{Epoch, World};
 use crate::dynamics::SecondOrder;
@@ -108,6 +109,8 @@ pub(crate) struct Row<'a> {
 /// [`Integrator::visit`].
 struct Observe<'a, 'b, const D: usize, F> {
     forces: Forces<'a>,
+    /// The element-wise recipe and forces, when they apply.
+    small: Option<(Recipe, &'a Elements)>,
     model: &'a super::Model,
     y: &'a mut [f64],
     saved: &'a mut [f64],
@@ -124,7 +127,7 @@ impl<const D: usize, F: FnMut(Row<'_>) -> bool> Visit for Observe<'_, '_, D, F> 
     type Out = (u64, Option<Stop>);
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, Option<Stop>) {
-        let Self { forces, model, y, saved, t, steps, evals, epoch, h, n, on_row } = self;
+        let Self { forces, small, model, y, saved, t, steps, evals, epoch, h, n, on_row } = self;
         let movable = movable(epoch, *steps, *t, n);
         let steps0 = *steps;
         let run = Run { epoch, steps: steps0, h, n: movable };
@@ -133,8 +136,14 @@ impl<const D: usize, F: FnMut(Row<'_>) -> bool> Visit for Observe<'_, '_, D, F> 
             let t = epoch.time(s).unwrap_or(f64::NAN);
             on_row(Row { model, steps: s, t, x: &y[..m], v: &y[m..], a: &f[m..] })
         };
-        let ((good, e), halted) =
-            tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look);
+        let elementwise = small.and_then(|(r, k)| {
+            let (good, halted) = small::observed(k, r, h, movable, y, saved, &mut look)?;
+            Some(((good, r.evals(forces.velocity)), halted))
+        });
+        let ((good, e), halted) = match elementwise {
+            Some(out) => out,
+            None => tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look),
+        };
         *steps += good;
         *t = epoch.time(*steps).unwrap_or(f64::NAN);
         *evals += good * e;
@@ -183,13 +192,17 @@ impl World {
         self.prev_x.clear();
         saved.resize(self.state.y.len(), 0.0);
         let start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
-        let forces = Forces { local: self.model.forces.local(), velocity: self.model.velocity_dependent() };
+        let local = self.model.forces.local();
+        let forces = Forces { local, velocity: self.model.velocity_dependent() };
+        let elements = Elements::of(local, self.model.dim, &self.model.inv_mass);
+        let small = Recipe::of(method.info().name).zip(elements.as_ref());
         let model = &self.model;
         let State { t, y, steps, evals, .. } = &mut self.state;
         let (epoch, saved_slice) = (ctx.epoch, saved.as_mut_slice());
         let (good, stop) = match model.dim {
             1 => method.visit(Observe::<1, F> {
                 forces,
+                small,
                 model,
                 y,
                 saved: saved_slice,
@@ -203,6 +216,7 @@ impl World {
             }),
             2 => method.visit(Observe::<2, F> {
                 forces,
+                small,
                 model,
                 y,
                 saved: saved_slice,
@@ -216,6 +230,7 @@ impl World {
             }),
             _ => method.visit(Observe::<3, F> {
                 forces,
+                small,
                 model,
                 y,
                 saved: saved_slice,
