@@ -85,12 +85,16 @@ pub(crate) fn run(
         None => py_err(e),
     };
     let mut recorder = Recorder::new(w, rp).map_err(fail)?;
+    // Steps between looks at the clock: up to 4096 for a small world (a call's set-up is a
+    // fair part of a cheap step), at least 64; 64 with Python forces (slow steps).
+    let coords = w.positions().len().max(1) as u64;
+    let per_look = if slot.is_some() { 64 } else { (65_536 / coords).clamp(64, 4096) };
     let start = Instant::now();
     loop {
         let done = py.detach(|| -> physstep::Result<bool> {
             let slice = Instant::now();
             loop {
-                if recorder.run(w, 64)? {
+                if recorder.run(w, per_look)? {
                     return Ok(true);
                 }
                 if slice.elapsed() > SLICE {
