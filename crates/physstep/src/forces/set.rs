@@ -205,8 +205,9 @@ impl ForceSet {
             let rows = xs.chunks_exact(w).zip(u.iter_mut());
             match *force {
                 Force::Gravity { g } => rows.for_each(|(x, u)| *u += gravity::potential(dim, g, x, mass)),
-                Force::Spring { i, j, stiffness, rest_length, .. } => rows
-                    .for_each(|(x, u)| *u += spring::potential(dim, x, i, j, stiffness, rest_length)),
+                Force::Spring { i, j, stiffness, rest_length, .. } => {
+                    rows.for_each(|(x, u)| *u += spring::potential(dim, x, i, j, stiffness, rest_length))
+                }
                 Force::CentralGravity { center, gm } => {
                     rows.for_each(|(x, u)| *u += central::potential(dim, center, gm, x, mass));
                 }

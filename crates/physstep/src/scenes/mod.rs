@@ -83,9 +83,11 @@ impl Scene {
             }
             Exact::Ballistic { x0, v0, a } => ts
                 .iter()
-                .flat_map(|&t| (0..2).map(move |k| (x0[k] + v0[k] * t + 0.5 * a[k] * t * t, v0[k] + a[k] * t)))
+                .flat_map(|&t| {
+                    (0..2).map(move |k| (x0[k] + v0[k] * t + 0.5 * a[k] * t * t, v0[k] + a[k] * t))
+                })
                 .unzip(),
-            Exact::Drag { rate, x0, v0 } if rate == 0.0 => ts.iter().map(|&t| (x0 + v0 * t, v0)).unzip(),
+            Exact::Drag { rate: 0.0, x0, v0 } => ts.iter().map(|&t| (x0 + v0 * t, v0)).unzip(),
             Exact::Drag { rate, x0, v0 } => ts
                 .iter()
                 .map(|&t| {

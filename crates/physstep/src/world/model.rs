@@ -193,7 +193,8 @@ impl Model {
         let e = &mut energy[from..];
         self.forces.potential_rows(self.dim, xs, &self.mass, e);
         for (e, k) in e.iter_mut().zip(&kinetic[kinetic.len() - vs.len() / n..]) {
-            *e = k + *e;
+            // u + k: IEEE addition commutes, the bits of k + u.
+            *e += k;
         }
     }
 }

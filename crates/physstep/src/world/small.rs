@@ -48,16 +48,17 @@ impl Elements {
         let z = [0.0; CAP];
         let mut e = Self { len: inv_mass.len() * dim, s, im: z, g: z, k: z, c: z, at: z };
         for (p, &w) in inv_mass.iter().enumerate() {
-            for c in 0..dim {
-                e.im[p * dim + c] = w;
-                e.g[p * dim + c] = if w > 0.0 { g[c] } else { 0.0 };
+            let r = p * dim..(p + 1) * dim;
+            for ((im, gm), gc) in e.im[r.clone()].iter_mut().zip(&mut e.g[r]).zip(g) {
+                (*im, *gm) = (w, if w > 0.0 { gc } else { 0.0 });
             }
         }
         for sp in springs {
             let [k, _, c] = sp.p;
-            for d in 0..dim {
-                (e.k[sp.i * dim + d], e.c[sp.i * dim + d], e.at[sp.i * dim + d]) = (k, c, sp.at[d]);
-            }
+            let r = sp.i * dim..(sp.i + 1) * dim;
+            e.k[r.clone()].fill(k);
+            e.c[r.clone()].fill(c);
+            e.at[r].copy_from_slice(&sp.at[..dim]);
         }
         Some(e)
     }
