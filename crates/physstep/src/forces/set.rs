@@ -199,6 +199,7 @@ impl ForceSet {
     /// [`ForceSet::potential`] of every row of `xs` (flat rows of `mass.len() * dim`
     /// positions) added to `u`, one entry per row: each force matched once for all the rows,
     /// each row's terms added in the same order, so the same bits as row by row.
+    #[inline]
     pub(crate) fn potential_rows(&self, dim: usize, xs: &[f64], mass: &[f64], u: &mut [f64]) {
         let w = mass.len() * dim;
         for force in &self.forces {

@@ -153,10 +153,20 @@ impl Model {
     /// Kinetic energy of velocities `v`, J (static particles excluded).
     #[must_use]
     pub fn kinetic(&self, v: &[f64]) -> f64 {
+        match self.dim {
+            1 => self.kinetic_d::<1>(v),
+            2 => self.kinetic_d::<2>(v),
+            _ => self.kinetic_d::<3>(v),
+        }
+    }
+
+    /// [`Model::kinetic`] in `D` dimensions.
+    #[inline(always)]
+    fn kinetic_d<const D: usize>(&self, v: &[f64]) -> f64 {
+        debug_assert_eq!(v.len(), self.len());
         let mut e = 0.0;
-        for (p, (m, w)) in self.mass.iter().zip(&self.inv_mass).enumerate() {
+        for ((m, w), vp) in self.mass.iter().zip(&self.inv_mass).zip(v.chunks_exact(D)) {
             if *w > 0.0 {
-                let vp = &v[p * self.dim..(p + 1) * self.dim];
                 e += 0.5 * m * vp.iter().map(|c| c * c).sum::<f64>();
             }
         }
@@ -186,12 +196,27 @@ impl Model {
     /// `len()` values) to `kinetic` and `energy`, bit for bit as row by row. The forces'
     /// potentials only: for a model without user forces.
     pub(crate) fn energy_rows(&self, xs: &[f64], vs: &[f64], kinetic: &mut Vec<f64>, energy: &mut Vec<f64>) {
+        match self.dim {
+            1 => self.energy_rows_d::<1>(xs, vs, kinetic, energy),
+            2 => self.energy_rows_d::<2>(xs, vs, kinetic, energy),
+            _ => self.energy_rows_d::<3>(xs, vs, kinetic, energy),
+        }
+    }
+
+    /// [`Model::energy_rows`] in `D` dimensions.
+    fn energy_rows_d<const D: usize>(
+        &self,
+        xs: &[f64],
+        vs: &[f64],
+        kinetic: &mut Vec<f64>,
+        energy: &mut Vec<f64>,
+    ) {
         debug_assert!(self.user.is_empty());
         let (from, n) = (energy.len(), self.len());
-        kinetic.extend(vs.chunks_exact(n).map(|v| self.kinetic(v)));
+        kinetic.extend(vs.chunks_exact(n).map(|v| self.kinetic_d::<D>(v)));
         energy.resize(from + xs.len() / n, 0.0);
         let e = &mut energy[from..];
-        self.forces.potential_rows(self.dim, xs, &self.mass, e);
+        self.forces.potential_rows(D, xs, &self.mass, e);
         for (e, k) in e.iter_mut().zip(&kinetic[kinetic.len() - vs.len() / n..]) {
             // u + k: IEEE addition commutes, the bits of k + u.
             *e += k;
