@@ -310,16 +310,14 @@ fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording) -> Res
 
 /// Appends the time and state of a row handed out by the kernel (not its energies); returns
 /// `true` (the run goes on).
-#[inline]
+#[inline(always)]
 fn push_state(r: &crate::world::Row<'_>, rec: &mut Recording) -> bool {
     // Rows of a small world: element by element, not a copy call per few numbers (the
     // columns have room for the whole run: a push is a store).
     rec.t.push(r.t);
-    for (col, row) in [(&mut rec.x, r.x), (&mut rec.v, r.v), (&mut rec.a, r.a)] {
-        for &c in row {
-            col.push(c);
-        }
-    }
+    r.x.iter().for_each(|&c| rec.x.push(c));
+    r.v.iter().for_each(|&c| rec.v.push(c));
+    r.a.iter().for_each(|&c| rec.a.push(c));
     true
 }
 
