@@ -92,11 +92,24 @@ pub(super) fn observed(
     saved: &mut [f64],
     on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
 ) -> Option<(u64, bool)> {
-    let velocity_first = match recipe {
-        Recipe::SymplecticEuler => true,
-        Recipe::ExplicitEuler => false,
-        Recipe::VelocityVerlet | Recipe::Rk4 => return None,
-    };
+    match recipe {
+        Recipe::SymplecticEuler => Some(run::<true>(e, h, n, y, saved, on_step)),
+        Recipe::ExplicitEuler => Some(run::<false>(e, h, n, y, saved, on_step)),
+        Recipe::VelocityVerlet | Recipe::Rk4 => None,
+    }
+}
+
+/// [`observed`] by symplectic Euler (`VELOCITY_FIRST`) or explicit Euler, each compiled on
+/// its own (no branch in the loop).
+#[inline(always)]
+fn run<const VELOCITY_FIRST: bool>(
+    e: &Elements,
+    h: f64,
+    n: u64,
+    y: &mut [f64],
+    saved: &mut [f64],
+    on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
+) -> (u64, bool) {
     let m = e.len;
     saved.copy_from_slice(y);
     let (mut ys, mut fs) = ([0.0; 2 * CAP], [0.0; 2 * CAP]);
@@ -110,7 +123,7 @@ pub(super) fn observed(
         let mut flag = false;
         for j in 0..m {
             let (mut x, mut v, a) = (ys[j], ys[m + j], f[m + j]);
-            if velocity_first {
+            if VELOCITY_FIRST {
                 // Symplectic Euler: kick, drift.
                 v += h * a;
                 x += h * v;
@@ -133,5 +146,5 @@ pub(super) fn observed(
         }
     }
     y.copy_from_slice(ys);
-    Some((good, halted))
+    (good, halted)
 }
