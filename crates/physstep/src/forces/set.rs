@@ -231,7 +231,8 @@ impl ForceSet {
             bound += match *force {
                 // |m g . x| <= m |g| |x|.
                 Force::Gravity { g } => m * norm(g) * reach,
-                // | |d| - rest | <= |x_i| + |x_j or anchor| + rest.
+                // | |d| - rest | <= |x_i| + |x_j or anchor| + rest (stiffness >= 0, checked
+                // when the force is added).
                 Force::Spring { j, stiffness, rest_length, .. } => {
                     let far = match j {
                         Endpoint::Particle(_) => reach,
