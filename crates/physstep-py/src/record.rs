@@ -60,11 +60,7 @@ pub(crate) fn simulate<'py>(
         params_out.set_item(p.name, *v)?;
     }
     d.set_item("params", params_out)?;
-    if built.has_exact() {
-        let (mut ex, mut ev) = (Vec::with_capacity(rec.x.len()), Vec::with_capacity(rec.x.len()));
-        for t in &rec.t {
-            built.exact_into(*t, &mut ex, &mut ev);
-        }
+    if let Some((ex, ev)) = built.exact_rows(&rec.t) {
         d.set_item("exact_x", matrix(py, ex, n)?)?;
         d.set_item("exact_v", matrix(py, ev, n)?)?;
     } else {
@@ -89,12 +85,16 @@ pub(crate) fn run(
         None => py_err(e),
     };
     let mut recorder = Recorder::new(w, rp).map_err(fail)?;
+    // Steps between looks at the clock: up to 4096 for a small world (a call's set-up is a
+    // fair part of a cheap step), at least 64; 64 with Python forces (slow steps).
+    let coords = w.positions().len().max(1) as u64;
+    let per_look = if slot.is_some() { 64 } else { (65_536 / coords).clamp(64, 4096) };
     let start = Instant::now();
     loop {
         let done = py.detach(|| -> physstep::Result<bool> {
             let slice = Instant::now();
             loop {
-                if recorder.run(w, 64)? {
+                if recorder.run(w, per_look)? {
                     return Ok(true);
                 }
                 if slice.elapsed() > SLICE {

@@ -247,18 +247,30 @@ impl Recorder {
         if self.params.every != 1 {
             return None;
         }
-        let method = world.integrator().info().name;
-        let before = world.steps();
-        let rec = &mut self.rec;
-        let mut failed = None;
-        let mut row = |r: crate::world::Row<'_>| match push_row(&r, method, rec) {
-            Ok(()) => true,
-            Err(e) => {
-                failed = Some(e);
-                false
-            }
+        let (before, n) = (world.steps(), end - first + 1);
+        let (r, failed) = if world.model().energy_bounded() {
+            // No energy can overflow: the rows are the state alone, their energies computed
+            // after the loop in one pass over the columns.
+            let from = self.rec.t.len();
+            let rec = &mut self.rec;
+            let r = world.run_observed(n, self.params.dt, &mut |r| push_state(&r, rec))?;
+            let n = world.positions().len();
+            let (xs, vs) = (&rec.x[from * n..], &rec.v[from * n..]);
+            world.model().energy_rows(xs, vs, &mut rec.kinetic, &mut rec.energy);
+            (r, None)
+        } else {
+            let method = world.integrator().info().name;
+            let rec = &mut self.rec;
+            let mut failed = None;
+            let mut row = |r: crate::world::Row<'_>| match push_row(&r, method, rec) {
+                Ok(()) => true,
+                Err(e) => {
+                    failed = Some(e);
+                    false
+                }
+            };
+            (world.run_observed(n, self.params.dt, &mut row)?, failed)
         };
-        let r = world.run_observed(end - first + 1, self.params.dt, &mut row)?;
         let taken = world.steps() - before;
         Some(match (r, failed) {
             (Err(e), _) => (Err(e), first + taken),
@@ -288,16 +300,25 @@ fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording) -> Res
             t: r.t,
         });
     }
-    // Rows of a small world: element by element, not a copy call per few numbers.
-    rec.a.extend(r.a.iter().copied());
-    rec.t.push(r.t);
-    rec.x.extend(r.x.iter().copied());
-    rec.v.extend(r.v.iter().copied());
+    push_state(r, rec);
     if let Some(e) = e {
         rec.energy.push(e);
     }
     rec.kinetic.push(kinetic);
     Ok(())
+}
+
+/// Appends the time and state of a row handed out by the kernel (not its energies); returns
+/// `true` (the run goes on).
+#[inline(always)]
+fn push_state(r: &crate::world::Row<'_>, rec: &mut Recording) -> bool {
+    // Rows of a small world: element by element, not a copy call per few numbers (the
+    // columns have room for the whole run: a push is a store).
+    rec.t.push(r.t);
+    r.x.iter().for_each(|&c| rec.x.push(c));
+    r.v.iter().for_each(|&c| rec.v.push(c));
+    r.a.iter().for_each(|&c| rec.a.push(c));
+    true
 }
 
 /// Appends the world's current row; a non-finite energy (the state is finite, its energy

@@ -1,7 +1,7 @@
 //! The fused particle kernels give bitwise what the staged step gives, for every method and
 //! force mix, in every dimension, serial and parallel; and a step that fails inside a call
 //! of `step(n)` is rolled back to exactly the state before it and named, as the staged step
-//! does it.
+//! does it; a recording of every step (the small-world kernel included) is the staged one.
 //!
 //! `World::step_logged` always takes the staged step (one method recipe over the whole
 //! state, the per-step checkpoint): it is the reference here.
@@ -312,6 +312,74 @@ fn a_recording_taken_inside_the_kernel_is_the_staged_one() {
             assert_eq!(bits(&rec.energy), bits(&e), "{what}: energy");
             assert_eq!(bits(&rec.kinetic), bits(&k), "{what}: kinetic");
             assert_eq!(w.evals(), s.evals(), "{what}: evaluations");
+        }
+    }
+}
+
+/// Records `w` for `steps` steps of every row (stopping at a failure): the recording.
+fn recorded(w: &mut World, steps: u64) -> physstep::record::Recording {
+    use physstep::record::{RecordParams, Recorder};
+    let until = steps as f64 * w.dt();
+    let params = RecordParams { dt: w.dt(), until, every: 1, stages: false, stop_on_diverge: true };
+    let mut rec = Recorder::new(w, params).unwrap();
+    while !rec.run(w, 64).unwrap() {}
+    rec.finish()
+}
+
+#[test]
+fn a_recording_of_a_small_world_is_the_staged_one() {
+    // The small-world kernel's forces (gravity, linear drag, zero-rest springs to anchors, at
+    // most one per particle, a static particle among them) and its methods, and others that
+    // take the tile kernel, in every dimension; and a stiff spring that fails a step.
+    let g = Force::Gravity { g: [0.3, -9.81, 1.5] };
+    let lin = Force::Drag { linear: 0.4, quadratic: 0.0 };
+    let anchor = |i, stiffness, damping| Force::Spring {
+        i,
+        j: Endpoint::Anchor([1.0, -1.0, 0.5]),
+        stiffness,
+        rest_length: 0.0,
+        damping,
+    };
+    let springs = vec![g, lin, anchor(0, 3.0, 0.2), anchor(2, 3.0, 0.0), anchor(5, 3.0, 0.1)];
+    let stiff = vec![anchor(1, 3.0, 0.0), anchor(3, 1e7, 0.0)];
+    let cases = [("springs", springs), ("drag", vec![lin]), ("gravity", vec![g]), ("stiff", stiff)];
+    for (case, forces) in cases {
+        for method in ["explicit-euler", "symplectic-euler", "velocity-verlet", "rk4"] {
+            for dim in 1..=3 {
+                let what = format!("{method} on {case} in {dim}D");
+                let mut w = world(method, dim, 5, &forces, true, false);
+                let rec = recorded(&mut w, 2000);
+                // The staged reference: one logged step at a time, the row read from the world.
+                let mut s = world(method, dim, 5, &forces, true, false);
+                let mut log = StageLog::default();
+                let (mut x, mut v, mut a, mut e, mut k) = (vec![], vec![], vec![], vec![], vec![]);
+                let mut failure = None;
+                for step in 0..=2000 {
+                    if step > 0 {
+                        if let Err(err) = s.step_logged(s.dt(), &mut log) {
+                            failure = Some(err.to_string());
+                            break;
+                        }
+                    }
+                    x.extend_from_slice(s.positions());
+                    v.extend_from_slice(s.velocities());
+                    a.extend_from_slice(s.accelerations().unwrap());
+                    e.push(s.energy().unwrap());
+                    k.push(s.kinetic());
+                }
+                // A failed step leaves the state before it, recorded once more.
+                let n = x.len() / (6 * dim);
+                let rows = if failure.is_some() { rec.t.len() - 1 } else { rec.t.len() };
+                assert_eq!(rows, n, "{what}: rows");
+                assert_eq!(rec.diverged.as_ref().map(ToString::to_string), failure, "{what}: failure");
+                assert_eq!(bits(&rec.x[..x.len()]), bits(&x), "{what}: x");
+                assert_eq!(bits(&rec.v[..v.len()]), bits(&v), "{what}: v");
+                assert_eq!(bits(&rec.a[..a.len()]), bits(&a), "{what}: a");
+                assert_eq!(bits(&rec.energy[..n]), bits(&e), "{what}: energy");
+                assert_eq!(bits(&rec.kinetic[..n]), bits(&k), "{what}: kinetic");
+                assert_eq!(w.state_hash(), s.state_hash(), "{what}: the world at the end");
+                assert_eq!(w.evals(), s.evals(), "{what}: evaluations");
+            }
         }
     }
 }

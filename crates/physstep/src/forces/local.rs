@@ -106,6 +106,19 @@ impl Local {
         plain.then_some((s, self.g))
     }
 
+    /// Gravity, drag and springs to anchors as element-wise parts (uniform gravity `g`, drag
+    /// factor `s`, the springs), when each acceleration component is a function of its own
+    /// coordinate and velocity component: no quadratic drag or central gravity, every
+    /// spring of zero rest length and at most one per particle.
+    pub(crate) fn element_springs(&self) -> Option<(f64, [f64; 3], &[AnchorSpring])> {
+        let linear = self.anchors.iter().all(|s| s.p[1] == 0.0);
+        let single = self.anchors.windows(2).all(|w| w[0].i != w[1].i);
+        let plain = self.all && self.c2 == 0.0 && self.central.is_empty() && linear && single;
+        // The drag factor as `element_wise` gives it.
+        let s = if self.drag { -(self.c1 + self.c2 * 0.0) } else { 0.0 };
+        plain.then_some((s, self.g, self.anchors.as_slice()))
+    }
+
     /// The springs to anchors of particles `p0..p1`.
     #[inline]
     pub(crate) fn anchors(&self, p0: usize, p1: usize) -> &[AnchorSpring] {

@@ -196,6 +196,58 @@ impl ForceSet {
         u
     }
 
+    /// [`ForceSet::potential`] of every row of `xs` (flat rows of `mass.len() * dim`
+    /// positions) added to `u`, one entry per row: each force matched once for all the rows,
+    /// each row's terms added in the same order, so the same bits as row by row.
+    #[inline]
+    pub(crate) fn potential_rows(&self, dim: usize, xs: &[f64], mass: &[f64], u: &mut [f64]) {
+        let w = mass.len() * dim;
+        for force in &self.forces {
+            let rows = xs.chunks_exact(w).zip(u.iter_mut());
+            match *force {
+                Force::Gravity { g } => rows.for_each(|(x, u)| *u += gravity::potential(dim, g, x, mass)),
+                Force::Spring { i, j, stiffness, rest_length, .. } => {
+                    rows.for_each(|(x, u)| *u += spring::potential(dim, x, i, j, stiffness, rest_length))
+                }
+                Force::CentralGravity { center, gm } => {
+                    rows.for_each(|(x, u)| *u += central::potential(dim, center, gm, x, mass));
+                }
+                Force::NBody { g, softening } => {
+                    rows.for_each(|(x, u)| *u += nbody::potential(dim, g, softening, x, mass));
+                }
+                Force::Drag { .. } | Force::Rod { .. } => rows.for_each(|(_, u)| *u += 0.0),
+            }
+        }
+    }
+
+    /// A bound on `|potential|` over every position whose coordinates are at most `reach`
+    /// from the origin (particles of masses `mass`); `None` where none holds (central gravity
+    /// and n-body grow without bound as particles meet).
+    pub(crate) fn potential_bound(&self, reach: f64, mass: &[f64]) -> Option<f64> {
+        let m: f64 = mass.iter().filter(|m| m.is_finite()).sum();
+        let norm = |v: [f64; 3]| v.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let mut bound = 0.0;
+        for force in &self.forces {
+            bound += match *force {
+                // |m g . x| <= m |g| |x|.
+                Force::Gravity { g } => m * norm(g) * reach,
+                // | |d| - rest | <= |x_i| + |x_j or anchor| + rest (stiffness >= 0, checked
+                // when the force is added).
+                Force::Spring { j, stiffness, rest_length, .. } => {
+                    let far = match j {
+                        Endpoint::Particle(_) => reach,
+                        Endpoint::Anchor(at) => norm(at),
+                    };
+                    let e = reach + far + rest_length;
+                    0.5 * stiffness * e * e
+                }
+                Force::CentralGravity { .. } | Force::NBody { .. } => return None,
+                Force::Drag { .. } | Force::Rod { .. } => 0.0,
+            };
+        }
+        Some(bound)
+    }
+
     /// Whether any force depends on velocity (drag, damped spring, rod).
     #[must_use]
     pub fn velocity_dependent(&self) -> bool {

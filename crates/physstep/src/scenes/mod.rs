@@ -58,51 +58,61 @@ impl Scene {
     /// The exact positions and velocities at time `t` (flat, like the world's), if known.
     #[must_use]
     pub fn exact(&self, t: f64) -> Option<(Vec<f64>, Vec<f64>)> {
-        let (mut x, mut v) = (Vec::new(), Vec::new());
-        self.exact_into(t, &mut x, &mut v).then_some((x, v))
+        self.exact_rows(&[t])
     }
 
-    /// [`Scene::exact`] appended to `x` and `v` (no allocation once they have room): what a
-    /// recording calls once per row. Returns whether the scene has an exact solution.
-    pub fn exact_into(&self, t: f64, x: &mut Vec<f64>, v: &mut Vec<f64>) -> bool {
-        let Some(exact) = self.exact else { return false };
-        match exact {
+    /// [`Scene::exact`] at every time of `ts`, one row per time (flat rows, like a
+    /// recording's), if known: what a recording asks for, in one pass (the kind of solution
+    /// matched once, not per row).
+    #[must_use]
+    pub fn exact_rows(&self, ts: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
+        Some(match self.exact? {
+            Exact::Oscillator { w0, zeta, x0, v0 } if w0 != 0.0 && zeta == 0.0 => {
+                // Undamped: the branch of `oscillator` a recording of `spring` takes, without
+                // its tests per row (the same operations, the same bits).
+                let b = v0 / w0;
+                ts.iter()
+                    .map(|&t| {
+                        let (sn, cs) = (w0 * t).sin_cos();
+                        (x0 * cs + b * sn, w0 * (-x0 * sn + b * cs))
+                    })
+                    .unzip()
+            }
             Exact::Oscillator { w0, zeta, x0, v0 } => {
-                let (xt, vt) = oscillator(w0, zeta, x0, v0, t);
-                x.push(xt);
-                v.push(vt);
+                ts.iter().map(|&t| oscillator(w0, zeta, x0, v0, t)).unzip()
             }
-            Exact::Ballistic { x0, v0, a } => {
-                x.extend((0..2).map(|k| x0[k] + v0[k] * t + 0.5 * a[k] * t * t));
-                v.extend((0..2).map(|k| v0[k] + a[k] * t));
-            }
-            Exact::Drag { rate, x0, v0 } => {
-                if rate == 0.0 {
-                    x.push(x0 + v0 * t);
-                    v.push(v0);
-                } else {
+            Exact::Ballistic { x0, v0, a } => ts
+                .iter()
+                .flat_map(|&t| {
+                    (0..2).map(move |k| (x0[k] + v0[k] * t + 0.5 * a[k] * t * t, v0[k] + a[k] * t))
+                })
+                .unzip(),
+            Exact::Drag { rate: 0.0, x0, v0 } => ts.iter().map(|&t| (x0 + v0 * t, v0)).unzip(),
+            Exact::Drag { rate, x0, v0 } => ts
+                .iter()
+                .map(|&t| {
                     let decay = (-rate * t).exp();
-                    x.push(x0 + v0 / rate * (1.0 - decay));
-                    v.push(v0 * decay);
-                }
-            }
-            Exact::Circle { r, w, phase, sign } => {
-                let th = phase + w * t;
-                let (s, c) = th.sin_cos();
-                x.extend([r * s, sign * r * c]);
-                v.extend([r * w * c, -sign * r * w * s]);
-            }
-            Exact::Kepler { e } => {
-                // Mean anomaly M = t (n = 1).
-                let big_e = eccentric_anomaly(e, t);
-                let (s, c) = big_e.sin_cos();
-                let b = (1.0 - e * e).sqrt();
-                let de = 1.0 / (1.0 - e * c);
-                x.extend([c - e, b * s]);
-                v.extend([-s * de, b * c * de]);
-            }
-        }
-        true
+                    (x0 + v0 / rate * (1.0 - decay), v0 * decay)
+                })
+                .unzip(),
+            Exact::Circle { r, w, phase, sign } => ts
+                .iter()
+                .flat_map(|&t| {
+                    let (s, c) = (phase + w * t).sin_cos();
+                    [(r * s, r * w * c), (sign * r * c, -sign * r * w * s)]
+                })
+                .unzip(),
+            Exact::Kepler { e } => ts
+                .iter()
+                .flat_map(|&t| {
+                    // Mean anomaly M = t (n = 1).
+                    let (s, c) = eccentric_anomaly(e, t).sin_cos();
+                    let b = (1.0 - e * e).sqrt();
+                    let de = 1.0 / (1.0 - e * c);
+                    [(c - e, -s * de), (b * s, b * c * de)]
+                })
+                .unzip(),
+        })
     }
 }
 

@@ -14,6 +14,7 @@
 //! way, rolls back, and names the particle.
 
 use super::flat::{Flat, Recipe};
+use super::small::{self, Elements};
 use super::tiles::{self, Forces, Run};
 use super::{Epoch, World};
 use crate::dynamics::SecondOrder;
@@ -106,8 +107,10 @@ pub(crate) struct Row<'a> {
 
 /// Up to `n` steps of a small world with a look at every one, as work for
 /// [`Integrator::visit`].
-struct Observe<'a, 'b, const D: usize> {
+struct Observe<'a, 'b, const D: usize, F> {
     forces: Forces<'a>,
+    /// The element-wise recipe and forces, when they apply.
+    small: Option<(Recipe, &'a Elements)>,
     model: &'a super::Model,
     y: &'a mut [f64],
     saved: &'a mut [f64],
@@ -117,14 +120,14 @@ struct Observe<'a, 'b, const D: usize> {
     epoch: Epoch,
     h: f64,
     n: u64,
-    on_row: &'b mut dyn FnMut(Row<'_>) -> bool,
+    on_row: &'b mut F,
 }
 
-impl<const D: usize> Visit for Observe<'_, '_, D> {
+impl<const D: usize, F: FnMut(Row<'_>) -> bool> Visit for Observe<'_, '_, D, F> {
     type Out = (u64, Option<Stop>);
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, Option<Stop>) {
-        let Self { forces, model, y, saved, t, steps, evals, epoch, h, n, on_row } = self;
+        let Self { forces, small, model, y, saved, t, steps, evals, epoch, h, n, on_row } = self;
         let movable = movable(epoch, *steps, *t, n);
         let steps0 = *steps;
         let run = Run { epoch, steps: steps0, h, n: movable };
@@ -133,8 +136,14 @@ impl<const D: usize> Visit for Observe<'_, '_, D> {
             let t = epoch.time(s).unwrap_or(f64::NAN);
             on_row(Row { model, steps: s, t, x: &y[..m], v: &y[m..], a: &f[m..] })
         };
-        let ((good, e), halted) =
-            tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look);
+        let elementwise = small.and_then(|(r, k)| {
+            let (good, halted) = small::observed(k, r, h, movable, y, saved, &mut look)?;
+            Some(((good, r.evals(forces.velocity)), halted))
+        });
+        let ((good, e), halted) = match elementwise {
+            Some(out) => out,
+            None => tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look),
+        };
         *steps += good;
         *t = epoch.time(*steps).unwrap_or(f64::NAN);
         *evals += good * e;
@@ -152,12 +161,13 @@ impl World {
     /// `n` steps of `h` seconds as [`World::run`] takes them, `on_row` called with the state
     /// after each good step (it stops the run after that step by returning `false`), when the
     /// world is small (one tile) and the fused kernel applies; `None` otherwise, nothing done.
-    /// A recording of every step takes its rows this way, inside the kernel's loop.
-    pub(crate) fn run_observed(
+    /// A recording of every step takes its rows this way, inside the kernel's loop (`on_row`
+    /// compiled into it, not called through a pointer).
+    pub(crate) fn run_observed<F: FnMut(Row<'_>) -> bool>(
         &mut self,
         n: u64,
         h: f64,
-        on_row: &mut dyn FnMut(Row<'_>) -> bool,
+        on_row: &mut F,
     ) -> Option<Result<()>> {
         let small = n > 0 && self.model.mass.len() <= tiles::OBSERVED_MAX;
         let mut method = self.fused().filter(|_| small)?;
@@ -167,13 +177,13 @@ impl World {
         Some(r)
     }
 
-    fn observe(
+    fn observe<F: FnMut(Row<'_>) -> bool>(
         &mut self,
         method: &mut Integrator,
         saved: &mut Vec<f64>,
         n: u64,
         h: f64,
-        on_row: &mut dyn FnMut(Row<'_>) -> bool,
+        on_row: &mut F,
     ) -> Result<()> {
         let ctx = self.context(h)?;
         if self.stale {
@@ -182,13 +192,17 @@ impl World {
         self.prev_x.clear();
         saved.resize(self.state.y.len(), 0.0);
         let start = (self.state.t, self.state.steps, self.state.evals, self.epoch);
-        let forces = Forces { local: self.model.forces.local(), velocity: self.model.velocity_dependent() };
+        let local = self.model.forces.local();
+        let forces = Forces { local, velocity: self.model.velocity_dependent() };
+        let elements = Elements::of(local, self.model.dim, &self.model.inv_mass);
+        let small = Recipe::of(method.info().name).zip(elements.as_ref());
         let model = &self.model;
         let State { t, y, steps, evals, .. } = &mut self.state;
         let (epoch, saved_slice) = (ctx.epoch, saved.as_mut_slice());
         let (good, stop) = match model.dim {
-            1 => method.visit(Observe::<1> {
+            1 => method.visit(Observe::<1, F> {
                 forces,
+                small,
                 model,
                 y,
                 saved: saved_slice,
@@ -200,8 +214,9 @@ impl World {
                 n,
                 on_row,
             }),
-            2 => method.visit(Observe::<2> {
+            2 => method.visit(Observe::<2, F> {
                 forces,
+                small,
                 model,
                 y,
                 saved: saved_slice,
@@ -213,8 +228,9 @@ impl World {
                 n,
                 on_row,
             }),
-            _ => method.visit(Observe::<3> {
+            _ => method.visit(Observe::<3, F> {
                 forces,
+                small,
                 model,
                 y,
                 saved: saved_slice,

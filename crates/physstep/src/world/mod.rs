@@ -24,6 +24,7 @@ mod kernel;
 mod model;
 mod parts;
 mod rules;
+mod small;
 mod snapshot;
 mod state;
 mod step;

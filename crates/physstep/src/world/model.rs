@@ -3,6 +3,7 @@
 use crate::dynamics::SecondOrder;
 use crate::error::Error;
 use crate::forces::{ForceSet, UserForce};
+use crate::integrators::registry::RUNAWAY;
 
 /// The force model: what the integrators see as a [`SecondOrder`] system.
 #[derive(Debug, Clone, Default)]
@@ -152,13 +153,73 @@ impl Model {
     /// Kinetic energy of velocities `v`, J (static particles excluded).
     #[must_use]
     pub fn kinetic(&self, v: &[f64]) -> f64 {
+        match self.dim {
+            1 => self.kinetic_d::<1>(v),
+            2 => self.kinetic_d::<2>(v),
+            _ => self.kinetic_d::<3>(v),
+        }
+    }
+
+    /// [`Model::kinetic`] in `D` dimensions.
+    #[inline(always)]
+    fn kinetic_d<const D: usize>(&self, v: &[f64]) -> f64 {
+        debug_assert_eq!(v.len(), self.len());
         let mut e = 0.0;
-        for (p, (m, w)) in self.mass.iter().zip(&self.inv_mass).enumerate() {
+        for ((m, w), vp) in self.mass.iter().zip(&self.inv_mass).zip(v.chunks_exact(D)) {
             if *w > 0.0 {
-                let vp = &v[p * self.dim..(p + 1) * self.dim];
                 e += 0.5 * m * vp.iter().map(|c| c * c).sum::<f64>();
             }
         }
         e
+    }
+
+    /// Whether the energy of every state within [`RUNAWAY`] (each coordinate and velocity
+    /// component at most that in size, as after every accepted step) is finite: then a
+    /// recording need not check it row by row. Holds where there are particles, no user force,
+    /// no force that grows without bound (central gravity, n-body), and the bounds of the kinetic
+    /// and potential energies at that reach sum to at most 1e300 (far from overflow, whatever
+    /// the rounding of the sums).
+    pub(crate) fn energy_bounded(&self) -> bool {
+        if !self.user.is_empty() || self.mass.is_empty() {
+            return false;
+        }
+        // The largest |x| or |v| of a particle.
+        let reach = RUNAWAY * (self.dim as f64).sqrt();
+        let moving = self.mass.iter().zip(&self.inv_mass).filter(|(_, w)| **w > 0.0);
+        let kinetic: f64 = moving.map(|(m, _)| 0.5 * m * reach * reach).sum();
+        let potential = self.forces.potential_bound(reach, &self.mass);
+        potential.is_some_and(|u| kinetic + u <= 1e300)
+    }
+
+    /// Appends the kinetic energy ([`Model::kinetic`]) and the energy (that plus
+    /// [`Model::potential`]) of every row of positions `xs` and velocities `vs` (flat rows of
+    /// `len()` values) to `kinetic` and `energy`, bit for bit as row by row. The forces'
+    /// potentials only: for a model without user forces.
+    pub(crate) fn energy_rows(&self, xs: &[f64], vs: &[f64], kinetic: &mut Vec<f64>, energy: &mut Vec<f64>) {
+        match self.dim {
+            1 => self.energy_rows_d::<1>(xs, vs, kinetic, energy),
+            2 => self.energy_rows_d::<2>(xs, vs, kinetic, energy),
+            _ => self.energy_rows_d::<3>(xs, vs, kinetic, energy),
+        }
+    }
+
+    /// [`Model::energy_rows`] in `D` dimensions.
+    fn energy_rows_d<const D: usize>(
+        &self,
+        xs: &[f64],
+        vs: &[f64],
+        kinetic: &mut Vec<f64>,
+        energy: &mut Vec<f64>,
+    ) {
+        debug_assert!(self.user.is_empty());
+        let (from, n) = (energy.len(), self.len());
+        kinetic.extend(vs.chunks_exact(n).map(|v| self.kinetic_d::<D>(v)));
+        energy.resize(from + xs.len() / n, 0.0);
+        let e = &mut energy[from..];
+        self.forces.potential_rows(D, xs, &self.mass, e);
+        for (e, k) in e.iter_mut().zip(&kinetic[kinetic.len() - vs.len() / n..]) {
+            // u + k: IEEE addition commutes, the bits of k + u.
+            *e += k;
+        }
     }
 }
