@@ -51,6 +51,35 @@ pub(crate) struct Input<'a> {
     pub v1: &'a [f64],
 }
 
+/// The earliest time at which two balls at separation `dk` (from the first to the second)
+/// with relative path `wk` (per step) at the time `s0` are `r` apart, if they approach and
+/// meet within the step: the smaller root of `ww s^2 + 2 dw s + c` (`c = dd - r^2`; at once
+/// when they already touch). The same bits whichever ball is first (`-x * -y = x * y`).
+#[inline(always)]
+pub(super) fn impact<const D: usize>(dk: [f64; D], wk: [f64; D], r: f64, s0: f64) -> Option<f64> {
+    let (mut dd, mut dw, mut ww) = (0.0, 0.0, 0.0);
+    for k in 0..D {
+        dd += dk[k] * dk[k];
+        dw += dk[k] * wk[k];
+        ww += wk[k] * wk[k];
+    }
+    if dw >= 0.0 {
+        return None;
+    }
+    let c = dd - r * r;
+    let s = if c <= 0.0 {
+        s0
+    } else {
+        let disc = dw * dw - ww * c;
+        if disc < 0.0 {
+            return None;
+        }
+        // The smaller root in the form without cancellation.
+        s0 + c / (-dw + disc.sqrt())
+    };
+    (s <= 1.0).then_some(s)
+}
+
 /// The scratch of the stage, kept from step to step (no allocation once warm).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Scratch {
@@ -72,7 +101,9 @@ pub(crate) struct Scratch {
     /// How far each ball gets by the end of the step, on its current path, from the position
     /// the grid was built from (at most `rem`: the paths are within the bound).
     ext: Vec<f64>,
-    /// Radius and path left of each ball in the grid's order (the scan's).
+    /// The path, and the radius and radius plus path left, of each ball in the grid's order
+    /// (the scan's).
+    paths: Vec<f64>,
     aux: Vec<[f64; 2]>,
     heap: BinaryHeap<Reverse<Event>>,
     /// The events found by each chunk of the scan.
@@ -122,31 +153,20 @@ impl Scratch {
     fn pair_event(&self, a: usize, b: usize, inp: &Input<'_>) -> Option<Event> {
         let d = inp.d;
         let s0 = self.tau[a].max(self.tau[b]);
-        let (mut dd, mut dw, mut ww) = (0.0, 0.0, 0.0);
+        let (mut dk, mut wk) = ([0.0; 3], [0.0; 3]);
         for k in 0..d {
             let pa = self.p[a * d + k] + (s0 - self.tau[a]) * self.u[a * d + k];
             let pb = self.p[b * d + k] + (s0 - self.tau[b]) * self.u[b * d + k];
-            let (dk, wk) = (pb - pa, self.u[b * d + k] - self.u[a * d + k]);
-            dd += dk * dk;
-            dw += dk * wk;
-            ww += wk * wk;
-        }
-        if dw >= 0.0 {
-            return None;
+            dk[k] = pb - pa;
+            wk[k] = self.u[b * d + k] - self.u[a * d + k];
         }
         let r = inp.radius[a] + inp.radius[b];
-        let c = dd - r * r;
-        let s = if c <= 0.0 {
-            s0
-        } else {
-            let disc = dw * dw - ww * c;
-            if disc < 0.0 {
-                return None;
-            }
-            // The smaller root of ww s^2 + 2 dw s + c, in the form without cancellation.
-            s0 + c / (-dw + disc.sqrt())
-        };
-        (s <= 1.0).then(|| self.event(s, a, b as u32))
+        let s = match d {
+            1 => impact([dk[0]], [wk[0]], r, s0),
+            2 => impact([dk[0], dk[1]], [wk[0], wk[1]], r, s0),
+            _ => impact(dk, wk, r, s0),
+        }?;
+        Some(self.event(s, a, b as u32))
     }
 
     fn predict_walls(&mut self, a: usize, inp: &Input<'_>) {
@@ -309,7 +329,7 @@ impl Scratch {
             let bound = 1.5 * umax;
             let rem = bound * (1.0 - tg);
             self.heap.clear();
-            self.scan(inp, rem, &mut out.tests);
+            self.scan(inp, tg, rem, &mut out.tests);
             for b in 0..nb {
                 if self.near_wall(b, rem, inp) {
                     self.predict_walls(b, inp);

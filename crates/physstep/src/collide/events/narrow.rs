@@ -3,13 +3,22 @@
 //! shell around it, and the deepest overlap at the end of the step. See docs/collisions.md.
 
 use super::super::grid::{Grid, ANY};
-use super::{Event, Input, Scratch, MARGIN};
+use super::{impact, Event, Input, Scratch, MARGIN};
 use rayon::prelude::*;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 /// Balls per chunk of the scan (fixed: the chunks never depend on the thread count).
 const CHUNK: usize = 512;
+
+/// What the scan reads: the grid, and each ball's path (`d` entries), radius and radius plus
+/// path left, in the grid's order; the pass's start.
+struct Near<'a> {
+    grid: &'a Grid,
+    paths: &'a [f64],
+    aux: &'a [[f64; 2]],
+    tg: f64,
+}
 
 impl Scratch {
     /// The narrow phase of a pass: the grid built from the balls at their positions at the
@@ -18,22 +27,29 @@ impl Scratch {
     /// that can meet on the current paths (`|x_b - x_a| <= r_a + r_b + (1 - tg)(|u_a| + |u_b|)`,
     /// with a relative margin of 1e-9 over the rounding of the prediction) predicted at once.
     /// Counts the pairs tested.
-    pub(super) fn scan(&mut self, inp: &Input<'_>, rem: f64, tests: &mut u64) {
+    pub(super) fn scan(&mut self, inp: &Input<'_>, tg: f64, rem: f64, tests: &mut u64) {
         let d = inp.d;
         let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
         self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
-        // The grid is read while the predictions push events: moved out for the scan.
+        // The grid is read while the chunks fill their lists: moved out for the scan.
         let grid = std::mem::take(&mut self.grid);
-        // Radius and path left of each ball, in the grid's order.
-        let order = grid.order();
-        let mut aux = std::mem::take(&mut self.aux);
+        // What a pair's test reads of each ball, in the grid's order (next to its neighbours):
+        // its path, radius, and radius plus path left.
+        let (mut paths, mut aux) = (std::mem::take(&mut self.paths), std::mem::take(&mut self.aux));
+        paths.resize(self.u.len(), 0.0);
         aux.clear();
-        aux.extend(order.iter().map(|&b| [inp.radius[b as usize], self.ext[b as usize]]));
+        for (q, &b) in grid.order().iter().enumerate() {
+            let b = b as usize;
+            paths[q * d..(q + 1) * d].copy_from_slice(&self.u[b * d..(b + 1) * d]);
+            aux.push([inp.radius[b], inp.radius[b] + self.ext[b]]);
+        }
+        let near = Near { grid: &grid, paths: &paths, aux: &aux, tg };
         *tests += match d {
-            1 => self.scan_d::<1>(&grid, &aux, inp),
-            2 => self.scan_d::<2>(&grid, &aux, inp),
-            _ => self.scan_d::<3>(&grid, &aux, inp),
+            1 => self.scan_d::<1>(&near),
+            2 => self.scan_d::<2>(&near),
+            _ => self.scan_d::<3>(&near),
         };
+        self.paths = paths;
         self.aux = aux;
         self.grid = grid;
     }
@@ -42,17 +58,17 @@ impl Scratch {
     /// pool, each into its own list of events; the lists are then heaped. The heap pops its
     /// events in their total order (time, slots, counters), whatever the order they were
     /// pushed in: the contacts do not depend on the chunks or the thread count.
-    fn scan_d<const D: usize>(&mut self, grid: &Grid, aux: &[[f64; 2]], inp: &Input<'_>) -> u64 {
-        let n = grid.order().len();
+    fn scan_d<const D: usize>(&mut self, near: &Near<'_>) -> u64 {
+        let n = near.grid.order().len();
         let count = n.div_ceil(CHUNK).max(1);
         let mut chunks = std::mem::take(&mut self.chunks);
         chunks.resize_with(count, Vec::new);
         let me = &*self;
         let run = |(c, out): (usize, &mut Vec<Reverse<Event>>)| -> u64 {
             out.clear();
-            me.scan_span::<D>(grid, aux, inp, c * CHUNK..((c + 1) * CHUNK).min(n), out)
+            me.scan_span::<D>(near, c * CHUNK..((c + 1) * CHUNK).min(n), out)
         };
-        let found = if count > 1 {
+        let found = if count > 1 && rayon::current_num_threads() > 1 {
             chunks.par_iter_mut().enumerate().map(run).sum()
         } else {
             chunks.iter_mut().enumerate().map(run).sum()
@@ -69,59 +85,23 @@ impl Scratch {
 
     /// The scan of the places `span` of the grid's order (of the slots `span` in a hashed
     /// table): their events pushed to `out`; returns the pairs tested.
-    #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
     #[inline(always)]
-    fn scan_span<const D: usize>(
-        &self,
-        grid: &Grid,
-        aux: &[[f64; 2]],
-        inp: &Input<'_>,
-        span: std::ops::Range<usize>,
-        out: &mut Vec<Reverse<Event>>,
-    ) -> u64 {
-        let (order, sorted) = (grid.order(), grid.sorted());
-        let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
+    fn scan_span<const D: usize>(&self, near: &Near<'_>, span: std::ops::Range<usize>, out: &mut Vec<Reverse<Event>>) -> u64 {
+        let grid = near.grid;
         let mut found = 0u64;
-        let mut test = |i: usize, q: usize, t: usize| {
-            let (pi, pj) = (at(q), at(t));
-            let mut dist2 = 0.0;
-            for k in 0..D {
-                dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
-            }
-            let reach = (aux[q][0] + aux[t][0] + aux[q][1] + aux[t][1]) * MARGIN;
-            if dist2 <= reach * reach {
-                let j = order[t] as usize;
-                if let Some(ev) = self.pair_event(i.min(j), i.max(j), inp) {
-                    out.push(Reverse(ev));
-                }
-            }
-        };
         if grid.dense() {
             let mut ranges = [(0u32, 0u32); 5];
             for q in span {
-                let i = order[q] as usize;
                 let count = grid.half_dense(q, D, &mut ranges);
                 for &(lo, hi) in &ranges[..count] {
                     found += u64::from(hi.saturating_sub(lo));
-                    // The test written out (not the closure): the hot loop stays inlined.
                     for t in lo as usize..hi as usize {
-                        let (pi, pj) = (at(q), at(t));
-                        let mut dist2 = 0.0;
-                        for k in 0..D {
-                            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
-                        }
-                        let reach = (aux[q][0] + aux[t][0] + aux[q][1] + aux[t][1]) * MARGIN;
-                        if dist2 <= reach * reach {
-                            let j = order[t] as usize;
-                            if let Some(ev) = self.pair_event(i.min(j), i.max(j), inp) {
-                                out.push(Reverse(ev));
-                            }
-                        }
+                        self.test::<D>(near, q, t, out);
                     }
                 }
             }
         } else {
-            let mut spans = [(0u32, 0u32, 0u64); 14];
+            let (order, mut spans) = (grid.order(), [(0u32, 0u32, 0u64); 14]);
             for i in span {
                 let q = grid.pos_of(i);
                 let count = grid.partners(i, D, &mut spans);
@@ -129,13 +109,44 @@ impl Scratch {
                     for t in lo as usize..hi.max(lo) as usize {
                         if key == ANY || grid.key_of(order[t] as usize) == key {
                             found += 1;
-                            test(i, q, t);
+                            self.test::<D>(near, q, t, out);
                         }
                     }
                 }
             }
         }
         found
+    }
+
+    /// The test of the balls at places `q` and `t` of the grid's order: when within reach,
+    /// their impact predicted. Every ball is at the pass's start `tg`, where the grid took its
+    /// position: the prediction reads the grid's positions and the paths in `near` alone
+    /// (the bits of [`Scratch::pair_event`]).
+    #[allow(clippy::needless_range_loop)] // k indexes the positions and the paths alike
+    #[inline(always)]
+    fn test<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize, out: &mut Vec<Reverse<Event>>) {
+        let (sorted, paths, aux) = (near.grid.sorted(), near.paths, near.aux);
+        let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
+        let (pi, pj) = (at(q), at(t));
+        let mut dist2 = 0.0;
+        for k in 0..D {
+            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+        }
+        let reach = (aux[q][1] + aux[t][1]) * MARGIN;
+        if dist2 <= reach * reach {
+            let path = |q: usize| -> [f64; D] { paths[q * D..(q + 1) * D].try_into().expect("D entries") };
+            let (ui, uj) = (path(q), path(t));
+            let (mut dk, mut wk) = ([0.0; D], [0.0; D]);
+            for k in 0..D {
+                dk[k] = pj[k] - pi[k];
+                wk[k] = uj[k] - ui[k];
+            }
+            if let Some(s) = impact(dk, wk, aux[q][0] + aux[t][0], near.tg) {
+                let order = near.grid.order();
+                let (i, j) = (order[q] as usize, order[t] as usize);
+                out.push(Reverse(self.event(s, i.min(j), i.max(j) as u32)));
+            }
+        }
     }
 
     /// Whether slot `b` (at its position at the pass's start) is within `r + rem` of a wall:
