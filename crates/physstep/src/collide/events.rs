@@ -106,6 +106,8 @@ pub(crate) struct Scratch {
     paths: Vec<f64>,
     aux: Vec<[f64; 2]>,
     heap: BinaryHeap<Reverse<Event>>,
+    /// The events found by a ball's prediction.
+    found: Vec<Reverse<Event>>,
     /// The events found by each chunk of the scan.
     chunks: Vec<Vec<Reverse<Event>>>,
     grid: Grid,
@@ -143,13 +145,6 @@ impl Scratch {
     }
 
     /// The earliest impact of slots `a < b` from the later of their times, if in the step.
-    fn predict_pair(&mut self, a: usize, b: usize, inp: &Input<'_>) {
-        if let Some(ev) = self.pair_event(a, b, inp) {
-            self.heap.push(Reverse(ev));
-        }
-    }
-
-    /// The event of [`Scratch::predict_pair`], read-only (the scan's chunks share the state).
     fn pair_event(&self, a: usize, b: usize, inp: &Input<'_>) -> Option<Event> {
         let d = inp.d;
         let s0 = self.tau[a].max(self.tau[b]);

@@ -101,13 +101,13 @@ impl Scratch {
                 }
             }
         } else {
-            let (order, mut spans) = (grid.order(), [(0u32, 0u32, 0u64); 14]);
+            let mut spans = [(0u32, 0u32, 0u64); 14];
             for i in span {
                 let q = grid.pos_of(i);
                 let count = grid.partners(i, D, &mut spans);
                 for &(lo, hi, key) in &spans[..count] {
                     for t in lo as usize..hi.max(lo) as usize {
-                        if key == ANY || grid.key_of(order[t] as usize) == key {
+                        if key == ANY || grid.key_at(t) == key {
                             found += 1;
                             self.test::<D>(near, q, t, out);
                         }
@@ -175,31 +175,51 @@ impl Scratch {
 
     #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
     fn predict_d<const D: usize>(&mut self, b: usize, inp: &Input<'_>) {
-        let grid = std::mem::take(&mut self.grid);
+        // The events found, pushed once the shell is read (the heap is not borrowed meanwhile).
+        let mut found = std::mem::take(&mut self.found);
+        let grid = &self.grid;
         let (order, sorted) = (grid.order(), grid.sorted());
         let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
-        let pb = at(grid.pos_of(b));
-        let rb = inp.radius[b] + self.ext[b];
-        let mut spans = [(0u32, 0u32, 0u64); 27];
-        let count = grid.shell(b, D, &mut spans);
-        for &(lo, hi, key) in &spans[..count] {
-            for t in lo as usize..hi.max(lo) as usize {
-                let j = order[t] as usize;
-                if j == b || (key != ANY && grid.key_of(j) != key) {
-                    continue;
+        let q = grid.pos_of(b);
+        let (pb, rb) = (at(q), inp.radius[b] + self.ext[b]);
+        let mut test = |t: usize, j: usize| {
+            let pj = at(t);
+            let mut dist2 = 0.0;
+            for k in 0..D {
+                dist2 += (pj[k] - pb[k]) * (pj[k] - pb[k]);
+            }
+            let reach = (rb + inp.radius[j] + self.ext[j]) * MARGIN;
+            if dist2 <= reach * reach {
+                if let Some(ev) = self.pair_event(b.min(j), b.max(j), inp) {
+                    found.push(Reverse(ev));
                 }
-                let pj = at(t);
-                let mut dist2 = 0.0;
-                for k in 0..D {
-                    dist2 += (pj[k] - pb[k]) * (pj[k] - pb[k]);
+            }
+        };
+        if grid.dense() {
+            let mut rows = [(0u32, 0u32); 9];
+            let count = grid.shell_dense(q, D, &mut rows);
+            for &(lo, hi) in &rows[..count] {
+                for t in lo as usize..hi as usize {
+                    let j = order[t] as usize;
+                    if j != b {
+                        test(t, j);
+                    }
                 }
-                let reach = (rb + inp.radius[j] + self.ext[j]) * MARGIN;
-                if dist2 <= reach * reach {
-                    self.predict_pair(b.min(j), b.max(j), inp);
+            }
+        } else {
+            let mut spans = [(0u32, 0u32, 0u64); 27];
+            let count = grid.shell(b, D, &mut spans);
+            for &(lo, hi, key) in &spans[..count] {
+                for t in lo as usize..hi.max(lo) as usize {
+                    let j = order[t] as usize;
+                    if j != b && grid.key_at(t) == key {
+                        test(t, j);
+                    }
                 }
             }
         }
-        self.grid = grid;
+        self.heap.extend(found.drain(..));
+        self.found = found;
     }
 
     /// After a contact of slot `b` at `s`: how far it gets from the position the grid was
@@ -242,7 +262,7 @@ impl Scratch {
             for &(lo, hi, key) in &spans[..count] {
                 for t in lo as usize..hi.max(lo) as usize {
                     let j = grid.order()[t] as usize;
-                    if j == b || (key != ANY && grid.key_of(j) != key) {
+                    if j == b || (key != ANY && grid.key_at(t) != key) {
                         continue;
                     }
                     let r = inp.radius[b] + inp.radius[j];
