@@ -33,21 +33,11 @@ impl Scratch {
         self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
         // The grid is read while the chunks fill their lists: moved out for the scan.
         let grid = std::mem::take(&mut self.grid);
-        // What a pair's test reads of each ball, in the grid's order (next to its neighbours):
-        // its path, radius, and radius plus path left.
         let (mut paths, mut aux) = (std::mem::take(&mut self.paths), std::mem::take(&mut self.aux));
-        paths.resize(self.u.len(), 0.0);
-        aux.clear();
-        for (q, &b) in grid.order().iter().enumerate() {
-            let b = b as usize;
-            paths[q * d..(q + 1) * d].copy_from_slice(&self.u[b * d..(b + 1) * d]);
-            aux.push([inp.radius[b], inp.radius[b] + self.ext[b]]);
-        }
-        let near = Near { grid: &grid, paths: &paths, aux: &aux, tg };
         *tests += match d {
-            1 => self.scan_d::<1>(&near),
-            2 => self.scan_d::<2>(&near),
-            _ => self.scan_d::<3>(&near),
+            1 => self.scan_d::<1>(&grid, &mut paths, &mut aux, inp, tg),
+            2 => self.scan_d::<2>(&grid, &mut paths, &mut aux, inp, tg),
+            _ => self.scan_d::<3>(&grid, &mut paths, &mut aux, inp, tg),
         };
         self.paths = paths;
         self.aux = aux;
@@ -58,8 +48,25 @@ impl Scratch {
     /// pool, each into its own list of events; the lists are then heaped. The heap pops its
     /// events in their total order (time, slots, counters), whatever the order they were
     /// pushed in: the contacts do not depend on the chunks or the thread count.
-    fn scan_d<const D: usize>(&mut self, near: &Near<'_>) -> u64 {
-        let n = near.grid.order().len();
+    fn scan_d<const D: usize>(
+        &mut self,
+        grid: &Grid,
+        paths: &mut Vec<f64>,
+        aux: &mut Vec<[f64; 2]>,
+        inp: &Input<'_>,
+        tg: f64,
+    ) -> u64 {
+        // What a pair's test reads of each ball, in the grid's order (next to its neighbours):
+        // its path, radius, and radius plus path left.
+        let n = grid.order().len();
+        paths.resize(n * D, 0.0);
+        aux.clear();
+        for (path, &b) in paths.chunks_exact_mut(D).zip(grid.order()) {
+            let b = b as usize;
+            path.copy_from_slice(&self.u[b * D..(b + 1) * D]);
+            aux.push([inp.radius[b], inp.radius[b] + self.ext[b]]);
+        }
+        let near = &Near { grid, paths, aux, tg };
         let count = n.div_ceil(CHUNK).max(1);
         let mut chunks = std::mem::take(&mut self.chunks);
         chunks.resize_with(count, Vec::new);
@@ -90,13 +97,26 @@ impl Scratch {
         let grid = near.grid;
         let mut found = 0u64;
         if grid.dense() {
+            let (sorted, aux) = (grid.sorted(), near.aux);
             let mut ranges = [(0u32, 0u32); 5];
             for q in span {
                 let count = grid.half_dense(q, D, &mut ranges);
+                let (pi, ri): ([f64; D], f64) = (sorted[q * D..(q + 1) * D].try_into().expect("D"), aux[q][1]);
                 for &(lo, hi) in &ranges[..count] {
-                    found += u64::from(hi.saturating_sub(lo));
-                    for t in lo as usize..hi as usize {
-                        self.test::<D>(near, q, t, out);
+                    let (lo, hi) = (lo as usize, (hi as usize).max(lo as usize));
+                    found += (hi - lo) as u64;
+                    // The filter written out over the range (no bounds checks); a pair within
+                    // reach goes on to the prediction.
+                    let balls = sorted[lo * D..hi * D].chunks_exact(D).zip(&aux[lo..hi]);
+                    for (t, (pj, aj)) in (lo..hi).zip(balls) {
+                        let mut dist2 = 0.0;
+                        for k in 0..D {
+                            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+                        }
+                        let reach = (ri + aj[1]) * MARGIN;
+                        if dist2 <= reach * reach {
+                            self.predict_near::<D>(near, q, t, out);
+                        }
                     }
                 }
             }
@@ -109,7 +129,9 @@ impl Scratch {
                     for t in lo as usize..hi.max(lo) as usize {
                         if key == ANY || grid.key_at(t) == key {
                             found += 1;
-                            self.test::<D>(near, q, t, out);
+                            if self.within::<D>(near, q, t) {
+                                self.predict_near::<D>(near, q, t, out);
+                            }
                         }
                     }
                 }
@@ -118,34 +140,35 @@ impl Scratch {
         found
     }
 
-    /// The test of the balls at places `q` and `t` of the grid's order: when within reach,
-    /// their impact predicted. Every ball is at the pass's start `tg`, where the grid took its
-    /// position: the prediction reads the grid's positions and the paths in `near` alone
-    /// (the bits of [`Scratch::pair_event`]).
-    #[allow(clippy::needless_range_loop)] // k indexes the positions and the paths alike
+    /// Whether the balls at places `q` and `t` of the grid's order are within reach:
+    /// `|x_t - x_q| <= (r_q + ext_q + r_t + ext_t)` with the margin.
     #[inline(always)]
-    fn test<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize, out: &mut Vec<Reverse<Event>>) {
-        let (sorted, paths, aux) = (near.grid.sorted(), near.paths, near.aux);
-        let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
-        let (pi, pj) = (at(q), at(t));
+    fn within<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize) -> bool {
+        let (sorted, aux) = (near.grid.sorted(), near.aux);
         let mut dist2 = 0.0;
         for k in 0..D {
-            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+            dist2 += (sorted[t * D + k] - sorted[q * D + k]) * (sorted[t * D + k] - sorted[q * D + k]);
         }
         let reach = (aux[q][1] + aux[t][1]) * MARGIN;
-        if dist2 <= reach * reach {
-            let path = |q: usize| -> [f64; D] { paths[q * D..(q + 1) * D].try_into().expect("D entries") };
-            let (ui, uj) = (path(q), path(t));
-            let (mut dk, mut wk) = ([0.0; D], [0.0; D]);
-            for k in 0..D {
-                dk[k] = pj[k] - pi[k];
-                wk[k] = uj[k] - ui[k];
-            }
-            if let Some(s) = impact(dk, wk, aux[q][0] + aux[t][0], near.tg) {
-                let order = near.grid.order();
-                let (i, j) = (order[q] as usize, order[t] as usize);
-                out.push(Reverse(self.event(s, i.min(j), i.max(j) as u32)));
-            }
+        dist2 <= reach * reach
+    }
+
+    /// The impact of the balls at places `q` and `t` of the grid's order, pushed to `out`
+    /// when within the step. Every ball is at the pass's start `tg`, where the grid took its
+    /// position: the prediction reads the grid's positions and the paths in `near` alone
+    /// (the bits of [`Scratch::pair_event`]).
+    #[inline(never)]
+    fn predict_near<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize, out: &mut Vec<Reverse<Event>>) {
+        let (sorted, paths, aux) = (near.grid.sorted(), near.paths, near.aux);
+        let (mut dk, mut wk) = ([0.0; D], [0.0; D]);
+        for k in 0..D {
+            dk[k] = sorted[t * D + k] - sorted[q * D + k];
+            wk[k] = paths[t * D + k] - paths[q * D + k];
+        }
+        if let Some(s) = impact(dk, wk, aux[q][0] + aux[t][0], near.tg) {
+            let order = near.grid.order();
+            let (i, j) = (order[q] as usize, order[t] as usize);
+            out.push(Reverse(self.event(s, i.min(j), i.max(j) as u32)));
         }
     }
 
