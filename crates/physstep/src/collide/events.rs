@@ -13,6 +13,7 @@
 //! next events are predicted. Every ball that was hit ends at the end of its new path.
 
 mod narrow;
+mod overlap;
 
 use super::grid::Grid;
 use super::Walls;
@@ -93,11 +94,9 @@ pub(crate) struct Scratch {
     pub u: Vec<f64>,
     pub vel: Vec<f64>,
     pub tau: Vec<f64>,
+    /// How many contacts each ball had in this step (stale events carry an older count; the
+    /// budget of contacts keeps it far from wrapping).
     ver: Vec<u32>,
-    /// When each ball was last hit in this step (-1: not yet).
-    last: Vec<f64>,
-    /// Whether the ball was hit this step.
-    pub hit: Vec<bool>,
     /// How far each ball gets by the end of the step, on its current path, from the position
     /// the grid was built from (at most `rem`: the paths are within the bound).
     ext: Vec<f64>,
@@ -105,6 +104,8 @@ pub(crate) struct Scratch {
     /// (the scan's).
     paths: Vec<f64>,
     aux: Vec<[f64; 2]>,
+    /// The balls within reach of a wall in the pass (found by the scan's gather).
+    walled: Vec<u32>,
     heap: BinaryHeap<Reverse<Event>>,
     /// The events found by a ball's prediction.
     found: Vec<Reverse<Event>>,
@@ -198,7 +199,7 @@ impl Scratch {
     /// at most once per ball per step (Luding and McNamara's TC model, with the step as the
     /// contact duration).
     fn restitution(&self, a: usize, b: usize, inp: &Input<'_>) -> f64 {
-        if self.last[a] >= 0.0 || self.last[b] >= 0.0 {
+        if self.hit(a) || self.hit(b) {
             1.0
         } else {
             inp.e
@@ -274,6 +275,12 @@ impl Scratch {
         }
     }
 
+    /// Whether slot `b` was hit in this step (so far).
+    #[inline]
+    pub fn hit(&self, b: usize) -> bool {
+        self.ver[b] != 0
+    }
+
     fn speed2(&self, b: usize, d: usize) -> f64 {
         self.u[b * d..(b + 1) * d].iter().map(|c| c * c).sum()
     }
@@ -286,8 +293,6 @@ impl Scratch {
     /// packed at rest).
     pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
         let (d, nb) = (inp.d, inp.radius.len());
-        self.u.clear();
-        self.u.extend(inp.x1.iter().zip(&self.x0).map(|(x1, x0)| x1 - x0));
         // The start positions are the paths' origins: taken over (the next step refills x0).
         std::mem::swap(&mut self.p, &mut self.x0);
         self.vel.clear();
@@ -296,25 +301,35 @@ impl Scratch {
         self.tau.resize(nb, 0.0);
         self.ver.clear();
         self.ver.resize(nb, 0);
-        self.hit.clear();
-        self.hit.resize(nb, false);
-        self.last.clear();
-        self.last.resize(nb, -1.0);
+        // Each path, and the path left from the start, `ext` (the first pass's).
+        self.u.clear();
+        self.ext.clear();
+        let mut most = 0.0_f64;
+        for (x1, x0) in inp.x1.chunks_exact(d).zip(self.p.chunks_exact(d)) {
+            let mut s2 = 0.0;
+            for k in 0..d {
+                let uk = x1[k] - x0[k];
+                self.u.push(uk);
+                s2 += uk * uk;
+            }
+            most = most.max(s2);
+            self.ext.push(s2.sqrt());
+        }
+        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
         let mut out = Outcome::default();
         let cap = 64 * nb as u64 + 1024;
         let mut tg = 0.0;
         'pass: loop {
             // Every ball at tg (the first pass starts where they all are, at 0), and the
             // path each has left: `ext`, how far it gets from there by the end of the step.
-            self.ext.resize(nb, 0.0);
-            let mut most = 0.0_f64;
-            for b in 0..nb {
-                if tg != 0.0 {
+            if tg != 0.0 {
+                most = 0.0;
+                for b in 0..nb {
                     self.advance(b, tg, d);
+                    let s2 = self.speed2(b, d);
+                    most = most.max(s2);
+                    self.ext[b] = (1.0 - tg) * s2.sqrt();
                 }
-                let s2 = self.speed2(b, d);
-                most = most.max(s2);
-                self.ext[b] = (1.0 - tg) * s2.sqrt();
             }
             let umax = most.sqrt();
             // A path may grow in a collision: between equal masses to at most sqrt(2) times the
@@ -324,11 +339,9 @@ impl Scratch {
             let bound = 1.5 * umax;
             let rem = bound * (1.0 - tg);
             self.heap.clear();
-            self.scan(inp, tg, rem, &mut out.tests);
-            for b in 0..nb {
-                if self.near_wall(b, rem, inp) {
-                    self.predict_walls(b, inp);
-                }
+            self.scan(inp, tg, rmax, rem, &mut out.tests);
+            for w in std::mem::take(&mut self.walled) {
+                self.predict_walls(w as usize, inp);
             }
             while let Some(Reverse(ev)) = self.heap.pop() {
                 let (a, s) = (ev.a as usize, f64::from_bits(ev.s));
@@ -339,8 +352,6 @@ impl Scratch {
                 if out.contacts > cap {
                     return Err(cap);
                 }
-                self.ver[a] = self.ver[a].wrapping_add(1);
-                self.hit[a] = true;
                 let mut moved = [a, a];
                 if ev.b >= WALL {
                     let w = ev.b - WALL;
@@ -349,11 +360,9 @@ impl Scratch {
                     let b = ev.b as usize;
                     self.collide_pair(a, b, s, inp);
                     self.ver[b] = self.ver[b].wrapping_add(1);
-                    self.hit[b] = true;
-                    self.last[b] = s;
                     moved[1] = b;
                 }
-                self.last[a] = s;
+                self.ver[a] = self.ver[a].wrapping_add(1);
                 if moved.iter().any(|&m| self.speed2(m, d) > bound * bound) {
                     tg = s;
                     continue 'pass;

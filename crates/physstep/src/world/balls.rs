@@ -309,7 +309,7 @@ impl World {
         // The end of the hit balls' new paths, and their velocities, written back; their
         // velocities before the stage kept (leapfrog's memory moves by the same impulse).
         b.v1.resize(nb * d, 0.0);
-        for slot in (0..nb).filter(|&slot| s.hit[slot]) {
+        for slot in (0..nb).filter(|&slot| s.hit(slot)) {
             let p = run.map_or_else(|| b.index[slot], |p0| p0 + slot);
             for k in 0..d {
                 let i = slot * d + k;
@@ -337,7 +337,7 @@ impl World {
         let (d, nx) = (self.dim(), self.nx());
         let s = &self.balls.scratch;
         for (slot, &p) in self.balls.index.iter().enumerate() {
-            if !s.hit[slot] {
+            if !s.hit(slot) {
                 continue;
             }
             for k in 0..d {

@@ -27,17 +27,16 @@ impl Scratch {
     /// that can meet on the current paths (`|x_b - x_a| <= r_a + r_b + (1 - tg)(|u_a| + |u_b|)`,
     /// with a relative margin of 1e-9 over the rounding of the prediction) predicted at once.
     /// Counts the pairs tested.
-    pub(super) fn scan(&mut self, inp: &Input<'_>, tg: f64, rem: f64, tests: &mut u64) {
+    pub(super) fn scan(&mut self, inp: &Input<'_>, tg: f64, rmax: f64, rem: f64, tests: &mut u64) {
         let d = inp.d;
-        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
         self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
         // The grid is read while the chunks fill their lists: moved out for the scan.
         let grid = std::mem::take(&mut self.grid);
         let (mut paths, mut aux) = (std::mem::take(&mut self.paths), std::mem::take(&mut self.aux));
         *tests += match d {
-            1 => self.scan_d::<1>(&grid, &mut paths, &mut aux, inp, tg),
-            2 => self.scan_d::<2>(&grid, &mut paths, &mut aux, inp, tg),
-            _ => self.scan_d::<3>(&grid, &mut paths, &mut aux, inp, tg),
+            1 => self.scan_d::<1>(&grid, &mut paths, &mut aux, inp, [tg, rem]),
+            2 => self.scan_d::<2>(&grid, &mut paths, &mut aux, inp, [tg, rem]),
+            _ => self.scan_d::<3>(&grid, &mut paths, &mut aux, inp, [tg, rem]),
         };
         self.paths = paths;
         self.aux = aux;
@@ -54,17 +53,25 @@ impl Scratch {
         paths: &mut Vec<f64>,
         aux: &mut Vec<[f64; 2]>,
         inp: &Input<'_>,
-        tg: f64,
+        [tg, rem]: [f64; 2],
     ) -> u64 {
         // What a pair's test reads of each ball, in the grid's order (next to its neighbours):
-        // its path, radius, and radius plus path left.
+        // its path, radius, and radius plus path left; and the balls within `r + rem` of a
+        // wall (only those can reach one within the pass: their path left is at most `rem`).
         let n = grid.order().len();
         paths.resize(n * D, 0.0);
         aux.clear();
-        for (path, &b) in paths.chunks_exact_mut(D).zip(grid.order()) {
-            let b = b as usize;
+        self.walled.clear();
+        let balls = paths.chunks_exact_mut(D).zip(grid.order().iter().zip(grid.sorted().chunks_exact(D)));
+        for (path, (&b, pb)) in balls {
+            let (b, r) = (b as usize, inp.radius[b as usize]);
             path.copy_from_slice(&self.u[b * D..(b + 1) * D]);
-            aux.push([inp.radius[b], inp.radius[b] + self.ext[b]]);
+            aux.push([r, r + self.ext[b]]);
+            if let Some(w) = inp.walls {
+                if (0..D).any(|k| pb[k] - r - w.lo[k] <= rem || w.hi[k] - r - pb[k] <= rem) {
+                    self.walled.push(b as u32);
+                }
+            }
         }
         let near = &Near { grid, paths, aux, tg };
         let count = n.div_ceil(CHUNK).max(1);
@@ -172,17 +179,6 @@ impl Scratch {
         }
     }
 
-    /// Whether slot `b` (at its position at the pass's start) is within `r + rem` of a wall:
-    /// only such a ball can reach one within the pass (its path left is at most `rem`).
-    pub(super) fn near_wall(&self, b: usize, rem: f64, inp: &Input<'_>) -> bool {
-        let Some(w) = inp.walls else { return false };
-        let (d, r) = (inp.d, inp.radius[b]);
-        (0..d).any(|k| {
-            let pk = self.p[b * d + k];
-            pk - r - w.lo[k] <= rem || w.hi[k] - r - pk <= rem
-        })
-    }
-
     /// The next events of slot `b`: against the walls, and against the balls of the full
     /// shell of its cell that it can still meet: `|P_b - P_j| <= r_b + r_j + ext_b + ext_j`,
     /// `P` the positions the grid was built from and `ext` how far a ball gets from its `P`
@@ -204,14 +200,14 @@ impl Scratch {
         let (order, sorted) = (grid.order(), grid.sorted());
         let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
         let q = grid.pos_of(b);
-        let (pb, rb) = (at(q), inp.radius[b] + self.ext[b]);
+        let (pb, rb, aux) = (at(q), self.aux[q][1], &self.aux);
         let mut test = |t: usize, j: usize| {
             let pj = at(t);
             let mut dist2 = 0.0;
             for k in 0..D {
                 dist2 += (pj[k] - pb[k]) * (pj[k] - pb[k]);
             }
-            let reach = (rb + inp.radius[j] + self.ext[j]) * MARGIN;
+            let reach = (rb + aux[t][1]) * MARGIN;
             if dist2 <= reach * reach {
                 if let Some(ev) = self.pair_event(b.min(j), b.max(j), inp) {
                     found.push(Reverse(ev));
@@ -251,65 +247,6 @@ impl Scratch {
         let q = self.grid.pos_of(b);
         let from = &self.grid.sorted()[q * d..(q + 1) * d];
         let gone: f64 = (0..d).map(|k| (self.p[b * d + k] - from[k]).powi(2)).sum();
-        self.ext[b] = gone.sqrt() + (1.0 - s) * self.speed2(b, d).sqrt();
-    }
-
-    /// The end-of-step position of slot `b` along `k`: on its new path if it was hit, else as
-    /// integrated.
-    #[inline]
-    pub fn end(&self, b: usize, k: usize, inp: &Input<'_>) -> f64 {
-        let i = b * inp.d + k;
-        if self.hit[b] {
-            self.p[i] + (1.0 - self.tau[b]) * self.u[i]
-        } else {
-            inp.x1[i]
-        }
-    }
-
-    /// The deepest overlap at the end of the step of the balls that were hit, with the balls
-    /// within reach of them (every pair that can overlap: the paths are within the bound) and
-    /// with the walls. A ball that was not hit kept its integrated straight path, on which no
-    /// contact was found: it overlaps nothing that was not hit (the tests check all pairs
-    /// independently).
-    pub fn overlap(&self, inp: &Input<'_>) -> f64 {
-        let d = inp.d;
-        let (grid, mut worst) = (&self.grid, 0.0_f64);
-        let sorted = grid.sorted();
-        let mut spans = [(0u32, 0u32, 0u64); 27];
-        for b in (0..self.hit.len()).filter(|&b| self.hit[b]) {
-            let (mut eb, q) = ([0.0; 3], grid.pos_of(b));
-            for (k, e) in eb.iter_mut().enumerate().take(d) {
-                *e = self.end(b, k, inp);
-            }
-            let count = grid.shell(b, d, &mut spans);
-            for &(lo, hi, key) in &spans[..count] {
-                for t in lo as usize..hi.max(lo) as usize {
-                    let j = grid.order()[t] as usize;
-                    if j == b || (key != ANY && grid.key_at(t) != key) {
-                        continue;
-                    }
-                    let r = inp.radius[b] + inp.radius[j];
-                    // Each ends within `ext` of the position the grid holds: farther apart
-                    // there than `r + ext_b + ext_j`, they do not overlap.
-                    let far: f64 = (0..d).map(|k| (sorted[t * d + k] - sorted[q * d + k]).powi(2)).sum();
-                    let reach = (r + self.ext[b] + self.ext[j]) * MARGIN;
-                    if far > reach * reach {
-                        continue;
-                    }
-                    let dist2: f64 = (0..d).map(|k| (self.end(j, k, inp) - eb[k]).powi(2)).sum();
-                    // Farther than r (by more than a rounding of the square): no overlap.
-                    if dist2 < r * r * (1.0 + 1e-12) {
-                        worst = worst.max(r - dist2.sqrt());
-                    }
-                }
-            }
-            if let Some(w) = inp.walls {
-                for (k, &xk) in eb.iter().enumerate().take(d) {
-                    let r = inp.radius[b];
-                    worst = worst.max(w.lo[k] - (xk - r)).max(xk + r - w.hi[k]);
-                }
-            }
-        }
-        worst
+        self.aux[q][1] = self.aux[q][0] + gone.sqrt() + (1.0 - s) * self.speed2(b, d).sqrt();
     }
 }
