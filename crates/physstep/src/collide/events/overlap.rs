@@ -1,12 +1,13 @@
 //! The check after the contacts of a step: the deepest overlap at its end of the balls that
 //! were hit. See docs/collisions.md.
 
+use super::super::grid::ANY;
 use super::{Input, Scratch, MARGIN};
 
 impl Scratch {
     /// The end-of-step position of slot `b` along `k`: on its new path if it was hit, else as
     /// integrated.
-    #[inline]
+    #[inline(always)]
     pub fn end(&self, b: usize, k: usize, inp: &Input<'_>) -> f64 {
         let i = b * inp.d + k;
         if self.hit(b) {
@@ -35,56 +36,48 @@ impl Scratch {
         let (order, sorted) = (grid.order(), grid.sorted());
         let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
         let end = |b: usize| -> [f64; D] { std::array::from_fn(|k| self.end(b, k, inp)) };
+        let (mut rows, mut spans) = ([(0u32, 0u32); 9], [(0u32, 0u32, 0u64); 27]);
         for b in (0..self.ver.len()).filter(|&b| self.hit(b)) {
             let q = grid.pos_of(b);
-            let (eb, pb) = (end(b), at(q));
-            let mut test = |t: usize, j: usize| {
-                // Each ends within `ext` of the position the grid holds: farther apart there
-                // than `r + ext_b + ext_j`, they do not overlap.
-                let pj = at(t);
-                let mut far = 0.0;
-                for k in 0..D {
-                    far += (pj[k] - pb[k]) * (pj[k] - pb[k]);
-                }
-                let reach = (aux[q][1] + aux[t][1]) * MARGIN;
-                if far > reach * reach {
-                    return;
-                }
-                let (ej, r) = (end(j), aux[q][0] + aux[t][0]);
-                let mut dist2 = 0.0;
-                for k in 0..D {
-                    dist2 += (ej[k] - eb[k]) * (ej[k] - eb[k]);
-                }
-                // Farther than r (by more than a rounding of the square): no overlap.
-                if dist2 < r * r * (1.0 + 1e-12) {
-                    worst = worst.max(r - dist2.sqrt());
-                }
-            };
-            if grid.dense() {
-                let mut rows = [(0u32, 0u32); 9];
+            let (eb, pb, rb) = (end(b), at(q), aux[q]);
+            // The shell as ranges of places (rows of cells in a dense table; cells, whose
+            // places must have the key, in a hashed one).
+            let count = if grid.dense() {
                 let count = grid.shell_dense(q, D, &mut rows);
-                for &(lo, hi) in &rows[..count] {
-                    for t in lo as usize..hi as usize {
-                        if t != q {
-                            test(t, order[t] as usize);
-                        }
-                    }
+                for (span, &(lo, hi)) in spans.iter_mut().zip(&rows[..count]) {
+                    *span = (lo, hi, ANY);
                 }
+                count
             } else {
-                let mut spans = [(0u32, 0u32, 0u64); 27];
-                let count = grid.shell(b, D, &mut spans);
-                for &(lo, hi, key) in &spans[..count] {
-                    for t in lo as usize..hi.max(lo) as usize {
-                        if t != q && grid.key_at(t) == key {
-                            test(t, order[t] as usize);
-                        }
+                grid.shell(b, D, &mut spans)
+            };
+            for &(lo, hi, key) in &spans[..count] {
+                for t in lo as usize..hi.max(lo) as usize {
+                    // Each ends within `ext` of the position the grid holds: farther apart
+                    // there than `r + ext_b + ext_j`, they do not overlap.
+                    let pj = at(t);
+                    let mut far = 0.0;
+                    for k in 0..D {
+                        far += (pj[k] - pb[k]) * (pj[k] - pb[k]);
+                    }
+                    let reach = (rb[1] + aux[t][1]) * MARGIN;
+                    if far > reach * reach || t == q || (key != ANY && grid.key_at(t) != key) {
+                        continue;
+                    }
+                    let (ej, r) = (end(order[t] as usize), rb[0] + aux[t][0]);
+                    let mut dist2 = 0.0;
+                    for k in 0..D {
+                        dist2 += (ej[k] - eb[k]) * (ej[k] - eb[k]);
+                    }
+                    // Farther than r (by more than a rounding of the square): no overlap.
+                    if dist2 < r * r * (1.0 + 1e-12) {
+                        worst = worst.max(r - dist2.sqrt());
                     }
                 }
             }
             if let Some(w) = inp.walls {
-                let r = inp.radius[b];
                 for k in 0..D {
-                    worst = worst.max(w.lo[k] - (eb[k] - r)).max(eb[k] + r - w.hi[k]);
+                    worst = worst.max(w.lo[k] - (eb[k] - rb[0])).max(eb[k] + rb[0] - w.hi[k]);
                 }
             }
         }
