@@ -89,8 +89,10 @@ impl Grid {
         self.start.clear();
         self.start.resize(entries + 1, 0);
         self.slot_keys.resize(n, 0);
-        let m = self.m;
-        for (b, x) in p.chunks_exact(D).enumerate() {
+        let (m, dense, shift) = (self.m, self.dense, self.shift);
+        let entry = |key: u64| if dense { key as usize } else { hashed(key, shift) };
+        let start = &mut self.start[..];
+        for (slot_key, x) in self.slot_keys.iter_mut().zip(p.chunks_exact(D)) {
             // The key `c0 + m0 (c1 + m1 c2)`, each `c` through i64 (one conversion:
             // `x - lo >= 0`, the same cell as `as u64`).
             let mut key = 0;
@@ -98,29 +100,29 @@ impl Grid {
                 let c = (((x[k] - lo[k]) * inv) as i64 as u64).min(m[k] - 3) + 1;
                 key = key * m[k] + c;
             }
-            self.slot_keys[b] = key;
-            let e = self.entry(key);
-            self.start[e + 1] += 1;
+            *slot_key = key;
+            start[entry(key) + 1] += 1;
         }
         for e in 0..entries {
-            self.start[e + 1] += self.start[e];
+            start[e + 1] += start[e];
         }
         self.order.resize(n, 0);
         self.pos.resize(n, 0);
         self.keys.resize(n, 0);
         self.sorted.resize(n * D, 0.0);
-        for (i, x) in p.chunks_exact(D).enumerate() {
-            let k = self.slot_keys[i];
-            let e = self.entry(k);
-            let at = self.start[e];
-            self.order[at as usize] = i as u32;
-            self.pos[i] = at;
-            self.keys[at as usize] = k;
-            self.sorted[at as usize * D..(at as usize + 1) * D].copy_from_slice(&x[..D]);
-            self.start[e] = at + 1;
+        let (order, keys, sorted) = (&mut self.order[..], &mut self.keys[..], &mut self.sorted[..]);
+        let slots = p.chunks_exact(D).zip(self.pos.iter_mut().zip(&self.slot_keys));
+        for (i, (x, (pos, &key))) in slots.enumerate() {
+            let e = entry(key);
+            let at = start[e] as usize;
+            order[at] = i as u32;
+            *pos = at as u32;
+            keys[at] = key;
+            sorted[at * D..(at + 1) * D].copy_from_slice(x);
+            start[e] += 1;
         }
-        self.start.copy_within(0..entries, 1);
-        self.start[0] = 0;
+        start.copy_within(0..entries, 1);
+        start[0] = 0;
     }
 
     /// The table entry of cell `key`: the key itself (dense) or its hash.
@@ -129,7 +131,7 @@ impl Grid {
         if self.dense {
             key as usize
         } else {
-            (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> self.shift) as usize
+            hashed(key, self.shift)
         }
     }
 
@@ -285,6 +287,12 @@ impl Grid {
         }
         n
     }
+}
+
+/// The bucket of cell `key` in a hashed table of `64 - shift` bits (Fibonacci hashing).
+#[inline]
+fn hashed(key: u64, shift: u32) -> usize {
+    (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> shift) as usize
 }
 
 /// The cell key of a range that holds only the cells asked for.
