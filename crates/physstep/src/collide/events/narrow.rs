@@ -34,9 +34,9 @@ impl Scratch {
         let grid = std::mem::take(&mut self.grid);
         let (mut paths, mut aux) = (std::mem::take(&mut self.paths), std::mem::take(&mut self.aux));
         *tests += match d {
-            1 => self.scan_d::<1>(&grid, &mut paths, &mut aux, inp, [tg, rem]),
-            2 => self.scan_d::<2>(&grid, &mut paths, &mut aux, inp, [tg, rem]),
-            _ => self.scan_d::<3>(&grid, &mut paths, &mut aux, inp, [tg, rem]),
+            1 => self.scan_d::<1>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
+            2 => self.scan_d::<2>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
+            _ => self.scan_d::<3>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
         };
         self.paths = paths;
         self.aux = aux;
@@ -53,22 +53,31 @@ impl Scratch {
         paths: &mut Vec<f64>,
         aux: &mut Vec<[f64; 2]>,
         inp: &Input<'_>,
-        [tg, rem]: [f64; 2],
+        [tg, rem, rmax]: [f64; 3],
     ) -> u64 {
         // What a pair's test reads of each ball, in the grid's order (next to its neighbours):
         // its path, radius, and radius plus path left; and the balls within `r + rem` of a
         // wall (only those can reach one within the pass: their path left is at most `rem`).
         let n = grid.order().len();
         paths.resize(n * D, 0.0);
-        aux.clear();
+        aux.resize(n, [0.0; 2]);
         self.walled.clear();
-        let balls = paths.chunks_exact_mut(D).zip(grid.order().iter().zip(grid.sorted().chunks_exact(D)));
-        for (path, (&b, pb)) in balls {
-            let (b, r) = (b as usize, inp.radius[b as usize]);
-            path.copy_from_slice(&self.u[b * D..(b + 1) * D]);
-            aux.push([r, r + self.ext[b]]);
-            if let Some(w) = inp.walls {
-                if (0..D).any(|k| pb[k] - r - w.lo[k] <= rem || w.hi[k] - r - pb[k] <= rem) {
+        // Within `r + rem` of a wall on some axis when outside the box shrunk by that much
+        // (by `rmax + rem` with the margin: every such ball, and perhaps a few more, whose
+        // walls are then predicted to no event).
+        let inner = inp.walls.map(|w| {
+            let reach = (rmax + rem) * MARGIN;
+            let inner: [[f64; 2]; D] = std::array::from_fn(|k| [w.lo[k] + reach, w.hi[k] - reach]);
+            inner
+        });
+        let (u, ext, radius) = (&self.u[..n * D], &self.ext[..n], &inp.radius[..n]);
+        let places = paths.chunks_exact_mut(D).zip(aux.iter_mut());
+        for ((path, a), (&b, pb)) in places.zip(grid.order().iter().zip(grid.sorted().chunks_exact(D))) {
+            let b = b as usize;
+            path.copy_from_slice(&u[b * D..(b + 1) * D]);
+            *a = [radius[b], radius[b] + ext[b]];
+            if let Some(inner) = &inner {
+                if (0..D).any(|k| pb[k] <= inner[k][0] || pb[k] >= inner[k][1]) {
                     self.walled.push(b as u32);
                 }
             }
