@@ -289,6 +289,40 @@ impl Grid {
     }
 }
 
+/// Ranges of places read as one run: one loop over them all, so one loop exit to predict
+/// rather than one per range (the ranges hold a ball or two each: their exits are a coin
+/// toss). The run has `total` places; the `i`-th is [`Run::place`].
+pub(crate) struct Run<const K: usize> {
+    /// Where each range ends in the run (ranges past those given end at `total`).
+    ends: [usize; K],
+    /// What turns an index of the run into a place, range by range (`lo - start`, wrapping).
+    base: [usize; K],
+    pub total: usize,
+}
+
+impl<const K: usize> Run<K> {
+    /// The run of `ranges` (at most `K`; an inverted range is empty).
+    #[inline(always)]
+    pub fn new(ranges: &[(u32, u32)]) -> Self {
+        let (mut ends, mut base, mut total) = ([0; K], [0; K], 0usize);
+        for r in 0..K {
+            let (lo, hi) = ranges.get(r).map_or((0, 0), |&(lo, hi)| (lo as usize, hi.max(lo) as usize));
+            base[r] = lo.wrapping_sub(total);
+            total += hi - lo;
+            ends[r] = total;
+        }
+        Self { ends, base, total }
+    }
+
+    /// The place of index `i < total` of the run: in the range after those that end at or
+    /// before `i` (counted without a branch).
+    #[inline(always)]
+    pub fn place(&self, i: usize) -> usize {
+        let r: usize = self.ends.iter().map(|&e| usize::from(e <= i)).sum();
+        self.base[r].wrapping_add(i)
+    }
+}
+
 /// The bucket of cell `key` in a hashed table of `64 - shift` bits (Fibonacci hashing).
 #[inline]
 fn hashed(key: u64, shift: u32) -> usize {

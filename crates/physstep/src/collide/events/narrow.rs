@@ -2,7 +2,7 @@
 //! that can meet on the current paths, predicted at once), a hit ball's re-query of the full
 //! shell around it, and the deepest overlap at the end of the step. See docs/collisions.md.
 
-use super::super::grid::{Grid, ANY};
+use super::super::grid::{Grid, Run, ANY};
 use super::{impact, Event, Input, Scratch, MARGIN};
 use rayon::prelude::*;
 use std::cmp::Reverse;
@@ -111,33 +111,16 @@ impl Scratch {
     #[inline(always)]
     fn scan_span<const D: usize>(&self, near: &Near<'_>, span: std::ops::Range<usize>, out: &mut Vec<Reverse<Event>>) -> u64 {
         let grid = near.grid;
-        let mut found = 0u64;
         if grid.dense() {
-            let (sorted, aux) = (grid.sorted(), near.aux);
-            let mut ranges = [(0u32, 0u32); 5];
-            for q in span {
-                let count = grid.half_dense(q, D, &mut ranges);
-                let (pi, ri): ([f64; D], f64) = (sorted[q * D..(q + 1) * D].try_into().expect("D"), aux[q][1]);
-                for &(lo, hi) in &ranges[..count] {
-                    let (lo, hi) = (lo as usize, (hi as usize).max(lo as usize));
-                    found += (hi - lo) as u64;
-                    // The filter written out over the range (no bounds checks); a pair within
-                    // reach goes on to the prediction.
-                    let balls = sorted[lo * D..hi * D].chunks_exact(D).zip(&aux[lo..hi]);
-                    for (t, (pj, aj)) in (lo..hi).zip(balls) {
-                        let mut dist2 = 0.0;
-                        for k in 0..D {
-                            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
-                        }
-                        let reach = (ri + aj[1]) * MARGIN;
-                        if dist2 <= reach * reach {
-                            self.predict_near::<D>(near, q, t, out);
-                        }
-                    }
-                }
-            }
-        } else {
-            let mut spans = [(0u32, 0u32, 0u64); 14];
+            // The half shell's ranges as one run (as many as it has for D).
+            return match D {
+                1 => self.scan_dense::<D, 1>(near, span, out),
+                2 => self.scan_dense::<D, 2>(near, span, out),
+                _ => self.scan_dense::<D, 5>(near, span, out),
+            };
+        }
+        let (mut spans, mut found) = ([(0u32, 0u32, 0u64); 14], 0u64);
+        {
             for i in span {
                 let q = grid.pos_of(i);
                 let count = grid.partners(i, D, &mut spans);
@@ -150,6 +133,40 @@ impl Scratch {
                             }
                         }
                     }
+                }
+            }
+        }
+        found
+    }
+
+    /// The scan of the places `span` in a dense table, each ball's half shell (`K` ranges) as
+    /// one run; returns the pairs tested.
+    #[inline(always)]
+    fn scan_dense<const D: usize, const K: usize>(
+        &self,
+        near: &Near<'_>,
+        span: std::ops::Range<usize>,
+        out: &mut Vec<Reverse<Event>>,
+    ) -> u64 {
+        let (grid, aux) = (near.grid, near.aux);
+        let sorted = grid.sorted();
+        let (mut ranges, mut found) = ([(0u32, 0u32); 5], 0u64);
+        for q in span {
+            let count = grid.half_dense(q, D, &mut ranges);
+            let run = Run::<K>::new(&ranges[..count]);
+            found += run.total as u64;
+            let (pi, ri): ([f64; D], f64) = (sorted[q * D..(q + 1) * D].try_into().expect("D"), aux[q][1]);
+            // The filter written out; a pair within reach goes on to the prediction.
+            for i in 0..run.total {
+                let t = run.place(i);
+                let pj = &sorted[t * D..(t + 1) * D];
+                let mut dist2 = 0.0;
+                for k in 0..D {
+                    dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+                }
+                let reach = (ri + aux[t][1]) * MARGIN;
+                if dist2 <= reach * reach {
+                    self.predict_near::<D>(near, q, t, out);
                 }
             }
         }
