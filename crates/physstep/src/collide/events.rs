@@ -97,6 +97,8 @@ pub(crate) struct Scratch {
     /// How many contacts each ball had in this step (stale events carry an older count; the
     /// budget of contacts keeps it far from wrapping).
     ver: Vec<u32>,
+    /// The balls hit in this step, in the order of their first contact.
+    hits: Vec<u32>,
     /// How far each ball gets by the end of the step, on its current path, from the position
     /// the grid was built from (at most `rem`: the paths are within the bound).
     ext: Vec<f64>,
@@ -275,6 +277,20 @@ impl Scratch {
         }
     }
 
+    /// Counts a contact of slot `b` (its events so far go stale).
+    fn count(&mut self, b: usize) {
+        if self.ver[b] == 0 {
+            self.hits.push(b as u32);
+        }
+        self.ver[b] = self.ver[b].wrapping_add(1);
+    }
+
+    /// The slots hit in this step, in the order of their first contact.
+    #[inline]
+    pub fn hits(&self) -> &[u32] {
+        &self.hits
+    }
+
     /// Whether slot `b` was hit in this step (so far).
     #[inline]
     pub fn hit(&self, b: usize) -> bool {
@@ -301,6 +317,7 @@ impl Scratch {
         self.tau.resize(nb, 0.0);
         self.ver.clear();
         self.ver.resize(nb, 0);
+        self.hits.clear();
         // Each path, and the path left from the start, `ext` (the first pass's).
         self.u.clear();
         self.ext.clear();
@@ -359,10 +376,10 @@ impl Scratch {
                 } else {
                     let b = ev.b as usize;
                     self.collide_pair(a, b, s, inp);
-                    self.ver[b] = self.ver[b].wrapping_add(1);
+                    self.count(b);
                     moved[1] = b;
                 }
-                self.ver[a] = self.ver[a].wrapping_add(1);
+                self.count(a);
                 if moved.iter().any(|&m| self.speed2(m, d) > bound * bound) {
                     tg = s;
                     continue 'pass;

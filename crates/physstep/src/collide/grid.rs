@@ -289,6 +289,17 @@ impl Grid {
     }
 }
 
+/// Calls `f` with every place of the rows of a dense shell ([`Grid::shell_dense`]: `3^(d-1)`
+/// of them), as one run.
+#[inline(always)]
+pub(crate) fn each_in_rows(rows: &[(u32, u32)], d: usize, f: impl FnMut(usize)) {
+    match d {
+        1 => Run::<1>::each(rows, f),
+        2 => Run::<3>::each(rows, f),
+        _ => Run::<9>::each(rows, f),
+    }
+}
+
 /// Ranges of places read as one run: one loop over them all, so one loop exit to predict
 /// rather than one per range (the ranges hold a ball or two each: their exits are a coin
 /// toss). The run has `total` places; the `i`-th is [`Run::place`].
@@ -312,6 +323,15 @@ impl<const K: usize> Run<K> {
             ends[r] = total;
         }
         Self { ends, base, total }
+    }
+
+    /// Calls `f` with every place of `ranges` (at most `K`), as one run.
+    #[inline(always)]
+    pub fn each(ranges: &[(u32, u32)], mut f: impl FnMut(usize)) {
+        let run = Self::new(ranges);
+        for i in 0..run.total {
+            f(run.place(i));
+        }
     }
 
     /// The place of index `i < total` of the run: in the range after those that end at or

@@ -2,7 +2,7 @@
 //! that can meet on the current paths, predicted at once), a hit ball's re-query of the full
 //! shell around it, and the deepest overlap at the end of the step. See docs/collisions.md.
 
-use super::super::grid::{Grid, Run, ANY};
+use super::super::grid::{each_in_rows, Grid, Run, ANY};
 use super::{impact, Event, Input, Scratch, MARGIN};
 use rayon::prelude::*;
 use std::cmp::Reverse;
@@ -243,14 +243,11 @@ impl Scratch {
         if grid.dense() {
             let mut rows = [(0u32, 0u32); 9];
             let count = grid.shell_dense(q, D, &mut rows);
-            for &(lo, hi) in &rows[..count] {
-                for t in lo as usize..hi as usize {
-                    let j = order[t] as usize;
-                    if j != b {
-                        test(t, j);
-                    }
+            each_in_rows(&rows[..count], D, |t| {
+                if t != q {
+                    test(t, order[t] as usize);
                 }
-            }
+            });
         } else {
             let mut spans = [(0u32, 0u32, 0u64); 27];
             let count = grid.shell(b, D, &mut spans);

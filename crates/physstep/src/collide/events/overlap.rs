@@ -1,7 +1,7 @@
 //! The check after the contacts of a step: the deepest overlap at its end of the balls that
 //! were hit. See docs/collisions.md.
 
-use super::super::grid::ANY;
+use super::super::grid::each_in_rows;
 use super::{Input, Scratch, MARGIN};
 
 impl Scratch {
@@ -37,41 +37,42 @@ impl Scratch {
         let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
         let end = |b: usize| -> [f64; D] { std::array::from_fn(|k| self.end(b, k, inp)) };
         let (mut rows, mut spans) = ([(0u32, 0u32); 9], [(0u32, 0u32, 0u64); 27]);
-        for b in (0..self.ver.len()).filter(|&b| self.hit(b)) {
+        for &b in &self.hits {
+            let b = b as usize;
             let q = grid.pos_of(b);
             let (eb, pb, rb) = (end(b), at(q), aux[q]);
-            // The shell as ranges of places (rows of cells in a dense table; cells, whose
-            // places must have the key, in a hashed one).
-            let count = if grid.dense() {
-                let count = grid.shell_dense(q, D, &mut rows);
-                for (span, &(lo, hi)) in spans.iter_mut().zip(&rows[..count]) {
-                    *span = (lo, hi, ANY);
+            let mut test = |t: usize| {
+                // Each ends within `ext` of the position the grid holds: farther apart there
+                // than `r + ext_b + ext_j`, they do not overlap.
+                let pj = at(t);
+                let mut far = 0.0;
+                for k in 0..D {
+                    far += (pj[k] - pb[k]) * (pj[k] - pb[k]);
                 }
-                count
-            } else {
-                grid.shell(b, D, &mut spans)
+                let reach = (rb[1] + aux[t][1]) * MARGIN;
+                if far > reach * reach || t == q {
+                    return;
+                }
+                let (ej, r) = (end(order[t] as usize), rb[0] + aux[t][0]);
+                let mut dist2 = 0.0;
+                for k in 0..D {
+                    dist2 += (ej[k] - eb[k]) * (ej[k] - eb[k]);
+                }
+                // Farther than r (by more than a rounding of the square): no overlap.
+                if dist2 < r * r * (1.0 + 1e-12) {
+                    worst = worst.max(r - dist2.sqrt());
+                }
             };
-            for &(lo, hi, key) in &spans[..count] {
-                for t in lo as usize..hi.max(lo) as usize {
-                    // Each ends within `ext` of the position the grid holds: farther apart
-                    // there than `r + ext_b + ext_j`, they do not overlap.
-                    let pj = at(t);
-                    let mut far = 0.0;
-                    for k in 0..D {
-                        far += (pj[k] - pb[k]) * (pj[k] - pb[k]);
-                    }
-                    let reach = (rb[1] + aux[t][1]) * MARGIN;
-                    if far > reach * reach || t == q || (key != ANY && grid.key_at(t) != key) {
-                        continue;
-                    }
-                    let (ej, r) = (end(order[t] as usize), rb[0] + aux[t][0]);
-                    let mut dist2 = 0.0;
-                    for k in 0..D {
-                        dist2 += (ej[k] - eb[k]) * (ej[k] - eb[k]);
-                    }
-                    // Farther than r (by more than a rounding of the square): no overlap.
-                    if dist2 < r * r * (1.0 + 1e-12) {
-                        worst = worst.max(r - dist2.sqrt());
+            // The shell: rows of cells as one run in a dense table; cells, whose places must
+            // have the key, in a hashed one.
+            if grid.dense() {
+                let count = grid.shell_dense(q, D, &mut rows);
+                each_in_rows(&rows[..count], D, test);
+            } else {
+                let count = grid.shell(b, D, &mut spans);
+                for &(lo, hi, key) in &spans[..count] {
+                    for t in (lo as usize..hi.max(lo) as usize).filter(|&t| grid.key_at(t) == key) {
+                        test(t);
                     }
                 }
             }
