@@ -106,8 +106,10 @@ pub(crate) struct Scratch {
     /// (the scan's).
     paths: Vec<f64>,
     aux: Vec<[f64; 2]>,
-    /// The balls within reach of a wall in the pass (found by the scan's gather).
+    /// The balls within reach of a wall in the pass (found by the scan's gather): those
+    /// outside the walls' box shrunk by `(rmax + rem)` with the margin, `inner` (per axis).
     walled: Vec<u32>,
+    inner: [[f64; 2]; 3],
     heap: BinaryHeap<Reverse<Event>>,
     /// The events found by a ball's prediction.
     found: Vec<Reverse<Event>>,

@@ -65,21 +65,20 @@ impl Scratch {
         // Within `r + rem` of a wall on some axis when outside the box shrunk by that much
         // (by `rmax + rem` with the margin: every such ball, and perhaps a few more, whose
         // walls are then predicted to no event).
-        let inner = inp.walls.map(|w| {
+        if let Some(w) = inp.walls {
             let reach = (rmax + rem) * MARGIN;
-            let inner: [[f64; 2]; D] = std::array::from_fn(|k| [w.lo[k] + reach, w.hi[k] - reach]);
-            inner
-        });
+            for k in 0..D {
+                self.inner[k] = [w.lo[k] + reach, w.hi[k] - reach];
+            }
+        }
         let (u, ext, radius) = (&self.u[..n * D], &self.ext[..n], &inp.radius[..n]);
         let places = paths.chunks_exact_mut(D).zip(aux.iter_mut());
         for ((path, a), (&b, pb)) in places.zip(grid.order().iter().zip(grid.sorted().chunks_exact(D))) {
             let b = b as usize;
             path.copy_from_slice(&u[b * D..(b + 1) * D]);
             *a = [radius[b], radius[b] + ext[b]];
-            if let Some(inner) = &inner {
-                if (0..D).any(|k| pb[k] <= inner[k][0] || pb[k] >= inner[k][1]) {
-                    self.walled.push(b as u32);
-                }
+            if inp.walls.is_some() && (0..D).any(|k| pb[k] <= self.inner[k][0] || pb[k] >= self.inner[k][1]) {
+                self.walled.push(b as u32);
             }
         }
         let near = &Near { grid, paths, aux, tg };
@@ -210,7 +209,13 @@ impl Scratch {
     /// `P` the positions the grid was built from and `ext` how far a ball gets from its `P`
     /// by the end of the step on its current path (with the scan's margin).
     pub(super) fn predict(&mut self, b: usize, inp: &Input<'_>) {
-        self.predict_walls(b, inp);
+        // Only a ball outside the pass's inner box can reach a wall (its path left from the
+        // grid's position is at most `rem`).
+        let (d, q) = (inp.d, self.grid.pos_of(b));
+        let at = &self.grid.sorted()[q * d..(q + 1) * d];
+        if (0..d).any(|k| at[k] <= self.inner[k][0] || at[k] >= self.inner[k][1]) {
+            self.predict_walls(b, inp);
+        }
         match inp.d {
             1 => self.predict_d::<1>(b, inp),
             2 => self.predict_d::<2>(b, inp),
