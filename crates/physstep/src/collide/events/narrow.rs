@@ -71,12 +71,13 @@ impl Scratch {
                 self.inner[k] = [w.lo[k] + reach, w.hi[k] - reach];
             }
         }
-        let (u, ext, radius) = (&self.u[..n * D], &self.ext[..n], &inp.radius[..n]);
-        let places = paths.chunks_exact_mut(D).zip(aux.iter_mut());
-        for ((path, a), (&b, pb)) in places.zip(grid.order().iter().zip(grid.sorted().chunks_exact(D))) {
-            let b = b as usize;
-            path.copy_from_slice(&u[b * D..(b + 1) * D]);
-            *a = [radius[b], radius[b] + ext[b]];
+        // Slot by slot (read in order, written to each slot's place).
+        let (u, ext, radius, p) = (&self.u[..n * D], &self.ext[..n], &inp.radius[..n], &self.p[..n * D]);
+        let slots = u.chunks_exact(D).zip(p.chunks_exact(D)).zip(ext.iter().zip(radius));
+        for (b, ((ub, pb), (&e, &r))) in slots.enumerate() {
+            let q = grid.pos_of(b);
+            paths[q * D..(q + 1) * D].copy_from_slice(ub);
+            aux[q] = [r, r + e];
             if inp.walls.is_some() && (0..D).any(|k| pb[k] <= self.inner[k][0] || pb[k] >= self.inner[k][1]) {
                 self.walled.push(b as u32);
             }
