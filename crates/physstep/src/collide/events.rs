@@ -89,7 +89,8 @@ pub(crate) struct Scratch {
     pub x0: Vec<f64>,
     pub v0: Vec<f64>,
     /// Each ball's position `p` at its own time `tau`, its path `u` (displacement over a
-    /// whole step) and its velocity `vel` (end-of-step velocity with the impulses so far).
+    /// whole step) and its velocity `vel` (end-of-step velocity with the impulses so far:
+    /// taken from the input at its first contact, left from another step before).
     pub p: Vec<f64>,
     pub u: Vec<f64>,
     pub vel: Vec<f64>,
@@ -196,6 +197,13 @@ impl Scratch {
         self.vel[i] - (1.0 - s) * (inp.v1[i] - self.v0[i])
     }
 
+    /// Before the first contact of slot `b` in the step: its velocity `vel` is the input's.
+    fn first_contact(&mut self, b: usize, d: usize, inp: &Input<'_>) {
+        if !self.hit(b) {
+            self.vel[b * d..(b + 1) * d].copy_from_slice(&inp.v1[b * d..(b + 1) * d]);
+        }
+    }
+
     /// The restitution of a contact of `a` and `b`: the world's for a ball's first contact in
     /// the step, 1 once either ball was already hit in it. Inelastic contacts among balls that
     /// touch (a pile at rest under gravity) converge only geometrically, an endless sequence
@@ -215,6 +223,8 @@ impl Scratch {
     #[allow(clippy::needless_range_loop)] // k indexes n, the state and the input alike
     fn collide_pair(&mut self, a: usize, b: usize, s: f64, inp: &Input<'_>) {
         let d = inp.d;
+        self.first_contact(a, d, inp);
+        self.first_contact(b, d, inp);
         self.advance(a, s, d);
         self.advance(b, s, d);
         let (wa, wb) = (inp.inv_mass[a], inp.inv_mass[b]);
@@ -263,6 +273,7 @@ impl Scratch {
 
     /// The bounce of slot `a` off wall `k` (`side` 1: the upper) at `s`.
     fn collide_wall(&mut self, a: usize, k: usize, side: u32, s: f64, inp: &Input<'_>) {
+        self.first_contact(a, inp.d, inp);
         self.advance(a, s, inp.d);
         if inp.inv_mass[a] == 0.0 {
             return;
@@ -313,8 +324,7 @@ impl Scratch {
         let (d, nb) = (inp.d, inp.radius.len());
         // The start positions are the paths' origins: taken over (the next step refills x0).
         std::mem::swap(&mut self.p, &mut self.x0);
-        self.vel.clear();
-        self.vel.extend_from_slice(inp.v1);
+        self.vel.resize(nb * d, 0.0);
         self.tau.clear();
         self.tau.resize(nb, 0.0);
         self.ver.clear();
