@@ -109,7 +109,12 @@ impl Scratch {
     /// The scan of the places `span` of the grid's order (of the slots `span` in a hashed
     /// table): their events pushed to `out`; returns the pairs tested.
     #[inline(always)]
-    fn scan_span<const D: usize>(&self, near: &Near<'_>, span: std::ops::Range<usize>, out: &mut Vec<Reverse<Event>>) -> u64 {
+    fn scan_span<const D: usize>(
+        &self,
+        near: &Near<'_>,
+        span: std::ops::Range<usize>,
+        out: &mut Vec<Reverse<Event>>,
+    ) -> u64 {
         let grid = near.grid;
         if grid.dense() {
             // The half shell's ranges as one run (as many as it has for D).
@@ -191,7 +196,13 @@ impl Scratch {
     /// position: the prediction reads the grid's positions and the paths in `near` alone
     /// (the bits of [`Scratch::pair_event`]).
     #[inline(never)]
-    fn predict_near<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize, out: &mut Vec<Reverse<Event>>) {
+    fn predict_near<const D: usize>(
+        &self,
+        near: &Near<'_>,
+        q: usize,
+        t: usize,
+        out: &mut Vec<Reverse<Event>>,
+    ) {
         let (sorted, paths, aux) = (near.grid.sorted(), near.paths, near.aux);
         let (mut dk, mut wk) = ([0.0; D], [0.0; D]);
         for k in 0..D {
