@@ -61,27 +61,30 @@ impl Scratch {
         let n = grid.order().len();
         paths.resize(n * D, 0.0);
         aux.resize(n, [0.0; 2]);
-        self.walled.clear();
         // Within `r + rem` of a wall on some axis when outside the box shrunk by that much
         // (by `rmax + rem` with the margin: every such ball, and perhaps a few more, whose
-        // walls are then predicted to no event).
-        if let Some(w) = inp.walls {
-            let reach = (rmax + rem) * MARGIN;
-            for k in 0..D {
-                self.inner[k] = [w.lo[k] + reach, w.hi[k] - reach];
-            }
+        // walls are then predicted to no event); no ball is without walls.
+        let reach = (rmax + rem) * MARGIN;
+        for k in 0..D {
+            self.inner[k] =
+                inp.walls.map_or([f64::NEG_INFINITY, f64::INFINITY], |w| [w.lo[k] + reach, w.hi[k] - reach]);
         }
-        // Slot by slot (read in order, written to each slot's place).
+        let inner = self.inner;
+        // Slot by slot (read in order, written to each slot's place); the balls near a wall
+        // listed without a branch (each written, kept when near).
         let (u, ext, radius, p) = (&self.u[..n * D], &self.ext[..n], &inp.radius[..n], &self.p[..n * D]);
+        let (walled, mut count) = (&mut self.walled, 0);
+        walled.resize(n, 0);
         let slots = u.chunks_exact(D).zip(p.chunks_exact(D)).zip(ext.iter().zip(radius));
         for (b, ((ub, pb), (&e, &r))) in slots.enumerate() {
             let q = grid.pos_of(b);
             paths[q * D..(q + 1) * D].copy_from_slice(ub);
             aux[q] = [r, r + e];
-            if inp.walls.is_some() && (0..D).any(|k| pb[k] <= self.inner[k][0] || pb[k] >= self.inner[k][1]) {
-                self.walled.push(b as u32);
-            }
+            let near = (0..D).fold(false, |near, k| near | (pb[k] <= inner[k][0]) | (pb[k] >= inner[k][1]));
+            walled[count] = b as u32;
+            count += usize::from(near);
         }
+        walled.truncate(count);
         let near = &Near { grid, paths, aux, tg };
         let count = n.div_ceil(CHUNK).max(1);
         let mut chunks = std::mem::take(&mut self.chunks);
