@@ -13,6 +13,7 @@
 //! next events are predicted. Every ball that was hit ends at the end of its new path.
 
 mod narrow;
+mod overlap;
 
 use super::grid::Grid;
 use super::Walls;
@@ -51,6 +52,35 @@ pub(crate) struct Input<'a> {
     pub v1: &'a [f64],
 }
 
+/// The earliest time at which two balls at separation `dk` (from the first to the second)
+/// with relative path `wk` (per step) at the time `s0` are `r` apart, if they approach and
+/// meet within the step: the smaller root of `ww s^2 + 2 dw s + c` (`c = dd - r^2`; at once
+/// when they already touch). The same bits whichever ball is first (`-x * -y = x * y`).
+#[inline(always)]
+pub(super) fn impact<const D: usize>(dk: [f64; D], wk: [f64; D], r: f64, s0: f64) -> Option<f64> {
+    let (mut dd, mut dw, mut ww) = (0.0, 0.0, 0.0);
+    for k in 0..D {
+        dd += dk[k] * dk[k];
+        dw += dk[k] * wk[k];
+        ww += wk[k] * wk[k];
+    }
+    if dw >= 0.0 {
+        return None;
+    }
+    let c = dd - r * r;
+    let s = if c <= 0.0 {
+        s0
+    } else {
+        let disc = dw * dw - ww * c;
+        if disc < 0.0 {
+            return None;
+        }
+        // The smaller root in the form without cancellation.
+        s0 + c / (-dw + disc.sqrt())
+    };
+    (s <= 1.0).then_some(s)
+}
+
 /// The scratch of the stage, kept from step to step (no allocation once warm).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Scratch {
@@ -59,22 +89,31 @@ pub(crate) struct Scratch {
     pub x0: Vec<f64>,
     pub v0: Vec<f64>,
     /// Each ball's position `p` at its own time `tau`, its path `u` (displacement over a
-    /// whole step) and its velocity `vel` (end-of-step velocity with the impulses so far).
+    /// whole step) and its velocity `vel` (end-of-step velocity with the impulses so far:
+    /// taken from the input at its first contact, left from another step before).
     pub p: Vec<f64>,
     pub u: Vec<f64>,
     pub vel: Vec<f64>,
     pub tau: Vec<f64>,
+    /// How many contacts each ball had in this step (stale events carry an older count; the
+    /// budget of contacts keeps it far from wrapping).
     ver: Vec<u32>,
-    /// When each ball was last hit in this step (-1: not yet).
-    last: Vec<f64>,
-    /// Whether the ball was hit this step.
-    pub hit: Vec<bool>,
+    /// The balls hit in this step, in the order of their first contact.
+    hits: Vec<u32>,
     /// How far each ball gets by the end of the step, on its current path, from the position
     /// the grid was built from (at most `rem`: the paths are within the bound).
     ext: Vec<f64>,
-    /// Radius and path left of each ball in the grid's order (the scan's).
+    /// The path, and the radius and radius plus path left, of each ball in the grid's order
+    /// (the scan's).
+    paths: Vec<f64>,
     aux: Vec<[f64; 2]>,
+    /// The balls within reach of a wall in the pass (found by the scan's gather): those
+    /// outside the walls' box shrunk by `(rmax + rem)` with the margin, `inner` (per axis).
+    walled: Vec<u32>,
+    inner: [[f64; 2]; 3],
     heap: BinaryHeap<Reverse<Event>>,
+    /// The events found by a ball's prediction.
+    found: Vec<Reverse<Event>>,
     /// The events found by each chunk of the scan.
     chunks: Vec<Vec<Reverse<Event>>>,
     grid: Grid,
@@ -112,41 +151,23 @@ impl Scratch {
     }
 
     /// The earliest impact of slots `a < b` from the later of their times, if in the step.
-    fn predict_pair(&mut self, a: usize, b: usize, inp: &Input<'_>) {
-        if let Some(ev) = self.pair_event(a, b, inp) {
-            self.heap.push(Reverse(ev));
-        }
-    }
-
-    /// The event of [`Scratch::predict_pair`], read-only (the scan's chunks share the state).
     fn pair_event(&self, a: usize, b: usize, inp: &Input<'_>) -> Option<Event> {
         let d = inp.d;
         let s0 = self.tau[a].max(self.tau[b]);
-        let (mut dd, mut dw, mut ww) = (0.0, 0.0, 0.0);
+        let (mut dk, mut wk) = ([0.0; 3], [0.0; 3]);
         for k in 0..d {
             let pa = self.p[a * d + k] + (s0 - self.tau[a]) * self.u[a * d + k];
             let pb = self.p[b * d + k] + (s0 - self.tau[b]) * self.u[b * d + k];
-            let (dk, wk) = (pb - pa, self.u[b * d + k] - self.u[a * d + k]);
-            dd += dk * dk;
-            dw += dk * wk;
-            ww += wk * wk;
-        }
-        if dw >= 0.0 {
-            return None;
+            dk[k] = pb - pa;
+            wk[k] = self.u[b * d + k] - self.u[a * d + k];
         }
         let r = inp.radius[a] + inp.radius[b];
-        let c = dd - r * r;
-        let s = if c <= 0.0 {
-            s0
-        } else {
-            let disc = dw * dw - ww * c;
-            if disc < 0.0 {
-                return None;
-            }
-            // The smaller root of ww s^2 + 2 dw s + c, in the form without cancellation.
-            s0 + c / (-dw + disc.sqrt())
-        };
-        (s <= 1.0).then(|| self.event(s, a, b as u32))
+        let s = match d {
+            1 => impact([dk[0]], [wk[0]], r, s0),
+            2 => impact([dk[0], dk[1]], [wk[0], wk[1]], r, s0),
+            _ => impact(dk, wk, r, s0),
+        }?;
+        Some(self.event(s, a, b as u32))
     }
 
     fn predict_walls(&mut self, a: usize, inp: &Input<'_>) {
@@ -176,6 +197,13 @@ impl Scratch {
         self.vel[i] - (1.0 - s) * (inp.v1[i] - self.v0[i])
     }
 
+    /// Before the first contact of slot `b` in the step: its velocity `vel` is the input's.
+    fn first_contact(&mut self, b: usize, d: usize, inp: &Input<'_>) {
+        if !self.hit(b) {
+            self.vel[b * d..(b + 1) * d].copy_from_slice(&inp.v1[b * d..(b + 1) * d]);
+        }
+    }
+
     /// The restitution of a contact of `a` and `b`: the world's for a ball's first contact in
     /// the step, 1 once either ball was already hit in it. Inelastic contacts among balls that
     /// touch (a pile at rest under gravity) converge only geometrically, an endless sequence
@@ -183,7 +211,7 @@ impl Scratch {
     /// at most once per ball per step (Luding and McNamara's TC model, with the step as the
     /// contact duration).
     fn restitution(&self, a: usize, b: usize, inp: &Input<'_>) -> f64 {
-        if self.last[a] >= 0.0 || self.last[b] >= 0.0 {
+        if self.hit(a) || self.hit(b) {
             1.0
         } else {
             inp.e
@@ -195,6 +223,8 @@ impl Scratch {
     #[allow(clippy::needless_range_loop)] // k indexes n, the state and the input alike
     fn collide_pair(&mut self, a: usize, b: usize, s: f64, inp: &Input<'_>) {
         let d = inp.d;
+        self.first_contact(a, d, inp);
+        self.first_contact(b, d, inp);
         self.advance(a, s, d);
         self.advance(b, s, d);
         let (wa, wb) = (inp.inv_mass[a], inp.inv_mass[b]);
@@ -243,6 +273,7 @@ impl Scratch {
 
     /// The bounce of slot `a` off wall `k` (`side` 1: the upper) at `s`.
     fn collide_wall(&mut self, a: usize, k: usize, side: u32, s: f64, inp: &Input<'_>) {
+        self.first_contact(a, inp.d, inp);
         self.advance(a, s, inp.d);
         if inp.inv_mass[a] == 0.0 {
             return;
@@ -259,6 +290,26 @@ impl Scratch {
         }
     }
 
+    /// Counts a contact of slot `b` (its events so far go stale).
+    fn count(&mut self, b: usize) {
+        if self.ver[b] == 0 {
+            self.hits.push(b as u32);
+        }
+        self.ver[b] = self.ver[b].wrapping_add(1);
+    }
+
+    /// The slots hit in this step, in the order of their first contact.
+    #[inline]
+    pub fn hits(&self) -> &[u32] {
+        &self.hits
+    }
+
+    /// Whether slot `b` was hit in this step (so far).
+    #[inline]
+    pub fn hit(&self, b: usize) -> bool {
+        self.ver[b] != 0
+    }
+
     fn speed2(&self, b: usize, d: usize) -> f64 {
         self.u[b * d..(b + 1) * d].iter().map(|c| c * c).sum()
     }
@@ -271,35 +322,43 @@ impl Scratch {
     /// packed at rest).
     pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
         let (d, nb) = (inp.d, inp.radius.len());
-        self.u.clear();
-        self.u.extend(inp.x1.iter().zip(&self.x0).map(|(x1, x0)| x1 - x0));
         // The start positions are the paths' origins: taken over (the next step refills x0).
         std::mem::swap(&mut self.p, &mut self.x0);
-        self.vel.clear();
-        self.vel.extend_from_slice(inp.v1);
+        self.vel.resize(nb * d, 0.0);
         self.tau.clear();
         self.tau.resize(nb, 0.0);
         self.ver.clear();
         self.ver.resize(nb, 0);
-        self.hit.clear();
-        self.hit.resize(nb, false);
-        self.last.clear();
-        self.last.resize(nb, -1.0);
+        self.hits.clear();
+        // Each path, and the path left from the start, `ext` (the first pass's).
+        self.u.clear();
+        self.ext.clear();
+        let mut most = 0.0_f64;
+        for (x1, x0) in inp.x1.chunks_exact(d).zip(self.p.chunks_exact(d)) {
+            let mut s2 = 0.0;
+            for k in 0..d {
+                let uk = x1[k] - x0[k];
+                self.u.push(uk);
+                s2 += uk * uk;
+            }
+            most = most.max(s2);
+            self.ext.push(s2.sqrt());
+        }
+        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
         let mut out = Outcome::default();
         let cap = 64 * nb as u64 + 1024;
         let mut tg = 0.0;
         'pass: loop {
             // Every ball at tg (the first pass starts where they all are, at 0), and the
             // path each has left: `ext`, how far it gets from there by the end of the step.
-            self.ext.resize(nb, 0.0);
-            let mut most = 0.0_f64;
-            for b in 0..nb {
-                if tg != 0.0 {
+            if tg != 0.0 {
+                most = 0.0;
+                for b in 0..nb {
                     self.advance(b, tg, d);
+                    let s2 = self.speed2(b, d);
+                    most = most.max(s2);
+                    self.ext[b] = (1.0 - tg) * s2.sqrt();
                 }
-                let s2 = self.speed2(b, d);
-                most = most.max(s2);
-                self.ext[b] = (1.0 - tg) * s2.sqrt();
             }
             let umax = most.sqrt();
             // A path may grow in a collision: between equal masses to at most sqrt(2) times the
@@ -309,11 +368,9 @@ impl Scratch {
             let bound = 1.5 * umax;
             let rem = bound * (1.0 - tg);
             self.heap.clear();
-            self.scan(inp, rem, &mut out.tests);
-            for b in 0..nb {
-                if self.near_wall(b, rem, inp) {
-                    self.predict_walls(b, inp);
-                }
+            self.scan(inp, tg, rmax, rem, &mut out.tests);
+            for w in std::mem::take(&mut self.walled) {
+                self.predict_walls(w as usize, inp);
             }
             while let Some(Reverse(ev)) = self.heap.pop() {
                 let (a, s) = (ev.a as usize, f64::from_bits(ev.s));
@@ -324,8 +381,6 @@ impl Scratch {
                 if out.contacts > cap {
                     return Err(cap);
                 }
-                self.ver[a] = self.ver[a].wrapping_add(1);
-                self.hit[a] = true;
                 let mut moved = [a, a];
                 if ev.b >= WALL {
                     let w = ev.b - WALL;
@@ -333,12 +388,10 @@ impl Scratch {
                 } else {
                     let b = ev.b as usize;
                     self.collide_pair(a, b, s, inp);
-                    self.ver[b] = self.ver[b].wrapping_add(1);
-                    self.hit[b] = true;
-                    self.last[b] = s;
+                    self.count(b);
                     moved[1] = b;
                 }
-                self.last[a] = s;
+                self.count(a);
                 if moved.iter().any(|&m| self.speed2(m, d) > bound * bound) {
                     tg = s;
                     continue 'pass;

@@ -20,10 +20,9 @@ const MAX_CELLS: f64 = (1u64 << 20) as f64;
 /// The grid and its scratch.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Grid {
-    /// `(key, slot)` of each slot.
-    keys: Vec<(u64, u32)>,
-    /// Each slot's cell coordinates (with the margin of one).
-    cells: Vec<[u64; 3]>,
+    /// The cell key of each slot (the build's scratch), and of each place of `order`.
+    slot_keys: Vec<u64>,
+    keys: Vec<u64>,
     /// Cells per axis with the margins.
     m: [u64; 3],
     /// Where each table entry's balls start in `order` (`entries + 1` values).
@@ -41,6 +40,12 @@ pub(crate) struct Grid {
 impl Grid {
     fn key(&self, c: [u64; 3]) -> u64 {
         c[0] + self.m[0] * (c[1] + self.m[1] * c[2])
+    }
+
+    /// The cell coordinates of slot `i` (with the margin of one).
+    fn cell_of(&self, i: usize) -> [u64; 3] {
+        let k = self.keys[self.pos[i] as usize];
+        [k % self.m[0], k / self.m[0] % self.m[1], k / (self.m[0] * self.m[1])]
     }
 
     /// Sorts the `n` balls at positions `p` (`n * d`, flat) into cells of at least `cell`
@@ -72,17 +77,6 @@ impl Grid {
             // Cells 1..=count hold balls; 0 and count + 1 are the margins.
             self.m[k] = ((hi[k] - lo[k]) * inv) as u64 + 3;
         }
-        self.cells.resize(n, [0; 3]);
-        self.keys.resize(n, (0, 0));
-        for (b, x) in p.chunks_exact(D).enumerate() {
-            let mut c = [0u64; 3];
-            for k in 0..D {
-                // Through i64 (one conversion): `x - lo >= 0`, the same cell as `as u64`.
-                c[k] = (((x[k] - lo[k]) * inv) as i64 as u64).min(self.m[k] - 3) + 1;
-            }
-            self.cells[b] = c;
-            self.keys[b] = (self.key(c), b as u32);
-        }
         let total = self.m[0] * self.m[1] * self.m[2];
         self.dense = total <= 4 * n as u64 + 4096;
         // Counting sort by table entry: the cell itself in a dense table, else the cell's
@@ -92,35 +86,43 @@ impl Grid {
         // shifted back by one.
         self.shift = if self.dense { 0 } else { 64 - (2 * n).next_power_of_two().max(16).trailing_zeros() };
         let entries = if self.dense { total as usize } else { 1usize << (64 - self.shift) };
-        self.pos.resize(n, 0);
         self.start.clear();
         self.start.resize(entries + 1, 0);
-        if self.dense {
-            for &(k, _) in &self.keys {
-                self.start[k as usize + 1] += 1;
+        self.slot_keys.resize(n, 0);
+        let (m, dense, shift) = (self.m, self.dense, self.shift);
+        let entry = |key: u64| if dense { key as usize } else { hashed(key, shift) };
+        let start = &mut self.start[..];
+        for (slot_key, x) in self.slot_keys.iter_mut().zip(p.chunks_exact(D)) {
+            // The key `c0 + m0 (c1 + m1 c2)`, each `c` through i64 (one conversion:
+            // `x - lo >= 0`, the same cell as `as u64`).
+            let mut key = 0;
+            for k in (0..D).rev() {
+                let c = (((x[k] - lo[k]) * inv) as i64 as u64).min(m[k] - 3) + 1;
+                key = key * m[k] + c;
             }
-        } else {
-            for i in 0..n {
-                let e = self.entry(self.keys[i].0);
-                self.start[e + 1] += 1;
-            }
+            *slot_key = key;
+            start[entry(key) + 1] += 1;
         }
         for e in 0..entries {
-            self.start[e + 1] += self.start[e];
+            start[e + 1] += start[e];
         }
         self.order.resize(n, 0);
+        self.pos.resize(n, 0);
+        self.keys.resize(n, 0);
         self.sorted.resize(n * D, 0.0);
-        for (i, x) in p.chunks_exact(D).enumerate() {
-            let k = self.keys[i].0;
-            let e = if self.dense { k as usize } else { self.entry(k) };
-            let at = self.start[e];
-            self.order[at as usize] = i as u32;
-            self.pos[i] = at;
-            self.sorted[at as usize * D..(at as usize + 1) * D].copy_from_slice(&x[..D]);
-            self.start[e] = at + 1;
+        let (order, keys, sorted) = (&mut self.order[..], &mut self.keys[..], &mut self.sorted[..]);
+        let slots = p.chunks_exact(D).zip(self.pos.iter_mut().zip(&self.slot_keys));
+        for (i, (x, (pos, &key))) in slots.enumerate() {
+            let e = entry(key);
+            let at = start[e] as usize;
+            order[at] = i as u32;
+            *pos = at as u32;
+            keys[at] = key;
+            sorted[at * D..(at + 1) * D].copy_from_slice(x);
+            start[e] += 1;
         }
-        self.start.copy_within(0..entries, 1);
-        self.start[0] = 0;
+        start.copy_within(0..entries, 1);
+        start[0] = 0;
     }
 
     /// The table entry of cell `key`: the key itself (dense) or its hash.
@@ -129,7 +131,7 @@ impl Grid {
         if self.dense {
             key as usize
         } else {
-            (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> self.shift) as usize
+            hashed(key, self.shift)
         }
     }
 
@@ -164,8 +166,7 @@ impl Grid {
     /// of the next layer. Returns how many of `out` were filled.
     #[inline(always)]
     pub fn half_dense(&self, q: usize, d: usize, out: &mut [(u32, u32); 5]) -> usize {
-        let b = self.order[q] as usize;
-        let key = self.keys[b].0 as usize;
+        let key = self.keys[q] as usize;
         let (m0, m01) = (self.m[0] as usize, (self.m[0] * self.m[1]) as usize);
         out[0] = (q as u32 + 1, self.start[key + 2]);
         if d == 1 {
@@ -182,13 +183,40 @@ impl Grid {
         5
     }
 
+    /// In a dense table, the ranges of [`Grid::order`] that hold the full shell of the ball at
+    /// place `q` of the order (as [`Grid::shell`]): each row of three cells around its cell as
+    /// one range (`3^(d-1)` of them, the ball among them). Returns how many of `out` were
+    /// filled.
+    #[inline]
+    pub fn shell_dense(&self, q: usize, d: usize, out: &mut [(u32, u32); 9]) -> usize {
+        let key = self.keys[q] as usize;
+        let (m0, m01) = (self.m[0] as usize, (self.m[0] * self.m[1]) as usize);
+        let row = |k: usize| (self.start[k - 1], self.start[k + 2]);
+        match d {
+            1 => {
+                out[0] = row(key);
+                1
+            }
+            2 => {
+                [out[0], out[1], out[2]] = [row(key - m0), row(key), row(key + m0)];
+                3
+            }
+            _ => {
+                for (z, k) in [key - m01, key, key + m01].into_iter().enumerate() {
+                    [out[3 * z], out[3 * z + 1], out[3 * z + 2]] = [row(k - m0), row(k), row(k + m0)];
+                }
+                9
+            }
+        }
+    }
+
     /// The ranges of [`Grid::order`] that hold the balls of the cells around slot `i` and its
     /// own (the full shell: `3^d` cells), each with the cell key its balls must have ([`ANY`]
     /// in a dense table, where a row of three cells is one range). Slot `i` is among them.
     /// Returns how many of `out` were filled.
     #[inline]
     pub fn shell(&self, i: usize, d: usize, out: &mut [(u32, u32, u64); 27]) -> usize {
-        let c = self.cells[i];
+        let c = self.cell_of(i);
         let mut n = 0;
         let (ys, zs) = match d {
             1 => (c[1]..=c[1], c[2]..=c[2]),
@@ -213,10 +241,10 @@ impl Grid {
         n
     }
 
-    /// The cell key of slot `b`.
+    /// The cell key of the ball at place `q` of [`Grid::order`].
     #[inline]
-    pub fn key_of(&self, b: usize) -> u64 {
-        self.keys[b].0
+    pub fn key_at(&self, q: usize) -> u64 {
+        self.keys[q]
     }
 
     /// The ranges of [`Grid::order`] that hold the partners of slot `i` to test, each pair
@@ -227,7 +255,7 @@ impl Grid {
     /// cells asked for). Returns how many of `out` were filled.
     #[inline]
     pub fn partners(&self, i: usize, d: usize, out: &mut [(u32, u32, u64); 14]) -> usize {
-        let c = self.cells[i];
+        let c = self.cell_of(i);
         let own = self.key(c);
         let mut n = 0;
         let mut push = |lo: [u64; 3], hi: [u64; 3], first: Option<u32>| {
@@ -259,6 +287,66 @@ impl Grid {
         }
         n
     }
+}
+
+/// Calls `f` with every place of the rows of a dense shell ([`Grid::shell_dense`]: `3^(d-1)`
+/// of them), as one run.
+#[inline(always)]
+pub(crate) fn each_in_rows(rows: &[(u32, u32)], d: usize, f: impl FnMut(usize)) {
+    match d {
+        1 => Run::<1>::each(rows, f),
+        2 => Run::<3>::each(rows, f),
+        _ => Run::<9>::each(rows, f),
+    }
+}
+
+/// Ranges of places read as one run: one loop over them all, so one loop exit to predict
+/// rather than one per range (the ranges hold a ball or two each: their exits are a coin
+/// toss). The run has `total` places; the `i`-th is [`Run::place`].
+pub(crate) struct Run<const K: usize> {
+    /// Where each range ends in the run (ranges past those given end at `total`).
+    ends: [usize; K],
+    /// What turns an index of the run into a place, range by range (`lo - start`, wrapping).
+    base: [usize; K],
+    pub total: usize,
+}
+
+impl<const K: usize> Run<K> {
+    /// The run of `ranges` (at most `K`; an inverted range is empty).
+    #[inline(always)]
+    pub fn new(ranges: &[(u32, u32)]) -> Self {
+        let (mut ends, mut base, mut total) = ([0; K], [0; K], 0usize);
+        for r in 0..K {
+            let (lo, hi) = ranges.get(r).map_or((0, 0), |&(lo, hi)| (lo as usize, hi.max(lo) as usize));
+            base[r] = lo.wrapping_sub(total);
+            total += hi - lo;
+            ends[r] = total;
+        }
+        Self { ends, base, total }
+    }
+
+    /// Calls `f` with every place of `ranges` (at most `K`), as one run.
+    #[inline(always)]
+    pub fn each(ranges: &[(u32, u32)], mut f: impl FnMut(usize)) {
+        let run = Self::new(ranges);
+        for i in 0..run.total {
+            f(run.place(i));
+        }
+    }
+
+    /// The place of index `i < total` of the run: in the range after those that end at or
+    /// before `i` (counted without a branch).
+    #[inline(always)]
+    pub fn place(&self, i: usize) -> usize {
+        let r: usize = self.ends.iter().map(|&e| usize::from(e <= i)).sum();
+        self.base[r].wrapping_add(i)
+    }
+}
+
+/// The bucket of cell `key` in a hashed table of `64 - shift` bits (Fibonacci hashing).
+#[inline]
+fn hashed(key: u64, shift: u32) -> usize {
+    (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> shift) as usize
 }
 
 /// The cell key of a range that holds only the cells asked for.

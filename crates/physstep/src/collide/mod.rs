@@ -164,10 +164,11 @@ pub(crate) fn first_overlap(x: &[f64], d: usize, radius: &[f64]) -> Option<(usiz
     for i in 0..radius.len() {
         let count = grid.partners(i, d, &mut spans);
         for &(a, b, key) in &spans[..count] {
-            for &j in &grid.order()[a as usize..b.max(a) as usize] {
-                if key != grid::ANY && grid.key_of(j as usize) != key {
+            for t in a as usize..b.max(a) as usize {
+                if key != grid::ANY && grid.key_at(t) != key {
                     continue;
                 }
+                let j = grid.order()[t];
                 let (i, j) = (i.min(j as usize), i.max(j as usize));
                 let dist = (0..d).map(|k| (x[j * d + k] - x[i * d + k]).powi(2)).sum::<f64>().sqrt();
                 if dist < radius[i] + radius[j] && found.is_none_or(|f| (j, i) < (f.1, f.0)) {

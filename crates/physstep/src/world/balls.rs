@@ -309,7 +309,8 @@ impl World {
         // The end of the hit balls' new paths, and their velocities, written back; their
         // velocities before the stage kept (leapfrog's memory moves by the same impulse).
         b.v1.resize(nb * d, 0.0);
-        for slot in (0..nb).filter(|&slot| s.hit[slot]) {
+        for &slot in s.hits() {
+            let slot = slot as usize;
             let p = run.map_or_else(|| b.index[slot], |p0| p0 + slot);
             for k in 0..d {
                 let i = slot * d + k;
@@ -336,10 +337,8 @@ impl World {
         }
         let (d, nx) = (self.dim(), self.nx());
         let s = &self.balls.scratch;
-        for (slot, &p) in self.balls.index.iter().enumerate() {
-            if !s.hit[slot] {
-                continue;
-            }
+        for &slot in s.hits() {
+            let (slot, p) = (slot as usize, self.balls.index[slot as usize]);
             for k in 0..d {
                 let (i, m) = (p * d + k, flags + p * d + k);
                 let v = self.state.y[nx + i];

@@ -2,14 +2,23 @@
 //! that can meet on the current paths, predicted at once), a hit ball's re-query of the full
 //! shell around it, and the deepest overlap at the end of the step. See docs/collisions.md.
 
-use super::super::grid::{Grid, ANY};
-use super::{Event, Input, Scratch, MARGIN};
+use super::super::grid::{each_in_rows, Grid, Run, ANY};
+use super::{impact, Event, Input, Scratch, MARGIN};
 use rayon::prelude::*;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 /// Balls per chunk of the scan (fixed: the chunks never depend on the thread count).
 const CHUNK: usize = 512;
+
+/// What the scan reads: the grid, and each ball's path (`d` entries), radius and radius plus
+/// path left, in the grid's order; the pass's start.
+struct Near<'a> {
+    grid: &'a Grid,
+    paths: &'a [f64],
+    aux: &'a [[f64; 2]],
+    tg: f64,
+}
 
 impl Scratch {
     /// The narrow phase of a pass: the grid built from the balls at their positions at the
@@ -18,22 +27,18 @@ impl Scratch {
     /// that can meet on the current paths (`|x_b - x_a| <= r_a + r_b + (1 - tg)(|u_a| + |u_b|)`,
     /// with a relative margin of 1e-9 over the rounding of the prediction) predicted at once.
     /// Counts the pairs tested.
-    pub(super) fn scan(&mut self, inp: &Input<'_>, rem: f64, tests: &mut u64) {
+    pub(super) fn scan(&mut self, inp: &Input<'_>, tg: f64, rmax: f64, rem: f64, tests: &mut u64) {
         let d = inp.d;
-        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
         self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
-        // The grid is read while the predictions push events: moved out for the scan.
+        // The grid is read while the chunks fill their lists: moved out for the scan.
         let grid = std::mem::take(&mut self.grid);
-        // Radius and path left of each ball, in the grid's order.
-        let order = grid.order();
-        let mut aux = std::mem::take(&mut self.aux);
-        aux.clear();
-        aux.extend(order.iter().map(|&b| [inp.radius[b as usize], self.ext[b as usize]]));
+        let (mut paths, mut aux) = (std::mem::take(&mut self.paths), std::mem::take(&mut self.aux));
         *tests += match d {
-            1 => self.scan_d::<1>(&grid, &aux, inp),
-            2 => self.scan_d::<2>(&grid, &aux, inp),
-            _ => self.scan_d::<3>(&grid, &aux, inp),
+            1 => self.scan_d::<1>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
+            2 => self.scan_d::<2>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
+            _ => self.scan_d::<3>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
         };
+        self.paths = paths;
         self.aux = aux;
         self.grid = grid;
     }
@@ -42,17 +47,54 @@ impl Scratch {
     /// pool, each into its own list of events; the lists are then heaped. The heap pops its
     /// events in their total order (time, slots, counters), whatever the order they were
     /// pushed in: the contacts do not depend on the chunks or the thread count.
-    fn scan_d<const D: usize>(&mut self, grid: &Grid, aux: &[[f64; 2]], inp: &Input<'_>) -> u64 {
+    fn scan_d<const D: usize>(
+        &mut self,
+        grid: &Grid,
+        paths: &mut Vec<f64>,
+        aux: &mut Vec<[f64; 2]>,
+        inp: &Input<'_>,
+        [tg, rem, rmax]: [f64; 3],
+    ) -> u64 {
+        // What a pair's test reads of each ball, in the grid's order (next to its neighbours):
+        // its path, radius, and radius plus path left; and the balls within `r + rem` of a
+        // wall (only those can reach one within the pass: their path left is at most `rem`).
         let n = grid.order().len();
+        paths.resize(n * D, 0.0);
+        aux.resize(n, [0.0; 2]);
+        // Within `r + rem` of a wall on some axis when outside the box shrunk by that much
+        // (by `rmax + rem` with the margin: every such ball, and perhaps a few more, whose
+        // walls are then predicted to no event); no ball is without walls.
+        let reach = (rmax + rem) * MARGIN;
+        for k in 0..D {
+            self.inner[k] =
+                inp.walls.map_or([f64::NEG_INFINITY, f64::INFINITY], |w| [w.lo[k] + reach, w.hi[k] - reach]);
+        }
+        let inner = self.inner;
+        // Slot by slot (read in order, written to each slot's place); the balls near a wall
+        // listed without a branch (each written, kept when near).
+        let (u, ext, radius, p) = (&self.u[..n * D], &self.ext[..n], &inp.radius[..n], &self.p[..n * D]);
+        let (walled, mut count) = (&mut self.walled, 0);
+        walled.resize(n, 0);
+        let slots = u.chunks_exact(D).zip(p.chunks_exact(D)).zip(ext.iter().zip(radius));
+        for (b, ((ub, pb), (&e, &r))) in slots.enumerate() {
+            let q = grid.pos_of(b);
+            paths[q * D..(q + 1) * D].copy_from_slice(ub);
+            aux[q] = [r, r + e];
+            let near = (0..D).fold(false, |near, k| near | (pb[k] <= inner[k][0]) | (pb[k] >= inner[k][1]));
+            walled[count] = b as u32;
+            count += usize::from(near);
+        }
+        walled.truncate(count);
+        let near = &Near { grid, paths, aux, tg };
         let count = n.div_ceil(CHUNK).max(1);
         let mut chunks = std::mem::take(&mut self.chunks);
         chunks.resize_with(count, Vec::new);
         let me = &*self;
         let run = |(c, out): (usize, &mut Vec<Reverse<Event>>)| -> u64 {
             out.clear();
-            me.scan_span::<D>(grid, aux, inp, c * CHUNK..((c + 1) * CHUNK).min(n), out)
+            me.scan_span::<D>(near, c * CHUNK..((c + 1) * CHUNK).min(n), out)
         };
-        let found = if count > 1 {
+        let found = if count > 1 && rayon::current_num_threads() > 1 {
             chunks.par_iter_mut().enumerate().map(run).sum()
         } else {
             chunks.iter_mut().enumerate().map(run).sum()
@@ -69,67 +111,34 @@ impl Scratch {
 
     /// The scan of the places `span` of the grid's order (of the slots `span` in a hashed
     /// table): their events pushed to `out`; returns the pairs tested.
-    #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
     #[inline(always)]
     fn scan_span<const D: usize>(
         &self,
-        grid: &Grid,
-        aux: &[[f64; 2]],
-        inp: &Input<'_>,
+        near: &Near<'_>,
         span: std::ops::Range<usize>,
         out: &mut Vec<Reverse<Event>>,
     ) -> u64 {
-        let (order, sorted) = (grid.order(), grid.sorted());
-        let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
-        let mut found = 0u64;
-        let mut test = |i: usize, q: usize, t: usize| {
-            let (pi, pj) = (at(q), at(t));
-            let mut dist2 = 0.0;
-            for k in 0..D {
-                dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
-            }
-            let reach = (aux[q][0] + aux[t][0] + aux[q][1] + aux[t][1]) * MARGIN;
-            if dist2 <= reach * reach {
-                let j = order[t] as usize;
-                if let Some(ev) = self.pair_event(i.min(j), i.max(j), inp) {
-                    out.push(Reverse(ev));
-                }
-            }
-        };
+        let grid = near.grid;
         if grid.dense() {
-            let mut ranges = [(0u32, 0u32); 5];
-            for q in span {
-                let i = order[q] as usize;
-                let count = grid.half_dense(q, D, &mut ranges);
-                for &(lo, hi) in &ranges[..count] {
-                    found += u64::from(hi.saturating_sub(lo));
-                    // The test written out (not the closure): the hot loop stays inlined.
-                    for t in lo as usize..hi as usize {
-                        let (pi, pj) = (at(q), at(t));
-                        let mut dist2 = 0.0;
-                        for k in 0..D {
-                            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
-                        }
-                        let reach = (aux[q][0] + aux[t][0] + aux[q][1] + aux[t][1]) * MARGIN;
-                        if dist2 <= reach * reach {
-                            let j = order[t] as usize;
-                            if let Some(ev) = self.pair_event(i.min(j), i.max(j), inp) {
-                                out.push(Reverse(ev));
-                            }
-                        }
-                    }
-                }
-            }
-        } else {
-            let mut spans = [(0u32, 0u32, 0u64); 14];
+            // The half shell's ranges as one run (as many as it has for D).
+            return match D {
+                1 => self.scan_dense::<D, 1>(near, span, out),
+                2 => self.scan_dense::<D, 2>(near, span, out),
+                _ => self.scan_dense::<D, 5>(near, span, out),
+            };
+        }
+        let (mut spans, mut found) = ([(0u32, 0u32, 0u64); 14], 0u64);
+        {
             for i in span {
                 let q = grid.pos_of(i);
                 let count = grid.partners(i, D, &mut spans);
                 for &(lo, hi, key) in &spans[..count] {
                     for t in lo as usize..hi.max(lo) as usize {
-                        if key == ANY || grid.key_of(order[t] as usize) == key {
+                        if key == ANY || grid.key_at(t) == key {
                             found += 1;
-                            test(i, q, t);
+                            if self.within::<D>(near, q, t) {
+                                self.predict_near::<D>(near, q, t, out);
+                            }
                         }
                     }
                 }
@@ -138,15 +147,76 @@ impl Scratch {
         found
     }
 
-    /// Whether slot `b` (at its position at the pass's start) is within `r + rem` of a wall:
-    /// only such a ball can reach one within the pass (its path left is at most `rem`).
-    pub(super) fn near_wall(&self, b: usize, rem: f64, inp: &Input<'_>) -> bool {
-        let Some(w) = inp.walls else { return false };
-        let (d, r) = (inp.d, inp.radius[b]);
-        (0..d).any(|k| {
-            let pk = self.p[b * d + k];
-            pk - r - w.lo[k] <= rem || w.hi[k] - r - pk <= rem
-        })
+    /// The scan of the places `span` in a dense table, each ball's half shell (`K` ranges) as
+    /// one run; returns the pairs tested.
+    #[inline(always)]
+    fn scan_dense<const D: usize, const K: usize>(
+        &self,
+        near: &Near<'_>,
+        span: std::ops::Range<usize>,
+        out: &mut Vec<Reverse<Event>>,
+    ) -> u64 {
+        let (grid, aux) = (near.grid, near.aux);
+        let sorted = grid.sorted();
+        let (mut ranges, mut found) = ([(0u32, 0u32); 5], 0u64);
+        for q in span {
+            let count = grid.half_dense(q, D, &mut ranges);
+            let run = Run::<K>::new(&ranges[..count]);
+            found += run.total as u64;
+            let (pi, ri): ([f64; D], f64) = (sorted[q * D..(q + 1) * D].try_into().expect("D"), aux[q][1]);
+            // The filter written out; a pair within reach goes on to the prediction.
+            for i in 0..run.total {
+                let t = run.place(i);
+                let pj = &sorted[t * D..(t + 1) * D];
+                let mut dist2 = 0.0;
+                for k in 0..D {
+                    dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+                }
+                let reach = (ri + aux[t][1]) * MARGIN;
+                if dist2 <= reach * reach {
+                    self.predict_near::<D>(near, q, t, out);
+                }
+            }
+        }
+        found
+    }
+
+    /// Whether the balls at places `q` and `t` of the grid's order are within reach:
+    /// `|x_t - x_q| <= (r_q + ext_q + r_t + ext_t)` with the margin.
+    #[inline(always)]
+    fn within<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize) -> bool {
+        let (sorted, aux) = (near.grid.sorted(), near.aux);
+        let mut dist2 = 0.0;
+        for k in 0..D {
+            dist2 += (sorted[t * D + k] - sorted[q * D + k]) * (sorted[t * D + k] - sorted[q * D + k]);
+        }
+        let reach = (aux[q][1] + aux[t][1]) * MARGIN;
+        dist2 <= reach * reach
+    }
+
+    /// The impact of the balls at places `q` and `t` of the grid's order, pushed to `out`
+    /// when within the step. Every ball is at the pass's start `tg`, where the grid took its
+    /// position: the prediction reads the grid's positions and the paths in `near` alone
+    /// (the bits of [`Scratch::pair_event`]).
+    #[inline(never)]
+    fn predict_near<const D: usize>(
+        &self,
+        near: &Near<'_>,
+        q: usize,
+        t: usize,
+        out: &mut Vec<Reverse<Event>>,
+    ) {
+        let (sorted, paths, aux) = (near.grid.sorted(), near.paths, near.aux);
+        let (mut dk, mut wk) = ([0.0; D], [0.0; D]);
+        for k in 0..D {
+            dk[k] = sorted[t * D + k] - sorted[q * D + k];
+            wk[k] = paths[t * D + k] - paths[q * D + k];
+        }
+        if let Some(s) = impact(dk, wk, aux[q][0] + aux[t][0], near.tg) {
+            let order = near.grid.order();
+            let (i, j) = (order[q] as usize, order[t] as usize);
+            out.push(Reverse(self.event(s, i.min(j), i.max(j) as u32)));
+        }
     }
 
     /// The next events of slot `b`: against the walls, and against the balls of the full
@@ -154,7 +224,13 @@ impl Scratch {
     /// `P` the positions the grid was built from and `ext` how far a ball gets from its `P`
     /// by the end of the step on its current path (with the scan's margin).
     pub(super) fn predict(&mut self, b: usize, inp: &Input<'_>) {
-        self.predict_walls(b, inp);
+        // Only a ball outside the pass's inner box can reach a wall (its path left from the
+        // grid's position is at most `rem`).
+        let (d, q) = (inp.d, self.grid.pos_of(b));
+        let at = &self.grid.sorted()[q * d..(q + 1) * d];
+        if (0..d).any(|k| at[k] <= self.inner[k][0] || at[k] >= self.inner[k][1]) {
+            self.predict_walls(b, inp);
+        }
         match inp.d {
             1 => self.predict_d::<1>(b, inp),
             2 => self.predict_d::<2>(b, inp),
@@ -164,31 +240,48 @@ impl Scratch {
 
     #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
     fn predict_d<const D: usize>(&mut self, b: usize, inp: &Input<'_>) {
-        let grid = std::mem::take(&mut self.grid);
+        // The events found, pushed once the shell is read (the heap is not borrowed meanwhile).
+        let mut found = std::mem::take(&mut self.found);
+        let grid = &self.grid;
         let (order, sorted) = (grid.order(), grid.sorted());
         let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
-        let pb = at(grid.pos_of(b));
-        let rb = inp.radius[b] + self.ext[b];
-        let mut spans = [(0u32, 0u32, 0u64); 27];
-        let count = grid.shell(b, D, &mut spans);
-        for &(lo, hi, key) in &spans[..count] {
-            for t in lo as usize..hi.max(lo) as usize {
-                let j = order[t] as usize;
-                if j == b || (key != ANY && grid.key_of(j) != key) {
-                    continue;
+        let q = grid.pos_of(b);
+        let (pb, rb, aux) = (at(q), self.aux[q][1], &self.aux);
+        let mut test = |t: usize, j: usize| {
+            let pj = at(t);
+            let mut dist2 = 0.0;
+            for k in 0..D {
+                dist2 += (pj[k] - pb[k]) * (pj[k] - pb[k]);
+            }
+            let reach = (rb + aux[t][1]) * MARGIN;
+            if dist2 <= reach * reach {
+                if let Some(ev) = self.pair_event(b.min(j), b.max(j), inp) {
+                    found.push(Reverse(ev));
                 }
-                let pj = at(t);
-                let mut dist2 = 0.0;
-                for k in 0..D {
-                    dist2 += (pj[k] - pb[k]) * (pj[k] - pb[k]);
+            }
+        };
+        if grid.dense() {
+            let mut rows = [(0u32, 0u32); 9];
+            let count = grid.shell_dense(q, D, &mut rows);
+            each_in_rows(&rows[..count], D, |t| {
+                if t != q {
+                    test(t, order[t] as usize);
                 }
-                let reach = (rb + inp.radius[j] + self.ext[j]) * MARGIN;
-                if dist2 <= reach * reach {
-                    self.predict_pair(b.min(j), b.max(j), inp);
+            });
+        } else {
+            let mut spans = [(0u32, 0u32, 0u64); 27];
+            let count = grid.shell(b, D, &mut spans);
+            for &(lo, hi, key) in &spans[..count] {
+                for t in lo as usize..hi.max(lo) as usize {
+                    let j = order[t] as usize;
+                    if j != b && grid.key_at(t) == key {
+                        test(t, j);
+                    }
                 }
             }
         }
-        self.grid = grid;
+        self.heap.extend(found.drain(..));
+        self.found = found;
     }
 
     /// After a contact of slot `b` at `s`: how far it gets from the position the grid was
@@ -197,65 +290,6 @@ impl Scratch {
         let q = self.grid.pos_of(b);
         let from = &self.grid.sorted()[q * d..(q + 1) * d];
         let gone: f64 = (0..d).map(|k| (self.p[b * d + k] - from[k]).powi(2)).sum();
-        self.ext[b] = gone.sqrt() + (1.0 - s) * self.speed2(b, d).sqrt();
-    }
-
-    /// The end-of-step position of slot `b` along `k`: on its new path if it was hit, else as
-    /// integrated.
-    #[inline]
-    pub fn end(&self, b: usize, k: usize, inp: &Input<'_>) -> f64 {
-        let i = b * inp.d + k;
-        if self.hit[b] {
-            self.p[i] + (1.0 - self.tau[b]) * self.u[i]
-        } else {
-            inp.x1[i]
-        }
-    }
-
-    /// The deepest overlap at the end of the step of the balls that were hit, with the balls
-    /// within reach of them (every pair that can overlap: the paths are within the bound) and
-    /// with the walls. A ball that was not hit kept its integrated straight path, on which no
-    /// contact was found: it overlaps nothing that was not hit (the tests check all pairs
-    /// independently).
-    pub fn overlap(&self, inp: &Input<'_>) -> f64 {
-        let d = inp.d;
-        let (grid, mut worst) = (&self.grid, 0.0_f64);
-        let sorted = grid.sorted();
-        let mut spans = [(0u32, 0u32, 0u64); 27];
-        for b in (0..self.hit.len()).filter(|&b| self.hit[b]) {
-            let (mut eb, q) = ([0.0; 3], grid.pos_of(b));
-            for (k, e) in eb.iter_mut().enumerate().take(d) {
-                *e = self.end(b, k, inp);
-            }
-            let count = grid.shell(b, d, &mut spans);
-            for &(lo, hi, key) in &spans[..count] {
-                for t in lo as usize..hi.max(lo) as usize {
-                    let j = grid.order()[t] as usize;
-                    if j == b || (key != ANY && grid.key_of(j) != key) {
-                        continue;
-                    }
-                    let r = inp.radius[b] + inp.radius[j];
-                    // Each ends within `ext` of the position the grid holds: farther apart
-                    // there than `r + ext_b + ext_j`, they do not overlap.
-                    let far: f64 = (0..d).map(|k| (sorted[t * d + k] - sorted[q * d + k]).powi(2)).sum();
-                    let reach = (r + self.ext[b] + self.ext[j]) * MARGIN;
-                    if far > reach * reach {
-                        continue;
-                    }
-                    let dist2: f64 = (0..d).map(|k| (self.end(j, k, inp) - eb[k]).powi(2)).sum();
-                    // Farther than r (by more than a rounding of the square): no overlap.
-                    if dist2 < r * r * (1.0 + 1e-12) {
-                        worst = worst.max(r - dist2.sqrt());
-                    }
-                }
-            }
-            if let Some(w) = inp.walls {
-                for (k, &xk) in eb.iter().enumerate().take(d) {
-                    let r = inp.radius[b];
-                    worst = worst.max(w.lo[k] - (xk - r)).max(xk + r - w.hi[k]);
-                }
-            }
-        }
-        worst
+        self.aux[q][1] = self.aux[q][0] + gone.sqrt() + (1.0 - s) * self.speed2(b, d).sqrt();
     }
 }
