@@ -225,3 +225,14 @@ def test_compare_racket_names_verlet_in_one_line() -> None:
     assert res.returncode == 2
     lines = res.stderr.splitlines()
     assert len(lines) == 1 and "'verlet'" in lines[0] and "Traceback" not in res.stderr
+
+
+def test_run_table_cuts_a_long_state_and_json_keeps_it() -> None:
+    args = ("run", "cloth", "--until", "0.05")
+    res = run_cli(*args)
+    assert res.returncode == 0, res.stderr
+    assert "(432 numbers in all: --format json lists them)" in res.stdout
+    data = json.loads(run_cli(*args, "--format", "json").stdout)
+    assert len(data["final"]["x"]) == 432
+    short = run_cli("run", "spring", "--until", "1").stdout
+    assert "numbers in all" not in short

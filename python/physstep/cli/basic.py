@@ -191,8 +191,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         table.add_row("note", note)
     table.add_row("params", ", ".join(f"{k}={v:g}" for k, v in summary["params"].items()))
     if summary["final"]["x"]:
-        table.add_row("final x", ", ".join(f"{c:.6g}" for c in summary["final"]["x"]))
-        table.add_row("final v", ", ".join(f"{c:.6g}" for c in summary["final"]["v"]))
+        table.add_row("final x", _vector(summary["final"]["x"]))
+        table.add_row("final v", _vector(summary["final"]["v"]))
     en = summary["energy"]
     if en is None:
         why = "a flow has none" if traj.kind == "flow" else "a force has no potential"
@@ -278,3 +278,16 @@ def register(subparsers: Any) -> None:
     )
     options.add_format(r)
     r.set_defaults(func=_cmd_run)
+
+
+# Most numbers of a state vector the run summary's table prints.
+SHOWN = 12
+
+
+def _vector(values: list[float]) -> str:
+    """A state vector for the table: the first `SHOWN` numbers, and how many more there are
+    (`--format json` has them all)."""
+    head = ", ".join(f"{c:.6g}" for c in values[:SHOWN])
+    if len(values) <= SHOWN:
+        return head
+    return f"{head}, ... ({len(values)} numbers in all: --format json lists them)"
