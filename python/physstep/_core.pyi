@@ -482,7 +482,7 @@ class World:
         ``max_iter``, the conjugate-gradient tolerance ``cg_tol`` and cap ``cg_max_iter`` of
         the sparse solve, and ``dense_up_to`` (systems of at most this many unknowns are
         solved densely; 0 always sparse). Arguments left out keep their values; the defaults
-        are ``tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000, dense_up_to=32``."""
+        are ``tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000, dense_up_to=64``."""
 
     @property
     def solve_stats(self) -> dict[str, Any] | None:

@@ -49,9 +49,10 @@ pub struct SolveStats {
 }
 
 /// Largest system (unknowns: x and v of every coordinate) solved densely when the sparse
-/// solve is available: up to about 36 unknowns the dense LU is as fast, at 44 the sparse
-/// solve takes 0.7 of its time and at 404 0.15 (`bench/bench_stiff.py`).
-pub const DENSE_UP_TO: usize = 32;
+/// solve is available (measured on stiff-chain, `bench/bench_stiff.py`'s `run`, with the
+/// sparse solve's inexact updates: the dense LU 0.025 ms a step against 0.035 at 44
+/// unknowns, 0.067 against 0.069 at 68, 0.087 against 0.082 at 76).
+pub const DENSE_UP_TO: usize = 64;
 
 /// Newton's method with a dense LU solve, the Jacobian analytic where the flow has one and
 /// by forward differences otherwise. The dense solve costs O(n^3) per iteration: the
