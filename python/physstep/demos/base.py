@@ -210,6 +210,15 @@ def sweeps(current: int, action: str, panels: list[Panel]) -> int:
     return n
 
 
+def sweep_rows(world: physstep.World) -> list[tuple[str, str, tuple[int, int, int]]]:
+    """The HUD rows of a world with constraints: its sweeps a step (the keys of
+    :func:`sweeps`) and its largest constraint violation."""
+    return [
+        ("sweeps", f"{world.constraint_iterations} a step (i, shift+i)", TEXT),
+        ("violation", f"{world.constraint_violation():.2e} m (max)", TEXT),
+    ]
+
+
 def font(size: int) -> pygame.font.Font:
     """pygame's default font at ``size`` px, loaded once per run (:func:`forget_fonts`)."""
     if size not in _FONTS:

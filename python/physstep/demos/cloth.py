@@ -84,12 +84,8 @@ class ClothDemo(Demo):
             super().act(panels, action)
 
     def hud(self, panel: Panel) -> list[tuple[str, str, tuple[int, int, int]]]:
-        w = panel.world
-        return [
-            ("sweeps", f"{w.constraint_iterations} a step (i, shift+i)", base.TEXT),
-            ("violation", f"{w.constraint_violation():.2e} m (max)", base.TEXT),
-            ("wind", f"{WIND:g} m/s^2 along +z (w)" if self.wind else "off (w)", base.TEXT),
-        ]
+        wind = f"{WIND:g} m/s^2 along +z (w)" if self.wind else "off (w)"
+        return [*base.sweep_rows(panel.world), ("wind", wind, base.TEXT)]
 
     # A 3D view: orthographic through CAMERA.
 

@@ -65,11 +65,7 @@ class RagdollDemo(Demo):
             super().act(panels, action)
 
     def hud(self, panel: Panel) -> list[tuple[str, str, tuple[int, int, int]]]:
-        w = panel.world
-        return [
-            ("sweeps", f"{w.constraint_iterations} a step (i, shift+i)", base.TEXT),
-            ("violation", f"{w.constraint_violation():.2e} m (max)", base.TEXT),
-        ]
+        return base.sweep_rows(panel.world)
 
     def hold(self, world: physstep.World, i: int, rect: pygame.Rect, pos: tuple[int, int]) -> bool:
         """Puts the particle under the pointer at rest, not below the ground."""
