@@ -1,6 +1,6 @@
 //! `World`'s implicit-solver settings and what the latest implicit step's solve did.
 
-use crate::convert::{count, float};
+use crate::convert::{count, float, whole};
 use crate::py_err;
 use crate::world::World;
 use pyo3::prelude::*;
@@ -24,8 +24,9 @@ impl World {
     ) -> PyResult<()> {
         let mut g = self.lock()?;
         let mut p = g.engine.implicit();
+        // An iteration cap: at least one, and what the solver counts in (no silent clamp).
         let iterations =
-            |o: &Bound<'_, PyAny>, f: &str| count(o, f).map(|n| u32::try_from(n).unwrap_or(u32::MAX));
+            |o: &Bound<'_, PyAny>, f: &str| whole(o, f, 1, i64::from(u32::MAX)).map(|n| n as u32);
         if let Some(o) = tol {
             p.tol = float(o, "tol")?;
         }
