@@ -181,24 +181,19 @@ impl ForceSet {
     /// `-sum_{i<j} G m_i m_j / sqrt(r^2 + eps^2)`; drag and rods 0.
     #[must_use]
     pub fn potential(&self, dim: usize, x: &[f64], mass: &[f64]) -> f64 {
-        let mut u = 0.0;
-        for force in &self.forces {
-            u += match *force {
-                Force::Gravity { g } => gravity::potential(dim, g, x, mass),
-                Force::Spring { i, j, stiffness, rest_length, .. } => {
-                    spring::potential(dim, x, i, j, stiffness, rest_length)
-                }
-                Force::CentralGravity { center, gm } => central::potential(dim, center, gm, x, mass),
-                Force::NBody { g, softening } => nbody::potential(dim, g, softening, x, mass),
-                Force::Drag { .. } | Force::Rod { .. } => 0.0,
-            };
+        debug_assert_eq!(x.len(), mass.len() * dim);
+        if mass.is_empty() {
+            // No particles: every term is 0 (and there are no rows to split x into).
+            return 0.0;
         }
-        u
+        let mut u = [0.0];
+        self.potential_rows(dim, x, mass, &mut u);
+        u[0]
     }
 
     /// [`ForceSet::potential`] of every row of `xs` (flat rows of `mass.len() * dim`
-    /// positions) added to `u`, one entry per row: each force matched once for all the rows,
-    /// each row's terms added in the same order, so the same bits as row by row.
+    /// positions, at least one particle) added to `u`, one entry per row: each force matched
+    /// once for all the rows, each row's terms added in the forces' order.
     #[inline]
     pub(crate) fn potential_rows(&self, dim: usize, xs: &[f64], mass: &[f64], u: &mut [f64]) {
         let w = mass.len() * dim;
