@@ -71,12 +71,7 @@ impl Scene {
                 // Undamped: the branch of `oscillator` a recording of `spring` takes, without
                 // its tests per row (the same operations, the same bits).
                 let b = v0 / w0;
-                ts.iter()
-                    .map(|&t| {
-                        let (sn, cs) = (w0 * t).sin_cos();
-                        (x0 * cs + b * sn, w0 * (-x0 * sn + b * cs))
-                    })
-                    .unzip()
+                ts.iter().map(|&t| undamped(w0, x0, b, t)).unzip()
             }
             Exact::Oscillator { w0, zeta, x0, v0 } => {
                 ts.iter().map(|&t| oscillator(w0, zeta, x0, v0, t)).unzip()
@@ -159,6 +154,13 @@ pub fn eccentric_anomaly(e: f64, m: f64) -> f64 {
     sign * x
 }
 
+/// The undamped oscillator's `(x, v)` at `t`: `x0 cos(w0 t) + b sin(w0 t)`, `b = v0 / w0`.
+#[inline]
+fn undamped(w0: f64, x0: f64, b: f64, t: f64) -> (f64, f64) {
+    let (sn, cs) = (w0 * t).sin_cos();
+    (x0 * cs + b * sn, w0 * (-x0 * sn + b * cs))
+}
+
 /// The damped oscillator `x'' + 2 zeta w0 x' + w0^2 x = 0` at time `t`, all three regimes.
 fn oscillator(w0: f64, zeta: f64, x0: f64, v0: f64, t: f64) -> (f64, f64) {
     if w0 == 0.0 {
@@ -169,9 +171,7 @@ fn oscillator(w0: f64, zeta: f64, x0: f64, v0: f64, t: f64) -> (f64, f64) {
     if zeta == 0.0 {
         // Undamped (what the general branch below computes, bit for bit, without its sqrt
         // and exp: a recording asks once per row).
-        let (sn, cs) = (w0 * t).sin_cos();
-        let b = v0 / w0;
-        return (x0 * cs + b * sn, w0 * (-x0 * sn + b * cs));
+        return undamped(w0, x0, v0 / w0, t);
     }
     let s = zeta * w0;
     if (zeta - 1.0).abs() < 1e-12 {
