@@ -451,3 +451,37 @@ fn contacts_that_do_not_end_fail_the_step_and_roll_back() {
     }
     panic!("the pile kept within the budget: pick a harder case for this test");
 }
+
+/// An overlap left in the state (set here by hand: two balls 0.01 m into each other, and one
+/// 0.02 m past a wall, all moving apart so that no contact happens) is measured by the next
+/// step's scan of the grid, whether the steps come one per call or many in one call (the
+/// end of a call's last step is measured by the stage itself).
+#[test]
+fn an_overlap_left_in_the_state_is_measured() {
+    for per_call in [1, 4] {
+        let mut w = world(2, "symplectic-euler", 0.01);
+        w.add_walls(&[0.0, 0.0], &[2.0, 2.0]).unwrap();
+        w.add_ball(&[0.5, 1.0], &[-1.0, 0.0], 0.1, 1.0).unwrap();
+        w.add_ball(&[0.8, 1.0], &[1.0, 0.0], 0.1, 1.0).unwrap();
+        w.add_ball(&[1.5, 0.5], &[0.0, 1.0], 0.1, 1.0).unwrap();
+        w.set_positions(&[0.5, 1.0, 0.69, 1.0, 1.5, 0.08]).unwrap();
+        assert_eq!(w.collisions().max_overlap, 0.0);
+        for _ in 0..8 / per_call {
+            w.step(per_call).unwrap();
+        }
+        assert_eq!(w.collisions().count, 0, "per call {per_call}");
+        let deepest = w.collisions().max_overlap;
+        assert!((deepest - 0.02).abs() < 1e-15, "per call {per_call}: {deepest}");
+        // The wall's overlap gone, the pair's alone left: 0.01.
+        let mut w2 = world(2, "symplectic-euler", 0.01);
+        w2.add_walls(&[0.0, 0.0], &[2.0, 2.0]).unwrap();
+        w2.add_ball(&[0.5, 1.0], &[-1.0, 0.0], 0.1, 1.0).unwrap();
+        w2.add_ball(&[0.8, 1.0], &[1.0, 0.0], 0.1, 1.0).unwrap();
+        w2.set_positions(&[0.5, 1.0, 0.69, 1.0]).unwrap();
+        for _ in 0..8 / per_call {
+            w2.step(per_call).unwrap();
+        }
+        let deepest = w2.collisions().max_overlap;
+        assert!((deepest - 0.01).abs() < 1e-15, "per call {per_call}: {deepest}");
+    }
+}

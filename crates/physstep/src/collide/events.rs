@@ -81,6 +81,23 @@ pub(super) fn impact<const D: usize>(dk: [f64; D], wk: [f64; D], r: f64, s0: f64
     (s <= 1.0).then_some(s)
 }
 
+/// The largest of `xs` and 0 (a NaN is passed over), in eight lanes: no chain of dependent
+/// comparisons.
+pub(super) fn largest(xs: &[f64]) -> f64 {
+    let mut lanes = [0.0_f64; 8];
+    let chunks = xs.chunks_exact(8);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for (l, &x) in lanes.iter_mut().zip(c) {
+            *l = if x > *l { x } else { *l };
+        }
+    }
+    for (l, &x) in lanes.iter_mut().zip(rest) {
+        *l = if x > *l { x } else { *l };
+    }
+    lanes.iter().fold(0.0, |m, &l| if l > m { l } else { m })
+}
+
 /// The scratch of the stage, kept from step to step (no allocation once warm).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Scratch {
@@ -116,6 +133,9 @@ pub(crate) struct Scratch {
     found: Vec<Reverse<Event>>,
     /// The events found by each chunk of the scan.
     chunks: Vec<Vec<Reverse<Event>>>,
+    /// The deepest overlap of two balls, or of a ball past a wall, at the start of the step
+    /// (measured by the first pass's scan).
+    pub start_overlap: f64,
     grid: Grid,
 }
 
@@ -314,6 +334,26 @@ impl Scratch {
         self.u[b * d..(b + 1) * d].iter().map(|c| c * c).sum()
     }
 
+    /// Each ball's path `u = x1 - p` and its length `ext`; returns the longest squared.
+    fn paths_d<const D: usize>(&mut self, x1: &[f64]) -> f64 {
+        let n = x1.len() / D;
+        self.u.resize(n * D, 0.0);
+        self.ext.resize(n, 0.0);
+        for ((u, x1), p) in self.u.chunks_exact_mut(D).zip(x1.chunks_exact(D)).zip(self.p.chunks_exact(D)) {
+            for k in 0..D {
+                u[k] = x1[k] - p[k];
+            }
+        }
+        for (e, u) in self.ext.iter_mut().zip(self.u.chunks_exact(D)) {
+            *e = u.iter().fold(0.0, |s2, uk| s2 + uk * uk);
+        }
+        let most = largest(&self.ext);
+        for e in &mut self.ext {
+            *e = e.sqrt();
+        }
+        most
+    }
+
     /// Resolves every contact of the step; the balls that were hit end at `p + (1 - tau) u`
     /// with velocity `vel` (the caller writes them back).
     ///
@@ -331,20 +371,12 @@ impl Scratch {
         self.ver.resize(nb, 0);
         self.hits.clear();
         // Each path, and the path left from the start, `ext` (the first pass's).
-        self.u.clear();
-        self.ext.clear();
-        let mut most = 0.0_f64;
-        for (x1, x0) in inp.x1.chunks_exact(d).zip(self.p.chunks_exact(d)) {
-            let mut s2 = 0.0;
-            for k in 0..d {
-                let uk = x1[k] - x0[k];
-                self.u.push(uk);
-                s2 += uk * uk;
-            }
-            most = most.max(s2);
-            self.ext.push(s2.sqrt());
-        }
-        let rmax = inp.radius.iter().copied().fold(0.0, f64::max);
+        let mut most = match d {
+            1 => self.paths_d::<1>(inp.x1),
+            2 => self.paths_d::<2>(inp.x1),
+            _ => self.paths_d::<3>(inp.x1),
+        };
+        let rmax = largest(inp.radius);
         let mut out = Outcome::default();
         let cap = 64 * nb as u64 + 1024;
         let mut tg = 0.0;

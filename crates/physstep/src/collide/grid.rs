@@ -60,13 +60,7 @@ impl Grid {
 
     fn build_d<const D: usize>(&mut self, p: &[f64], cell: f64) {
         let n = p.len() / D;
-        let (mut lo, mut hi) = ([f64::INFINITY; D], [f64::NEG_INFINITY; D]);
-        for c in p.chunks_exact(D) {
-            for k in 0..D {
-                lo[k] = c[k].min(lo[k]);
-                hi[k] = c[k].max(hi[k]);
-            }
-        }
+        let (lo, hi) = bounds::<D>(p);
         let mut cell = cell;
         for k in 0..D {
             cell = cell.max((hi[k] - lo[k]) / (MAX_CELLS - 4.0));
@@ -341,6 +335,36 @@ impl<const K: usize> Run<K> {
         let r: usize = self.ends.iter().map(|&e| usize::from(e <= i)).sum();
         self.base[r].wrapping_add(i)
     }
+}
+
+/// The lower and upper corners of the points `p` (`D` entries each; a NaN is passed over),
+/// in eight lanes: no chain of dependent comparisons.
+fn bounds<const D: usize>(p: &[f64]) -> ([f64; D], [f64; D]) {
+    let (mut lo, mut hi) = ([[f64::INFINITY; D]; 8], [[f64::NEG_INFINITY; D]; 8]);
+    let mut fold = |l: usize, c: &[f64]| {
+        for k in 0..D {
+            lo[l][k] = if c[k] < lo[l][k] { c[k] } else { lo[l][k] };
+            hi[l][k] = if c[k] > hi[l][k] { c[k] } else { hi[l][k] };
+        }
+    };
+    let chunks = p.chunks_exact(8 * D);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for l in 0..8 {
+            fold(l, &c[l * D..(l + 1) * D]);
+        }
+    }
+    for (l, c) in rest.chunks_exact(D).enumerate() {
+        fold(l, c);
+    }
+    let (mut a, mut b) = (lo[0], hi[0]);
+    for l in 1..8 {
+        for k in 0..D {
+            a[k] = if lo[l][k] < a[k] { lo[l][k] } else { a[k] };
+            b[k] = if hi[l][k] > b[k] { hi[l][k] } else { b[k] };
+        }
+    }
+    (a, b)
 }
 
 /// The bucket of cell `key` in a hashed table of `64 - shift` bits (Fibonacci hashing).

@@ -301,7 +301,12 @@ impl World {
         b.stats.count += out.contacts;
         b.stats.pair_tests += out.tests;
         let s = &b.scratch;
-        let depth = s.overlap(&inp);
+        // The overlaps at the end of the step before (its positions are this step's start),
+        // measured by the scan; those at the end of a call's last step measured now.
+        let mut depth = s.start_overlap;
+        if ctx.last {
+            depth = depth.max(s.overlap(&inp));
+        }
         b.stats.max_overlap = b.stats.max_overlap.max(depth);
         if out.contacts == 0 {
             return Ok(());

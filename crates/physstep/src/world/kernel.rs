@@ -391,14 +391,14 @@ impl World {
         }
         let stats = self.balls.stats;
         for k in 0..n {
-            if self.step_unsaved(h).is_ok() {
+            if self.step_unsaved(h, k + 1 == n).is_ok() {
                 continue;
             }
             self.call.restore(&mut self.state, &mut self.integrator, layout);
             (self.state.t, self.state.steps, self.state.evals, self.epoch) = start;
             self.balls.stats = stats;
-            for _ in 0..k {
-                self.step_unsaved(h)?;
+            for i in 0..k {
+                self.step_unsaved(h, i + 1 == k)?;
             }
             // Fails as before, now with its own checkpoint (or, were it to pass, goes on).
             self.step_inner(h, None)?;

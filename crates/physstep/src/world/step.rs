@@ -30,6 +30,9 @@ pub struct StepContext {
     /// Time at the end of the step: `t0 + k h` since the last change of `h`.
     pub t_end: f64,
     pub(super) epoch: Epoch,
+    /// Whether this is the last step of its call: the Collide stage then measures the
+    /// balls' overlaps at its end itself (else the next step's scan of the grid does).
+    pub(super) last: bool,
 }
 
 /// The stages of a step, named in failures.
@@ -140,7 +143,15 @@ impl World {
                 format!("large enough to advance the time t = {} (t + dt == t)", self.state.t),
             ));
         }
-        Ok(StepContext { t: self.state.t, h, inv_h: 1.0 / h, step: self.state.steps, t_end, epoch })
+        Ok(StepContext {
+            t: self.state.t,
+            h,
+            inv_h: 1.0 / h,
+            step: self.state.steps,
+            t_end,
+            epoch,
+            last: true,
+        })
     }
 
     /// One step of `h` seconds, stage by stage; a failure leaves the world exactly as it was
@@ -163,9 +174,9 @@ impl World {
 
     /// One step of `h` seconds without a checkpoint of its own, for a call that keeps one
     /// checkpoint for all its steps ([`World::run`]): on failure the world is left part-way
-    /// and the caller restores its checkpoint.
-    pub(super) fn step_unsaved(&mut self, h: f64) -> Result<()> {
-        let ctx = self.context(h)?;
+    /// and the caller restores its checkpoint. `last`: the call's last step.
+    pub(super) fn step_unsaved(&mut self, h: f64, last: bool) -> Result<()> {
+        let ctx = StepContext { last, ..self.context(h)? };
         self.refresh()?;
         self.prev_x.clear();
         self.balls_begin();

@@ -33,11 +33,15 @@ impl Scratch {
         // The grid is read while the chunks fill their lists: moved out for the scan.
         let grid = std::mem::take(&mut self.grid);
         let (mut paths, mut aux) = (std::mem::take(&mut self.paths), std::mem::take(&mut self.aux));
-        *tests += match d {
+        let (found, deepest) = match d {
             1 => self.scan_d::<1>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
             2 => self.scan_d::<2>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
             _ => self.scan_d::<3>(&grid, &mut paths, &mut aux, inp, [tg, rem, rmax]),
         };
+        *tests += found;
+        if tg == 0.0 {
+            self.start_overlap = deepest;
+        }
         self.paths = paths;
         self.aux = aux;
         self.grid = grid;
@@ -46,7 +50,9 @@ impl Scratch {
     /// The scan in fixed chunks of the grid's order (of slots in a hashed table), on the rayon
     /// pool, each into its own list of events; the lists are then heaped. The heap pops its
     /// events in their total order (time, slots, counters), whatever the order they were
-    /// pushed in: the contacts do not depend on the chunks or the thread count.
+    /// pushed in: the contacts do not depend on the chunks or the thread count. Returns the
+    /// pairs tested and the deepest overlap of two balls, or of a ball past a wall, at the
+    /// pass's start (every pair that overlaps is within reach).
     fn scan_d<const D: usize>(
         &mut self,
         grid: &Grid,
@@ -54,7 +60,7 @@ impl Scratch {
         aux: &mut Vec<[f64; 2]>,
         inp: &Input<'_>,
         [tg, rem, rmax]: [f64; 3],
-    ) -> u64 {
+    ) -> (u64, f64) {
         // What a pair's test reads of each ball, in the grid's order (next to its neighbours):
         // its path, radius, and radius plus path left; and the balls within `r + rem` of a
         // wall (only those can reach one within the pass: their path left is at most `rem`).
@@ -85,19 +91,33 @@ impl Scratch {
             count += usize::from(near);
         }
         walled.truncate(count);
+        // Only a ball near a wall can be past it.
+        let mut deepest = 0.0_f64;
+        if let Some(w) = inp.walls {
+            for &b in walled.iter() {
+                let (b, r) = (b as usize, radius[b as usize]);
+                for k in 0..D {
+                    deepest = deepest.max(w.lo[k] - (p[b * D + k] - r)).max(p[b * D + k] + r - w.hi[k]);
+                }
+            }
+        }
         let near = &Near { grid, paths, aux, tg };
         let count = n.div_ceil(CHUNK).max(1);
         let mut chunks = std::mem::take(&mut self.chunks);
         chunks.resize_with(count, Vec::new);
         let me = &*self;
-        let run = |(c, out): (usize, &mut Vec<Reverse<Event>>)| -> u64 {
+        let run = |(c, out): (usize, &mut Vec<Reverse<Event>>)| -> (u64, f64) {
             out.clear();
-            me.scan_span::<D>(near, c * CHUNK..((c + 1) * CHUNK).min(n), out)
+            let mut deep = 0.0;
+            let found = me.scan_span::<D>(near, c * CHUNK..((c + 1) * CHUNK).min(n), out, &mut deep);
+            (found, deep)
         };
-        let found = if count > 1 && rayon::current_num_threads() > 1 {
-            chunks.par_iter_mut().enumerate().map(run).sum()
+        // The deepest overlap is the same whatever the chunks: a maximum.
+        let both = |a: (u64, f64), b: (u64, f64)| (a.0 + b.0, a.1.max(b.1));
+        let (found, deep) = if count > 1 && rayon::current_num_threads() > 1 {
+            chunks.par_iter_mut().enumerate().map(run).reduce(|| (0, 0.0), both)
         } else {
-            chunks.iter_mut().enumerate().map(run).sum()
+            chunks.iter_mut().enumerate().map(run).fold((0, 0.0), both)
         };
         let mut heap = std::mem::take(&mut self.heap).into_vec();
         heap.clear();
@@ -106,25 +126,27 @@ impl Scratch {
         }
         self.heap = BinaryHeap::from(heap);
         self.chunks = chunks;
-        found
+        (found, deepest.max(deep))
     }
 
     /// The scan of the places `span` of the grid's order (of the slots `span` in a hashed
-    /// table): their events pushed to `out`; returns the pairs tested.
+    /// table): their events pushed to `out`, the deepest overlap of a pair into `deep`;
+    /// returns the pairs tested.
     #[inline(always)]
     fn scan_span<const D: usize>(
         &self,
         near: &Near<'_>,
         span: std::ops::Range<usize>,
         out: &mut Vec<Reverse<Event>>,
+        deep: &mut f64,
     ) -> u64 {
         let grid = near.grid;
         if grid.dense() {
             // The half shell's ranges as one run (as many as it has for D).
             return match D {
-                1 => self.scan_dense::<D, 1>(near, span, out),
-                2 => self.scan_dense::<D, 2>(near, span, out),
-                _ => self.scan_dense::<D, 5>(near, span, out),
+                1 => self.scan_dense::<D, 1>(near, span, out, deep),
+                2 => self.scan_dense::<D, 2>(near, span, out, deep),
+                _ => self.scan_dense::<D, 5>(near, span, out, deep),
             };
         }
         let (mut spans, mut found) = ([(0u32, 0u32, 0u64); 14], 0u64);
@@ -137,7 +159,7 @@ impl Scratch {
                         if key == ANY || grid.key_at(t) == key {
                             found += 1;
                             if self.within::<D>(near, q, t) {
-                                self.predict_near::<D>(near, q, t, out);
+                                *deep = deep.max(self.predict_near::<D>(near, q, t, out));
                             }
                         }
                     }
@@ -155,6 +177,7 @@ impl Scratch {
         near: &Near<'_>,
         span: std::ops::Range<usize>,
         out: &mut Vec<Reverse<Event>>,
+        deep: &mut f64,
     ) -> u64 {
         let (grid, aux) = (near.grid, near.aux);
         let sorted = grid.sorted();
@@ -174,7 +197,7 @@ impl Scratch {
                 }
                 let reach = (ri + aux[t][1]) * MARGIN;
                 if dist2 <= reach * reach {
-                    self.predict_near::<D>(near, q, t, out);
+                    *deep = deep.max(self.predict_near::<D>(near, q, t, out));
                 }
             }
         }
@@ -197,7 +220,8 @@ impl Scratch {
     /// The impact of the balls at places `q` and `t` of the grid's order, pushed to `out`
     /// when within the step. Every ball is at the pass's start `tg`, where the grid took its
     /// position: the prediction reads the grid's positions and the paths in `near` alone
-    /// (the bits of [`Scratch::pair_event`]).
+    /// (the bits of [`Scratch::pair_event`]). Returns how deep they overlap there (0 when
+    /// apart or touching).
     #[inline(never)]
     fn predict_near<const D: usize>(
         &self,
@@ -205,17 +229,24 @@ impl Scratch {
         q: usize,
         t: usize,
         out: &mut Vec<Reverse<Event>>,
-    ) {
+    ) -> f64 {
         let (sorted, paths, aux) = (near.grid.sorted(), near.paths, near.aux);
-        let (mut dk, mut wk) = ([0.0; D], [0.0; D]);
+        let (mut dk, mut wk, mut dd) = ([0.0; D], [0.0; D], 0.0);
         for k in 0..D {
             dk[k] = sorted[t * D + k] - sorted[q * D + k];
             wk[k] = paths[t * D + k] - paths[q * D + k];
+            dd += dk[k] * dk[k];
         }
-        if let Some(s) = impact(dk, wk, aux[q][0] + aux[t][0], near.tg) {
+        let r = aux[q][0] + aux[t][0];
+        if let Some(s) = impact(dk, wk, r, near.tg) {
             let order = near.grid.order();
             let (i, j) = (order[q] as usize, order[t] as usize);
             out.push(Reverse(self.event(s, i.min(j), i.max(j) as u32)));
+        }
+        if dd < r * r {
+            r - dd.sqrt()
+        } else {
+            0.0
         }
     }
 

@@ -1,5 +1,7 @@
-//! The check after the contacts of a step: the deepest overlap at its end of the balls that
-//! were hit. See docs/collisions.md.
+//! The check after the contacts of a call's last step: the deepest overlap at its end of the
+//! balls that were hit. The ends of the other steps of a call are measured by the next step's
+//! scan, which tests every pair within reach at its start (`narrow.rs`). See
+//! docs/collisions.md.
 
 use super::super::grid::each_in_rows;
 use super::{Input, Scratch, MARGIN};
