@@ -485,3 +485,48 @@ fn an_overlap_left_in_the_state_is_measured() {
         assert!((deepest - 0.01).abs() < 1e-15, "per call {per_call}: {deepest}");
     }
 }
+
+/// After the contacts of a step only the hit balls' accelerations are evaluated again when
+/// every force is per particle (gravity, drag, a spring to an anchor): they are the whole
+/// evaluation's, bit for bit, and the steps after go on as from a whole evaluation.
+#[test]
+fn the_hit_balls_accelerations_are_the_whole_evaluations() {
+    let build = || {
+        let mut w = world(2, "symplectic-euler", 1.0 / 120.0);
+        w.add_walls(&[0.0, 0.0], &[2.0, 2.0]).unwrap();
+        for i in 0..40 {
+            let (x, y) = (0.1 + 0.2 * (i % 9) as f64, 0.1 + 0.2 * (i / 9) as f64);
+            w.add_ball(
+                &[x, y],
+                &[(i as f64 * 0.7).sin(), (i as f64 * 1.3).cos()],
+                0.08,
+                1.0 + 0.1 * i as f64,
+            )
+            .unwrap();
+        }
+        w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+        w.add_force(Force::Drag { linear: 0.1, quadratic: 0.05 }).unwrap();
+        w.add_force(Force::Spring {
+            i: 3,
+            j: Endpoint::Anchor([1.0, 1.5, 0.0]),
+            stiffness: 20.0,
+            rest_length: 0.3,
+            damping: 0.2,
+        })
+        .unwrap();
+        w
+    };
+    let (mut a, mut b) = (build(), build());
+    for _ in 0..120 {
+        a.step(1).unwrap();
+        b.step(1).unwrap();
+        let partial = a.accelerations().unwrap().to_vec();
+        // Touching the state makes the next read evaluate every particle.
+        let v = b.velocities().to_vec();
+        b.set_velocities(&v).unwrap();
+        let whole = b.accelerations().unwrap().to_vec();
+        assert!(partial.iter().zip(&whole).all(|(p, q)| p.to_bits() == q.to_bits()));
+        assert_eq!(a.positions(), b.positions());
+    }
+    assert!(a.collisions().count > 20, "{} contacts", a.collisions().count);
+}

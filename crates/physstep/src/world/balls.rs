@@ -5,6 +5,7 @@ use super::step::StepContext;
 use super::World;
 use crate::collide::{self, CollisionStats, Input, Walls};
 use crate::error::{num, Error, Result};
+use crate::integrators::registry::RUNAWAY;
 
 fn point(x: &[f64]) -> String {
     let parts: Vec<String> = x.iter().map(|v| num(*v)).collect();
@@ -325,8 +326,42 @@ impl World {
             }
         }
         self.resync_memory(ctx.h)?;
-        self.stale = true;
-        self.refresh()
+        self.refresh_hits()
+    }
+
+    /// After the contacts, the derivative `f = deriv(y)` again: only the entries of the balls
+    /// that were hit when each particle's acceleration depends on its own state alone (every
+    /// force per particle: gravity, drag, central gravity, springs to anchors; no user force,
+    /// no bodies), the same bits as the whole evaluation; else the whole.
+    fn refresh_hits(&mut self) -> Result<()> {
+        let local = self.model.forces.local();
+        if !(local.all && self.model.user.is_empty() && self.bodies.is_empty() && self.flow.is_none()) {
+            self.stale = true;
+            return self.refresh();
+        }
+        let (d, nx, run) = (self.dim(), self.nx(), self.balls_run());
+        let (y, f) = (&self.state.y, &mut self.state.f);
+        let mut finite = true;
+        for &slot in self.balls.scratch.hits() {
+            let p = run.map_or_else(|| self.balls.index[slot as usize], |p0| p0 + slot as usize);
+            let (i, im) = (p * d..(p + 1) * d, &self.model.inv_mass[p..=p]);
+            let springs = local.anchors(p, p + 1);
+            f[i.clone()].copy_from_slice(&y[nx + i.start..nx + i.end]);
+            let (x, v, a) = (&y[i.clone()], &y[nx + i.start..nx + i.end], &mut f[nx + i.start..nx + i.end]);
+            match d {
+                1 => local.accel::<1>(p, x, v, im, springs, a),
+                2 => local.accel::<2>(p, x, v, im, springs, a),
+                _ => local.accel::<3>(p, x, v, im, springs, a),
+            }
+            finite &= a.iter().all(|c| c.abs() <= RUNAWAY);
+        }
+        if !finite {
+            // The whole evaluation names the entry and the value.
+            self.stale = true;
+            return self.refresh();
+        }
+        self.state.evals += 1;
+        Ok(())
     }
 
     /// The memory of Verlet and leapfrog after the balls that were hit changed velocity.

@@ -244,7 +244,7 @@ impl Scratch {
             out.push(Reverse(self.event(s, i.min(j), i.max(j) as u32)));
         }
         if dd < r * r {
-            r - dd.sqrt()
+            depth(r, dd)
         } else {
             0.0
         }
@@ -323,4 +323,12 @@ impl Scratch {
         let gone: f64 = (0..d).map(|k| (self.p[b * d + k] - from[k]).powi(2)).sum();
         self.aux[q][1] = self.aux[q][0] + gone.sqrt() + (1.0 - s) * self.speed2(b, d).sqrt();
     }
+}
+
+/// How deep two balls whose radii add to `r` overlap at the squared distance `dd < r^2`
+/// (rare: out of the scan's loop).
+#[cold]
+#[inline(never)]
+fn depth(r: f64, dd: f64) -> f64 {
+    r - dd.sqrt()
 }
