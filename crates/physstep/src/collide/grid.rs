@@ -83,8 +83,19 @@ impl Grid {
         self.start.clear();
         self.start.resize(entries + 1, 0);
         self.slot_keys.resize(n, 0);
-        let (m, dense, shift) = (self.m, self.dense, self.shift);
-        let entry = |key: u64| if dense { key as usize } else { hashed(key, shift) };
+        if self.dense {
+            self.sort::<D, true>(p, lo, inv, entries);
+        } else {
+            self.sort::<D, false>(p, lo, inv, entries);
+        }
+    }
+
+    /// The counting sort of the build, for a table with an entry per cell (`DENSE`) or per
+    /// hash of a cell.
+    #[inline(always)]
+    fn sort<const D: usize, const DENSE: bool>(&mut self, p: &[f64], lo: [f64; D], inv: f64, entries: usize) {
+        let (n, m, shift) = (p.len() / D, self.m, self.shift);
+        let entry = |key: u64| if DENSE { key as usize } else { hashed(key, shift) };
         let start = &mut self.start[..];
         for (slot_key, x) in self.slot_keys.iter_mut().zip(p.chunks_exact(D)) {
             // The key `c0 + m0 (c1 + m1 c2)`, each `c` through i64 (one conversion:
@@ -97,8 +108,11 @@ impl Grid {
             *slot_key = key;
             start[entry(key) + 1] += 1;
         }
-        for e in 0..entries {
-            start[e + 1] += start[e];
+        // The running sum in a register (no chain through memory).
+        let mut sum = 0;
+        for c in &mut start[1..] {
+            sum += *c;
+            *c = sum;
         }
         self.order.resize(n, 0);
         self.pos.resize(n, 0);

@@ -8,9 +8,10 @@
 //!   step), so kinetic energy is kept to rounding when `e = 1` and balls neither overlap nor
 //!   pass through each other.
 //!
-//! The scan of the grid runs on the rayon pool in fixed chunks whose events are heaped, and
-//! the heap pops them in their total order (time, then slots): the result never depends on
-//! the thread count. The rest of the stage is serial. See docs/collisions.md.
+//! The scan of the grid runs in fixed chunks (on the rayon pool above 16,384 balls) whose
+//! events are heaped, and the heap pops them in their total order (time, then slots): the
+//! result never depends on the thread count. The rest of the stage is serial. See
+//! docs/collisions.md.
 
 mod events;
 mod grid;
