@@ -102,3 +102,20 @@ fn the_hash_sees_a_one_bit_change() {
     b.world.step(100).unwrap();
     assert_ne!(a.world.state_hash(), b.world.state_hash());
 }
+
+/// The scan of the balls runs its chunks on the rayon pool above 16,384 balls: 20,000 balls
+/// take the same bits on one thread and on two.
+#[test]
+fn twenty_thousand_balls_take_the_same_bits_on_one_thread_and_on_two() {
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let p = [("n", 20_000.0), ("fraction", 0.3)];
+            let mut s = scenes::build("balls", &p, "symplectic-euler", 1.0 / 120.0).unwrap();
+            s.world.step(20).unwrap();
+            assert!(s.world.collisions().count > 1000, "{:?}", s.world.collisions());
+            s.world.state_hash()
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
