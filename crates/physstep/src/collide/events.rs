@@ -149,11 +149,11 @@ pub(crate) struct Outcome {
 }
 
 impl Scratch {
-    fn advance(&mut self, b: usize, s: f64, d: usize) {
+    fn advance<const D: usize>(&mut self, b: usize, s: f64) {
         let dt = s - self.tau[b];
         if dt != 0.0 {
-            for k in 0..d {
-                self.p[b * d + k] += dt * self.u[b * d + k];
+            for k in 0..D {
+                self.p[b * D + k] += dt * self.u[b * D + k];
             }
         }
         self.tau[b] = s;
@@ -171,30 +171,24 @@ impl Scratch {
     }
 
     /// The earliest impact of slots `a < b` from the later of their times, if in the step.
-    fn pair_event(&self, a: usize, b: usize, inp: &Input<'_>) -> Option<Event> {
-        let d = inp.d;
+    fn pair_event<const D: usize>(&self, a: usize, b: usize, inp: &Input<'_>) -> Option<Event> {
         let s0 = self.tau[a].max(self.tau[b]);
-        let (mut dk, mut wk) = ([0.0; 3], [0.0; 3]);
-        for k in 0..d {
-            let pa = self.p[a * d + k] + (s0 - self.tau[a]) * self.u[a * d + k];
-            let pb = self.p[b * d + k] + (s0 - self.tau[b]) * self.u[b * d + k];
+        let (mut dk, mut wk) = ([0.0; D], [0.0; D]);
+        for k in 0..D {
+            let pa = self.p[a * D + k] + (s0 - self.tau[a]) * self.u[a * D + k];
+            let pb = self.p[b * D + k] + (s0 - self.tau[b]) * self.u[b * D + k];
             dk[k] = pb - pa;
-            wk[k] = self.u[b * d + k] - self.u[a * d + k];
+            wk[k] = self.u[b * D + k] - self.u[a * D + k];
         }
-        let r = inp.radius[a] + inp.radius[b];
-        let s = match d {
-            1 => impact([dk[0]], [wk[0]], r, s0),
-            2 => impact([dk[0], dk[1]], [wk[0], wk[1]], r, s0),
-            _ => impact(dk, wk, r, s0),
-        }?;
+        let s = impact(dk, wk, inp.radius[a] + inp.radius[b], s0)?;
         Some(self.event(s, a, b as u32))
     }
 
-    fn predict_walls(&mut self, a: usize, inp: &Input<'_>) {
+    fn predict_walls<const D: usize>(&mut self, a: usize, inp: &Input<'_>) {
         let Some(w) = inp.walls else { return };
-        let (d, r) = (inp.d, inp.radius[a]);
-        for k in 0..d {
-            let (pk, uk) = (self.p[a * d + k], self.u[a * d + k]);
+        let r = inp.radius[a];
+        for k in 0..D {
+            let (pk, uk) = (self.p[a * D + k], self.u[a * D + k]);
             let (gap, side) = if uk < 0.0 {
                 (pk - r - w.lo[k], 0)
             } else if uk > 0.0 {
@@ -212,15 +206,15 @@ impl Scratch {
     }
 
     /// The velocity of slot `b` along `k` at the fraction `s` of the step.
-    fn vel_at(&self, b: usize, k: usize, s: f64, inp: &Input<'_>) -> f64 {
-        let i = b * inp.d + k;
+    fn vel_at<const D: usize>(&self, b: usize, k: usize, s: f64, inp: &Input<'_>) -> f64 {
+        let i = b * D + k;
         self.vel[i] - (1.0 - s) * (inp.v1[i] - self.v0[i])
     }
 
     /// Before the first contact of slot `b` in the step: its velocity `vel` is the input's.
-    fn first_contact(&mut self, b: usize, d: usize, inp: &Input<'_>) {
+    fn first_contact<const D: usize>(&mut self, b: usize, inp: &Input<'_>) {
         if !self.hit(b) {
-            self.vel[b * d..(b + 1) * d].copy_from_slice(&inp.v1[b * d..(b + 1) * d]);
+            self.vel[b * D..(b + 1) * D].copy_from_slice(&inp.v1[b * D..(b + 1) * D]);
         }
     }
 
@@ -241,40 +235,40 @@ impl Scratch {
     /// The impulse between slots `a` and `b` at `s`: `J = -(1 + e) (v_b - v_a).n / (w_a + w_b)`
     /// along the unit line of centres `n` (from `a` to `b`), when they approach.
     #[allow(clippy::needless_range_loop)] // k indexes n, the state and the input alike
-    fn collide_pair(&mut self, a: usize, b: usize, s: f64, inp: &Input<'_>) {
-        let d = inp.d;
-        self.first_contact(a, d, inp);
-        self.first_contact(b, d, inp);
-        self.advance(a, s, d);
-        self.advance(b, s, d);
+    fn collide_pair<const D: usize>(&mut self, a: usize, b: usize, s: f64, inp: &Input<'_>) {
+        self.first_contact::<D>(a, inp);
+        self.first_contact::<D>(b, inp);
+        self.advance::<D>(a, s);
+        self.advance::<D>(b, s);
         let (wa, wb) = (inp.inv_mass[a], inp.inv_mass[b]);
         if wa + wb == 0.0 {
             return;
         }
-        let mut n = [0.0; 3];
+        let mut n = [0.0; D];
         let mut len2 = 0.0;
-        for k in 0..d {
-            n[k] = self.p[b * d + k] - self.p[a * d + k];
+        for k in 0..D {
+            n[k] = self.p[b * D + k] - self.p[a * D + k];
             len2 += n[k] * n[k];
         }
         if len2 == 0.0 {
-            n = [1.0, 0.0, 0.0];
+            n = [0.0; D];
+            n[0] = 1.0;
         } else {
             let inv = 1.0 / len2.sqrt();
             n.iter_mut().for_each(|c| *c *= inv);
         }
         let mut rel = 0.0;
-        for k in 0..d {
-            rel += (self.vel_at(b, k, s, inp) - self.vel_at(a, k, s, inp)) * n[k];
+        for k in 0..D {
+            rel += (self.vel_at::<D>(b, k, s, inp) - self.vel_at::<D>(a, k, s, inp)) * n[k];
         }
         let j = if rel < 0.0 { -(1.0 + self.restitution(a, b, inp)) * rel / (wa + wb) } else { 0.0 };
         let mut ur = 0.0;
-        for k in 0..d {
-            self.vel[a * d + k] -= j * wa * n[k];
-            self.vel[b * d + k] += j * wb * n[k];
-            self.u[a * d + k] -= j * wa * inp.h * n[k];
-            self.u[b * d + k] += j * wb * inp.h * n[k];
-            ur += (self.u[b * d + k] - self.u[a * d + k]) * n[k];
+        for k in 0..D {
+            self.vel[a * D + k] -= j * wa * n[k];
+            self.vel[b * D + k] += j * wb * n[k];
+            self.u[a * D + k] -= j * wa * inp.h * n[k];
+            self.u[b * D + k] += j * wb * inp.h * n[k];
+            ur += (self.u[b * D + k] - self.u[a * D + k]) * n[k];
         }
         // The paths must part even where the velocities already do (a force that changed
         // the relative velocity within the step; balls resting on each other under gravity,
@@ -284,22 +278,22 @@ impl Scratch {
         // approach alone would hand half of it back and forth without end (Zeno).
         if ur < 0.0 {
             let c = -2.0 * ur / (wa + wb);
-            for k in 0..d {
-                self.u[a * d + k] -= c * wa * n[k];
-                self.u[b * d + k] += c * wb * n[k];
+            for k in 0..D {
+                self.u[a * D + k] -= c * wa * n[k];
+                self.u[b * D + k] += c * wb * n[k];
             }
         }
     }
 
     /// The bounce of slot `a` off wall `k` (`side` 1: the upper) at `s`.
-    fn collide_wall(&mut self, a: usize, k: usize, side: u32, s: f64, inp: &Input<'_>) {
-        self.first_contact(a, inp.d, inp);
-        self.advance(a, s, inp.d);
+    fn collide_wall<const D: usize>(&mut self, a: usize, k: usize, side: u32, s: f64, inp: &Input<'_>) {
+        self.first_contact::<D>(a, inp);
+        self.advance::<D>(a, s);
         if inp.inv_mass[a] == 0.0 {
             return;
         }
-        let i = a * inp.d + k;
-        let w = self.vel_at(a, k, s, inp);
+        let i = a * D + k;
+        let w = self.vel_at::<D>(a, k, s, inp);
         if (side == 0 && w < 0.0) || (side == 1 && w > 0.0) {
             let delta = -(1.0 + self.restitution(a, a, inp)) * w;
             self.vel[i] += delta;
@@ -330,8 +324,8 @@ impl Scratch {
         self.ver[b] != 0
     }
 
-    fn speed2(&self, b: usize, d: usize) -> f64 {
-        self.u[b * d..(b + 1) * d].iter().map(|c| c * c).sum()
+    fn speed2<const D: usize>(&self, b: usize) -> f64 {
+        self.u[b * D..(b + 1) * D].iter().map(|c| c * c).sum()
     }
 
     /// Each ball's path `u = x1 - p` and its length `ext`; returns the longest squared.
@@ -361,21 +355,25 @@ impl Scratch {
     /// The budget of events, `64 nb + 1024`, when the contacts do not end within it (balls
     /// packed at rest).
     pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
-        let (d, nb) = (inp.d, inp.radius.len());
+        match inp.d {
+            1 => self.resolve_d::<1>(inp),
+            2 => self.resolve_d::<2>(inp),
+            _ => self.resolve_d::<3>(inp),
+        }
+    }
+
+    fn resolve_d<const D: usize>(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
+        let nb = inp.radius.len();
         // The start positions are the paths' origins: taken over (the next step refills x0).
         std::mem::swap(&mut self.p, &mut self.x0);
-        self.vel.resize(nb * d, 0.0);
+        self.vel.resize(nb * D, 0.0);
         self.tau.clear();
         self.tau.resize(nb, 0.0);
         self.ver.clear();
         self.ver.resize(nb, 0);
         self.hits.clear();
         // Each path, and the path left from the start, `ext` (the first pass's).
-        let mut most = match d {
-            1 => self.paths_d::<1>(inp.x1),
-            2 => self.paths_d::<2>(inp.x1),
-            _ => self.paths_d::<3>(inp.x1),
-        };
+        let mut most = self.paths_d::<D>(inp.x1);
         let rmax = largest(inp.radius);
         let mut out = Outcome::default();
         let cap = 64 * nb as u64 + 1024;
@@ -386,8 +384,8 @@ impl Scratch {
             if tg != 0.0 {
                 most = 0.0;
                 for b in 0..nb {
-                    self.advance(b, tg, d);
-                    let s2 = self.speed2(b, d);
+                    self.advance::<D>(b, tg);
+                    let s2 = self.speed2::<D>(b);
                     most = most.max(s2);
                     self.ext[b] = (1.0 - tg) * s2.sqrt();
                 }
@@ -402,7 +400,7 @@ impl Scratch {
             self.heap.clear();
             self.scan(inp, tg, rmax, rem, &mut out.tests);
             for w in std::mem::take(&mut self.walled) {
-                self.predict_walls(w as usize, inp);
+                self.predict_walls::<D>(w as usize, inp);
             }
             while let Some(Reverse(ev)) = self.heap.pop() {
                 let (a, s) = (ev.a as usize, f64::from_bits(ev.s));
@@ -416,25 +414,25 @@ impl Scratch {
                 let mut moved = [a, a];
                 if ev.b >= WALL {
                     let w = ev.b - WALL;
-                    self.collide_wall(a, (w / 2) as usize, w % 2, s, inp);
+                    self.collide_wall::<D>(a, (w / 2) as usize, w % 2, s, inp);
                 } else {
                     let b = ev.b as usize;
-                    self.collide_pair(a, b, s, inp);
+                    self.collide_pair::<D>(a, b, s, inp);
                     self.count(b);
                     moved[1] = b;
                 }
                 self.count(a);
-                if moved.iter().any(|&m| self.speed2(m, d) > bound * bound) {
+                if moved.iter().any(|&m| self.speed2::<D>(m) > bound * bound) {
                     tg = s;
                     continue 'pass;
                 }
-                self.extent(a, s, d);
+                self.extent::<D>(a, s);
                 if moved[1] != a {
-                    self.extent(moved[1], s, d);
+                    self.extent::<D>(moved[1], s);
                 }
-                self.predict(a, inp);
+                self.predict::<D>(a, inp);
                 if moved[1] != a {
-                    self.predict(moved[1], inp);
+                    self.predict::<D>(moved[1], inp);
                 }
             }
             return Ok(out);

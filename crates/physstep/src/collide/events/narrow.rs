@@ -259,19 +259,15 @@ impl Scratch {
     /// shell of its cell that it can still meet: `|P_b - P_j| <= r_b + r_j + ext_b + ext_j`,
     /// `P` the positions the grid was built from and `ext` how far a ball gets from its `P`
     /// by the end of the step on its current path (with the scan's margin).
-    pub(super) fn predict(&mut self, b: usize, inp: &Input<'_>) {
+    pub(super) fn predict<const D: usize>(&mut self, b: usize, inp: &Input<'_>) {
         // Only a ball outside the pass's inner box can reach a wall (its path left from the
         // grid's position is at most `rem`).
-        let (d, q) = (inp.d, self.grid.pos_of(b));
-        let at = &self.grid.sorted()[q * d..(q + 1) * d];
-        if (0..d).any(|k| at[k] <= self.inner[k][0] || at[k] >= self.inner[k][1]) {
-            self.predict_walls(b, inp);
+        let q = self.grid.pos_of(b);
+        let at = &self.grid.sorted()[q * D..(q + 1) * D];
+        if (0..D).any(|k| at[k] <= self.inner[k][0] || at[k] >= self.inner[k][1]) {
+            self.predict_walls::<D>(b, inp);
         }
-        match inp.d {
-            1 => self.predict_d::<1>(b, inp),
-            2 => self.predict_d::<2>(b, inp),
-            _ => self.predict_d::<3>(b, inp),
-        }
+        self.predict_d::<D>(b, inp);
     }
 
     #[allow(clippy::needless_range_loop)] // a place indexes the order and the positions alike
@@ -291,7 +287,7 @@ impl Scratch {
             }
             let reach = (rb + aux[t][1]) * MARGIN;
             if dist2 <= reach * reach {
-                if let Some(ev) = self.pair_event(b.min(j), b.max(j), inp) {
+                if let Some(ev) = self.pair_event::<D>(b.min(j), b.max(j), inp) {
                     found.push(Reverse(ev));
                 }
             }
@@ -322,11 +318,11 @@ impl Scratch {
 
     /// After a contact of slot `b` at `s`: how far it gets from the position the grid was
     /// built from by the end of the step, `|p(s) - P| + (1 - s) |u|`.
-    pub(super) fn extent(&mut self, b: usize, s: f64, d: usize) {
+    pub(super) fn extent<const D: usize>(&mut self, b: usize, s: f64) {
         let q = self.grid.pos_of(b);
-        let from = &self.grid.sorted()[q * d..(q + 1) * d];
-        let gone: f64 = (0..d).map(|k| (self.p[b * d + k] - from[k]).powi(2)).sum();
-        self.aux[q][1] = self.aux[q][0] + gone.sqrt() + (1.0 - s) * self.speed2(b, d).sqrt();
+        let from = &self.grid.sorted()[q * D..(q + 1) * D];
+        let gone: f64 = (0..D).map(|k| (self.p[b * D + k] - from[k]).powi(2)).sum();
+        self.aux[q][1] = self.aux[q][0] + gone.sqrt() + (1.0 - s) * self.speed2::<D>(b).sqrt();
     }
 }
 
