@@ -132,7 +132,7 @@ pub(crate) struct Scratch {
     /// The events found by a ball's prediction.
     found: Vec<Reverse<Event>>,
     /// The events found by each chunk of the scan.
-    chunks: Vec<Vec<Reverse<Event>>>,
+    chunks: Vec<narrow::Chunk>,
     /// The deepest overlap of two balls, or of a ball past a wall, at the start of the step
     /// (measured by the first pass's scan).
     pub start_overlap: f64,

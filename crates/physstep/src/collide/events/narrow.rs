@@ -2,7 +2,7 @@
 //! that can meet on the current paths, predicted at once), a hit ball's re-query of the full
 //! shell around it, and the deepest overlap at the end of the step. See docs/collisions.md.
 
-use super::super::grid::{each_in_rows, Grid, Run, ANY};
+use super::super::grid::{each_in_rows, Grid, ANY};
 use super::{impact, Event, Input, Scratch, MARGIN};
 use rayon::prelude::*;
 use std::cmp::Reverse;
@@ -15,6 +15,17 @@ const CHUNK: usize = 512;
 /// pool and back costs more than the second thread saves (measured: 2 threads 5% slower at
 /// 10,000 balls, 12% faster at 20,000).
 const PARALLEL_BALLS: usize = 32 * CHUNK;
+
+/// What a chunk of the scan finds: its events, the deepest overlap of a pair at the pass's
+/// start; and its scratch, the pairs within reach.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Chunk {
+    events: Vec<Reverse<Event>>,
+    deep: f64,
+    pairs: Vec<[u32; 2]>,
+    cand_q: Vec<u32>,
+    cand_t: Vec<u32>,
+}
 
 /// What the scan reads: the grid, and each ball's path (`d` entries), radius and radius plus
 /// path left, in the grid's order; the pass's start.
@@ -109,13 +120,13 @@ impl Scratch {
         let near = &Near { grid, paths, aux, tg };
         let count = n.div_ceil(CHUNK).max(1);
         let mut chunks = std::mem::take(&mut self.chunks);
-        chunks.resize_with(count, Vec::new);
+        chunks.resize_with(count, Chunk::default);
         let me = &*self;
-        let run = |(c, out): (usize, &mut Vec<Reverse<Event>>)| -> (u64, f64) {
-            out.clear();
-            let mut deep = 0.0;
-            let found = me.scan_span::<D>(near, c * CHUNK..((c + 1) * CHUNK).min(n), out, &mut deep);
-            (found, deep)
+        let run = |(c, out): (usize, &mut Chunk)| -> (u64, f64) {
+            out.events.clear();
+            out.deep = 0.0;
+            let found = me.scan_span::<D>(near, c * CHUNK..((c + 1) * CHUNK).min(n), out);
+            (found, out.deep)
         };
         // The deepest overlap is the same whatever the chunks: a maximum.
         let both = |a: (u64, f64), b: (u64, f64)| (a.0 + b.0, a.1.max(b.1));
@@ -127,7 +138,7 @@ impl Scratch {
         let mut heap = std::mem::take(&mut self.heap).into_vec();
         heap.clear();
         for c in &chunks {
-            heap.extend_from_slice(c);
+            heap.extend_from_slice(&c.events);
         }
         self.heap = BinaryHeap::from(heap);
         self.chunks = chunks;
@@ -135,24 +146,19 @@ impl Scratch {
     }
 
     /// The scan of the places `span` of the grid's order (of the slots `span` in a hashed
-    /// table): their events pushed to `out`, the deepest overlap of a pair into `deep`;
+    /// table): their events pushed to `out.events`, the deepest overlap of a pair into
+    /// `out.deep`;
     /// returns the pairs tested.
     #[inline(always)]
     fn scan_span<const D: usize>(
         &self,
         near: &Near<'_>,
         span: std::ops::Range<usize>,
-        out: &mut Vec<Reverse<Event>>,
-        deep: &mut f64,
+        out: &mut Chunk,
     ) -> u64 {
         let grid = near.grid;
         if grid.dense() {
-            // The half shell's ranges as one run (as many as it has for D).
-            return match D {
-                1 => self.scan_dense::<D, 1>(near, span, out, deep),
-                2 => self.scan_dense::<D, 2>(near, span, out, deep),
-                _ => self.scan_dense::<D, 5>(near, span, out, deep),
-            };
+            return self.scan_dense::<D>(near, span, out);
         }
         let (mut spans, mut found) = ([(0u32, 0u32, 0u64); 14], 0u64);
         {
@@ -164,7 +170,8 @@ impl Scratch {
                         if key == ANY || grid.key_at(t) == key {
                             found += 1;
                             if self.within::<D>(near, q, t) {
-                                *deep = deep.max(self.predict_near::<D>(near, q, t, out));
+                                let depth = self.predict_near::<D>(near, q, t, &mut out.events);
+                                out.deep = out.deep.max(depth);
                             }
                         }
                     }
@@ -174,39 +181,72 @@ impl Scratch {
         found
     }
 
-    /// The scan of the places `span` in a dense table, each ball's half shell (`K` ranges) as
-    /// one run; returns the pairs tested.
+    /// The scan of the places `span` in a dense table, each ball's half shell (the ranges of
+    /// [`Grid::half_dense`]); returns the pairs tested.
     #[inline(always)]
-    fn scan_dense<const D: usize, const K: usize>(
+    fn scan_dense<const D: usize>(
         &self,
         near: &Near<'_>,
         span: std::ops::Range<usize>,
-        out: &mut Vec<Reverse<Event>>,
-        deep: &mut f64,
+        out: &mut Chunk,
     ) -> u64 {
-        let (grid, aux) = (near.grid, near.aux);
-        let sorted = grid.sorted();
-        let (mut ranges, mut found) = ([(0u32, 0u32); 5], 0u64);
+        let grid = near.grid;
+        let mut ranges = [(0u32, 0u32); 5];
+        // Each ball's candidates listed first, without a branch on how many a range holds:
+        // the first `W` places of a range written whatever its length and the cursor moved on
+        // by the length (what lies past it is written over); a longer range's rest in a loop.
+        // Then one loop over them all (its end always known to the branch predictor) keeps
+        // those within reach, again without a branch (about one in fifteen is).
+        const W: usize = 4;
+        let (cq, ct) = (&mut out.cand_q, &mut out.cand_t);
+        let mut cur = 0;
         for q in span {
             let count = grid.half_dense(q, D, &mut ranges);
-            let run = Run::<K>::new(&ranges[..count]);
-            found += run.total as u64;
-            let (pi, ri): ([f64; D], f64) = (sorted[q * D..(q + 1) * D].try_into().expect("D"), aux[q][1]);
-            // The filter written out; a pair within reach goes on to the prediction.
-            for i in 0..run.total {
-                let t = run.place(i);
-                let pj = &sorted[t * D..(t + 1) * D];
-                let mut dist2 = 0.0;
-                for k in 0..D {
-                    dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+            let need = cur
+                + ranges[..count]
+                    .iter()
+                    .map(|&(lo, hi)| (hi.saturating_sub(lo) as usize).max(W))
+                    .sum::<usize>();
+            if ct.len() < need {
+                ct.resize(2 * need, 0);
+                cq.resize(2 * need, 0);
+            }
+            for &(lo, hi) in &ranges[..count] {
+                let len = hi.saturating_sub(lo) as usize;
+                let (tw, qw) = (&mut ct[cur..cur + W], &mut cq[cur..cur + W]);
+                for w in 0..W {
+                    tw[w] = lo + w as u32;
+                    qw[w] = q as u32;
                 }
-                let reach = (ri + aux[t][1]) * MARGIN;
-                if dist2 <= reach * reach {
-                    *deep = deep.max(self.predict_near::<D>(near, q, t, out));
+                for t in W..len {
+                    ct[cur + t] = lo + t as u32;
+                    cq[cur + t] = q as u32;
                 }
+                cur += len;
             }
         }
-        found
+        let pairs = &mut out.pairs;
+        if pairs.len() < cur {
+            pairs.resize(cur, [0; 2]);
+        }
+        let mut kept = 0;
+        let (sorted, aux) = (grid.sorted(), near.aux);
+        for (&q, &t) in cq[..cur].iter().zip(&ct[..cur]) {
+            let (qi, ti) = (q as usize, t as usize);
+            let (pi, pj) = (&sorted[qi * D..(qi + 1) * D], &sorted[ti * D..(ti + 1) * D]);
+            let mut dist2 = 0.0;
+            for k in 0..D {
+                dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+            }
+            let reach = (aux[qi][1] + aux[ti][1]) * MARGIN;
+            pairs[kept] = [q, t];
+            kept += usize::from(dist2 <= reach * reach);
+        }
+        for &[q, t] in &pairs[..kept] {
+            let depth = self.predict_near::<D>(near, q as usize, t as usize, &mut out.events);
+            out.deep = out.deep.max(depth);
+        }
+        cur as u64
     }
 
     /// Whether the balls at places `q` and `t` of the grid's order are within reach:
@@ -214,9 +254,10 @@ impl Scratch {
     #[inline(always)]
     fn within<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize) -> bool {
         let (sorted, aux) = (near.grid.sorted(), near.aux);
+        let (pi, pj) = (&sorted[q * D..(q + 1) * D], &sorted[t * D..(t + 1) * D]);
         let mut dist2 = 0.0;
         for k in 0..D {
-            dist2 += (sorted[t * D + k] - sorted[q * D + k]) * (sorted[t * D + k] - sorted[q * D + k]);
+            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
         }
         let reach = (aux[q][1] + aux[t][1]) * MARGIN;
         dist2 <= reach * reach
@@ -227,7 +268,7 @@ impl Scratch {
     /// position: the prediction reads the grid's positions and the paths in `near` alone
     /// (the bits of [`Scratch::pair_event`]). Returns how deep they overlap there (0 when
     /// apart or touching).
-    #[inline(never)]
+    #[inline(always)]
     fn predict_near<const D: usize>(
         &self,
         near: &Near<'_>,
@@ -279,35 +320,45 @@ impl Scratch {
         let at = |q: usize| -> [f64; D] { sorted[q * D..(q + 1) * D].try_into().expect("D entries") };
         let q = grid.pos_of(b);
         let (pb, rb, aux) = (at(q), self.aux[q][1], &self.aux);
-        let mut test = |t: usize, j: usize| {
+        let within = |t: usize| {
             let pj = at(t);
             let mut dist2 = 0.0;
             for k in 0..D {
                 dist2 += (pj[k] - pb[k]) * (pj[k] - pb[k]);
             }
             let reach = (rb + aux[t][1]) * MARGIN;
-            if dist2 <= reach * reach {
-                if let Some(ev) = self.pair_event::<D>(b.min(j), b.max(j), inp) {
-                    found.push(Reverse(ev));
-                }
+            dist2 <= reach * reach
+        };
+        let mut predict = |j: usize| {
+            if let Some(ev) = self.pair_event::<D>(b.min(j), b.max(j), inp) {
+                found.push(Reverse(ev));
             }
         };
         if grid.dense() {
+            // The shell's rows as one run with the filter inline (about one ball in six is
+            // within reach), then those predicted.
             let mut rows = [(0u32, 0u32); 9];
             let count = grid.shell_dense(q, D, &mut rows);
+            let (mut near, mut kept) = ([0u32; 16], 0);
             each_in_rows(&rows[..count], D, |t| {
-                if t != q {
-                    test(t, order[t] as usize);
+                if within(t) && t != q {
+                    if kept == near.len() {
+                        near.iter().for_each(|&t| predict(order[t as usize] as usize));
+                        kept = 0;
+                    }
+                    near[kept] = t as u32;
+                    kept += 1;
                 }
             });
+            near[..kept].iter().for_each(|&t| predict(order[t as usize] as usize));
         } else {
             let mut spans = [(0u32, 0u32, 0u64); 27];
             let count = grid.shell(b, D, &mut spans);
             for &(lo, hi, key) in &spans[..count] {
                 for t in lo as usize..hi.max(lo) as usize {
                     let j = order[t] as usize;
-                    if j != b && grid.key_at(t) == key {
-                        test(t, j);
+                    if j != b && grid.key_at(t) == key && within(t) {
+                        predict(j);
                     }
                 }
             }
