@@ -136,6 +136,16 @@ pub(crate) struct Scratch {
     /// The deepest overlap of two balls, or of a ball past a wall, at the start of the step
     /// (measured by the first pass's scan).
     pub start_overlap: f64,
+    /// The pass's largest radius and longest path left at its start, `(1 - tg) umax`: the
+    /// grid's cells hold every pair that can meet while no ball's radius plus path left
+    /// (`aux[.][1]`) is more than `rmax + left`.
+    rmax: f64,
+    left: f64,
+    /// The balls whose radius plus path left grew past that in the pass's contacts (by slot,
+    /// and whether each is among them): a re-query looks two cells out around them, and
+    /// checks them from every other ball.
+    grown: Vec<u32>,
+    is_grown: Vec<bool>,
     grid: Grid,
 }
 
@@ -371,6 +381,7 @@ impl Scratch {
         self.tau.resize(nb, 0.0);
         self.ver.clear();
         self.ver.resize(nb, 0);
+        self.is_grown.resize(nb, false);
         self.hits.clear();
         // Each path, and the path left from the start, `ext` (the first pass's).
         let mut most = self.paths_d::<D>(inp.x1);
@@ -393,11 +404,17 @@ impl Scratch {
             let umax = most.sqrt();
             // A path may grow in a collision: between equal masses to at most sqrt(2) times the
             // longer of the two (|v'|^2 <= |v_a|^2 + |v_b|^2), more when a light ball is struck
-            // by a heavy one. The pairs are chosen for paths up to 1.5 times the longest, and
-            // found again (from the time of that contact) when one grows past that.
+            // by a heavy one. The grid's cells are sized for the longest path; a ball whose
+            // path grows past it is met up to two cells out (`predict`), and up to 1.5 times
+            // the longest: past that the pairs are found again from the time of that contact.
             let bound = 1.5 * umax;
             let rem = bound * (1.0 - tg);
             self.heap.clear();
+            for &g in &self.grown {
+                self.is_grown[g as usize] = false;
+            }
+            self.grown.clear();
+            (self.rmax, self.left) = (rmax, umax * (1.0 - tg));
             self.scan(inp, tg, rmax, rem, &mut out.tests);
             for w in std::mem::take(&mut self.walled) {
                 self.predict_walls::<D>(w as usize, inp);

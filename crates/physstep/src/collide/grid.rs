@@ -3,8 +3,8 @@
 //! read in a deterministic order.
 //!
 //! A ball's cell is `floor((p - lo) / cell)` per axis; the key is the cell's linear index
-//! with one empty cell of margin on every side, so the neighbours `-1..=1` of any cell have
-//! keys too. The cells `(c0 - 1 ..= c0 + 1, c1 + dy, c2 + dz)` of one row are consecutive
+//! with two empty cells of margin on every side, so the neighbours `-2..=2` of any cell have
+//! keys too (a wide shell, [`Grid::shell_within`], reaches two cells out). The cells `(c0 - 1 ..= c0 + 1, c1 + dy, c2 + dz)` of one row are consecutive
 //! keys. Each pair is found once, from the ball whose cell comes first in key order (the
 //! half shell: the rest of its own cell, the next cell of its row, the next row, in 3D the
 //! next layer).
@@ -42,7 +42,7 @@ impl Grid {
         c[0] + self.m[0] * (c[1] + self.m[1] * c[2])
     }
 
-    /// The cell coordinates of slot `i` (with the margin of one).
+    /// The cell coordinates of slot `i` (with the margins of two).
     fn cell_of(&self, i: usize) -> [u64; 3] {
         let k = self.keys[self.pos[i] as usize];
         [k % self.m[0], k / self.m[0] % self.m[1], k / (self.m[0] * self.m[1])]
@@ -63,13 +63,14 @@ impl Grid {
         let (lo, hi) = bounds::<D>(p);
         let mut cell = cell;
         for k in 0..D {
-            cell = cell.max((hi[k] - lo[k]) / (MAX_CELLS - 4.0));
+            cell = cell.max((hi[k] - lo[k]) / (MAX_CELLS - 6.0));
         }
         let inv = 1.0 / cell;
         self.m = [1; 3];
         for k in 0..D {
-            // Cells 1..=count hold balls; 0 and count + 1 are the margins.
-            self.m[k] = ((hi[k] - lo[k]) * inv) as u64 + 3;
+            // Cells 2..=count + 1 hold balls; two empty cells on either side are the margins
+            // (a wide shell reaches two cells out).
+            self.m[k] = ((hi[k] - lo[k]) * inv) as u64 + 5;
         }
         let total = self.m[0] * self.m[1] * self.m[2];
         self.dense = total <= 4 * n as u64 + 4096;
@@ -102,7 +103,7 @@ impl Grid {
             // `x - lo >= 0`, the same cell as `as u64`).
             let mut key = 0;
             for k in (0..D).rev() {
-                let c = (((x[k] - lo[k]) * inv) as i64 as u64).min(m[k] - 3) + 1;
+                let c = (((x[k] - lo[k]) * inv) as i64 as u64).min(m[k] - 5) + 2;
                 key = key * m[k] + c;
             }
             *slot_key = key;
@@ -247,6 +248,32 @@ impl Grid {
             }
         }
         n
+    }
+
+    /// Calls `f` with the ranges of [`Grid::order`] that hold the balls of the cells within `w`
+    /// (1 or 2) cells of slot `i`'s on every axis (`(2 w + 1)^d` cells, slot `i` among them),
+    /// each with the cell key its balls must have ([`ANY`] in a dense table, where a row of
+    /// cells is one range).
+    pub fn shell_within(&self, i: usize, d: usize, w: u64, mut f: impl FnMut(u32, u32, u64)) {
+        let c = self.cell_of(i);
+        let (ys, zs) = match d {
+            1 => (c[1]..=c[1], c[2]..=c[2]),
+            2 => (c[1] - w..=c[1] + w, c[2]..=c[2]),
+            _ => (c[1] - w..=c[1] + w, c[2] - w..=c[2] + w),
+        };
+        for z in zs {
+            for y in ys.clone() {
+                let (k0, k1) = (self.key([c[0] - w, y, z]), self.key([c[0] + w, y, z]));
+                if self.dense {
+                    f(self.start[k0 as usize], self.start[k1 as usize + 1], ANY);
+                } else {
+                    for k in k0..=k1 {
+                        let e = self.entry(k);
+                        f(self.start[e], self.start[e + 1], k);
+                    }
+                }
+            }
+        }
     }
 
     /// The cell key of the ball at place `q` of [`Grid::order`].

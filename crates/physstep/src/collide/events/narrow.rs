@@ -38,14 +38,15 @@ struct Near<'a> {
 
 impl Scratch {
     /// The narrow phase of a pass: the grid built from the balls at their positions at the
-    /// pass's start `tg` (cells wide enough for every pair that can meet while no path is
-    /// longer than the bound: `reach = r_a + r_b + 2 rem`), and each pair of the half shell
+    /// pass's start `tg` (cells wide enough for every pair that can meet while no ball's
+    /// radius plus path left grows past `rmax + left`: `2 rmax + 2 left` with the margin;
+    /// see [`Scratch::predict`] for those that do), and each pair of the half shell
     /// that can meet on the current paths (`|x_b - x_a| <= r_a + r_b + (1 - tg)(|u_a| + |u_b|)`,
     /// with a relative margin of 1e-9 over the rounding of the prediction) predicted at once.
     /// Counts the pairs tested.
     pub(super) fn scan(&mut self, inp: &Input<'_>, tg: f64, rmax: f64, rem: f64, tests: &mut u64) {
         let d = inp.d;
-        self.grid.build(&self.p, d, 2.0 * rmax + 2.0 * rem);
+        self.grid.build(&self.p, d, (2.0 * rmax + 2.0 * self.left) * MARGIN * MARGIN);
         // The grid is read while the chunks fill their lists: moved out for the scan.
         let grid = std::mem::take(&mut self.grid);
         let (mut paths, mut aux) = (std::mem::take(&mut self.paths), std::mem::take(&mut self.aux));
@@ -296,10 +297,13 @@ impl Scratch {
         }
     }
 
-    /// The next events of slot `b`: against the walls, and against the balls of the full
-    /// shell of its cell that it can still meet: `|P_b - P_j| <= r_b + r_j + ext_b + ext_j`,
-    /// `P` the positions the grid was built from and `ext` how far a ball gets from its `P`
-    /// by the end of the step on its current path (with the scan's margin).
+    /// The next events of slot `b`: against the walls, and against the balls that it can
+    /// still meet: `|P_b - P_j| <= r_b + r_j + ext_b + ext_j`, `P` the positions the grid was
+    /// built from and `ext` how far a ball gets from its `P` by the end of the step on its
+    /// current path (with the scan's margin). While both have grown no further than
+    /// `rmax + left` (radius plus path left) they are in each other's full shell; a grown
+    /// ball (at most `rmax + rem`, `rem` = 1.5 left: a path past the bound starts a new pass)
+    /// looks two cells out, and every other ball checks the grown ones.
     pub(super) fn predict<const D: usize>(&mut self, b: usize, inp: &Input<'_>) {
         // Only a ball outside the pass's inner box can reach a wall (its path left from the
         // grid's position is at most `rem`).
@@ -334,7 +338,17 @@ impl Scratch {
                 found.push(Reverse(ev));
             }
         };
-        if grid.dense() {
+        if self.is_grown[b] {
+            // Its radius plus path left is at most `rmax + rem`: every ball it can meet is
+            // within two cells.
+            grid.shell_within(b, D, 2, |lo, hi, key| {
+                for t in lo as usize..hi.max(lo) as usize {
+                    if t != q && (key == ANY || grid.key_at(t) == key) && within(t) {
+                        predict(order[t] as usize);
+                    }
+                }
+            });
+        } else if grid.dense() {
             // The shell's rows as one run with the filter inline (about one ball in six is
             // within reach), then those predicted.
             let mut rows = [(0u32, 0u32); 9];
@@ -363,6 +377,15 @@ impl Scratch {
                 }
             }
         }
+        if !self.is_grown[b] {
+            // The grown balls can meet it from beyond its shell (one in the shell is predicted
+            // twice: the same event, the second stale once the first is resolved).
+            for &g in &self.grown {
+                if g as usize != b && within(grid.pos_of(g as usize)) {
+                    predict(g as usize);
+                }
+            }
+        }
         self.heap.extend(found.drain(..));
         self.found = found;
     }
@@ -374,6 +397,10 @@ impl Scratch {
         let from = &self.grid.sorted()[q * D..(q + 1) * D];
         let gone: f64 = (0..D).map(|k| (self.p[b * D + k] - from[k]).powi(2)).sum();
         self.aux[q][1] = self.aux[q][0] + gone.sqrt() + (1.0 - s) * self.speed2::<D>(b).sqrt();
+        if self.aux[q][1] > self.rmax + self.left && !self.is_grown[b] {
+            self.is_grown[b] = true;
+            self.grown.push(b as u32);
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! scan, which tests every pair within reach at its start (`narrow.rs`). See
 //! docs/collisions.md.
 
-use super::super::grid::each_in_rows;
+use super::super::grid::{each_in_rows, ANY};
 use super::{Input, Scratch, MARGIN};
 
 impl Scratch {
@@ -76,15 +76,30 @@ impl Scratch {
             let eb = self.end_d::<D>(b, inp);
             // The shell: rows of cells as one run in a dense table; cells, whose places must
             // have the key, in a hashed one.
-            if grid.dense() {
-                let count = grid.shell_dense(q, D, &mut rows);
-                each_in_rows(&rows[..count], D, |t| worst = worst.max(self.depth::<D>(inp, q, t, &eb)));
-            } else {
-                let count = grid.shell(b, D, &mut spans);
-                for &(lo, hi, key) in &spans[..count] {
-                    for t in (lo as usize..hi.max(lo) as usize).filter(|&t| grid.key_at(t) == key) {
+            // As the re-query reads them (`Scratch::predict`): a grown ball two cells out, any
+            // other its full shell and the grown balls.
+            if self.is_grown[b] {
+                grid.shell_within(b, D, 2, |lo, hi, key| {
+                    for t in
+                        (lo as usize..hi.max(lo) as usize).filter(|&t| key == ANY || grid.key_at(t) == key)
+                    {
                         worst = worst.max(self.depth::<D>(inp, q, t, &eb));
                     }
+                });
+            } else {
+                if grid.dense() {
+                    let count = grid.shell_dense(q, D, &mut rows);
+                    each_in_rows(&rows[..count], D, |t| worst = worst.max(self.depth::<D>(inp, q, t, &eb)));
+                } else {
+                    let count = grid.shell(b, D, &mut spans);
+                    for &(lo, hi, key) in &spans[..count] {
+                        for t in (lo as usize..hi.max(lo) as usize).filter(|&t| grid.key_at(t) == key) {
+                            worst = worst.max(self.depth::<D>(inp, q, t, &eb));
+                        }
+                    }
+                }
+                for &g in &self.grown {
+                    worst = worst.max(self.depth::<D>(inp, q, grid.pos_of(g as usize), &eb));
                 }
             }
             if let Some(w) = inp.walls {
