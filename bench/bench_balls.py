@@ -5,7 +5,7 @@
 Both step the same N balls (2D, radius 0.05 m, 1 kg, 30% of the box's area, random velocities
 up to 1 m/s per component, restitution 1, no gravity, dt = 1/120 s), placed by physstep's
 `balls` scene. physstep resolves each contact at its time of impact inside the step (its
-scan of the grid runs on the rayon pool); pymunk resolves contacts with its iterative
+scan of the grid runs on the rayon pool above 16,384 balls); pymunk resolves contacts with its iterative
 impulse solver (10 iterations, elasticity 1 on balls and walls, no friction, rotation
 locked), the way a game would set it up. Each is run on one thread and on two (physstep
 with RAYON_NUM_THREADS; pymunk with `Space(threaded=True)`, `space.threads = 2`), and the

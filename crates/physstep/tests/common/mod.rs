@@ -68,3 +68,29 @@ pub fn recorded_method(scene: &str) -> &'static str {
         "symplectic-euler"
     }
 }
+
+/// An empty world of `dim` dimensions stepped by `method` at `dt`.
+pub fn world(dim: usize, method: &str, dt: f64) -> World {
+    World::new(WorldParams { dim, method: method.into(), dt, ..Default::default() }).unwrap()
+}
+
+/// How deep the deepest pair of balls overlaps (all pairs: independent of the engine's grid),
+/// m; negative when none does.
+pub fn max_pair_overlap(w: &World) -> f64 {
+    let (x, r, d) = (w.positions(), w.radii(), w.dim());
+    let mut worst = f64::NEG_INFINITY;
+    for i in 0..r.len() {
+        for j in i + 1..r.len() {
+            let dist = (0..d).map(|k| (x[i * d + k] - x[j * d + k]).powi(2)).sum::<f64>().sqrt();
+            worst = worst.max(r[i] + r[j] - dist);
+        }
+    }
+    worst
+}
+
+/// Asserts `got` is `want` entry by entry to `tol` relative (plus `tol` absolute).
+pub fn close(got: &[f64], want: &[f64], tol: f64) {
+    for (g, w) in got.iter().zip(want) {
+        assert!((g - w).abs() <= tol * (1.0 + w.abs()), "got {got:?}, want {want:?}");
+    }
+}
