@@ -197,7 +197,7 @@ impl Scratch {
         // the first `W` places of a range written whatever its length and the cursor moved on
         // by the length (what lies past it is written over); a longer range's rest in a loop.
         // Then one loop over them all (its end always known to the branch predictor) keeps
-        // those within reach, again without a branch (about one in fifteen is).
+        // those within reach, again without a branch (about one in eleven is).
         const W: usize = 4;
         let (cq, ct) = (&mut out.cand_q, &mut out.cand_t);
         let mut cur = 0;
@@ -349,7 +349,7 @@ impl Scratch {
                 }
             });
         } else if grid.dense() {
-            // The shell's rows as one run with the filter inline (about one ball in six is
+            // The shell's rows as one run with the filter inline (about one ball in five is
             // within reach), then those predicted.
             let mut rows = [(0u32, 0u32); 9];
             let count = grid.shell_dense(q, D, &mut rows);
