@@ -65,7 +65,7 @@ impl Scratch {
     }
 
     /// The scan in fixed chunks of the grid's order (of slots in a hashed table), on the rayon
-    /// pool, each into its own list of events; the lists are then heaped. The heap pops its
+    /// pool above `PARALLEL_BALLS` balls, each into its own list of events; the lists are then heaped. The heap pops its
     /// events in their total order (time, slots, counters), whatever the order they were
     /// pushed in: the contacts do not depend on the chunks or the thread count. Returns the
     /// pairs tested and the deepest overlap of two balls, or of a ball past a wall, at the
@@ -148,8 +148,7 @@ impl Scratch {
 
     /// The scan of the places `span` of the grid's order (of the slots `span` in a hashed
     /// table): their events pushed to `out.events`, the deepest overlap of a pair into
-    /// `out.deep`;
-    /// returns the pairs tested.
+    /// `out.deep`; returns the pairs tested.
     #[inline(always)]
     fn scan_span<const D: usize>(
         &self,
@@ -162,18 +161,16 @@ impl Scratch {
             return self.scan_dense::<D>(near, span, out);
         }
         let (mut spans, mut found) = ([(0u32, 0u32, 0u64); 14], 0u64);
-        {
-            for i in span {
-                let q = grid.pos_of(i);
-                let count = grid.partners(i, D, &mut spans);
-                for &(lo, hi, key) in &spans[..count] {
-                    for t in lo as usize..hi.max(lo) as usize {
-                        if key == ANY || grid.key_at(t) == key {
-                            found += 1;
-                            if self.within::<D>(near, q, t) {
-                                let depth = self.predict_near::<D>(near, q, t, &mut out.events);
-                                out.deep = out.deep.max(depth);
-                            }
+        for i in span {
+            let q = grid.pos_of(i);
+            let count = grid.partners(i, D, &mut spans);
+            for &(lo, hi, key) in &spans[..count] {
+                for t in lo as usize..hi.max(lo) as usize {
+                    if key == ANY || grid.key_at(t) == key {
+                        found += 1;
+                        if within::<D>(grid.sorted(), near.aux, q, t) {
+                            let depth = self.predict_near::<D>(near, q, t, &mut out.events);
+                            out.deep = out.deep.max(depth);
                         }
                     }
                 }
@@ -248,20 +245,6 @@ impl Scratch {
             out.deep = out.deep.max(depth);
         }
         cur as u64
-    }
-
-    /// Whether the balls at places `q` and `t` of the grid's order are within reach:
-    /// `|x_t - x_q| <= (r_q + ext_q + r_t + ext_t)` with the margin.
-    #[inline(always)]
-    fn within<const D: usize>(&self, near: &Near<'_>, q: usize, t: usize) -> bool {
-        let (sorted, aux) = (near.grid.sorted(), near.aux);
-        let (pi, pj) = (&sorted[q * D..(q + 1) * D], &sorted[t * D..(t + 1) * D]);
-        let mut dist2 = 0.0;
-        for k in 0..D {
-            dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
-        }
-        let reach = (aux[q][1] + aux[t][1]) * MARGIN;
-        dist2 <= reach * reach
     }
 
     /// The impact of the balls at places `q` and `t` of the grid's order, pushed to `out`
@@ -410,4 +393,19 @@ impl Scratch {
 #[inline(never)]
 fn depth(r: f64, dd: f64) -> f64 {
     r - dd.sqrt()
+}
+
+/// Whether the balls at places `q` and `t` of the grid's order (positions `sorted`, radius
+/// and radius plus path left `aux`) are within reach: `|x_t - x_q| <= r_q + ext_q + r_t +
+/// ext_t` with the margin. The scan's dense loop and a re-query write it out (measured faster
+/// inline).
+#[inline(always)]
+pub(super) fn within<const D: usize>(sorted: &[f64], aux: &[[f64; 2]], q: usize, t: usize) -> bool {
+    let (pi, pj) = (&sorted[q * D..(q + 1) * D], &sorted[t * D..(t + 1) * D]);
+    let mut dist2 = 0.0;
+    for k in 0..D {
+        dist2 += (pj[k] - pi[k]) * (pj[k] - pi[k]);
+    }
+    let reach = (aux[q][1] + aux[t][1]) * MARGIN;
+    dist2 <= reach * reach
 }

@@ -4,7 +4,8 @@
 //! docs/collisions.md.
 
 use super::super::grid::{each_in_rows, ANY};
-use super::{Input, Scratch, MARGIN};
+use super::narrow::within;
+use super::{Input, Scratch};
 
 impl Scratch {
     /// The deepest overlap at the end of the step of the balls that were hit, with the balls
@@ -42,15 +43,9 @@ impl Scratch {
     #[inline(always)]
     fn depth<const D: usize>(&self, inp: &Input<'_>, q: usize, t: usize, eb: &[f64; D]) -> f64 {
         let (grid, aux) = (&self.grid, &self.aux);
-        let sorted = grid.sorted();
         // Each ends within `ext` of the position the grid holds: farther apart there than
         // `r + ext_b + ext_j`, they do not overlap.
-        let mut far = 0.0;
-        for k in 0..D {
-            far += (sorted[t * D + k] - sorted[q * D + k]) * (sorted[t * D + k] - sorted[q * D + k]);
-        }
-        let reach = (aux[q][1] + aux[t][1]) * MARGIN;
-        if far > reach * reach || t == q {
+        if t == q || !within::<D>(grid.sorted(), aux, q, t) {
             return 0.0;
         }
         let (ej, r) = (self.end_d::<D>(grid.order()[t] as usize, inp), aux[q][0] + aux[t][0]);
@@ -74,10 +69,10 @@ impl Scratch {
             let b = b as usize;
             let q = grid.pos_of(b);
             let eb = self.end_d::<D>(b, inp);
-            // The shell: rows of cells as one run in a dense table; cells, whose places must
-            // have the key, in a hashed one.
-            // As the re-query reads them (`Scratch::predict`): a grown ball two cells out, any
-            // other its full shell and the grown balls.
+            // The balls a re-query reads (`Scratch::predict`, which keeps its own copy of this
+            // walk: inline there, measured faster): a grown ball's two cells out; any other's
+            // full shell (rows as one run in a dense table, cells whose places must have the
+            // key in a hashed one) and the grown balls.
             if self.is_grown[b] {
                 grid.shell_within(b, D, 2, |lo, hi, key| {
                     for t in
