@@ -225,28 +225,11 @@ impl Grid {
     /// Returns how many of `out` were filled.
     #[inline]
     pub fn shell(&self, i: usize, d: usize, out: &mut [(u32, u32, u64); 27]) -> usize {
-        let c = self.cell_of(i);
         let mut n = 0;
-        let (ys, zs) = match d {
-            1 => (c[1]..=c[1], c[2]..=c[2]),
-            2 => (c[1] - 1..=c[1] + 1, c[2]..=c[2]),
-            _ => (c[1] - 1..=c[1] + 1, c[2] - 1..=c[2] + 1),
-        };
-        for z in zs {
-            for y in ys.clone() {
-                let (k0, k1) = (self.key([c[0] - 1, y, z]), self.key([c[0] + 1, y, z]));
-                if self.dense {
-                    out[n] = (self.start[k0 as usize], self.start[k1 as usize + 1], ANY);
-                    n += 1;
-                } else {
-                    for k in k0..=k1 {
-                        let e = self.entry(k);
-                        out[n] = (self.start[e], self.start[e + 1], k);
-                        n += 1;
-                    }
-                }
-            }
-        }
+        self.shell_within(i, d, 1, |lo, hi, key| {
+            out[n] = (lo, hi, key);
+            n += 1;
+        });
         n
     }
 
