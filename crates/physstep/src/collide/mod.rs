@@ -53,8 +53,6 @@ pub(crate) struct Balls {
     /// Coefficient of restitution in [0, 1].
     pub restitution: f64,
     pub stats: CollisionStats,
-    /// The statistics before the current step (its rollback).
-    pub saved: CollisionStats,
     /// Radii and inverse masses by slot, and the end-of-integration state by slot, gathered
     /// only when the balls are not consecutive particles (else read in place); `v1` then
     /// holds the velocities before the stage of the balls that were hit (leapfrog's memory).
@@ -73,7 +71,6 @@ impl Default for Balls {
             walls: None,
             restitution: 1.0,
             stats: CollisionStats::default(),
-            saved: CollisionStats::default(),
             slot_radius: Vec::new(),
             slot_inv_mass: Vec::new(),
             x1: Vec::new(),

@@ -125,8 +125,6 @@ pub struct Bodies {
     pub(crate) springs: Vec<BodySpring>,
     /// User forces at body points.
     pub(crate) forces: Vec<BodyForce>,
-    /// Each body as it was added (what a scene file exports).
-    pub(crate) added: Vec<crate::world::BodyParams>,
 }
 
 /// A user force acting at a point of a body: the generator sees that point as one particle

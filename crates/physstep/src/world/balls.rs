@@ -225,15 +225,14 @@ impl World {
         (idx[idx.len() - 1] - first + 1 == idx.len()).then_some(first)
     }
 
-    /// Before a step: the start-of-step positions and velocities of the balls, and the
-    /// statistics to roll back to.
+    /// Before a step: the start-of-step positions and velocities of the balls (the Collide
+    /// stage reads them).
     pub(super) fn balls_begin(&mut self) {
         if self.balls.is_empty() {
             return;
         }
         let (d, nx, run) = (self.dim(), self.nx(), self.balls_run());
         let b = &mut self.balls;
-        b.saved = b.stats;
         let s = &mut b.scratch;
         s.x0.clear();
         s.v0.clear();
@@ -336,7 +335,7 @@ impl World {
     fn refresh_hits(&mut self) -> Result<()> {
         let local = self.model.forces.local();
         if !(local.all && self.model.user.is_empty() && self.bodies.is_empty() && self.flow.is_none()) {
-            self.stale = true;
+            self.derivative = super::Derivative::Stale;
             return self.refresh();
         }
         let (d, nx, run) = (self.dim(), self.nx(), self.balls_run());
@@ -357,7 +356,7 @@ impl World {
         }
         if !finite {
             // The whole evaluation names the entry and the value.
-            self.stale = true;
+            self.derivative = super::Derivative::Stale;
             return self.refresh();
         }
         self.state.evals += 1;

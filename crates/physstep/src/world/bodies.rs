@@ -133,7 +133,6 @@ impl World {
         b.offset.push(offset);
         b.pinned.push(p.pivot.is_some());
         b.angular_drag.push(p.angular_drag);
-        b.added.push(p.clone());
         b.force.push(DVec3::ZERO);
         b.torque.push(DVec3::ZERO);
         let slot = b.slot(b.form, b.len() - 1, q, l);
@@ -147,6 +146,7 @@ impl World {
         self.state.y.splice(at..at, xb);
         self.state.y.extend_from_slice(&vb);
         self.state.f.resize(self.state.y.len(), 0.0);
+        self.body_params.push(p.clone());
         self.touch();
         Ok(self.bodies.len() - 1)
     }
@@ -154,7 +154,7 @@ impl World {
     /// Each body's parameters as it was added (its shape, mass, initial pose and velocities).
     #[must_use]
     pub fn body_params(&self) -> &[BodyParams] {
-        &self.bodies.added
+        &self.body_params
     }
 
     /// The world's bodies (masses, inertia, the orientation rule).
@@ -288,7 +288,7 @@ impl World {
         };
         self.bodies.force[b] += f;
         self.bodies.torque[b] += torque;
-        self.stale = true;
+        self.derivative = super::Derivative::Stale;
         Ok(())
     }
 
@@ -300,7 +300,7 @@ impl World {
         self.body_index(b)?;
         bounded("torque", &torque, RUNAWAY)?;
         self.bodies.torque[b] += DVec3::from_array(torque);
-        self.stale = true;
+        self.derivative = super::Derivative::Stale;
         Ok(())
     }
 
@@ -309,7 +309,7 @@ impl World {
         if self.bodies.force.iter().chain(&self.bodies.torque).any(|v| *v != DVec3::ZERO) {
             self.bodies.force.fill(DVec3::ZERO);
             self.bodies.torque.fill(DVec3::ZERO);
-            self.stale = true;
+            self.derivative = super::Derivative::Stale;
         }
     }
 

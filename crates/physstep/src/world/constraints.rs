@@ -234,7 +234,7 @@ impl World {
         std::mem::swap(&mut self.state.y, &mut y);
         std::mem::swap(&mut self.state.f, &mut f);
         self.state.evals += 1;
-        self.stale = false;
+        self.derivative = super::Derivative::Current;
         match self.model.failure.take() {
             Some(e) => Err(e),
             None => Ok(()),

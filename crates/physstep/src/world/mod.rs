@@ -10,9 +10,9 @@ use crate::clock::{Clock, ClockParams, FramePlan, LoopMode};
 use crate::dynamics::SecondOrder;
 use crate::error::{all_finite, Error, Result};
 use crate::flows::{Flow, FlowModel};
-use crate::integrators::registry::State;
-use crate::integrators::registry::{Checkpoint, Layout};
+use crate::integrators::registry::{Layout, State};
 use crate::integrators::{ImplicitParams, Integrator};
+use rollback::Epoch;
 
 mod balls;
 mod bodies;
@@ -22,6 +22,7 @@ mod kernel;
 mod model;
 mod particles;
 mod parts;
+mod rollback;
 mod rules;
 mod small;
 mod snapshot;
@@ -95,31 +96,22 @@ pub struct World {
     clock: Clock,
     /// Positions before the latest step, for render interpolation.
     prev_x: Vec<f64>,
-    /// Whether `state.f` must be re-evaluated (after particles, forces or state changed).
-    stale: bool,
-    /// Whether `state.f` was not stored by the fused kernel: computing it again is not a new
-    /// evaluation (the kernel counted it).
-    deferred: bool,
-    /// Whether the steps of a call leave the bodies' `dX` out of `f`: split methods never
-    /// read it.
-    lazy_rate: bool,
-    /// Whether the bodies' `dX` in `f` is owed by such a call (computed on request).
-    rates_owed: bool,
-    /// The fused kernel's checkpoint of a call (`y` at its start).
-    replay: Vec<f64>,
-    /// The staged step's checkpoint of a call of several steps.
-    call: Checkpoint,
+    /// What `state.f` holds against `state.y`.
+    derivative: Derivative,
+    /// What a failed step goes back to (kept by the call or by each step).
+    rollback: rollback::Rollback,
     /// Time and step count at the latest change of dt.
     epoch: Epoch,
     /// Newton settings for implicit methods, kept across [`World::set_method`].
     implicit: ImplicitParams,
-    /// The state before the current step, for its rollback.
-    checkpoint: Checkpoint,
     /// A first-order flow, when the world is one (then it has no particles and `y` is the
     /// flow's state).
     flow: Option<FlowModel>,
     /// Rigid bodies (their state follows the particles' in `y`).
     bodies: crate::rigid::body::Bodies,
+    /// Each body as it was added (what a scene file exports), apart from the bodies' data
+    /// the step reads.
+    body_params: Vec<BodyParams>,
     /// Scratch: spring loads on bodies during an evaluation.
     body_loads: Vec<(glam::DVec3, glam::DVec3)>,
     /// Body orientations before the latest step of a frame, for render interpolation.
@@ -130,24 +122,22 @@ pub struct World {
     balls: crate::collide::Balls,
 }
 
-/// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-struct Epoch {
-    t: f64,
-    steps: u64,
-    dt: f64,
-}
-
-impl Epoch {
-    /// World time after `steps` steps in all: `t + (steps - self.steps) dt`; `None` when
-    /// `steps` is before the epoch, or after it while no dt was set yet.
-    fn time(self, steps: u64) -> Option<f64> {
-        let k = steps.checked_sub(self.steps)?;
-        if self.dt == 0.0 {
-            return (k == 0).then_some(self.t);
-        }
-        Some(self.t + k as f64 * self.dt)
-    }
+/// What the derivative `state.f` holds against the state `state.y`: the one cache of a
+/// world's step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum Derivative {
+    /// `f = deriv(y)`, evaluated, counted and checked.
+    #[default]
+    Current,
+    /// The state, a force or a load changed by hand: `f` is evaluated, counted and checked
+    /// before it is next used.
+    Stale,
+    /// The fused kernel took the steps and checked the accelerations but did not store them:
+    /// computed again on request, not counted (the kernel counted them).
+    Unstored,
+    /// The split loop left the bodies' rates `dX` out of `f` (no split method reads them):
+    /// computed from the state on request.
+    RatesOwed,
 }
 
 impl World {
@@ -175,17 +165,13 @@ impl World {
             state,
             clock,
             prev_x: Vec::new(),
-            stale: false,
-            deferred: false,
-            lazy_rate: false,
-            rates_owed: false,
-            replay: Vec::new(),
-            call: Checkpoint::default(),
+            derivative: Derivative::Current,
+            rollback: rollback::Rollback::default(),
             epoch: Epoch::default(),
             implicit: params.implicit,
-            checkpoint: Checkpoint::default(),
             flow: None,
             bodies: crate::rigid::body::Bodies { h: params.dt, ..Default::default() },
+            body_params: Vec::new(),
             body_loads: Vec::new(),
             prev_q: Vec::new(),
             constraints: crate::constraints::Constraints::default(),
@@ -213,7 +199,7 @@ impl World {
         w.refuse_method(w.integrator.info())?;
         w.state.y = y0.to_vec();
         w.state.f = vec![0.0; y0.len()];
-        w.stale = true;
+        w.derivative = Derivative::Stale;
         Ok(w)
     }
 
@@ -295,7 +281,7 @@ impl World {
     /// Marks the derivative stale and restarts stateful integrators (the state was changed
     /// by hand).
     fn touch(&mut self) {
-        self.stale = true;
+        self.derivative = Derivative::Stale;
         self.integrator.reset();
     }
 
@@ -351,7 +337,7 @@ impl World {
         self.clock.retime(dt)?;
         // The implicit gyroscopic form's Newton step is taken at the fixed step.
         self.bodies.h = dt;
-        self.stale = true;
+        self.derivative = Derivative::Stale;
         Ok(())
     }
 }

@@ -192,7 +192,7 @@ impl World {
         }
         // The derivative is a function of the state: recompute it without counting it, so
         // the evaluation count matches an uninterrupted run.
-        self.stale = true;
+        self.derivative = super::Derivative::Stale;
         let r = self.refresh();
         self.state.evals = evals;
         r
@@ -272,7 +272,7 @@ impl World {
         memory[flags..].copy_from_slice(&z[ny..]);
         self.integrator.recall(&memory, self.layout().sizes(ny))?;
         self.state.y.copy_from_slice(&z[..ny]);
-        self.stale = true;
+        self.derivative = super::Derivative::Stale;
         self.refresh()
     }
 

@@ -1,7 +1,7 @@
 //! What a world holds now: positions, velocities, the derivative (evaluated when the state
 //! changed, and checked), time, energy and momentum, and setting the state by hand.
 
-use super::World;
+use super::{Derivative, World};
 use crate::dynamics::{FirstOrder, SecondOrder, System};
 use crate::error::{bounded, Error, Result};
 use crate::integrators::registry::RUNAWAY;
@@ -178,54 +178,52 @@ impl World {
     /// # Errors
     /// [`Error::Force`] when a user force fails; the derivative stays stale.
     pub(super) fn refresh(&mut self) -> Result<()> {
-        if let (true, Some(flow)) = (self.stale, self.flow.as_mut()) {
-            let (y, f, t) = (&self.state.y, &mut self.state.f, self.state.t);
-            flow.deriv(t, y, f);
-            self.state.evals += 1;
-            if let Some(e) = flow.failure.take() {
-                return Err(e);
-            }
-            self.derivative_finite()?;
-            self.stale = false;
-        }
-        if self.rates_owed {
-            // A call of split steps left the bodies' rates (c' = P / m, q' = (0, omega) q / 2)
-            // out of `f`: they are a function of the state, computed now (the rest of `f` is
-            // as the method left it, bit for bit as after single steps).
-            self.rates_owed = false;
-            if !self.stale {
+        match self.derivative {
+            Derivative::Current => Ok(()),
+            Derivative::RatesOwed => {
+                // The split loop left the bodies' rates (c' = P / m, q' = (0, omega) q / 2) out
+                // of `f`: they are a function of the state, computed now (the rest of `f` is
+                // as the method left it, bit for bit as after single steps).
                 let (np, nx) = (self.model.len(), self.nx());
                 let (x, v) = self.state.y.split_at(nx);
                 self.bodies.rate(&x[np..], &v[np..], &mut self.state.f[np..nx]);
+                self.derivative = Derivative::Current;
+                Ok(())
             }
-        }
-        if self.deferred && !self.stale {
-            // The kernel took the steps and checked the accelerations at this state: compute
-            // them again, without counting or checking.
-            let n = self.model.len();
-            let (y, f, t) = (&self.state.y, &mut self.state.f, self.state.t);
-            f[..n].copy_from_slice(&y[n..]);
-            self.model.accel(t, &y[..n], &y[n..], &mut f[n..]);
-            self.deferred = false;
-        }
-        if self.stale || self.deferred {
-            let mut y = std::mem::take(&mut self.state.y);
-            let mut f = std::mem::take(&mut self.state.f);
-            let t = self.state.t;
-            self.parts().deriv(t, &y, &mut f);
-            std::mem::swap(&mut self.state.y, &mut y);
-            std::mem::swap(&mut self.state.f, &mut f);
-            if self.stale {
+            Derivative::Unstored => {
+                // The kernel took the steps and checked the accelerations at this state:
+                // computed again, without counting or checking.
+                let n = self.model.len();
+                let (y, f, t) = (&self.state.y, &mut self.state.f, self.state.t);
+                f[..n].copy_from_slice(&y[n..]);
+                self.model.accel(t, &y[..n], &y[n..], &mut f[n..]);
+                self.derivative = Derivative::Current;
+                Ok(())
+            }
+            Derivative::Stale => {
+                // Evaluated, counted and checked; on a failure it stays stale.
+                let t = self.state.t;
                 self.state.evals += 1;
+                if let Some(flow) = self.flow.as_mut() {
+                    flow.deriv(t, &self.state.y, &mut self.state.f);
+                    if let Some(e) = flow.failure.take() {
+                        return Err(e);
+                    }
+                } else {
+                    let mut y = std::mem::take(&mut self.state.y);
+                    let mut f = std::mem::take(&mut self.state.f);
+                    self.parts().deriv(t, &y, &mut f);
+                    std::mem::swap(&mut self.state.y, &mut y);
+                    std::mem::swap(&mut self.state.f, &mut f);
+                    if let Some(e) = self.model.failure.take() {
+                        return Err(e);
+                    }
+                }
+                self.derivative_finite()?;
+                self.derivative = Derivative::Current;
+                Ok(())
             }
-            self.deferred = false;
-            if let Some(e) = self.model.failure.take() {
-                return Err(e);
-            }
-            self.derivative_finite()?;
-            self.stale = false;
         }
-        Ok(())
     }
 
     /// [`Error::NonFinite`] when the derivative just evaluated at the current state holds a

@@ -1,20 +1,31 @@
 //! The step of a world: the public calls that take steps ([`World::step`], [`World::advance`]
-//! and the rest), and one step as named stages over a [`StepContext`]:
+//! and the rest), and the one loop every call of steps runs ([`World::run`]), its stages
+//! over a [`StepContext`]:
 //!
 //! ```text
-//! ctx        = StepContext::new(...)   // h validated once, here; t + h must move time
-//! Integrate    the method runs its recipe; forces are evaluated inside it
+//! ctx        = StepContext          h validated once per step; t0 + (k + 1) h must move time
+//! Integrate    the method's recipe over the parts (forces inside), by the implementation
+//!              chosen once for the call (`Integrate`): one staged step, or every step left
+//!              by the fused particle kernel or the split loop of bodies (which check
+//!              each step themselves: Relax and Collide have nothing to do in their worlds)
 //! Relax        position constraints projected; velocities and method memory resynced
 //! Collide      contacts of balls found by the grid and resolved at their time of impact
 //! Check        a non-finite or runaway state is a divergence: which part, which index
-//! Finish       t = t0 + k h; or, on any failure, the world restored from its checkpoint
+//! Finish       steps += k, t = t0 + k h (`Epoch::time`); on a failure, the `Rollback`
 //! ```
+//!
+//! A failure goes back to the call's [`Rollback`] when its steps can be replayed (no user code
+//! ran, no load by hand waited), replays the good steps (the same bits) and takes the failing
+//! step again staged with a rollback of its own, which fails the same way and names the
+//! particle; else each step keeps its own rollback and a failure goes back to it.
 
-use super::{Epoch, Frame, World};
+use super::kernel::{Ran, Row};
+use super::rollback::{Epoch, Keep, Rollback};
+use super::{Derivative, Frame, World};
 use crate::clock::Clock;
 use crate::dynamics::{First, Second, SecondOrder};
 use crate::error::{Error, Result};
-use crate::integrators::Log;
+use crate::integrators::{Integrator, Log};
 
 /// What every stage of one step sees, validated once when the step starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,7 +93,7 @@ impl World {
     /// # Errors
     /// As [`World::step_by`].
     pub fn step_logged(&mut self, dt: f64, log: &mut crate::integrators::StageLog) -> Result<()> {
-        self.step_inner(dt, Some(log))
+        self.steps_as(Integrate::Staged, 1, dt, Checkpoints::Step, Some(log), None::<&mut NoRows>)
     }
 
     /// Runs one frame of the game loop: `frame_time` seconds of wall time become fixed steps
@@ -119,6 +130,51 @@ impl World {
     }
 }
 
+/// How the Integrate stage of a call takes its steps, chosen once per call ([`World::plan`]).
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // a value of one call, on the stack: boxed, every call would allocate
+enum Integrate {
+    /// The fused particle kernel (`kernel.rs`) with a fresh local method: every step left in
+    /// the call, tile by tile, each checked in registers.
+    Fused(Integrator),
+    /// Particles and bodies under a split method, nothing else to do (no constraint, ball,
+    /// load by hand or user code): the parts built once for every step left, each checked;
+    /// the bodies' `dX` left out of `f` (no split method reads it; computed when asked for).
+    Split,
+    /// The method's recipe over the parts, one step.
+    Staged,
+}
+
+/// Where a failure goes back to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Checkpoints {
+    /// To the call's start: the good steps are replayed, the failing one taken again staged
+    /// with its own rollback (it fails the same way and names what failed).
+    Call,
+    /// To the failing step's start, kept before each step.
+    Step,
+    /// Nowhere: a replay of good steps, which take the same bits again.
+    Replay,
+}
+
+/// A failed pass of the stages.
+enum Failure {
+    /// The step after `good` good ones of the pass ran away (the fused kernel and the split
+    /// loop do not name it): it is taken again staged.
+    Again(u64),
+    /// A stage's error.
+    Error(Error),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Self::Error(e)
+    }
+}
+
+/// The row observer of calls that do not record (none is passed).
+type NoRows = fn(Row<'_>) -> bool;
+
 impl World {
     /// The context of the next step of `h` seconds.
     ///
@@ -132,17 +188,13 @@ impl World {
         } else {
             Epoch { t: self.state.t, steps: self.state.steps, dt: h }
         };
-        // Time as t0 + k h since the last change of h: no drift from repeated addition, so
-        // t = 10 after 100 steps of 0.1. Time must move: a step below the resolution of t
-        // would step forever in place.
-        let t_end = epoch.time(self.state.steps + 1).unwrap_or(f64::NAN);
-        if !(t_end > self.state.t && t_end.is_finite()) {
+        let Some(t_end) = epoch.next(self.state.steps, self.state.t) else {
             return Err(Error::invalid(
                 "dt",
                 crate::error::num(h),
                 format!("large enough to advance the time t = {} (t + dt == t)", self.state.t),
             ));
-        }
+        };
         Ok(StepContext {
             t: self.state.t,
             h,
@@ -154,40 +206,229 @@ impl World {
         })
     }
 
-    /// One step of `h` seconds, stage by stage; a failure leaves the world exactly as it was
-    /// before the step (state, time, the method's memory) and is reported once.
-    pub(super) fn step_inner(&mut self, h: f64, log: Log<'_>) -> Result<()> {
-        let ctx = self.context(h)?;
-        self.refresh()?;
-        self.checkpoint.save(&self.state, &self.integrator, self.layout());
+    /// How the Integrate stage of a call of `n` steps takes them: the fused kernel where it
+    /// applies, the split loop for bodies under a split method with nothing else to do, else
+    /// the staged step.
+    fn plan(&self, n: u64) -> Integrate {
+        if let Some(method) = self.fused() {
+            return Integrate::Fused(method);
+        }
+        let split = !self.bodies.is_empty() && self.integrator.info().split;
+        if split && n >= 2 && self.replayable() && self.constraints.is_empty() && self.balls.is_empty() {
+            return Integrate::Split;
+        }
+        Integrate::Staged
+    }
+
+    /// Whether a step can be taken again with the same result: no user code runs in it (a
+    /// Python force could answer differently, or count its calls) and no load applied by hand
+    /// waits for it (a step consumes those). Balls replay: their Collide stage is a function of
+    /// the state (the same contacts in the same order, the same bits), and their contact
+    /// statistics go back with the rollback.
+    fn replayable(&self) -> bool {
+        self.model.user.is_empty()
+            && self.bodies.forces.is_empty()
+            && self.bodies.force.iter().chain(&self.bodies.torque).all(|v| *v == glam::DVec3::ZERO)
+    }
+
+    /// Takes `n` steps of `h` seconds: a failing step is rolled back and reported, the steps
+    /// before it stay taken.
+    pub(super) fn run(&mut self, n: u64, h: f64) -> Result<()> {
+        self.run_rows(n, h, None::<&mut NoRows>)
+    }
+
+    /// [`World::run`] with `on_row` called with the state after each good step (it stops the
+    /// run after that step by returning `false`), when the world is small (one tile) and the
+    /// fused kernel applies; `None` otherwise, nothing done. A recording of every step takes
+    /// its rows this way, inside the kernel's loop (`on_row` compiled into it, not called
+    /// through a pointer).
+    pub(crate) fn run_observed<F: FnMut(Row<'_>) -> bool>(
+        &mut self,
+        n: u64,
+        h: f64,
+        on_row: &mut F,
+    ) -> Option<Result<()>> {
+        let small = n > 0 && self.model.mass.len() <= super::tiles::OBSERVED_MAX;
+        self.fused().filter(|_| small)?;
+        Some(self.run_rows(n, h, Some(on_row)))
+    }
+
+    fn run_rows<F: FnMut(Row<'_>) -> bool>(&mut self, n: u64, h: f64, on_row: Option<&mut F>) -> Result<()> {
+        if n == 0 {
+            return Ok(());
+        }
+        let how = self.plan(n);
+        let keep = match how {
+            Integrate::Staged if n < 2 || !self.replayable() => Checkpoints::Step,
+            _ => Checkpoints::Call,
+        };
+        self.steps_as(how, n, h, keep, None, on_row)
+    }
+
+    /// The one step loop: `n` steps of `h` seconds, the Integrate stage taken `how`, passes
+    /// of the stages until the steps are taken (or `on_row` stops the run), a failure handled
+    /// as `keep` says.
+    fn steps_as<F: FnMut(Row<'_>) -> bool>(
+        &mut self,
+        mut how: Integrate,
+        n: u64,
+        h: f64,
+        keep: Checkpoints,
+        mut log: Log<'_>,
+        mut on_row: Option<&mut F>,
+    ) -> Result<()> {
+        let start = self.state.steps;
+        self.context(h)?;
+        // The kernel does not read the derivative: it is computed (and checked) first only
+        // when the state was set by hand.
+        if !matches!(how, Integrate::Fused(_)) || self.derivative == Derivative::Stale {
+            self.refresh()?;
+        }
         // Interpolation is between the last two states of a frame of `advance`; outside it
         // the current positions are drawn as they are.
         self.prev_x.clear();
-        self.balls_begin();
-        let r = self
-            .integrate(&ctx, log)
-            .and_then(|()| self.relax(&ctx))
-            .and_then(|()| self.collide(&ctx))
-            .and_then(|()| self.check(&ctx));
-        self.finish(&ctx, r)
+        let mut back = std::mem::take(&mut self.rollback);
+        // The fused kernel keeps its rollback as it reads the state, at each pass; the others
+        // keep the call's once, or each step's before it.
+        let each_pass = keep == Checkpoints::Step || matches!(how, Integrate::Fused(_));
+        if keep == Checkpoints::Call && !each_pass {
+            self.keep(&mut back, Keep::State);
+        }
+        let mut taken = 0;
+        let failed = loop {
+            if taken == n {
+                break None;
+            }
+            let ctx = match self.context(h) {
+                Ok(ctx) => StepContext { last: taken + 1 == n, ..ctx },
+                Err(e) => break Some(Err(e)),
+            };
+            if each_pass {
+                let what = if matches!(how, Integrate::Fused(_)) { Keep::Positions } else { Keep::State };
+                self.keep(&mut back, what);
+            }
+            match self.pass(&ctx, &mut how, n - taken, &mut back, log.as_deref_mut(), on_row.as_deref_mut()) {
+                Ok((k, halted)) => {
+                    taken += k;
+                    if halted {
+                        break None;
+                    }
+                }
+                // A replay takes the same bits as the run it replays: it does not fail (were it
+                // to, the staged step after it would name the failure from there).
+                Err(Failure::Again(_)) if keep == Checkpoints::Replay => break None,
+                Err(Failure::Again(good)) => break Some(Ok(if each_pass { good } else { taken + good })),
+                Err(Failure::Error(_)) if keep == Checkpoints::Call => {
+                    break Some(Ok(if each_pass { 0 } else { taken }));
+                }
+                Err(Failure::Error(e)) => {
+                    if keep == Checkpoints::Step {
+                        // The evaluations the failed attempt made stay counted (work done).
+                        let evals = self.state.evals;
+                        self.roll_back(&back);
+                        self.state.evals = evals;
+                    }
+                    self.rollback = back;
+                    return Err(e);
+                }
+            }
+        };
+        match failed {
+            None => {
+                self.rollback = back;
+                Ok(())
+            }
+            // An error before a pass began (time no longer moves): the steps before it stay.
+            Some(Err(e)) => {
+                self.rollback = back;
+                Err(e)
+            }
+            // Back to the rollback, the good steps again (the same arithmetic, the same bits),
+            // then the failing step staged with its own rollback: it fails as before, rolls
+            // back and names what failed. Were it to pass, the call goes on from there.
+            Some(Ok(good)) => {
+                self.roll_back(&back);
+                self.rollback = back;
+                self.steps_as(how, good, h, Checkpoints::Replay, None, None::<&mut NoRows>)?;
+                self.steps_as(Integrate::Staged, 1, h, Checkpoints::Step, None, None::<&mut NoRows>)?;
+                let done = self.state.steps - start;
+                self.run(n - done, h)
+            }
+        }
     }
 
-    /// One step of `h` seconds without a checkpoint of its own, for a call that keeps one
-    /// checkpoint for all its steps ([`World::run`]): on failure the world is left part-way
-    /// and the caller restores its checkpoint. `last`: the call's last step.
-    pub(super) fn step_unsaved(&mut self, h: f64, last: bool) -> Result<()> {
-        let ctx = StepContext { last, ..self.context(h)? };
-        self.refresh()?;
-        self.prev_x.clear();
+    /// One pass of the stages: the Integrate stage takes one step, or every step left (`left`)
+    /// when it is the fused kernel or the split loop; the good steps taken and whether the
+    /// row observer stopped the run.
+    fn pass<F: FnMut(Row<'_>) -> bool>(
+        &mut self,
+        ctx: &StepContext,
+        how: &mut Integrate,
+        left: u64,
+        back: &mut Rollback,
+        log: Log<'_>,
+        on_row: Option<&mut F>,
+    ) -> std::result::Result<(u64, bool), Failure> {
         self.balls_begin();
-        self.integrate(&ctx, None)
-            .and_then(|()| self.relax(&ctx))
-            .and_then(|()| self.collide(&ctx))
-            .and_then(|()| self.check(&ctx))?;
-        self.finish(&ctx, Ok(()))
+        let (k, halted) = match how {
+            Integrate::Fused(method) => self.integrate_fused(ctx, method, left, back, on_row)?,
+            Integrate::Split => (self.integrate_split(ctx, left)?, false),
+            Integrate::Staged => {
+                self.integrate(ctx, log)?;
+                self.relax(ctx)?;
+                self.collide(ctx)?;
+                self.check(ctx)?;
+                (1, false)
+            }
+        };
+        self.finish(ctx, k);
+        Ok((k, halted))
     }
 
-    /// Integrate: the method's recipe over the world's parts.
+    /// Integrate, the fused kernel: up to `left` steps, the state at their start kept in
+    /// `back`.
+    fn integrate_fused<F: FnMut(Row<'_>) -> bool>(
+        &mut self,
+        ctx: &StepContext,
+        method: &mut Integrator,
+        left: u64,
+        back: &mut Rollback,
+        on_row: Option<&mut F>,
+    ) -> std::result::Result<(u64, bool), Failure> {
+        let (good, ran) = self.fused_run(method, &mut back.y, ctx.epoch, left, ctx.h, on_row);
+        if good > 0 {
+            self.derivative = Derivative::Unstored;
+        }
+        match ran {
+            Ran::Bad => Err(Failure::Again(good)),
+            // `Time`: the next pass's context says that time no longer moves.
+            Ran::All | Ran::Time => Ok((good, ran == Ran::All && good < left)),
+        }
+    }
+
+    /// Integrate, the split loop: up to `left` steps of the method over the parts built once,
+    /// the bodies' `dX` left out, each step checked.
+    fn integrate_split(&mut self, ctx: &StepContext, left: u64) -> std::result::Result<u64, Failure> {
+        let layout = self.layout();
+        let mut parts = super::parts::of(&mut self.model, &self.bodies, &mut self.body_loads);
+        parts.lazy = true;
+        let mut good = 0;
+        while good < left {
+            let Some(t_end) = ctx.epoch.next(ctx.step + good, self.state.t) else { break };
+            if self.integrator.advance(&mut parts, &mut self.state, ctx.h, None).is_err()
+                || self.integrator.check(&self.state, layout).is_err()
+            {
+                return Err(Failure::Again(good));
+            }
+            // The next step starts at this one's end (the time is set once more by Finish).
+            self.state.t = t_end;
+            good += 1;
+        }
+        self.derivative = Derivative::RatesOwed;
+        Ok(good)
+    }
+
+    /// Integrate, one staged step: the method's recipe over the world's parts.
     fn integrate(&mut self, ctx: &StepContext, log: Log<'_>) -> Result<()> {
         self.keep_start();
         if let Some(flow) = self.flow.as_mut() {
@@ -201,7 +442,6 @@ impl World {
             self.integrator.advance(&mut Second(&mut self.model), &mut self.state, ctx.h, log)
         } else {
             let mut parts = super::parts::of(&mut self.model, &self.bodies, &mut self.body_loads);
-            parts.lazy = self.lazy_rate;
             self.integrator.advance(&mut parts, &mut self.state, ctx.h, log)
         };
         // A user force that failed poisoned the accelerations; its own error is the news.
@@ -250,22 +490,15 @@ impl World {
         }
     }
 
-    /// Finish: count the step and set the time once; or restore the checkpoint.
-    pub(super) fn finish(&mut self, ctx: &StepContext, r: Result<()>) -> Result<()> {
-        match r {
-            Ok(()) => {
-                self.clear_loads();
-                self.epoch = ctx.epoch;
-                self.state.steps += 1;
-                self.state.t = ctx.t_end;
-                Ok(())
-            }
-            Err(e) => {
-                let layout = self.layout();
-                self.checkpoint.restore(&mut self.state, &mut self.integrator, layout);
-                self.balls.stats = self.balls.saved;
-                Err(e)
-            }
+    /// Finish: `k` steps counted and the time set once, `t = t0 + k h` (`Epoch::time`); the
+    /// loads applied by hand consumed.
+    fn finish(&mut self, ctx: &StepContext, k: u64) {
+        if k == 0 {
+            return;
         }
+        self.clear_loads();
+        self.epoch = ctx.epoch;
+        self.state.steps += k;
+        self.state.t = ctx.epoch.time(self.state.steps).unwrap_or(f64::NAN);
     }
 }

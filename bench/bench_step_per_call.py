@@ -1,0 +1,140 @@
+"""One step per call, the game loop's pattern: physstep's `World.step(1)` against numba loops
+doing the same arithmetic, and the memory floor, in one run.
+
+    python bench/bench_step_per_call.py [--quick] [--json FILE]
+
+Workload: particles in 3D (f64) under gravity (0, 0, -9.81) and linear drag 0.1 N s/m on
+unit masses, symplectic Euler at dt = 1/120, as `bench_particles.py`, but each call takes ONE
+step (a game loop calls the engine once per fixed step). Peers, called the same way, once per
+step, from the same Python loop:
+
+- at 1e6 particles: numba's fused `prange` loop over the particles (one step a call) and the
+  memory floor (a `prange` read-modify-write of x and v, no physics); and, for the record,
+  ten steps per call against numba's ten;
+- at 1e3 and 1e5 particles: a serial numba loop (`njit`, no threads).
+
+Printed: ns per particle-step (median of repeats) and the ratios. Nothing is asserted: the
+numbers vary with the machine, the ratios less.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numba
+import numpy as np
+import physstep
+from common import median_time, row, write_json
+from numba import njit, prange
+
+H, C, G = 1.0 / 120.0, 0.1, np.array([0.0, 0.0, -9.81])
+
+
+@njit(inline="always")
+def acc(v: float, s: float, im: float, g: float) -> float:
+    """physstep's per-element acceleration: (0 + s v) / m + g."""
+    return (0.0 + s * v) * im + g
+
+
+@njit(parallel=True)
+def floor_kernel(x, v, c, steps):  # noqa: ANN001, ANN201
+    for _ in range(steps):
+        for i in prange(x.shape[0]):
+            for k in range(3):
+                a = x[i, k]
+                b = v[i, k]
+                x[i, k] = a * c
+                v[i, k] = b * c
+
+
+@njit(parallel=True)
+def se_parallel(x, v, s, g, h, steps):  # noqa: ANN001, ANN201
+    for _ in range(steps):
+        for i in prange(x.shape[0]):
+            for k in range(3):
+                a = acc(v[i, k], s, 1.0, g[k])
+                v[i, k] += h * a
+                x[i, k] += h * v[i, k]
+
+
+@njit
+def se_serial(x, v, s, g, h, steps):  # noqa: ANN001, ANN201
+    for _ in range(steps):
+        for i in range(x.shape[0]):
+            for k in range(3):
+                a = acc(v[i, k], s, 1.0, g[k])
+                v[i, k] += h * a
+                x[i, k] += h * v[i, k]
+
+
+def calls(fn, k: int):  # noqa: ANN001, ANN201
+    """`k` calls of `fn`, as a game loop makes them."""
+
+    def run() -> None:
+        for _ in range(k):
+            fn()
+
+    return run
+
+
+def world(x0: np.ndarray, v0: np.ndarray) -> physstep.World:
+    w = physstep.World(3, method="symplectic-euler", dt=H)
+    w.add_particles(x0, v0, np.ones(len(x0)))
+    w.add_gravity(list(G))
+    w.add_drag(C)
+    return w
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="fewer calls and repeats")
+    p.add_argument("--json", help="also write the table to this file")
+    a = p.parse_args()
+    repeat = 3 if a.quick else 7
+    s = -(C + 0.0 * 0.0)
+    rng = np.random.default_rng(1)
+    out: dict[str, object] = {}
+    print(f"symplectic Euler, gravity + linear drag, dt = 1/120, numba threads {numba.get_num_threads()}")
+
+    n = 1_000_000
+    k = 10 if a.quick else 40
+    x0, v0 = rng.random((n, 3)), rng.random((n, 3))
+    per = 1e9 / (k * n)
+    x, v = x0.copy(), v0.copy()
+    floor_kernel(x, v, 1.0, 1)
+    floor = median_time(calls(lambda: floor_kernel(x, v, 1.0, 1), k), repeat) * per
+    se_parallel(x, v, s, G, H, 1)
+    xn, vn = x0.copy(), v0.copy()
+    fused = median_time(calls(lambda: se_parallel(xn, vn, s, G, H, 1), k), repeat) * per
+    w = world(x0, v0)
+    ours = median_time(calls(lambda: w.step(1), k), repeat) * per
+    print(f"\nN = {n:,}, one step per call ({k} calls a repeat)")
+    row("memory floor (numba prange, read + write x, v)", floor, "ns/particle-step")
+    row("numba prange, one step a call", fused, "ns/particle-step")
+    row("physstep World.step(1)", ours, "ns/particle-step", fused, "numba prange")
+    print(f"{'':<44} {ours / floor:6.2f}x the memory floor   (targets: 1.0x numba, 1.15x floor)")
+    ten = median_time(lambda: w.step(10), repeat) * 1e9 / (10 * n)
+    ten_ref = median_time(lambda: se_parallel(xn, vn, s, G, H, 10), repeat) * 1e9 / (10 * n)
+    row("physstep World.step(10)", ten, "ns/particle-step", ten_ref, "numba prange, 10 a call")
+    out["1e6"] = {"floor": floor, "numba_prange": fused, "physstep": ours, "ten": ten, "ten_numba": ten_ref}
+
+    for n, k in ((1_000, 2_000), (100_000, 100)):
+        if a.quick:
+            k //= 4
+        x0, v0 = rng.random((n, 3)), rng.random((n, 3))
+        per = 1e9 / (k * n)
+        xs, vs = x0.copy(), v0.copy()
+        se_serial(xs, vs, s, G, H, 1)
+        serial = median_time(calls(lambda xs=xs, vs=vs: se_serial(xs, vs, s, G, H, 1), k), repeat) * per
+        w = world(x0, v0)
+        ours = median_time(calls(lambda w=w: w.step(1), k), repeat) * per
+        print(f"\nN = {n:,}, one step per call ({k} calls a repeat)")
+        row("numba serial, one step a call", serial, "ns/particle-step")
+        row("physstep World.step(1)", ours, "ns/particle-step", serial, "numba serial")
+        print(f"{'':<44} (target: 1.2x numba serial)")
+        out[f"{n:.0e}"] = {"numba_serial": serial, "physstep": ours}
+    write_json(a.json, out)
+
+
+if __name__ == "__main__":
+    main()
