@@ -16,8 +16,10 @@ fn every_method_line_gives_its_name_info_and_constructor() {
     for (k, info) in INFOS.iter().enumerate() {
         assert_eq!(registry::names().nth(k), Some(info.name));
         assert_eq!(registry::info(info.name).unwrap().name, info.name);
-        for m in [Integrator::new(info.name).unwrap(), Integrator::with_params(info.name, ImplicitParams::default()).unwrap()]
-        {
+        for m in [
+            Integrator::new(info.name).unwrap(),
+            Integrator::with_params(info.name, ImplicitParams::default()).unwrap(),
+        ] {
             assert_eq!(m.info(), info, "{}", info.name);
             assert_eq!(m.memory().len(), m.memory_flags(), "{}: memory before a step", info.name);
             assert!(!m.carries(), "{}: carries a vector before a step", info.name);

@@ -85,11 +85,12 @@ pub enum ConstraintMode {
     /// Jakobsen's projection, the velocity the secant `(x - x_prev) / h`: a method whose
     /// velocity is a backward difference of positions (velocityless Verlet).
     Jakobsen,
-    /// Projection with gradients at the current positions, `v += dx / h`, then the velocities
-    /// projected onto the rigid constraints' tangent: most methods.
+    /// Projection, gradients at the current positions, `iterations` sweeps; `v += dx / h`,
+    /// then the velocities projected onto the rigid constraints' tangent: most methods.
     Project,
-    /// SHAKE for the positions and RATTLE for the velocities: a method whose step is a
-    /// half kick, a drift and a half kick (velocity Verlet, leapfrog).
+    /// Rigid distances by SHAKE (gradients at the step's start positions, to the tolerance)
+    /// and the velocities by RATTLE, the other constraints projected: a method whose step is
+    /// a half kick, a drift and a half kick (velocity Verlet, leapfrog).
     Rattle,
 }
 
