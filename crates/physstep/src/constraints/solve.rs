@@ -7,18 +7,8 @@
 use super::{Constraint, TOLERANCE};
 use crate::forces::Endpoint;
 
-/// Which solver a step uses (chosen by the world's method).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Mode {
-    /// Verlet: projection, and the velocity is the secant `(x - x_prev) / h` (Jakobsen).
-    Jakobsen,
-    /// Gradients at the current positions, `iterations` sweeps; `v += dx / h`, then the
-    /// velocities projected onto the rigid constraints' tangent.
-    Project,
-    /// Rigid distances by SHAKE (gradients at the step's start positions, to the tolerance)
-    /// and the velocities by RATTLE; the other constraints projected.
-    Rattle,
-}
+/// Which solver a step uses: the world's method's [`Info::constraints`](crate::integrators::Info::constraints).
+pub(crate) use crate::integrators::ConstraintMode as Mode;
 
 /// The solver's scratch: reused from step to step, never state (rebuilt every step).
 #[derive(Debug, Clone, Default)]

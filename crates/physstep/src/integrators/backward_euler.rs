@@ -1,7 +1,7 @@
 //! Backward (implicit) Euler, solved by Newton iteration.
 
 use super::newton::Newton;
-use super::{ImplicitParams, Info, Method};
+use super::{ConstraintMode, ImplicitParams, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -37,6 +37,8 @@ impl Method for BackwardEuler {
         evals: 2,
         split: false,
         vector_positions: false,
+        local: false,
+        constraints: ConstraintMode::Project,
         doc: "x += v_new dt; v += a_new dt, solved by Newton iteration; loses energy, stable at any dt",
     };
 
@@ -47,5 +49,9 @@ impl Method for BackwardEuler {
         s.y.copy_from_slice(&self.newton.z);
         s.f.copy_from_slice(&self.newton.fz);
         Ok(())
+    }
+
+    fn solve_stats(&self) -> Option<super::SolveStats> {
+        Some(self.stats())
     }
 }

@@ -1,7 +1,7 @@
 //! Explicit (forward) Euler, as in the notes' code: `x += v dt; v += a dt`, both from the
 //! old state.
 
-use super::{axpy, Info, Method};
+use super::{axpy, ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -19,6 +19,8 @@ impl Method for ExplicitEuler {
         evals: 1,
         split: false,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc: "x += v dt; v += a dt, both from the old state (the notes' code); gains energy",
     };
 

@@ -1,6 +1,6 @@
 //! Heun's method: the trapezoid rule with an explicit-Euler predictor (RK2).
 
-use super::{scratch, Info, Method};
+use super::{scratch, ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -20,6 +20,8 @@ impl Method for Heun {
         evals: 2,
         split: false,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc: "Euler predictor y_p = y + f dt, then y += (f(y) + f(y_p)) dt/2 (trapezoid RK2)",
     };
 

@@ -1,7 +1,7 @@
 //! The implicit midpoint rule: symplectic, second order, stable at every dt.
 
 use super::newton::Newton;
-use super::{ImplicitParams, Info, Method};
+use super::{ConstraintMode, ImplicitParams, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -37,6 +37,8 @@ impl Method for ImplicitMidpoint {
         evals: 3,
         split: false,
         vector_positions: false,
+        local: false,
+        constraints: ConstraintMode::Project,
         doc: "y += f((y + y_new)/2) dt, solved by Newton iteration; symplectic, stable at any dt",
     };
 
@@ -49,5 +51,9 @@ impl Method for ImplicitMidpoint {
         }
         s.refresh(t + h);
         Ok(())
+    }
+
+    fn solve_stats(&self) -> Option<super::SolveStats> {
+        Some(self.stats())
     }
 }

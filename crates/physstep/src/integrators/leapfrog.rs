@@ -1,6 +1,6 @@
 //! Leapfrog: half-step velocities kept inside, synchronised velocity reported.
 
-use super::{axpy, axpy_to, carried_memory, scratch, Carried, Info, Method};
+use super::{axpy, axpy_to, carried_memory, scratch, Carried, ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -26,6 +26,8 @@ impl Method for Leapfrog {
         evals: 1,
         split: true,
         vector_positions: false,
+        local: false,
+        constraints: ConstraintMode::Rattle,
         doc: "v_half += a dt; x += v_half dt (half-step velocity inside; synchronised v reported)",
     };
 
@@ -53,4 +55,15 @@ impl Method for Leapfrog {
     }
 
     carried_memory!(half, v);
+
+    /// The half-step velocities of the changed entries moved by the same change
+    /// (`v - before`), as an impulse moves both.
+    fn velocities_changed(&mut self, at: usize, _x: &[f64], v: &[f64], before: &[f64], _h: f64) {
+        if self.half.v.is_empty() {
+            return;
+        }
+        for ((u, vi), bi) in self.half.v[at..at + v.len()].iter_mut().zip(v).zip(before) {
+            *u += vi - bi;
+        }
+    }
 }

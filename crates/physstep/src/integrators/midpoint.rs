@@ -1,6 +1,6 @@
 //! The explicit midpoint method (RK2) with its half-step state written out, as the notes do.
 
-use super::{axpy, scratch, Info, Method};
+use super::{axpy, scratch, ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -21,6 +21,8 @@ impl Method for Midpoint {
         evals: 2,
         split: false,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc: "x_half = x + v dt/2, v_half = v + a dt/2; x += v_half dt, v += a(x_half, v_half) dt (RK2)",
     };
 

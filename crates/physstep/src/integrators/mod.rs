@@ -67,8 +67,31 @@ pub struct Info {
     /// Whether the method does arithmetic on positions as vectors (Verlet's
     /// `2 x - x_prev`), so it applies to particles but not to orientations.
     pub vector_positions: bool,
+    /// Whether a step is *local*: element by element over particles (no sum across them, no
+    /// solve of the whole state) with no memory from step to step, so running it on any part
+    /// of the particles at a time gives bitwise what running it on all of them gives. The
+    /// fused particle kernels run these (see [`Integrator::fresh_local`]).
+    pub local: bool,
+    /// How the Relax stage meets position constraints under this method.
+    pub constraints: ConstraintMode,
     /// One-line description with the update rule.
     pub doc: &'static str,
+}
+
+/// How a method's step meets position constraints (the Relax stage's solver; see
+/// docs/constraints.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConstraintMode {
+    /// Jakobsen's projection, the velocity the secant `(x - x_prev) / h`: a method whose
+    /// velocity is a backward difference of positions (velocityless Verlet).
+    Jakobsen,
+    /// Projection, gradients at the current positions, `iterations` sweeps; `v += dx / h`,
+    /// then the velocities projected onto the rigid constraints' tangent: most methods.
+    Project,
+    /// Rigid distances by SHAKE (gradients at the step's start positions, to the tolerance)
+    /// and the velocities by RATTLE, the other constraints projected: a method whose step is
+    /// a half kick, a drift and a half kick (velocity Verlet, leapfrog).
+    Rattle,
 }
 
 /// The intermediate evaluation points of a step, as the notes print them (`half` for
@@ -133,6 +156,29 @@ pub trait Method {
     fn recall(&mut self, m: &[f64], sizes: Sizes) -> bool {
         let _ = sizes;
         m.is_empty()
+    }
+
+    /// Whether the memory holds a vector of the state's kind (Verlet's previous positions,
+    /// leapfrog's half-step velocities: [`Method::memory`] longer than
+    /// [`Method::MEMORY_FLAGS`]), which goes stale when a stage outside the method moves the
+    /// state; `false` for a method without one.
+    fn carries(&self) -> bool {
+        false
+    }
+
+    /// A stage outside the method (a contact's impulse) changed the velocities at `at..` of
+    /// the state's velocity vector (`at` counted in coordinates, the same place in the
+    /// position vector) from `before` to `v`, the positions there being `x`, in a step of
+    /// `h`: the method brings its carried memory into line (Verlet's previous positions
+    /// `x - v h`, leapfrog's half-step velocities moved by `v - before`). Nothing for a
+    /// method without memory.
+    fn velocities_changed(&mut self, at: usize, x: &[f64], v: &[f64], before: &[f64], h: f64) {
+        let _ = (at, x, v, before, h);
+    }
+
+    /// What the latest step's implicit solve did; `None` for an explicit method.
+    fn solve_stats(&self) -> Option<SolveStats> {
+        None
     }
 }
 
@@ -218,6 +264,10 @@ macro_rules! carried_memory {
 
         fn recall(&mut self, m: &[f64], sizes: $crate::integrators::Sizes) -> bool {
             self.$field.recall(m, sizes.$kind)
+        }
+
+        fn carries(&self) -> bool {
+            !self.$field.v.is_empty()
         }
     };
 }

@@ -1,6 +1,6 @@
 //! Explicit predictor, implicit corrector (the notes' way around solving backward Euler).
 
-use super::{scratch, Info, Method};
+use super::{scratch, ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -24,6 +24,8 @@ impl Method for PredictorCorrector {
         evals: 2,
         split: false,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc: "explicit Euler predictor y* = y + f dt fed into backward Euler: y += f(y*) dt",
     };
 

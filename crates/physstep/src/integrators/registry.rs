@@ -5,23 +5,74 @@ use super::*;
 use crate::dynamics::{First, FirstOrder, Second, SecondOrder, Step, System};
 use crate::error::{Error, Result};
 
-/// Every method's [`Info`], in registry order (the order of the notes, then the extras).
-pub const INFOS: [Info; 14] = [
-    ExplicitEuler::INFO,
-    SymplecticEuler::INFO,
-    SymplecticEulerX::INFO,
-    SymplecticEulerAlternating::INFO,
-    Verlet::INFO,
-    VelocityVerlet::INFO,
-    Leapfrog::INFO,
-    Midpoint::INFO,
-    Heun::INFO,
-    Rk4::INFO,
-    BackwardEuler::INFO,
-    PredictorCorrector::INFO,
-    ImplicitMidpoint::INFO,
-    Yoshida4::INFO,
-];
+/// The registry: one line per method, in registry order (the order of the notes, then the
+/// extras), giving its type (whose file holds its name, [`Info`] and recipe) and how it is
+/// made from the implicit methods' settings. It generates [`INFOS`], the closed dispatch
+/// (`Kind` and `dispatch!`), the constructor by name and the fresh instance of a local
+/// method: adding a method is its file and a line here.
+///
+/// (`$d` is a `$` handed to the inner `dispatch!`, whose own variables a nested
+/// `macro_rules!` could not otherwise write.)
+macro_rules! registry {
+    ($d:tt $($m:ident: $make:expr,)*) => {
+        /// Every method's [`Info`], in registry order (the order of the notes, then the extras).
+        pub const INFOS: [Info; [$(stringify!($m)),*].len()] = [$(<$m as Method>::INFO),*];
+
+        #[derive(Debug, Clone)]
+        enum Kind {
+            $($m($m),)*
+        }
+
+        /// Runs `$body` with `$x` bound to the concrete method inside `$kind`.
+        macro_rules! dispatch {
+            ($d kind:expr, $d x:ident => $d body:expr) => {
+                match $d kind {
+                    $(Kind::$m($d x) => $d body,)*
+                }
+            };
+        }
+
+        impl Kind {
+            /// The method registered as `name`, made with `params`; `None` for an unknown name.
+            fn named(name: &str, params: ImplicitParams) -> Option<Self> {
+                $(
+                    if name == <$m as Method>::INFO.name {
+                        let make: fn(ImplicitParams) -> $m = $make;
+                        return Some(Self::$m(make(params)));
+                    }
+                )*
+                None
+            }
+
+            /// A fresh instance of the same method when it is local ([`Info::local`]).
+            fn fresh_local(&self) -> Option<Self> {
+                match self {
+                    $(Self::$m(_) => <$m as Method>::INFO.local.then(|| {
+                        let make: fn(ImplicitParams) -> $m = $make;
+                        Self::$m(make(ImplicitParams::default()))
+                    }),)*
+                }
+            }
+        }
+    };
+}
+
+registry! {$
+    ExplicitEuler: |_| ExplicitEuler,
+    SymplecticEuler: |_| SymplecticEuler,
+    SymplecticEulerX: |_| SymplecticEulerX,
+    SymplecticEulerAlternating: |_| SymplecticEulerAlternating::default(),
+    Verlet: |_| Verlet::default(),
+    VelocityVerlet: |_| VelocityVerlet::default(),
+    Leapfrog: |_| Leapfrog::default(),
+    Midpoint: |_| Midpoint::default(),
+    Heun: |_| Heun::default(),
+    Rk4: |_| Rk4::default(),
+    BackwardEuler: BackwardEuler::with_params,
+    PredictorCorrector: |_| PredictorCorrector::default(),
+    ImplicitMidpoint: ImplicitMidpoint::with_params,
+    Yoshida4: |_| Yoshida4::default(),
+}
 
 /// The registry names, in order.
 pub fn names() -> impl Iterator<Item = &'static str> {
@@ -43,46 +94,6 @@ pub fn info(name: &str) -> Result<&'static Info> {
 pub struct Integrator {
     kind: Kind,
     checkpoint: Checkpoint,
-}
-
-#[derive(Debug, Clone)]
-enum Kind {
-    ExplicitEuler(ExplicitEuler),
-    SymplecticEuler(SymplecticEuler),
-    SymplecticEulerX(SymplecticEulerX),
-    SymplecticEulerAlternating(SymplecticEulerAlternating),
-    Verlet(Verlet),
-    VelocityVerlet(VelocityVerlet),
-    Leapfrog(Leapfrog),
-    Midpoint(Midpoint),
-    Heun(Heun),
-    Rk4(Rk4),
-    BackwardEuler(BackwardEuler),
-    PredictorCorrector(PredictorCorrector),
-    ImplicitMidpoint(ImplicitMidpoint),
-    Yoshida4(Yoshida4),
-}
-
-/// Runs `$body` with `$m` bound to the concrete method inside `$kind`.
-macro_rules! dispatch {
-    ($kind:expr, $m:ident => $body:expr) => {
-        match $kind {
-            Kind::ExplicitEuler($m) => $body,
-            Kind::SymplecticEuler($m) => $body,
-            Kind::SymplecticEulerX($m) => $body,
-            Kind::SymplecticEulerAlternating($m) => $body,
-            Kind::Verlet($m) => $body,
-            Kind::VelocityVerlet($m) => $body,
-            Kind::Leapfrog($m) => $body,
-            Kind::Midpoint($m) => $body,
-            Kind::Heun($m) => $body,
-            Kind::Rk4($m) => $body,
-            Kind::BackwardEuler($m) => $body,
-            Kind::PredictorCorrector($m) => $body,
-            Kind::ImplicitMidpoint($m) => $body,
-            Kind::Yoshida4($m) => $body,
-        }
-    };
 }
 
 /// Work generic over the concrete method, for [`Integrator::visit`].
@@ -162,23 +173,7 @@ impl Integrator {
         if params.cg.max_iter == 0 {
             return Err(Error::invalid("cg_max_iter", 0, "at least 1"));
         }
-        let kind = match info(name)?.name {
-            "explicit-euler" => Kind::ExplicitEuler(ExplicitEuler),
-            "symplectic-euler" => Kind::SymplecticEuler(SymplecticEuler),
-            "symplectic-euler-x" => Kind::SymplecticEulerX(SymplecticEulerX),
-            "symplectic-euler-alternating" => Kind::SymplecticEulerAlternating(Default::default()),
-            "verlet" => Kind::Verlet(Verlet::default()),
-            "velocity-verlet" => Kind::VelocityVerlet(VelocityVerlet::default()),
-            "leapfrog" => Kind::Leapfrog(Leapfrog::default()),
-            "midpoint" => Kind::Midpoint(Midpoint::default()),
-            "heun" => Kind::Heun(Heun::default()),
-            "rk4" => Kind::Rk4(Rk4::default()),
-            "backward-euler" => Kind::BackwardEuler(BackwardEuler::with_params(params)),
-            "predictor-corrector" => Kind::PredictorCorrector(PredictorCorrector::default()),
-            "implicit-midpoint" => Kind::ImplicitMidpoint(ImplicitMidpoint::with_params(params)),
-            "yoshida4" => Kind::Yoshida4(Yoshida4::default()),
-            other => unreachable!("method {other} is in INFOS but not constructed"),
-        };
+        let kind = Kind::named(name, params).ok_or_else(|| Error::unknown("method", name, names()))?;
         Ok(Self { kind, checkpoint: Checkpoint::default() })
     }
 
@@ -191,30 +186,15 @@ impl Integrator {
         dispatch!(&self.kind, m => of(m))
     }
 
-    /// A fresh instance of this method when its step is *local*: element by element over
-    /// particles (no sum across them, no solve of the whole state) and with no memory from
-    /// step to step, so running it on any part of the particles at a time gives bitwise what
-    /// running it on all of them gives. `None` for Verlet and leapfrog (memory), the
-    /// alternating symplectic Euler (a flag that flips per step) and the implicit methods
+    /// A fresh instance of this method when its step is *local* ([`Info::local`]): element by
+    /// element over particles (no sum across them, no solve of the whole state) and with no
+    /// memory from step to step, so running it on any part of the particles at a time gives
+    /// bitwise what running it on all of them gives. `None` for Verlet and leapfrog (memory),
+    /// the alternating symplectic Euler (a flag that flips per step) and the implicit methods
     /// (one Newton solve of the whole state). The fused particle kernels run these.
     #[must_use]
     pub fn fresh_local(&self) -> Option<Self> {
-        let kind = match &self.kind {
-            Kind::ExplicitEuler(_) => Kind::ExplicitEuler(ExplicitEuler),
-            Kind::SymplecticEuler(_) => Kind::SymplecticEuler(SymplecticEuler),
-            Kind::SymplecticEulerX(_) => Kind::SymplecticEulerX(SymplecticEulerX),
-            Kind::VelocityVerlet(_) => Kind::VelocityVerlet(VelocityVerlet::default()),
-            Kind::Midpoint(_) => Kind::Midpoint(Midpoint::default()),
-            Kind::Heun(_) => Kind::Heun(Heun::default()),
-            Kind::Rk4(_) => Kind::Rk4(Rk4::default()),
-            Kind::PredictorCorrector(_) => Kind::PredictorCorrector(PredictorCorrector::default()),
-            Kind::Yoshida4(_) => Kind::Yoshida4(Yoshida4::default()),
-            Kind::SymplecticEulerAlternating(_)
-            | Kind::Verlet(_)
-            | Kind::Leapfrog(_)
-            | Kind::BackwardEuler(_)
-            | Kind::ImplicitMidpoint(_) => return None,
-        };
+        let kind = self.kind.fresh_local()?;
         Some(Self { kind, checkpoint: Checkpoint::default() })
     }
 
@@ -246,6 +226,21 @@ impl Integrator {
             M::MEMORY_FLAGS
         }
         dispatch!(&self.kind, m => of(m))
+    }
+
+    /// Whether the method's memory holds a vector of the state's kind (Verlet's previous
+    /// positions, leapfrog's half-step velocities; see [`Method::carries`]), without
+    /// building the memory.
+    #[must_use]
+    pub fn carries(&self) -> bool {
+        dispatch!(&self.kind, m => m.carries())
+    }
+
+    /// Tells the method that a stage outside it changed the velocities at `at..` from
+    /// `before` to `v` (positions `x`, step `h`), so it brings its memory into line (see
+    /// [`Method::velocities_changed`]).
+    pub(crate) fn velocities_changed(&mut self, at: usize, x: &[f64], v: &[f64], before: &[f64], h: f64) {
+        dispatch!(&mut self.kind, m => m.velocities_changed(at, x, v, before, h));
     }
 
     /// Restores what [`Integrator::memory`] returned for a state of the given sizes.
@@ -322,11 +317,7 @@ impl Integrator {
     /// the final residual, dense or sparse); `None` for an explicit method.
     #[must_use]
     pub fn solve_stats(&self) -> Option<super::SolveStats> {
-        match &self.kind {
-            Kind::BackwardEuler(m) => Some(m.stats()),
-            Kind::ImplicitMidpoint(m) => Some(m.stats()),
-            _ => None,
-        }
+        dispatch!(&self.kind, m => m.solve_stats())
     }
 
     /// Whether this method applies to `sys`.

@@ -1,6 +1,6 @@
 //! The classic fourth-order Runge-Kutta method.
 
-use super::{scratch, Info, Method};
+use super::{scratch, ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -25,6 +25,8 @@ impl Method for Rk4 {
         evals: 4,
         split: false,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc: "classic Runge-Kutta: evaluation points xa, xb (half step), xc (full step), weights 1/6 1/3 1/3 1/6",
     };
 

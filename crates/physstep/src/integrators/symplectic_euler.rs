@@ -1,6 +1,6 @@
 //! Symplectic (semi-implicit) Euler in both orders, and the two alternated.
 
-use super::{axpy_to, scratch, Info, Method, Sizes};
+use super::{axpy_to, scratch, ConstraintMode, Info, Method, Sizes};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -66,6 +66,8 @@ impl Method for SymplecticEuler {
         evals: 1,
         split: true,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc: "v += a dt, then x += v dt with the new v (semi-implicit Euler); bounded energy",
     };
 
@@ -84,6 +86,8 @@ impl Method for SymplecticEulerX {
         evals: 1,
         split: true,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc: "x += v dt, then v += a(x_new) dt (the other order of symplectic Euler)",
     };
 
@@ -102,6 +106,8 @@ impl Method for SymplecticEulerAlternating {
         evals: 1,
         split: true,
         vector_positions: false,
+        local: false,
+        constraints: ConstraintMode::Project,
         doc: "the two symplectic Euler orders alternated (velocity first on even steps); a pair of steps is velocity Verlet at 2 dt",
     };
 

@@ -1,6 +1,6 @@
 //! Velocityless (Stormer) Verlet and velocity Verlet.
 
-use super::{axpy_to, carried_memory, scratch, Carried, Info, Method};
+use super::{axpy_to, carried_memory, scratch, Carried, ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -26,6 +26,8 @@ impl Method for Verlet {
         evals: 1,
         split: true,
         vector_positions: true,
+        local: false,
+        constraints: ConstraintMode::Jakobsen,
         doc: "velocityless Stormer Verlet x' = 2x - x_prev + a dt^2, x_prev = x0 - v0 dt; v by backward difference",
     };
 
@@ -58,6 +60,17 @@ impl Method for Verlet {
     }
 
     carried_memory!(prev, x);
+
+    /// The previous positions of the changed entries made `x - v h` again: the start of a
+    /// step from `(x, v)`, so the backward-difference velocity is the new one.
+    fn velocities_changed(&mut self, at: usize, x: &[f64], v: &[f64], _before: &[f64], h: f64) {
+        if self.prev.v.is_empty() {
+            return;
+        }
+        for ((p, xi), vi) in self.prev.v[at..at + x.len()].iter_mut().zip(x).zip(v) {
+            *p = xi - vi * h;
+        }
+    }
 }
 
 /// Velocity Verlet: `v += a dt/2; x += v dt; a = a(x); v += a dt/2`. Second order,
@@ -114,6 +127,8 @@ impl Method for VelocityVerlet {
         evals: 1,
         split: true,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Rattle,
         doc: "v += a dt/2; x += v dt; a = a(x); v += a dt/2",
     };
 

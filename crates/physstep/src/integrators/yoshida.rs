@@ -1,7 +1,7 @@
 //! Yoshida's fourth-order symplectic composition of velocity Verlet (Forest-Ruth).
 
 use super::verlet::velocity_verlet;
-use super::{Info, Method};
+use super::{ConstraintMode, Info, Method};
 use crate::dynamics::{Step, System};
 use crate::error::Result;
 
@@ -35,6 +35,8 @@ impl Method for Yoshida4 {
         evals: 3,
         split: true,
         vector_positions: false,
+        local: true,
+        constraints: ConstraintMode::Project,
         doc:
             "velocity Verlet composed over w1 dt, w0 dt, w1 dt (Yoshida / Forest-Ruth), 4th order symplectic",
     };

@@ -1,7 +1,7 @@
 //! The `balls` scene: N balls of one radius and mass in a box, placed without overlap by a
 //! seeded generator, with random velocities, colliding with each other and the walls.
 
-use super::{Result, SplitMix};
+use super::{Exact, Param, Result, SplitMix};
 use crate::error::{num, Error};
 use crate::world::World;
 
@@ -82,4 +82,22 @@ pub fn build(p: &BallsParams, w: &mut World) -> Result<()> {
     w.add_walls(&vec![0.0; d], &vec![side; d])?;
     w.add_balls(&x, Some(&v), &vec![p.radius; p.n], None)?;
     Ok(())
+}
+
+/// The `balls` scene from its parameter values (the world made in its `dim`).
+///
+/// # Errors
+/// As [`build`].
+pub(super) fn scene(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let p = BallsParams {
+        n: v("n") as usize,
+        radius: v("radius"),
+        dim: v("dim") as usize,
+        seed: v("seed") as u64,
+        restitution: v("restitution"),
+        fraction: v("fraction"),
+        speed: v("speed"),
+    };
+    build(&p, w)?;
+    Ok(None)
 }

@@ -1,7 +1,7 @@
 //! The constraint scenes: a cloth hanging from its top corners, a ragdoll falling onto the
 //! ground (the notes' Verlet position-based physics).
 
-use super::Result;
+use super::{Exact, Param, Result};
 use crate::forces::{Endpoint, Force};
 use crate::world::World;
 
@@ -39,27 +39,13 @@ const LIMITS: [(usize, usize, f64, f64); 8] = [
     (5, 2, 0.5, 1.3),  // right shoulder
 ];
 
-/// Builds constraint scene `name` into `w` from its parameter values (`v` reads one by
-/// name); `false` when `name` is not one.
-///
-/// # Errors
-/// As [`World::add_particles`] and [`World::add_constraint`].
-pub(super) fn build(name: &str, v: &dyn Fn(&str) -> f64, w: &mut World) -> Result<bool> {
-    match name {
-        "cloth" => cloth(v, w)?,
-        "ragdoll" => ragdoll(v, w)?,
-        _ => return Ok(false),
-    }
-    Ok(true)
-}
-
 /// The most particles a cloth may have (w x h).
 const MAX_CLOTH: usize = 1_000_000;
 
 /// A `W x H` grid in the x-y plane, row 0 at the top (y = 0) hanging down, particle
 /// `(c, r)` at index `r W + c`; structural links to the right and below, shear links on both
 /// diagonals; the top corners pinned.
-fn cloth(v: &dyn Fn(&str) -> f64, w: &mut World) -> Result<()> {
+pub(super) fn cloth(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     let (nw, nh, s) = (v("w") as usize, v("h") as usize, v("spacing"));
     // Each of w and h may be up to a million; their product is refused before it is built.
     if nw.saturating_mul(nh) > MAX_CLOTH {
@@ -100,12 +86,12 @@ fn cloth(v: &dyn Fn(&str) -> f64, w: &mut World) -> Result<()> {
     if nw > 1 {
         w.add_pin(at(nw - 1, 0), &[(nw - 1) as f64 * s, 0.0, 0.0])?;
     }
-    Ok(())
+    Ok(None)
 }
 
 /// The stick figure tilted by `tilt` about its pelvis, lifted so its lowest point is at
 /// `height`, turning at `spin`; bones rigid, joints limited, the ground `y >= 0`.
-fn ragdoll(v: &dyn Fn(&str) -> f64, w: &mut World) -> Result<()> {
+pub(super) fn ragdoll(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     let (sn, cs) = v("tilt").sin_cos();
     let pivot = FIGURE[2];
     let turned: Vec<[f64; 2]> = FIGURE
@@ -135,5 +121,5 @@ fn ragdoll(v: &dyn Fn(&str) -> f64, w: &mut World) -> Result<()> {
         w.add_distance_limit(a, Endpoint::Particle(b), lo * r, hi * r)?;
     }
     w.add_plane(&[0.0, 1.0], 0.0)?;
-    Ok(())
+    Ok(None)
 }

@@ -6,6 +6,8 @@ pub mod balls;
 mod bodies;
 mod constrained;
 pub mod file;
+mod flows;
+mod particles;
 mod specs;
 mod stiff;
 
@@ -13,7 +15,6 @@ pub use specs::{resolve, spec, ParamSpec, Rule, SceneSpec, PARAM_MAX, PARAM_MIN,
 
 use crate::error::Result;
 use crate::flows::Flow;
-use crate::forces::{Endpoint, Force};
 use crate::world::{World, WorldParams};
 
 /// A built scene: its world, its parameters and its exact solution if known.
@@ -208,152 +209,57 @@ pub fn build(name: &str, overrides: &[(&str, f64)], method: &str, dt: f64) -> Re
     let spec = spec(name)?;
     let values = resolve(spec, overrides)?;
     let v = |n: &str| values[spec.params.iter().position(|p| p.name == n).expect("param in spec")];
-    // The balls scene takes its dimension as a parameter (World::new refuses one outside 1..=3).
-    let dim = if spec.name == "balls" { v("dim") as usize } else { spec.dim };
+    // A scene with a `dim` parameter (balls) takes its dimension from it (World::new refuses
+    // one outside 1..=3).
+    let dim = if spec.params.iter().any(|p| p.name == "dim") { v("dim") as usize } else { spec.dim };
     let params = WorldParams { dim, method: method.into(), dt, ..WorldParams::default() };
-    let flow = match spec.name {
-        "lorenz" => Some(Flow::Lorenz { sigma: v("sigma"), rho: v("rho"), beta: v("beta") }),
-        "rossler" => Some(Flow::Rossler { a: v("a"), b: v("b"), c: v("c") }),
-        "thomas" => Some(Flow::Thomas { b: v("b") }),
-        _ => None,
+    let (world, exact) = match spec.build {
+        Build::Flow(flow) => {
+            let (flow, start) = flow(&v);
+            (World::with_flow(flow, &start, params)?, None)
+        }
+        Build::Parts(parts) => {
+            let mut world = World::new(params)?;
+            let exact = parts(&v, &mut world)?;
+            (world, exact)
+        }
     };
-    if let Some(flow) = flow {
-        let world = World::with_flow(flow, &[v("x0"), v("y0"), v("z0")], params)?;
-        return Ok(Scene { spec, values, world, exact: None });
+    Ok(Scene { spec, values, world, exact })
+}
+
+/// How a scene is built from its parameter values (`v` reads one by name): the builder its
+/// line of [`SCENES`] names.
+#[derive(Clone, Copy)]
+enum Build {
+    /// A first-order flow and its start `(x, y, z)`.
+    Flow(fn(v: &Param<'_>) -> (Flow, [f64; 3])),
+    /// Particles, forces, bodies, balls or constraints added to a new world of the scene's
+    /// dimension, and the exact solution where one is known.
+    Parts(fn(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>>),
+}
+
+/// A scene's parameter value by name.
+type Param<'a> = dyn Fn(&str) -> f64 + 'a;
+
+/// The same builder: the same function (its address; `std::ptr::fn_addr_eq` is past the
+/// MSRV).
+impl PartialEq for Build {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Self::Flow(a), Self::Flow(b)) => *a as usize == *b as usize,
+            (Self::Parts(a), Self::Parts(b)) => *a as usize == *b as usize,
+            _ => false,
+        }
     }
-    let mut world = World::new(params)?;
-    if bodies::build(spec.name, &v, &mut world)?
-        || constrained::build(spec.name, &v, &mut world)?
-        || stiff::build(spec.name, &v, &mut world)?
-    {
-        return Ok(Scene { spec, values, world, exact: None });
+}
+
+impl std::fmt::Debug for Build {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Flow(_) => "Build::Flow",
+            Self::Parts(_) => "Build::Parts",
+        })
     }
-    if spec.name == "balls" {
-        let p = balls::BallsParams {
-            n: v("n") as usize,
-            radius: v("radius"),
-            dim,
-            seed: v("seed") as u64,
-            restitution: v("restitution"),
-            fraction: v("fraction"),
-            speed: v("speed"),
-        };
-        balls::build(&p, &mut world)?;
-        return Ok(Scene { spec, values, world, exact: None });
-    }
-    let mut scene = Scene { spec, values: values.clone(), world, exact: None };
-    let w = &mut scene.world;
-    scene.exact = match spec.name {
-        "spring" => {
-            let (m, k, c, x0, v0) = (v("m"), v("k"), v("c"), v("x0"), v("v0"));
-            w.add_particle(&[x0], &[v0], m, false)?;
-            w.add_force(Force::Spring {
-                i: 0,
-                j: Endpoint::Anchor([0.0; 3]),
-                stiffness: k,
-                rest_length: 0.0,
-                damping: c,
-            })?;
-            let w0 = (k / m).sqrt();
-            let zeta = if w0 > 0.0 { c / (2.0 * (k * m).sqrt()) } else { 0.0 };
-            if k == 0.0 && c > 0.0 {
-                Some(Exact::Drag { rate: c / m, x0, v0 })
-            } else {
-                Some(Exact::Oscillator { w0, zeta, x0, v0 })
-            }
-        }
-        "projectile" => {
-            let (x0, v0, a) = ([v("x0"), v("y0")], [v("vx"), v("vy")], [0.0, -v("g")]);
-            w.add_particle(&x0, &v0, v("m"), false)?;
-            w.add_force(Force::Gravity { g: [a[0], a[1], 0.0] })?;
-            Some(Exact::Ballistic { x0, v0, a })
-        }
-        "drag" => {
-            let (m, c, x0, v0) = (v("m"), v("c"), v("x0"), v("v0"));
-            w.add_particle(&[x0], &[v0], m, false)?;
-            w.add_force(Force::Drag { linear: c, quadratic: 0.0 })?;
-            Some(Exact::Drag { rate: c / m, x0, v0 })
-        }
-        "orbit" => {
-            let (gm, r) = (v("gm"), v("r"));
-            let speed = (gm / r).sqrt();
-            w.add_particle(&[r, 0.0], &[0.0, speed], 1.0, false)?;
-            w.add_force(Force::CentralGravity { center: [0.0; 3], gm })?;
-            // x = r cos(wt), y = r sin(wt) = Circle with phase pi/2, sign -1 mapping.
-            Some(Exact::Circle { r, w: speed / r, phase: std::f64::consts::FRAC_PI_2, sign: -1.0 })
-        }
-        "kepler" => {
-            let e = v("e");
-            w.add_particle(&[1.0 - e, 0.0], &[0.0, ((1.0 + e) / (1.0 - e)).sqrt()], 1.0, false)?;
-            w.add_force(Force::CentralGravity { center: [0.0; 3], gm: 1.0 })?;
-            Some(Exact::Kepler { e })
-        }
-        "pendulum" => {
-            let (l, g, th, om) = (v("length"), v("g"), v("theta0"), v("omega0"));
-            let (s, c) = th.sin_cos();
-            w.add_particle(&[l * s, -l * c], &[l * om * c, l * om * s], v("m"), false)?;
-            if v("rod") == 0.0 {
-                w.add_force(Force::Rod { i: 0, j: Endpoint::Anchor([0.0; 3]), length: l })?;
-            } else {
-                w.add_distance_constraint(0, Endpoint::Anchor([0.0; 3]), Some(l), 0.0)?;
-            }
-            if g != 0.0 {
-                w.add_force(Force::Gravity { g: [0.0, -g, 0.0] })?;
-                None
-            } else {
-                Some(Exact::Circle { r: l, w: om, phase: th, sign: -1.0 })
-            }
-        }
-        "nbody" => {
-            let n = v("n") as usize;
-            let mut rng = SplitMix(v("seed") as u64);
-            let mut x = Vec::with_capacity(2 * n);
-            let mut vel = Vec::with_capacity(2 * n);
-            for _ in 0..n {
-                // Uniform in the unit disc, on a slow rotation so the cluster does not just fall in.
-                let (r, th) = (rng.unit().sqrt(), std::f64::consts::TAU * rng.unit());
-                let (s, c) = th.sin_cos();
-                x.extend([r * c, r * s]);
-                let speed = 0.5 * r;
-                vel.extend([-speed * s + 0.05 * (rng.unit() - 0.5), speed * c + 0.05 * (rng.unit() - 0.5)]);
-            }
-            // Zero total momentum (equal masses): subtract the mean velocity.
-            for k in 0..2 {
-                let mean = vel.iter().skip(k).step_by(2).sum::<f64>() / n as f64;
-                vel.iter_mut().skip(k).step_by(2).for_each(|u| *u -= mean);
-            }
-            w.add_particles(&x, Some(&vel), Some(&vec![1.0 / n as f64; n]), false)?;
-            w.add_force(Force::NBody { g: 1.0, softening: v("softening") })?;
-            None
-        }
-        "chain" => {
-            let n = v("n") as usize;
-            let (k, c, sp, g, m) = (v("k"), v("c"), v("spacing"), v("g"), v("m"));
-            // Starts horizontal so it swings: particle i at ((i+1) spacing, 0).
-            let x: Vec<f64> = (0..n).flat_map(|i| [(i + 1) as f64 * sp, 0.0]).collect();
-            w.add_particles(&x, None, Some(&vec![m; n]), false)?;
-            w.add_force(Force::Spring {
-                i: 0,
-                j: Endpoint::Anchor([0.0; 3]),
-                stiffness: k,
-                rest_length: sp,
-                damping: c,
-            })?;
-            for i in 1..n {
-                w.add_force(Force::Spring {
-                    i,
-                    j: Endpoint::Particle(i - 1),
-                    stiffness: k,
-                    rest_length: sp,
-                    damping: c,
-                })?;
-            }
-            w.add_force(Force::Gravity { g: [0.0, -g, 0.0] })?;
-            None
-        }
-        other => unreachable!("scene {other} is in SCENES but not built"),
-    };
-    Ok(scene)
 }
 
 /// SplitMix64: a tiny seeded generator so scenes are the same on every machine.

@@ -1,6 +1,7 @@
 //! The catalogue of built-in scenes: their names, parameters with their rules and defaults,
 //! default step and run length, and the resolution of a user's parameter overrides.
 
+use super::{balls, bodies, constrained, flows, particles, stiff, Build};
 use crate::error::{Error, Result};
 
 /// Largest magnitude of a scene parameter. Bounds keep every accepted scene representable:
@@ -53,13 +54,16 @@ pub struct SceneSpec {
     pub dt: f64,
     /// A run length that shows the scene well, s (the command line's default).
     pub until: f64,
+    /// How it is built: the one place a scene's name meets its builder.
+    pub(super) build: Build,
 }
 
 const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> ParamSpec {
     ParamSpec { name, default, doc, rule }
 }
 
-/// Every built-in scene, in registry order.
+/// Every built-in scene, in registry order: the scenes' one table (name, parameters, defaults
+/// and builder, whose file gives the exact solution where one is known).
 pub const SCENES: [SceneSpec; 19] = [
     SceneSpec {
         name: "spring",
@@ -74,6 +78,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.1,
         until: 20.0,
+        build: Build::Parts(particles::spring),
     },
     SceneSpec {
         name: "projectile",
@@ -89,6 +94,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.01,
         until: 2.0,
+        build: Build::Parts(particles::projectile),
     },
     SceneSpec {
         name: "drag",
@@ -102,6 +108,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.01,
         until: 5.0,
+        build: Build::Parts(particles::drag),
     },
     SceneSpec {
         name: "orbit",
@@ -113,6 +120,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.01,
         until: 2.0 * std::f64::consts::TAU,
+        build: Build::Parts(particles::orbit),
     },
     SceneSpec {
         name: "kepler",
@@ -121,6 +129,7 @@ pub const SCENES: [SceneSpec; 19] = [
         params: &[p("e", 0.6, "eccentricity, in [0, 1)", Rule::Fraction)],
         dt: 0.01,
         until: std::f64::consts::TAU,
+        build: Build::Parts(particles::kepler),
     },
     SceneSpec {
         name: "pendulum",
@@ -141,6 +150,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.01,
         until: 5.0,
+        build: Build::Parts(particles::pendulum),
     },
     SceneSpec {
         name: "nbody",
@@ -153,6 +163,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.001,
         until: 1.0,
+        build: Build::Parts(particles::nbody),
     },
     SceneSpec {
         name: "chain",
@@ -168,6 +179,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.001,
         until: 2.0,
+        build: Build::Parts(particles::chain),
     },
     SceneSpec {
         name: "lorenz",
@@ -184,6 +196,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.005,
         until: 40.0,
+        build: Build::Flow(flows::lorenz),
     },
     SceneSpec {
         name: "rossler",
@@ -199,6 +212,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.01,
         until: 200.0,
+        build: Build::Flow(flows::rossler),
     },
     SceneSpec {
         name: "thomas",
@@ -212,6 +226,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 0.05,
         until: 500.0,
+        build: Build::Flow(flows::thomas),
     },
     SceneSpec {
         name: "stiff-chain",
@@ -225,6 +240,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 60.0,
         until: 10.0,
+        build: Build::Parts(stiff::chain),
     },
     SceneSpec {
         name: "stiff-cloth",
@@ -238,6 +254,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 60.0,
         until: 10.0,
+        build: Build::Parts(stiff::cloth),
     },
     SceneSpec {
         name: "racket",
@@ -249,6 +266,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 120.0,
         until: 1200.0,
+        build: Build::Parts(bodies::racket),
     },
     SceneSpec {
         name: "top",
@@ -264,6 +282,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 1200.0,
         until: 5.0,
+        build: Build::Parts(bodies::top),
     },
     SceneSpec {
         name: "tumble",
@@ -275,6 +294,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 120.0,
         until: 1.0,
+        build: Build::Parts(bodies::tumble),
     },
     SceneSpec {
         name: "cloth",
@@ -292,6 +312,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 120.0,
         until: 5.0,
+        build: Build::Parts(constrained::cloth),
     },
     SceneSpec {
         name: "ragdoll",
@@ -306,6 +327,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 120.0,
         until: 3.0,
+        build: Build::Parts(constrained::ragdoll),
     },
     SceneSpec {
         name: "balls",
@@ -322,6 +344,7 @@ pub const SCENES: [SceneSpec; 19] = [
         ],
         dt: 1.0 / 120.0,
         until: 10.0,
+        build: Build::Parts(balls::scene),
     },
 ];
 

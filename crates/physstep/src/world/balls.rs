@@ -324,7 +324,7 @@ impl World {
                 y[nx + p * d + k] = s.vel[i];
             }
         }
-        self.resync_memory(ctx.h)?;
+        self.resync_memory(ctx.h);
         self.refresh_hits()
     }
 
@@ -363,33 +363,22 @@ impl World {
         Ok(())
     }
 
-    /// The memory of Verlet and leapfrog after the balls that were hit changed velocity.
-    fn resync_memory(&mut self, h: f64) -> Result<()> {
-        let name = self.integrator.info().name;
-        if name != "verlet" && name != "leapfrog" {
-            return Ok(());
-        }
-        let mut memory = self.integrator.memory();
-        let flags = self.integrator.memory_flags();
-        if memory.len() <= flags {
-            return Ok(());
+    /// The method's memory after the balls that were hit changed velocity: each hit ball's
+    /// coordinates handed to [`Method::velocities_changed`](crate::integrators::Method::velocities_changed)
+    /// (Verlet's previous positions `x - v h`, leapfrog's half-step velocities moved by the
+    /// same impulse; nothing for a method without memory).
+    fn resync_memory(&mut self, h: f64) {
+        if !self.integrator.carries() {
+            return;
         }
         let (d, nx) = (self.dim(), self.nx());
-        let s = &self.balls.scratch;
-        for &slot in s.hits() {
-            let (slot, p) = (slot as usize, self.balls.index[slot as usize]);
-            for k in 0..d {
-                let (i, m) = (p * d + k, flags + p * d + k);
-                let v = self.state.y[nx + i];
-                if name == "verlet" {
-                    memory[m] = self.state.y[i] - v * h;
-                } else {
-                    memory[m] += v - self.balls.v1[slot * d + k];
-                }
-            }
+        let (b, y) = (&self.balls, &self.state.y);
+        for &slot in b.scratch.hits() {
+            let (slot, p) = (slot as usize, b.index[slot as usize]);
+            let i = p * d..(p + 1) * d;
+            let (x, v) = (&y[i.clone()], &y[nx + i.start..nx + i.end]);
+            self.integrator.velocities_changed(i.start, x, v, &b.v1[slot * d..(slot + 1) * d], h);
         }
-        let sizes = self.layout().sizes(self.state.y.len());
-        self.integrator.recall(&memory, sizes)
     }
 }
 

@@ -152,14 +152,13 @@ impl World {
         self.constraints.violation(self.dim(), &self.state.y[..self.model.len()], &self.model.inv_mass)
     }
 
-    /// The solver the world's method takes: SHAKE/RATTLE for velocity Verlet and leapfrog,
-    /// Jakobsen's projection for Verlet, projection with a velocity projection for the others.
+    /// The solver the world's method takes (its [`Info::constraints`]): SHAKE/RATTLE for
+    /// velocity Verlet and leapfrog, Jakobsen's projection for Verlet, projection with a
+    /// velocity projection for the others.
+    ///
+    /// [`Info::constraints`]: crate::integrators::Info::constraints
     fn constraint_mode(&self) -> Mode {
-        match self.integrator.info().name {
-            "velocity-verlet" | "leapfrog" => Mode::Rattle,
-            "verlet" => Mode::Jakobsen,
-            _ => Mode::Project,
-        }
+        self.integrator.info().constraints
     }
 
     /// Keeps the positions at the start of the step (SHAKE's gradients), when there are
@@ -204,7 +203,7 @@ impl World {
             let a = &self.state.f[nx..nx + n];
             v.iter_mut().zip(a).for_each(|(vi, ai)| *vi -= 0.5 * ctx.h * ai);
         }
-        if self.integrator.memory().len() > self.integrator.memory_flags() {
+        if self.integrator.carries() {
             self.integrator.reset();
         }
         self.refresh_at(ctx.t_end)?;
