@@ -26,6 +26,7 @@ pub mod error;
 pub mod flows;
 pub mod forces;
 pub mod integrators;
+pub mod limits;
 pub mod linalg;
 pub mod record;
 pub mod rigid;

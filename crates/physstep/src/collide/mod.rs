@@ -97,7 +97,7 @@ impl Balls {
 /// # Errors
 /// [`Error::InvalidValue`] naming `field`.
 pub(crate) fn check_radius(field: &str, r: f64) -> Result<()> {
-    if r.is_finite() && r > 0.0 && r <= crate::integrators::registry::RUNAWAY {
+    if r.is_finite() && r > 0.0 && r <= crate::limits::RUNAWAY {
         Ok(())
     } else {
         Err(Error::invalid(field, num(r), "a finite number > 0"))
@@ -113,7 +113,7 @@ pub(crate) fn check_walls(lo: &[f64], hi: &[f64], dim: usize) -> Result<Walls> {
         if v.len() != dim {
             return Err(Error::invalid(format!("len({name})"), v.len(), format!("{dim}, the dimension")));
         }
-        crate::error::bounded(name, v, crate::integrators::registry::RUNAWAY)?;
+        crate::error::bounded(name, v, crate::limits::RUNAWAY)?;
     }
     let mut w = Walls { lo: [0.0; 3], hi: [0.0; 3] };
     for k in 0..dim {

@@ -153,7 +153,7 @@ impl Constraint {
                     let shown = c[..dim].iter().map(|v| num(*v)).collect::<Vec<_>>().join(", ");
                     return Err(Error::invalid("normal", format!("({shown})"), "a nonzero vector"));
                 }
-                if !(offset.is_finite() && offset.abs() <= crate::integrators::registry::RUNAWAY) {
+                if !(offset.is_finite() && offset.abs() <= crate::limits::RUNAWAY) {
                     return Err(Error::invalid("offset", num(offset), "finite, at most 1e100 in magnitude"));
                 }
                 // A normal already unit to rounding is kept as given, so that a constraint
@@ -227,7 +227,7 @@ impl Constraint {
 
 /// `p`'s first `dim` components checked finite (at most 1e100), the rest zeroed.
 fn point(field: &str, p: [f64; 3], dim: usize) -> Result<[f64; 3]> {
-    crate::error::bounded(field, &p[..dim], crate::integrators::registry::RUNAWAY)?;
+    crate::error::bounded(field, &p[..dim], crate::limits::RUNAWAY)?;
     let mut c = p;
     c[dim..].fill(0.0);
     Ok(c)

@@ -104,27 +104,8 @@ pub(crate) trait Visit {
     fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> Self::Out;
 }
 
-/// Largest magnitude a state or acceleration entry may reach: beyond it the run has run away
-/// (explicit Euler on an oscillator at a large dt), and squares of it (energies) would
-/// overflow to infinity. A value past it is a divergence, like a NaN.
-pub const RUNAWAY: f64 = 1e100;
-
-/// Index of the first entry of `v` that is NaN, infinite or past [`RUNAWAY`]. The scan is
-/// branch-free per block of values (`!(|x| <= RUNAWAY)` is true for NaN too), so it runs at
-/// memory speed; only a block that holds one is searched element by element.
-fn first_non_finite(v: &[f64]) -> Option<usize> {
-    const BLOCK: usize = 256;
-    // NaN fails every comparison: `is_some_and(Greater)` would miss it, `!(<=)` does not.
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    let bad = |x: &f64| !(x.abs() <= RUNAWAY);
-    v.chunks(BLOCK).enumerate().find_map(|(b, chunk)| {
-        if chunk.iter().fold(false, |acc, x| acc | bad(x)) {
-            chunk.iter().position(bad).map(|i| b * BLOCK + i)
-        } else {
-            None
-        }
-    })
-}
+use crate::limits::first_runaway as first_non_finite;
+pub use crate::limits::RUNAWAY;
 
 /// Whether the method `info` applies to `sys` (see [`Integrator::applies`]).
 ///

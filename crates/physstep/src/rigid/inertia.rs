@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 use glam::{DMat3, DVec3};
 
 use crate::error::{num, Error, Result};
-use crate::scenes::{PARAM_MAX, PARAM_MIN};
+use crate::limits::{PARAM_MAX, PARAM_MIN};
 
 /// A rigid-body shape in its own (body) frame. Sizes are in metres.
 #[derive(Debug, Clone, PartialEq)]

@@ -4,12 +4,7 @@
 use super::{balls, bodies, constrained, flows, particles, stiff, Build};
 use crate::error::{Error, Result};
 
-/// Largest magnitude of a scene parameter. Bounds keep every accepted scene representable:
-/// squares, cubes and products of parameters (r^2 in gravity, k x^2 in an energy) neither
-/// overflow nor underflow to zero, so no accepted value drops physics in silence.
-pub const PARAM_MAX: f64 = 1e12;
-/// Smallest magnitude of a nonzero size parameter (mass, length, stiffness).
-pub const PARAM_MIN: f64 = 1e-12;
+pub use crate::limits::{PARAM_MAX, PARAM_MIN};
 
 /// What a parameter may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

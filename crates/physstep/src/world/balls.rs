@@ -5,7 +5,6 @@ use super::step::StepContext;
 use super::World;
 use crate::collide::{self, CollisionStats, Input, Walls};
 use crate::error::{num, Error, Result};
-use crate::integrators::registry::RUNAWAY;
 
 fn point(x: &[f64]) -> String {
     let parts: Vec<String> = x.iter().map(|v| num(*v)).collect();
@@ -352,7 +351,7 @@ impl World {
                 2 => local.accel::<2>(p, x, v, im, springs, a),
                 _ => local.accel::<3>(p, x, v, im, springs, a),
             }
-            finite &= a.iter().all(|c| c.abs() <= RUNAWAY);
+            finite &= !crate::limits::any_runaway(a);
         }
         if !finite {
             // The whole evaluation names the entry and the value.

@@ -6,7 +6,7 @@ use glam::{DMat3, DQuat, DVec3};
 use super::World;
 use crate::dynamics::SecondOrder;
 use crate::error::{bounded, Error, Result};
-use crate::integrators::registry::RUNAWAY;
+use crate::limits::RUNAWAY;
 use crate::rigid::body::{put_quat, put_vec3, quat, vec3, AngularForm, BodySpring, V_LEN, X_LEN};
 use crate::rigid::inertia::Shape;
 use crate::rigid::orientation::{self, Rule};
@@ -74,7 +74,7 @@ impl World {
         bounded("velocity", &p.velocity, RUNAWAY)?;
         bounded("angular_velocity", &p.angular_velocity, RUNAWAY)?;
         let user = orientation::validate_quaternion("orientation", p.orientation)?;
-        if !(p.angular_drag.is_finite() && (0.0..=crate::scenes::PARAM_MAX).contains(&p.angular_drag)) {
+        if !(p.angular_drag.is_finite() && (0.0..=crate::limits::PARAM_MAX).contains(&p.angular_drag)) {
             return Err(Error::invalid(
                 "angular_drag",
                 crate::error::num(p.angular_drag),
@@ -355,7 +355,7 @@ impl World {
             crate::forces::Endpoint::Particle(_) => {}
         }
         for (name, v) in [("stiffness", stiffness), ("damping", damping)] {
-            if !(v.is_finite() && (0.0..=crate::scenes::PARAM_MAX).contains(&v)) {
+            if !(v.is_finite() && (0.0..=crate::limits::PARAM_MAX).contains(&v)) {
                 return Err(Error::invalid(name, crate::error::num(v), "a number in [0, 1e12]"));
             }
         }
@@ -367,7 +367,7 @@ impl World {
             Some(r) => r,
             None => spring.length(np, x),
         };
-        if !(rest.is_finite() && (0.0..=crate::scenes::PARAM_MAX).contains(&rest)) {
+        if !(rest.is_finite() && (0.0..=crate::limits::PARAM_MAX).contains(&rest)) {
             return Err(Error::invalid("rest_length", crate::error::num(rest), "a number in [0, 1e12]"));
         }
         spring.rest_length = rest;

@@ -3,7 +3,7 @@
 use crate::dynamics::SecondOrder;
 use crate::error::Error;
 use crate::forces::{ForceSet, UserForce};
-use crate::integrators::registry::RUNAWAY;
+use crate::limits::RUNAWAY;
 
 /// The force model: what the integrators see as a [`SecondOrder`] system.
 #[derive(Debug, Clone, Default)]

@@ -5,7 +5,7 @@ use super::{Model, World, MAX_MASS};
 use crate::dynamics::SecondOrder;
 use crate::error::{bounded, Error, Result};
 use crate::forces::Force;
-use crate::integrators::registry::RUNAWAY;
+use crate::limits::RUNAWAY;
 
 impl World {
     /// Adds one particle; `mass = inf` or `is_static` makes it immovable (inverse mass 0,

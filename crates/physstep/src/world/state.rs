@@ -4,7 +4,7 @@
 use super::{Derivative, World};
 use crate::dynamics::{FirstOrder, SecondOrder, System};
 use crate::error::{bounded, Error, Result};
-use crate::integrators::registry::RUNAWAY;
+use crate::limits::RUNAWAY;
 
 impl World {
     /// Positions to draw: `previous + alpha * (current - previous)`, between the state
@@ -235,7 +235,7 @@ impl World {
             Ok(()) => Ok(()),
             Err(Error::Diverged { index, .. }) => {
                 let skip = self.layout().skip(&self.state);
-                let bad = |v: &f64| v.is_nan() || v.abs() > RUNAWAY;
+                let bad = |v: &f64| crate::limits::runaway(*v);
                 let value = self.state.y.get(index).copied().filter(bad);
                 let value = value
                     .unwrap_or_else(|| self.state.f[skip..].iter().copied().find(bad).unwrap_or(f64::NAN));
