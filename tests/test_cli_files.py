@@ -1,5 +1,7 @@
 """Output files (``run --out``, ``sweep --out``, every ``--plot``): checked before the
-computation, written whole or not at all, a failure one line naming the flag and the path."""
+computation, written whole or not at all, never the scene file read nor another output's
+file, a failure one line naming the flag and the path; stdout that cannot be written is one
+line naming stdout."""
 
 from __future__ import annotations
 
