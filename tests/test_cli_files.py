@@ -1,5 +1,7 @@
 """Output files (``run --out``, ``sweep --out``, every ``--plot``): checked before the
-computation, written whole or not at all, a failure one line naming the flag and the path."""
+computation, written whole or not at all, never the scene file read nor another output's
+file, a failure one line naming the flag and the path; stdout that cannot be written is one
+line naming stdout."""
 
 from __future__ import annotations
 
@@ -155,3 +157,119 @@ def test_write_replaces_whole_files_and_keeps_links_and_modes(tmp_path) -> None:
     os.umask(umask)
     assert fresh.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's 0600
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fresh.csv", "link.csv", "real.csv"]
+
+
+def _scene_file(tmp_path: Path) -> Path:
+    path = tmp_path / "cloth.toml"
+    path.write_text(physstep.export_scene("spring"))
+    return path
+
+
+@pytest.mark.parametrize("link", ["same", "relative", "symlink", "hardlink"])
+def test_an_output_that_is_the_scene_file_read_is_refused_and_the_file_kept(
+    tmp_path: Path, link: str
+) -> None:
+    scene = _scene_file(tmp_path)
+    before = scene.read_bytes()
+    out = {
+        "same": scene,
+        "relative": tmp_path / "." / "cloth.toml",
+        "symlink": tmp_path / "link.csv",
+        "hardlink": tmp_path / "hard.csv",
+    }[link]
+    if link == "symlink":
+        out.symlink_to(scene)
+    elif link == "hardlink":
+        os.link(scene, out)
+    res = run_cli("run", str(scene), "--until", "1", "--out", str(out))
+    assert res.returncode == 2
+    assert res.stderr == (
+        f"physstep: error: invalid --out '{out}': is the scene file read ('{scene}'); write to another file\n"
+    )
+    assert res.stdout == ""
+    assert scene.read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        [
+            "sweep",
+            "spring",
+            "--methods",
+            "rk4",
+            "--dts",
+            "0.5",
+            "--until",
+            "1",
+            "--out",
+            "{p}",
+            "--plot",
+            "{p}",
+        ],
+        [
+            "sweep",
+            "spring",
+            "--methods",
+            "rk4",
+            "--dts",
+            "0.5",
+            "--until",
+            "1",
+            "--plot",
+            "{p}",
+            "--out",
+            "{p}",
+        ],
+    ],
+    ids=["out-then-plot", "plot-then-out"],
+)
+def test_two_outputs_on_one_path_are_refused_and_the_file_kept(tmp_path: Path, args: list[str]) -> None:
+    path = tmp_path / "s.png"
+    path.write_bytes(b"the user's plot")
+    res = run_cli(*[str(path) if a == "{p}" else a for a in args])
+    assert res.returncode == 2
+    assert res.stderr == (
+        f"physstep: error: invalid --plot '{path}': is also --out ('{path}'); give each output its own file\n"
+    )
+    assert path.read_bytes() == b"the user's plot"
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["run", "spring", "--dt", "0.5", "--until", "1"],
+        ["table", "spring", "--dt", "0.001", "--until", "10"],
+        ["scenes", "--format", "json"],
+    ],
+    ids=["run", "table", "scenes"],
+)
+def test_stdout_that_cannot_be_written_is_one_line_naming_stdout(args: list[str]) -> None:
+    env = dict(os.environ, MPLBACKEND="Agg", COLUMNS="200")
+    with open("/dev/full", "w") as full:
+        res = subprocess.run(
+            [sys.executable, "-m", "physstep", *args], stdout=full, stderr=subprocess.PIPE, text=True, env=env
+        )
+    assert res.returncode == 2
+    assert res.stderr == "physstep: error: cannot write to stdout: No space left on device\n"
+
+
+def test_stdout_past_the_file_size_limit_is_one_line_naming_stdout(tmp_path: Path) -> None:
+    import resource
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (1000, 1000))
+
+    env = dict(os.environ, MPLBACKEND="Agg")
+    with open(tmp_path / "out.txt", "w") as fh:
+        res = subprocess.run(
+            [sys.executable, "-m", "physstep", "table", "spring", "--dt", "0.001", "--until", "10"],
+            stdout=fh,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=env,
+            preexec_fn=limit,
+        )
+    assert res.returncode == 2
+    assert res.stderr == "physstep: error: cannot write to stdout: File too large\n"

@@ -323,17 +323,21 @@ def test_compare_of_a_diverging_run_reports_cleanly() -> None:
     assert drift is None or math.isfinite(drift)
 
 
-def test_compare_and_sweep_say_what_was_run() -> None:
+def test_compare_and_sweep_say_what_was_run(monkeypatch) -> None:
+    # The timing repeats until TIMING_MIN_S has passed (at least TIMING_MIN_RUNS runs) or
+    # TIMING_MAX_S: with 0 and inf the count is TIMING_MIN_RUNS whatever the clock says.
+    monkeypatch.setattr(lab.common, "TIMING_MIN_S", 0.0)
+    monkeypatch.setattr(lab.common, "TIMING_MAX_S", math.inf)
     res = lab.compare("orbit", ["symplectic-euler", "rk4"], 0.1, 18.85)
     assert res["until_requested"] == 18.85 and res["steps"] == 188 and res["t_end"] == pytest.approx(18.8)
     for r in res["rows"]:
         assert r["steps"] == 188 and r["t_end"] == pytest.approx(18.8)
-        assert r["ns_per_step_runs"] >= 3 and r["ns_per_step"] > 0
+        assert r["ns_per_step_runs"] == lab.TIMING_MIN_RUNS == 3 and r["ns_per_step"] > 0
     assert "median" in res["timing"] and "kinetic" in res["energy_error"]
     sw = lab.sweep("orbit", ["rk4"], [0.3, 0.1], 1.0)
     assert sw["until_requested"] == 1.0
     assert [(r["steps"], round(r["t_end"], 9)) for r in sw["rows"]] == [(3, 0.9), (10, 1.0)]
-    assert all(r["ns_per_step_runs"] >= 3 for r in sw["rows"])
+    assert all(r["ns_per_step_runs"] == 3 for r in sw["rows"])
 
 
 def test_compare_energy_errors_on_the_chain_are_meaningful() -> None:

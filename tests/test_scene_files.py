@@ -6,6 +6,9 @@ and scenes --export on a file, and bad files as one-line ValueErrors and exit st
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import physstep
@@ -152,3 +155,52 @@ def test_the_example_files_are_the_exported_scenes(name: str) -> None:
     `for s in ...; do physstep scenes --export $s --out examples/scenes/$s.toml; done`."""
     path = Path(__file__).parent.parent / "examples" / "scenes" / f"{name}.toml"
     assert path.read_text() == physstep.export_scene(name)
+
+
+def _limit_memory() -> None:
+    """For ``preexec_fn``: 4 GiB of address space, so that a loader reading an endless file
+    fails in the child instead of exhausting the machine."""
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_AS, (4 << 30, 4 << 30))
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="FIFOs and /dev/zero are POSIX")
+@pytest.mark.parametrize("kind", ["fifo", "/dev/zero", "/dev/urandom", "directory"])
+def test_a_scene_file_that_is_not_a_regular_file_is_refused_before_it_is_read(
+    tmp_path: Path, kind: str
+) -> None:
+    # A FIFO used to block the open forever (Ctrl-C ignored); /dev/zero and /dev/urandom,
+    # 0 bytes long by their metadata, were read until the memory ran out.
+    path = tmp_path / "s.toml"
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "directory":
+        path.mkdir()
+    else:
+        if not os.path.exists(kind):
+            pytest.skip(f"no {kind}")
+        path.symlink_to(kind)
+    what = "a directory" if kind == "directory" else "a device, a FIFO or a socket"
+    want = f"scene file {path}: is {what}, not a regular file"
+    code = (
+        "import sys, physstep\n"
+        "try:\n"
+        "    physstep.load_scene(sys.argv[1])\n"
+        "except ValueError as e:\n"
+        "    print(e)\n"
+    )
+    env = dict(os.environ, MPLBACKEND="Agg")
+    for argv in (
+        [sys.executable, "-c", code, str(path)],
+        [sys.executable, "-m", "physstep", "run", str(path)],
+    ):
+        res = subprocess.run(
+            argv, capture_output=True, text=True, env=env, timeout=60, preexec_fn=_limit_memory
+        )
+        if argv[1] == "-c":
+            assert res.returncode == 0 and res.stdout == f"{want}\n", res.stderr
+        else:
+            assert res.returncode == 2
+            assert res.stderr == f"physstep: error: {want}\n"
+            assert res.stdout == ""

@@ -3,8 +3,9 @@
 ``main`` maps what a command raises to one line on stderr and a status: 0 done, 1 a failed
 run (:class:`physstep.StepError`, a diverged ``table``) or a non-finite number about to be
 printed (:class:`~physstep.cli.output.NotFiniteError`), 2 bad input (any ValueError: a
-flag's value, an output file that cannot be written), 130 interrupted; anything else is an
-internal error, still one line (status 1).
+flag's value, an output file that cannot be written, an output that is an input) or a
+stdout that cannot be written (:class:`~physstep.cli.output.StdoutError`), 130
+interrupted; anything else is an internal error, still one line (status 1).
 """
 
 from __future__ import annotations
@@ -61,13 +62,25 @@ def _silence_stdout() -> None:
 def main(argv: list[str] | None = None) -> int:
     """Runs the command line; returns the exit status (0 done, 1 a step that failed otherwise
     (Newton did not converge, contacts did not end) or a non-finite number about to be
-    printed, 2 bad input or an output file that cannot be written, 3 a step that diverged
-    (rolled back and reported: step, particle, method), 130 interrupted).
+    printed, 2 bad input or an output that cannot be written (a file, or stdout itself), 3
+    a step that diverged (rolled back and reported: step, particle, method), 130
+    interrupted).
 
     ``--help`` and ``--version`` print and raise SystemExit(0), as argparse does.
     """
+    stdout = sys.stdout
+    if stdout is not None:
+        sys.stdout = output.GuardedStdout(stdout)  # type: ignore[assignment]
+    try:
+        return _run(argv)
+    finally:
+        sys.stdout = stdout
+
+
+def _run(argv: list[str] | None) -> int:
     try:
         args = parser().parse_args(argv)
+        options.check_paths(args)
         options.resolve_scene(args)
         status = int(args.func(args))
         sys.stdout.flush()
@@ -75,6 +88,12 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:
         _silence_stdout()
         return 0
+    except output.StdoutError as e:
+        # Status 2, as for an --out file that cannot be written: the output was refused,
+        # not the run. What is left in the buffer is dropped (the exit's flush would fail).
+        _silence_stdout()
+        _say(f"error: cannot write to stdout: {e.reason}")
+        return 2
     except KeyboardInterrupt:
         _say("interrupted")
         return 130

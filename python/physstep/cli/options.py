@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
+import stat
 from collections.abc import Callable
 from typing import Any
 
@@ -114,6 +116,53 @@ def resolve_scene(args: argparse.Namespace) -> None:
         if sf.until is None:
             raise UsageError(f"scene file '{sf.path}' has no until: give --until or add until = SECONDS")
         args.until = sf.until
+
+
+#: The arguments naming the scene file a command reads (argparse dests).
+INPUTS = ("scene", "scene_file")
+#: The flags naming files a command writes.
+OUTPUTS = (("out", "--out"), ("plot", "--plot"), ("screenshot", "--screenshot"))
+
+
+def _file_key(path: str) -> tuple[int, int] | str | None:
+    """What ``path`` names: an existing regular file's (device, inode), so that a symbolic or
+    hard link to it is the same file; a missing file's resolved path; None for a device, a
+    FIFO or a directory, which writing cannot destroy (or :mod:`physstep._files` refuses)."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return os.path.realpath(path)
+    return (st.st_dev, st.st_ino) if stat.S_ISREG(st.st_mode) else None
+
+
+def check_paths(args: argparse.Namespace) -> None:
+    """UsageError (exit status 2) when an output file is an input file (``run cloth.toml --out
+    cloth.toml``) or two outputs are one file (``sweep --out s.png --plot s.png``): either
+    would write over the user's file. Called before the scene file is read."""
+    seen: dict[tuple[int, int] | str, tuple[str, str, bool]] = {}
+    for dest in INPUTS:
+        path = getattr(args, dest, None)
+        if isinstance(path, str) and path and (dest != "scene" or is_scene_file(path)):
+            key = _file_key(path)
+            if key is not None:
+                seen[key] = ("scene file", path, True)
+    for dest, flag in OUTPUTS:
+        path = getattr(args, dest, None)
+        if not (isinstance(path, str) and path):
+            continue
+        key = _file_key(path)
+        if key is None:
+            continue
+        if key in seen:
+            other, other_path, is_input = seen[key]
+            if is_input:
+                raise UsageError(
+                    f"invalid {flag} '{path}': is the scene file read ('{other_path}'); write to another file"
+                )
+            raise UsageError(
+                f"invalid {flag} '{path}': is also {other} ('{other_path}'); give each output its own file"
+            )
+        seen[key] = (flag, path, False)
 
 
 def add_format(p: argparse.ArgumentParser, formats: tuple[str, ...] = ("text", "json")) -> None:

@@ -18,6 +18,45 @@ from decimal import ROUND_HALF_UP, Decimal, localcontext
 from typing import Any
 
 
+class StdoutError(Exception):
+    """Standard output could not be written (a full disk, ``> /dev/full``, a file-size limit):
+    ``reason`` says why. A closed pipe is not one (BrokenPipeError, quiet)."""
+
+    def __init__(self, reason: str) -> None:
+        super().__init__(reason)
+        self.reason = reason
+
+
+class GuardedStdout:
+    """``stream`` (sys.stdout) whose ``write`` and ``flush`` raise :class:`StdoutError` for an
+    OSError but a broken pipe: so that a failed write is told apart from a failure of
+    anything else (an OSError elsewhere is a bug: an internal error)."""
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        """Writes ``text``; StdoutError when the stream fails."""
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            raise
+        except OSError as e:
+            raise StdoutError(e.strerror or str(e)) from None
+
+    def flush(self) -> None:
+        """Flushes; StdoutError when the stream fails."""
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            raise
+        except OSError as e:
+            raise StdoutError(e.strerror or str(e)) from None
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
 class NotFiniteError(Exception):
     """A non-finite number about to be printed or written (exit status 1): never printed."""
 

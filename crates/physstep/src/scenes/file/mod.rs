@@ -29,18 +29,43 @@ pub struct SceneFile {
 
 /// Loads the scene file at `path`.
 ///
+/// Only a regular file is read (a symbolic link is followed to one): a device (`/dev/zero`),
+/// a FIFO or a directory is refused before it is opened, so that neither an endless read nor
+/// a blocking open can happen, and no more than [`MAX_FILE_BYTES`] + 1 bytes are ever read
+/// (a file that grows after the check is still cut off).
+///
 /// # Errors
-/// [`Error::SceneFile`] naming the file (line 0) when it cannot be read, is larger than
-/// [`MAX_FILE_BYTES`] or is not UTF-8; otherwise as [`parse`].
+/// [`Error::SceneFile`] naming the file (line 0) when it cannot be read, is not a regular
+/// file, is larger than [`MAX_FILE_BYTES`] or is not UTF-8; otherwise as [`parse`].
 pub fn load(path: &std::path::Path) -> Result<SceneFile> {
+    use std::io::Read;
     let file = path.display().to_string();
     let fail =
         |reason: String| Error::SceneFile { file: file.clone(), line: 0, field: String::new(), reason };
-    let meta = std::fs::metadata(path).map_err(|e| fail(format!("cannot be read: {e}")))?;
+    let cannot = |e: std::io::Error| fail(format!("cannot be read: {e}"));
+    let regular = |meta: &std::fs::Metadata| {
+        if meta.is_file() {
+            return Ok(());
+        }
+        let kind = if meta.is_dir() { "a directory" } else { "a device, a FIFO or a socket" };
+        Err(fail(format!("is {kind}, not a regular file")))
+    };
+    let too_large = |size: String| fail(format!("is {size} bytes: must be at most {MAX_FILE_BYTES}"));
+    // metadata() follows symbolic links: the check is on what open() would reach.
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    regular(&meta)?;
     if meta.len() > MAX_FILE_BYTES {
-        return Err(fail(format!("is {} bytes: must be at most {MAX_FILE_BYTES}", meta.len())));
+        return Err(too_large(meta.len().to_string()));
     }
-    let bytes = std::fs::read(path).map_err(|e| fail(format!("cannot be read: {e}")))?;
+    let handle = std::fs::File::open(path).map_err(cannot)?;
+    // The file opened may not be the one checked (replaced in between): checked again.
+    let opened = handle.metadata().map_err(cannot)?;
+    regular(&opened)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(opened.len().min(MAX_FILE_BYTES)).unwrap_or(0));
+    handle.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes).map_err(cannot)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_large(format!("more than {MAX_FILE_BYTES}")));
+    }
     let text = String::from_utf8(bytes).map_err(|_| fail("is not UTF-8 text".into()))?;
     parse(&text, &file)
 }
