@@ -163,8 +163,9 @@ pub(crate) fn builtin_flow(item: &Bound<'_, PyAny>) -> PyResult<Option<(Flow, us
 /// What `__reduce__` returns: the rebuilding function and its arguments.
 pub(crate) type Reduce<'py> = (Bound<'py, PyAny>, (Bound<'py, PyAny>, Bound<'py, PyAny>));
 
-/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name.
-pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String);
+/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name,
+/// inplace.
+pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String, bool);
 
 /// Rebuilds a World pickled by `World.__reduce__`.
 #[pyfunction]
@@ -194,10 +195,10 @@ pub(crate) fn _world_from_parts(
     if let Some(list) = parts.get_item("user_forces")? {
         for spec in list.try_iter()? {
             let spec = spec?;
-            let (func, potential, jacobian, velocity_dependent, name): ForceSpec = spec.extract()?;
+            let (func, potential, jacobian, velocity_dependent, name, inplace): ForceSpec = spec.extract()?;
             let dim = engine.dim();
             let force =
-                PyForce { name, dim, func, potential, jacobian, velocity_dependent, slot: slot.clone() };
+                PyForce::new(name, dim, func, potential, jacobian, velocity_dependent, inplace, slot.clone());
             engine.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
             user.push(spec.unbind());
         }

@@ -232,7 +232,7 @@ impl World {
         let w = g.flush()?;
         let dt = w.dt();
         let rp = physstep::record::RecordParams { dt, until, every, stages, stop_on_diverge };
-        let (rec, elapsed) = crate::record::run(py, w, rp, Some(&slot))?;
+        let (rec, elapsed) = crate::record::run(py, w, rp, Some(&slot), false)?;
         let d = pyo3::types::PyDict::new(py);
         crate::record::fill(&d, w, rec, elapsed, stages)?;
         Ok(d)

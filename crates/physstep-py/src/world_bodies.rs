@@ -26,7 +26,7 @@ pub(crate) struct BodyLog {
     pub(crate) bodies: Vec<BodyParams>,
     pub(crate) springs: Vec<SpringSpec>,
     /// Python forces at body points: body, point (shape frame), and the force's spec
-    /// `(func, potential, None, velocity_dependent, name)`.
+    /// `(func, potential, None, velocity_dependent, name, inplace)`.
     pub(crate) forces: Vec<(usize, [f64; 3], std::sync::Arc<Py<PyAny>>)>,
 }
 
@@ -40,17 +40,18 @@ fn add_force(
     spec: Py<PyAny>,
     slot: &crate::force::Slot,
 ) -> PyResult<usize> {
-    let (func, potential, jacobian, velocity_dependent, name): crate::pickle::ForceSpec =
+    let (func, potential, jacobian, velocity_dependent, name, inplace): crate::pickle::ForceSpec =
         spec.bind(py).extract()?;
-    let force = crate::force::PyForce {
+    let force = crate::force::PyForce::new(
         name,
-        dim: 3,
+        3,
         func,
         potential,
         jacobian,
         velocity_dependent,
-        slot: slot.clone(),
-    };
+        inplace,
+        slot.clone(),
+    );
     let k = w.add_body_force(body, point, std::sync::Arc::new(force)).map_err(py_err)?;
     log.forces.push((body, point, std::sync::Arc::new(spec)));
     Ok(k)
@@ -256,10 +257,11 @@ impl World {
                 .and_then(|n| n.extract::<String>())
                 .unwrap_or_else(|_| "body force".into()),
         };
-        let spec = (func, potential.as_ref().map(|p| p.bind(py)), py.None(), velocity_dependent, &name)
-            .into_pyobject(py)?
-            .into_any()
-            .unbind();
+        let spec =
+            (func, potential.as_ref().map(|p| p.bind(py)), py.None(), velocity_dependent, &name, false)
+                .into_pyobject(py)?
+                .into_any()
+                .unbind();
         let mut g = self.lock()?;
         g.flush()?;
         let crate::world::Inner { engine, bodies, slot, .. } = &mut *g;
