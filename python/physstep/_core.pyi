@@ -25,7 +25,7 @@ __all__ = [
     "StepError",
     "World",
     "WorldBusyError",
-    "_world_from_parts",
+    "_world_from_scene",
     "angular_forms",
     "method_info",
     "methods",
@@ -216,8 +216,10 @@ def scene_file_text(world: World, title: Any, until: Any = None) -> str:
     if given). ValueError for what a file cannot hold (Python forces and flows, body
     springs, bodies of a world that has stepped)."""
 
-def _world_from_parts(parts: dict[str, Any], snapshot: bytes) -> World:
-    """Rebuilds a World pickled by ``World.__reduce__``."""
+def _world_from_scene(parts: dict[str, Any], snapshot: bytes) -> World:
+    """Rebuilds a World pickled by ``World.__reduce__``: ``parts["scene"]`` (the engine's
+    scene text of it) parsed under ``parts["loop"]``/``parts["substeps"]``, its Python
+    callables added back in order, and ``snapshot`` restored."""
 
 def simulate(
     scene: str,
@@ -314,7 +316,9 @@ class World:
     def __deepcopy__(self, memo: Any) -> World:
         """As ``__copy__``: the engine's data copied, Python callables shared."""
     def __reduce__(self) -> tuple[Any, tuple[dict[str, Any], bytes]]:
-        """Pickles as the world's parts and its snapshot (a lambda force does not pickle)."""
+        """Pickles as the engine's scene text of the world and its snapshot, with its Python
+        callables beside them (a World whose callable does not pickle, a lambda, refuses in
+        one line: pickle.PicklingError)."""
     @property
     def dim(self) -> int:
         """Spatial dimensions (1, 2 or 3)."""
