@@ -6,7 +6,7 @@ once as the built-in forces, once as a Python callable computing the same physic
 numpy, returned (`f(t, x, v) -> G - C * v`) or written in place (`add_force(f,
 inplace=True)`, `f(t, x, v, out)`), and once as the bare numpy expression on an (n, 3)
 array. The Python force's own cost is a step with it minus a step of the same world with no
-force at all. All are measured in the same run (median of repeats); nothing is asserted.
+force at all. All are measured in the same run (median of interleaved repeats); nothing is asserted.
 
 Issue 22's targets, printed as ratios: at 1e5 particles the Python force costs at most 1.3x
 the numpy expression alone; at n = 1, at most 2 us per evaluation.
@@ -53,16 +53,18 @@ def world(n: int, kind: str) -> physstep.World:
     return w
 
 
-def per_eval(n: int, kind: str, steps: int, repeat: int) -> float:
-    """Median seconds per step (one force evaluation each) over `repeat` runs."""
-    times = []
+def per_eval(n: int, kinds: list[str], steps: int, repeat: int) -> dict[str, float]:
+    """Median seconds per step (one force evaluation each) of each kind of world, over
+    `repeat` interleaved rounds (on a loaded machine every kind then sees the same load)."""
+    times: dict[str, list[float]] = {k: [] for k in kinds}
     for _ in range(repeat):
-        w = world(n, kind)
-        w.step(1)
-        t0 = time.perf_counter()
-        w.step(steps)
-        times.append((time.perf_counter() - t0) / steps)
-    return statistics.median(times)
+        for kind in kinds:
+            w = world(n, kind)
+            w.step(1)
+            t0 = time.perf_counter()
+            w.step(steps)
+            times[kind].append((time.perf_counter() - t0) / steps)
+    return {k: statistics.median(v) for k, v in times.items()}
 
 
 def alone(fn: Callable[[], object], calls: int, repeat: int) -> float:
@@ -97,7 +99,7 @@ def main() -> None:
     )
     for n in (1, 1_000, 100_000):
         steps = max(20, (200 if args.quick else 2000) // max(1, n // 1000))
-        t = {k: per_eval(n, k, steps, repeat) for k in ("built-in", "none", "returned", "inplace")}
+        t = per_eval(n, ["built-in", "none", "returned", "inplace"], steps, repeat)
         v = np.random.default_rng(1).random((n, 3))
         out = np.empty_like(v)
         np_ret = alone(lambda v=v: G - C * v, steps, repeat)
