@@ -191,3 +191,19 @@ def test_an_inplace_force_with_a_wrong_return_or_exception_fails_as_before() -> 
     assert w.steps == 0
     with pytest.raises(ValueError, match="invalid inplace"):
         w.add_force(boom, inplace="yes")
+
+
+def test_an_array_reshaped_in_place_by_the_force_is_replaced_not_refilled() -> None:
+    shapes: list[tuple[int, ...]] = []
+
+    def force(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        shapes.append(x.shape)
+        f = -np.array(x)
+        x.shape = (x.size,)  # in place, on the force's own array
+        return f
+
+    w = physstep.World(2, dt=0.1)
+    w.add_particles([[1.0, 0.0], [0.0, 2.0]])
+    w.add_force(force)
+    w.step(3)
+    assert shapes == [(2, 2)] * 4

@@ -118,7 +118,8 @@ impl PyForce {
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let kept = self.lent.try_lock().ok().and_then(|mut l| l.slot(which).take());
         let arr = match kept.map(|a| a.into_bound(py)) {
-            Some(a) if a.shape() == [rows, self.dim] => a,
+            // (Its holder may have reshaped it in place during the call: then a new one.)
+            Some(a) if a.shape() == [rows, self.dim] && a.is_c_contiguous() => a,
             _ => {
                 let a = PyArray2::<f64>::zeros(py, [rows, self.dim], false);
                 if !matches!(which, Which::Out) {
