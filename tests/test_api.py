@@ -217,3 +217,36 @@ def test_add_particle_checks_at_once_and_mixes_with_bulk_adds() -> None:
     with pytest.raises(ValueError, match=r"invalid mass\[5\] = inf: must be finite when n-body"):
         w.add_particle([5.0, 0.0], mass=float("inf"))
     assert len(w) == 5 and w.positions[:, 0].tolist() == [0.0, 1.0, 1.0, 3.0, 4.0]
+
+
+def test_simulate_computes_the_exact_solution_and_kinetic_energy_when_read() -> None:
+    """Issue 22, item 6: a recording pays for the exact solution and the kinetic energy only
+    when they are read; read, they are what an eager recording gives, bit for bit."""
+    import dataclasses
+
+    tr = physstep.simulate("spring", "symplectic-euler", dt=0.01, until=2.0)
+    assert "_exact_x" in vars(tr) and not isinstance(vars(tr)["_exact_x"], np.ndarray)
+    assert not isinstance(vars(tr)["_kinetic"], np.ndarray)
+    # The eager path: the same scene recorded by World.record.
+    eager = physstep.simulate(
+        lambda: physstep.World.from_scene("spring", "symplectic-euler", 0.01), until=2.0
+    )
+    assert isinstance(vars(eager)["_kinetic"], np.ndarray)
+    assert tr.kinetic is not None and eager.kinetic is not None
+    assert tr.kinetic.tobytes() == eager.kinetic.tobytes()
+    assert tr.energy is not None and eager.energy is not None
+    assert tr.energy.tobytes() == eager.energy.tobytes()
+    p = {q["name"]: q["default"] for q in physstep.scene("spring")["params"]}
+    m, k, x0 = p["m"], p["k"], p["x0"]
+    w0 = np.sqrt(k / m)
+    assert tr.exact_x is not None and tr.exact_v is not None
+    assert tr.exact_x.shape == tr.x.shape and tr.exact_v.shape == tr.v.shape
+    np.testing.assert_allclose(tr.exact_x[:, 0], x0 * np.cos(w0 * tr.t), rtol=0, atol=1e-12 * x0)
+    np.testing.assert_allclose(tr.exact_v[:, 0], -x0 * w0 * np.sin(w0 * tr.t), rtol=0, atol=1e-12 * x0)
+    assert tr.exact_x is tr.exact_x  # computed once, then kept
+    assert tr.position_error is not None and tr.position_error.shape == tr.t.shape
+    # A scene without an exact solution says None; replace() and == see the values.
+    assert physstep.simulate("chain", "leapfrog", dt=0.01, until=0.1).exact_x is None
+    twin = dataclasses.replace(tr, method="other")
+    assert twin.exact_x is not None and twin.exact_x.tobytes() == tr.exact_x.tobytes()
+    assert twin.kinetic is not None and twin.kinetic.tobytes() == tr.kinetic.tobytes()

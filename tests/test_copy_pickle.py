@@ -1,5 +1,6 @@
 """A World copies and pickles (issue 8), as pymunk's Space and REBOUND's Simulation do: the
-copy or the unpickled world continues bitwise as the original."""
+copy or the unpickled world continues bitwise as the original. A pickle is the engine's own
+scene text of the world and its snapshot, Python callables beside them (issue 22, item 7)."""
 
 from __future__ import annotations
 
@@ -55,10 +56,83 @@ def test_a_copy_continues_bitwise_as_the_original(how: str) -> None:
         assert twin.state_hash() != w.state_hash()
 
 
-def test_a_lambda_force_does_not_pickle_and_says_so() -> None:
+# --- pickles through the engine's scene text and snapshot (issue 22, item 7) ---------------
+
+
+def _dumps_loads(w: physstep.World) -> physstep.World:
+    return pickle.loads(pickle.dumps(w))
+
+
+def _mesh_world() -> physstep.World:
+    """Bodies (a mesh, whose principal frame is turned), springs on them without a rest
+    length, a particle spring without one, a rope, balls: every kind of part."""
+    w = physstep.World(3, method="velocity-verlet", dt=1 / 120)
+    w.add_particle([0.0, 0.0, 3.0], velocity=[0.1, 0.0, 0.0])
+    w.add_particle([0.5, 0.0, 3.0], static=True)
+    w.add_spring(0, 1, 40.0, damping=0.2)
+    w.add_gravity([0.0, 0.0, -9.81])
+    verts = np.array([[0, 0, 0], [0.4, 0, 0], [0, 0.2, 0], [0, 0, 0.1]], dtype=float) + [0.1, 0.0, 0.0]
+    tris = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    b = w.add_body(
+        physstep.Mesh(verts, tris), density=500.0, position=(1.0, 0.0, 2.0), angular_velocity=(0.5, 1.0, -2.0)
+    )
+    w.add_body_spring(b, (0.3, 0.01, 0.02), [1.2, 0.0, 3.0], 50.0, damping=0.1)
+    w.add_body_spring(b, (-0.1, 0.05, 0.0), 0, 20.0)
+    w.add_rope(0, [0.0, 0.0, 4.0], 2.0)
+    return w
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        _mesh_world,
+        lambda: physstep.World.from_scene("racket"),
+        lambda: physstep.World.from_scene("balls"),
+        lambda: physstep.World.from_scene("cloth", "verlet", 1 / 120),
+        lambda: physstep.World.from_flow(decay, [1.0, 2.0], "rk4", 0.1),
+    ],
+)
+def test_every_world_that_can_be_built_pickles_and_continues_bitwise(make) -> None:
+    w = make()
+    w.step(30)
+    twin = _dumps_loads(w)
+    assert twin.state_hash() == w.state_hash()
+    for _ in range(100):
+        w.step()
+        twin.step()
+        assert twin.state_hash() == w.state_hash()
+
+
+def test_a_spring_without_a_rest_length_pickles() -> None:
+    w = physstep.World(3, dt=1 / 120)
+    w.add_body(physstep.Box(0.2, 0.1, 0.05), mass=1.0, angular_velocity=(0.5, 1.0, -2.0))
+    w.add_particle([0.0, 0.0, 1.0])
+    w.add_body_spring(0, (0.2, 0.0, 0.0), [1.0, 0.0, 0.0], 50.0)
+    w.add_spring(0, [0.0, 0.0, 0.0], 10.0)
+    w.step(5)
+    twin = _dumps_loads(w)
+    w.step(100)
+    twin.step(100)
+    assert twin.state_hash() == w.state_hash()
+
+
+def test_a_pickle_is_the_engines_scene_text_and_snapshot() -> None:
+    w = physstep.World(2, dt=0.01)
+    w.add_particle([1.0, 0.0])
+    w.add_spring(0, [0.0, 0.0], 5.0)
+    w.add_force(wind)
+    parts, snapshot = w.__reduce__()[1]
+    assert "[[springs]]" in parts["scene"] and "rest_length = 1.0" in parts["scene"]
+    assert parts["forces"][0][0] is wind and isinstance(snapshot, bytes)
+
+
+def test_a_python_force_that_does_not_pickle_refuses_in_one_clear_line() -> None:
     w = physstep.World(1)
     w.add_particle([1.0])
-    w.add_force(lambda t, x, v: -x)
-    with pytest.raises((pickle.PicklingError, AttributeError)):
+    w.add_force(lambda t, x, v: -x, name="pull")
+    with pytest.raises(pickle.PicklingError) as info:
         pickle.dumps(w)
+    msg = str(info.value)
+    assert "\n" not in msg
+    assert msg.startswith("this World cannot be pickled: its Python force 0 ('pull') does not pickle")
     assert copy.deepcopy(w).state_hash() == w.state_hash()

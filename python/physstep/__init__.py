@@ -181,13 +181,74 @@ def _system_world(system: Any, method: str | None, dt: float | None) -> tuple[Wo
     return made, name
 
 
+class _Deferred:
+    """A column of a :class:`Trajectory` computed when it is first read: ``rows()`` returns
+    the column(s) it stands for, and ``part`` picks one of a pair (the exact positions and
+    velocities are computed together)."""
+
+    __slots__ = ("_rows", "_part", "_done")
+
+    def __init__(self, rows: Callable[[], Any], part: int | None = None) -> None:
+        self._rows, self._part, self._done = rows, part, None
+
+    def value(self) -> Any:
+        if self._done is None:
+            self._done = (self._rows(),)
+        out = self._done[0]
+        return out if self._part is None else out[self._part]
+
+
+class _Lazy:
+    """A :class:`Trajectory` field whose value may be a :class:`_Deferred`, computed on
+    first read and kept (a dataclass field whose default is this descriptor: the generated
+    ``__init__``, ``repr``, ``==`` and ``dataclasses.replace`` all go through it)."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self._name = "_" + name
+
+    def __get__(self, obj: Any, owner: type | None = None) -> Any:
+        if obj is None:
+            return None  # the field's default
+        v = obj.__dict__.get(self._name)
+        if isinstance(v, _Deferred):
+            v = v.value()
+            obj.__dict__[self._name] = v
+        return v
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        obj.__dict__[self._name] = value
+
+
+def _exact_columns(raw: dict[str, Any]) -> None:
+    """``raw["exact"]`` (the scene's exact solution, or None) as the deferred ``exact_x`` and
+    ``exact_v`` columns at the recorded times."""
+    exact = raw.pop("exact", None)
+    if exact is None:
+        raw["exact_x"] = raw["exact_v"] = None
+        return
+    t = raw["t"]
+    both = _Deferred(lambda: exact.rows(t))
+    raw["exact_x"] = _Deferred(both.value, 0)
+    raw["exact_v"] = _Deferred(both.value, 1)
+
+
+def _kinetic_column(raw: dict[str, Any]) -> None:
+    """``raw["kinetic"]``, when the recording deferred it (a callable), as a deferred
+    column."""
+    k = raw.get("kinetic")
+    if callable(k):
+        raw["kinetic"] = _Deferred(k)
+
+
 @dataclass
 class Trajectory:
     """A recorded run: rows of time, positions, velocities, accelerations and energy.
 
     ``x``, ``v`` and ``a`` have shape (rows, coordinates): coordinate ``p * dim + k`` is axis
     ``k`` of particle ``p``. ``exact_x``/``exact_v`` hold the exact solution at the same
-    times where the scene has one. Where the world has rigid bodies (``kind == "bodies"``),
+    times where the scene has one, and ``kinetic`` the kinetic energy of every row; the
+    three are computed when first read (a run that never reads them does not pay for
+    them). Where the world has rigid bodies (``kind == "bodies"``),
     ``angular_momentum`` (rows, 3) is the total about the origin and ``body_spin``
     (rows, bodies, 3) each body's angular velocity in its principal frame (ascending
     moments), where the tennis-racket flips show. Where the world has balls, ``collisions``
@@ -207,10 +268,10 @@ class Trajectory:
     v: np.ndarray
     a: np.ndarray
     energy: np.ndarray | None
-    kinetic: np.ndarray | None = None
+    kinetic: np.ndarray | None = _Lazy()  # type: ignore[assignment]
     kind: str = "particles"
-    exact_x: np.ndarray | None = None
-    exact_v: np.ndarray | None = None
+    exact_x: np.ndarray | None = _Lazy()  # type: ignore[assignment]
+    exact_v: np.ndarray | None = _Lazy()  # type: ignore[assignment]
     stages: list[tuple[int, str, float, list[float], list[float], list[float]]] | None = None
     diverged: str | None = None
     angular_momentum: np.ndarray | None = None
@@ -304,6 +365,8 @@ def simulate(
         every=every,
         stop_on_diverge=stop_on_diverge,
     )
+    _exact_columns(raw)
+    _kinetic_column(raw)
     return Trajectory(**raw)
 
 
@@ -331,6 +394,7 @@ def _simulate_system(
     if v0 is not None:
         world.velocities = np.asarray(v0, dtype=float).reshape(world.velocities.shape)
     raw = world.record(until, every=every, stop_on_diverge=stop_on_diverge, stages=stages)
+    _kinetic_column(raw)
     return Trajectory(scene=name, params={}, **raw)
 
 

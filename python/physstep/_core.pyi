@@ -25,7 +25,7 @@ __all__ = [
     "StepError",
     "World",
     "WorldBusyError",
-    "_world_from_parts",
+    "_world_from_scene",
     "angular_forms",
     "method_info",
     "methods",
@@ -216,8 +216,10 @@ def scene_file_text(world: World, title: Any, until: Any = None) -> str:
     if given). ValueError for what a file cannot hold (Python forces and flows, body
     springs, bodies of a world that has stepped)."""
 
-def _world_from_parts(parts: dict[str, Any], snapshot: bytes) -> World:
-    """Rebuilds a World pickled by ``World.__reduce__``."""
+def _world_from_scene(parts: dict[str, Any], snapshot: bytes) -> World:
+    """Rebuilds a World pickled by ``World.__reduce__``: ``parts["scene"]`` (the engine's
+    scene text of it) parsed under ``parts["loop"]``/``parts["substeps"]``, its Python
+    callables added back in order, and ``snapshot`` restored."""
 
 def simulate(
     scene: str,
@@ -233,7 +235,9 @@ def simulate(
     stop_on_diverge: bool | None = None,
 ) -> dict[str, Any]:
     """Runs the built-in ``scene`` with ``method`` at step ``dt`` (s) for ``until`` (s) and
-    returns the fields of a ``physstep.Trajectory`` as a dict of numpy arrays.
+    returns the fields of a ``physstep.Trajectory`` as a dict of numpy arrays; its
+    ``exact`` is the scene's exact solution (``exact.rows(t)`` gives ``(exact_x,
+    exact_v)``), computed only when asked, or None.
 
     ``params`` override the scene's parameters; ``x0``/``v0`` (m, m/s; flat or (n, dim))
     replace its initial state; ``every`` records one row in ``every`` steps (default 1);
@@ -312,7 +316,9 @@ class World:
     def __deepcopy__(self, memo: Any) -> World:
         """As ``__copy__``: the engine's data copied, Python callables shared."""
     def __reduce__(self) -> tuple[Any, tuple[dict[str, Any], bytes]]:
-        """Pickles as the world's parts and its snapshot (a lambda force does not pickle)."""
+        """Pickles as the engine's scene text of the world and its snapshot, with its Python
+        callables beside them (a World whose callable does not pickle, a lambda, refuses in
+        one line: pickle.PicklingError)."""
     @property
     def dim(self) -> int:
         """Spatial dimensions (1, 2 or 3)."""
@@ -565,18 +571,23 @@ class World:
 
     def add_force(
         self,
-        func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
+        func: Callable[..., npt.ArrayLike | None],
         *,
         potential: Callable[[npt.NDArray[np.float64]], float] | None = None,
         jacobian: Callable[..., tuple[npt.ArrayLike, npt.ArrayLike]] | None = None,
         velocity_dependent: bool | None = None,
         name: str | None = None,
+        inplace: bool | None = None,
     ) -> int:
-        """Adds a Python force: ``func(t, x, v)`` gets positions and velocities (n, dim) and
-        returns forces (n, dim), N. ``potential(x)`` (J) makes the energy known;
-        ``jacobian(t, x, v)`` returns (dF/dx, dF/dv) for the implicit methods. Returns its
-        index among the user forces; ValueError if an argument is not callable. An exception
-        raised inside propagates unchanged from the step, which is rolled back."""
+        """Adds a Python force: ``func(t, x, v)`` gets positions and velocities (n, dim) as
+        read-only arrays and returns forces (n, dim), N; with ``inplace=True`` it is
+        ``func(t, x, v, out)`` and writes them into ``out`` (n, dim, zeroed), returning None.
+        The arrays are reused from call to call, not allocated (one kept past its call is
+        left to the caller with its values, and replaced). ``potential(x)`` (J) makes the
+        energy known; ``jacobian(t, x, v)`` returns (dF/dx, dF/dv) for the implicit methods.
+        Returns its index among the user forces; ValueError if an argument is not callable.
+        An exception raised inside propagates unchanged from the step, which is rolled
+        back."""
 
     def phase_state(self) -> npt.NDArray[np.float64]:
         """The vector the step map acts on: positions and velocities (flat), then the

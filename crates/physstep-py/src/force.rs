@@ -4,14 +4,62 @@
 //! (never per particle). An exception it raises is kept in the world's slot and re-raised
 //! unchanged once the engine has rolled the step back; a wrong shape or a non-finite force
 //! is the engine's `Error::Force`, a `ValueError` naming the force.
+//!
+//! What the callable is handed, and why it is sound (docs/worlds.md, "Python forces"):
+//!
+//! * `x` and `v` are read-only `(n, dim)` float64 arrays the force owns and refills before
+//!   every call: the engine's positions and velocities are copied into them (one `memcpy` of
+//!   memory already in cache), no fresh allocation. They are not views of the engine's own
+//!   buffers: a method hands a force its stage buffers, which it overwrites and may
+//!   reallocate, so an array over them that the callable kept (a list of past states, a
+//!   closure) would read freed memory later. These arrays are ordinary numpy-owned arrays.
+//! * After the call, an array whose reference count is above the force's own (the callable
+//!   kept it, or a view of it: numpy views hold their base) is left to the callable with
+//!   the values of that call, and the next call makes a new one. So an array is refilled
+//!   only while nothing but this force can see it: a kept `x` never changes under its
+//!   holder ("copy on keep").
+//! * With `inplace=True` the callable is `f(t, x, v, out)`: `out` is a writeable `(n, dim)`
+//!   array, zeroed before each call, that it fills (`np.multiply(v, -c, out=out)`) and the
+//!   result is read from it; returning an array instead still works. Without it the
+//!   callable returns the forces, read in place when they are a C-contiguous float64
+//!   `(n, dim)` array (converted otherwise).
+//! * The arrays are taken out of the force for the call and put back after it, so a
+//!   callable that steps a copy of its own world (which shares this force) gets fresh
+//!   arrays instead of the ones in use.
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{npyffi, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use physstep::forces::ForceGenerator;
 use pyo3::prelude::*;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// Where a Python exception raised inside a step waits to be re-raised.
 pub(crate) type Slot = Arc<Mutex<Option<PyErr>>>;
+
+/// The arrays a Python force hands its callable, kept between calls.
+#[derive(Default)]
+struct Lent {
+    x: Option<Py<PyArray2<f64>>>,
+    v: Option<Py<PyArray2<f64>>>,
+    out: Option<Py<PyArray2<f64>>>,
+}
+
+/// Which array of [`Lent`].
+#[derive(Clone, Copy)]
+enum Which {
+    X,
+    V,
+    Out,
+}
+
+impl Lent {
+    fn slot(&mut self, which: Which) -> &mut Option<Py<PyArray2<f64>>> {
+        match which {
+            Which::X => &mut self.x,
+            Which::V => &mut self.v,
+            Which::Out => &mut self.out,
+        }
+    }
+}
 
 /// A Python force.
 pub(crate) struct PyForce {
@@ -21,47 +69,150 @@ pub(crate) struct PyForce {
     pub potential: Option<Py<PyAny>>,
     pub jacobian: Option<Py<PyAny>>,
     pub velocity_dependent: bool,
+    /// `func(t, x, v, out)` fills `out` (else `func(t, x, v)` returns the forces).
+    pub inplace: bool,
     pub slot: Slot,
+    /// The arrays handed to the callable, reused between calls (`None` while lent out).
+    lent: Mutex<Lent>,
 }
 
 impl PyForce {
-    /// `(n, dim)` numpy copies of a flat slice.
-    fn arr<'py>(&self, py: Python<'py>, v: &[f64]) -> PyResult<Bound<'py, PyAny>> {
-        let n = v.len() / self.dim;
-        Ok(PyArray1::from_slice(py, v).reshape([n, self.dim])?.into_any())
+    /// A Python force; see [`World.add_force`](crate::world::World).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        name: String,
+        dim: usize,
+        func: Py<PyAny>,
+        potential: Option<Py<PyAny>>,
+        jacobian: Option<Py<PyAny>>,
+        velocity_dependent: bool,
+        inplace: bool,
+        slot: Slot,
+    ) -> Self {
+        let lent = Mutex::default();
+        Self { name, dim, func, potential, jacobian, velocity_dependent, inplace, slot, lent }
+    }
+
+    /// The spec the bindings keep to pickle and copy this force:
+    /// `(func, potential, jacobian, velocity_dependent, name, inplace)`.
+    pub(crate) fn spec<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let spec = (
+            self.func.bind(py),
+            self.potential.as_ref().map(|p| p.bind(py)),
+            self.jacobian.as_ref().map(|j| j.bind(py)),
+            self.velocity_dependent,
+            &self.name,
+            self.inplace,
+        );
+        Ok(spec.into_pyobject(py)?.into_any())
+    }
+
+    /// The `(rows, dim)` array `which` for a call, holding `data` (zeros when `None`): the
+    /// kept one when it has that shape, else a new one.
+    fn take<'py>(
+        &self,
+        py: Python<'py>,
+        which: Which,
+        rows: usize,
+        data: Option<&[f64]>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let kept = self.lent.try_lock().ok().and_then(|mut l| l.slot(which).take());
+        let arr = match kept.map(|a| a.into_bound(py)) {
+            // (Its holder may have reshaped it in place during the call: then a new one.)
+            Some(a) if a.shape() == [rows, self.dim] && a.is_c_contiguous() => a,
+            _ => {
+                let a = PyArray2::<f64>::zeros(py, [rows, self.dim], false);
+                if !matches!(which, Which::Out) {
+                    // SAFETY: `a` was just made here and nothing else refers to it; clearing
+                    // the WRITEABLE bit is what `PyArray_CLEARFLAGS` does. (An array that owns
+                    // its memory may be made writeable again by its holder: it then writes
+                    // only this copy, never the engine's state.)
+                    unsafe {
+                        (*npyffi::objects::_PyArray_GET_ITEM_DATA(a.as_array_ptr())).flags &=
+                            !npyffi::NPY_ARRAY_WRITEABLE;
+                    }
+                }
+                a
+            }
+        };
+        // SAFETY: `arr` is either new or was put back by `give_back` when its reference count
+        // was the force's own one alone: no Python object, view or buffer export refers to it
+        // (each would hold a reference), so no one reads it while it is written here, and the
+        // GIL is held. It is a C-contiguous float64 array that owns `rows * dim` values.
+        let dst = unsafe { arr.as_slice_mut() }
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        match data {
+            Some(d) => dst.copy_from_slice(d),
+            None => dst.fill(0.0),
+        }
+        Ok(arr)
+    }
+
+    /// After a call: `arr` is kept for the next call unless the callable kept a reference to
+    /// it (then it is the callable's, with the values it had, and the next call makes a new
+    /// one).
+    fn give_back(&self, which: Which, arr: Bound<'_, PyArray2<f64>>) {
+        // SAFETY: `arr` is a live object (we hold it) and the GIL is held. One reference:
+        // `arr` itself.
+        if unsafe { pyo3::ffi::Py_REFCNT(arr.as_ptr()) } == 1 {
+            if let Ok(mut l) = self.lent.try_lock() {
+                let slot = l.slot(which);
+                if slot.is_none() {
+                    *slot = Some(arr.unbind());
+                }
+            }
+        }
     }
 
     /// Keeps `e` for the caller of the step; returns a message for the engine.
     fn keep(&self, py: Python<'_>, e: PyErr) -> String {
-        let msg = format!("raised {}", e.value(py));
-        let mut slot = self.slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        if slot.is_none() {
-            *slot = Some(e);
-        }
-        msg
+        keep(&self.slot, py, e)
     }
 
-    /// A `(rows, cols)` float array from `out`, or a message naming what is wrong.
-    fn matrix(
-        &self,
+    /// Adds the `(rows, cols)` float array `out` to `acc`, or says what is wrong with it.
+    fn add_matrix(
         out: &Bound<'_, PyAny>,
         what: &str,
         rows: usize,
         cols: usize,
-    ) -> Result<Vec<f64>, String> {
+        acc: &mut [f64],
+    ) -> Result<(), String> {
+        let bad_shape =
+            |a: &Bound<'_, PyAny>| format!("{what} must have shape ({rows}, {cols}), not {}", shape(a));
+        // The common case, read in place: a C-contiguous float64 array of the right shape.
+        if let Ok(a) = out.cast::<PyArray2<f64>>() {
+            if a.shape() == [rows, cols] {
+                if let Ok(r) = a.try_readonly() {
+                    if let Ok(s) = r.as_slice() {
+                        acc.iter_mut().zip(s).for_each(|(d, g)| *d += g);
+                        return Ok(());
+                    }
+                }
+            }
+        }
         let py = out.py();
         let arr = py
             .import("numpy")
-            .and_then(|np| np.call_method1("asarray", (out, "float64")))
+            .and_then(|np| np.call_method1("ascontiguousarray", (out, "float64")))
             .map_err(|_| format!("{what} must be an array of numbers of shape ({rows}, {cols})"))?;
-        let a: PyReadonlyArray2<'_, f64> = arr
-            .extract()
-            .map_err(|_| format!("{what} must have shape ({rows}, {cols}), not {}", shape(&arr)))?;
+        let a: PyReadonlyArray2<'_, f64> = arr.extract().map_err(|_| bad_shape(&arr))?;
         if a.shape() != [rows, cols] {
-            return Err(format!("{what} must have shape ({rows}, {cols}), not {}", shape(&arr)));
+            return Err(bad_shape(&arr));
         }
-        Ok(a.as_array().iter().copied().collect())
+        acc.iter_mut().zip(a.as_array().iter()).for_each(|(d, g)| *d += g);
+        Ok(())
     }
+}
+
+/// Keeps `e` in `slot` (the first one wins) for the caller of the step; returns a message
+/// for the engine.
+fn keep(slot: &Slot, py: Python<'_>, e: PyErr) -> String {
+    let msg = format!("raised {}", e.value(py));
+    let mut slot = slot.lock().unwrap_or_else(PoisonError::into_inner);
+    if slot.is_none() {
+        *slot = Some(e);
+    }
+    msg
 }
 
 fn shape(a: &Bound<'_, PyAny>) -> String {
@@ -75,17 +226,32 @@ impl ForceGenerator for PyForce {
 
     fn add_forces(&self, t: f64, x: &[f64], v: &[f64], f: &mut [f64]) -> Result<(), String> {
         Python::attach(|py| {
-            let call = || -> PyResult<Bound<'_, PyAny>> {
-                self.func.bind(py).call1((t, self.arr(py, x)?, self.arr(py, v)?))
-            };
-            let out = call().map_err(|e| self.keep(py, e))?;
             let n = x.len() / self.dim;
-            let forces = self.matrix(&out, "the returned force", n, self.dim)?;
-            // (The engine checks the sum for NaN and infinity, and names the entry.)
-            for (fi, gi) in f.iter_mut().zip(&forces) {
-                *fi += gi;
+            let lent = (|| -> PyResult<_> {
+                let xa = self.take(py, Which::X, n, Some(x))?;
+                let va = self.take(py, Which::V, n, Some(v))?;
+                let out = if self.inplace { Some(self.take(py, Which::Out, n, None)?) } else { None };
+                Ok((xa, va, out))
+            })();
+            let (xa, va, out) = lent.map_err(|e| self.keep(py, e))?;
+            let r = match &out {
+                Some(o) => self.func.bind(py).call1((t, &xa, &va, o)),
+                None => self.func.bind(py).call1((t, &xa, &va)),
+            };
+            self.give_back(Which::X, xa);
+            self.give_back(Which::V, va);
+            let r = r.map_err(|e| self.keep(py, e)).and_then(|ret| match &out {
+                Some(o) if ret.is_none() || ret.is(o) => {
+                    drop(ret);
+                    Self::add_matrix(o.as_any(), "the force written to out", n, self.dim, f)
+                }
+                _ => Self::add_matrix(&ret, "the returned force", n, self.dim, f),
+            });
+            if let Some(o) = out {
+                self.give_back(Which::Out, o);
             }
-            Ok(())
+            // (The engine checks the sum for NaN and infinity, and names the entry.)
+            r
         })
     }
 
@@ -96,7 +262,11 @@ impl ForceGenerator for PyForce {
     fn potential(&self, x: &[f64]) -> Option<f64> {
         let p = self.potential.as_ref()?;
         Python::attach(|py| {
-            let r = self.arr(py, x).and_then(|xa| p.bind(py).call1((xa,))).and_then(|u| u.extract::<f64>());
+            let r = self.take(py, Which::X, x.len() / self.dim, Some(x)).and_then(|xa| {
+                let u = p.bind(py).call1((&xa,));
+                self.give_back(Which::X, xa);
+                u?.extract::<f64>()
+            });
             match r {
                 Ok(u) if u.is_finite() => Some(u),
                 Ok(_) => None,
@@ -112,8 +282,14 @@ impl ForceGenerator for PyForce {
         let Some(jac) = self.jacobian.as_ref() else { return false };
         Python::attach(|py| {
             let n = x.len();
+            let rows = n / self.dim;
             let r = (|| -> PyResult<Bound<'_, PyAny>> {
-                jac.bind(py).call1((t, self.arr(py, x)?, self.arr(py, v)?))
+                let xa = self.take(py, Which::X, rows, Some(x))?;
+                let va = self.take(py, Which::V, rows, Some(v))?;
+                let r = jac.bind(py).call1((t, &xa, &va));
+                self.give_back(Which::X, xa);
+                self.give_back(Which::V, va);
+                r
             })();
             let out = match r {
                 Ok(o) => o,
@@ -124,8 +300,10 @@ impl ForceGenerator for PyForce {
             };
             let pair: Result<(Bound<'_, PyAny>, Bound<'_, PyAny>), _> = out.extract();
             let Ok((jx, jv)) = pair else { return false };
-            match (self.matrix(&jx, "dF/dx", n, n), self.matrix(&jv, "dF/dv", n, n)) {
-                (Ok(a), Ok(b)) if a.iter().chain(&b).all(|c| c.is_finite()) => {
+            let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
+            match (Self::add_matrix(&jx, "dF/dx", n, n, &mut a), Self::add_matrix(&jv, "dF/dv", n, n, &mut b))
+            {
+                (Ok(()), Ok(())) if a.iter().chain(&b).all(|c| c.is_finite()) => {
                     dfdx.iter_mut().zip(&a).for_each(|(d, s)| *d += s);
                     dfdv.iter_mut().zip(&b).for_each(|(d, s)| *d += s);
                     true
@@ -146,12 +324,7 @@ pub(crate) struct PyFlow {
 
 impl PyFlow {
     fn keep(&self, py: Python<'_>, e: PyErr) -> String {
-        let msg = format!("raised {}", e.value(py));
-        let mut slot = self.slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        if slot.is_none() {
-            *slot = Some(e);
-        }
-        msg
+        keep(&self.slot, py, e)
     }
 
     /// A flat float vector of length `n` from `out`, or a message naming what is wrong.

@@ -46,7 +46,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::MassProperties>()?;
     m.add_function(wrap_pyfunction!(world_bodies::orientation_rules, m)?)?;
     m.add_function(wrap_pyfunction!(world_bodies::angular_forms, m)?)?;
-    m.add_function(wrap_pyfunction!(pickle::_world_from_parts, m)?)?;
+    m.add_function(wrap_pyfunction!(pickle::_world_from_scene, m)?)?;
     errors::register(m)?;
     Ok(())
 }

@@ -1,213 +1,145 @@
-//! Copies and pickles of a `World`: a copy clones the engine (user forces shared, as
-//! functions are); a pickle is the world's parts (settings, particles, forces, flow) and its
-//! snapshot, rebuilt by `_world_from_parts`. Python forces and flows pickle as their
-//! callables do (a lambda does not).
+//! Copies and pickles of a `World`. A copy clones the engine (Python callables shared, as
+//! functions are). A pickle is the engine's own: the world's structure as scene text
+//! (`physstep::scenes::file::structure`: every part a world can hold but its code) and its
+//! snapshot, with the Python callables the engine cannot hold beside them (forces, forces at
+//! body points, a flow), pickled as Python pickles functions. `_world_from_scene` parses the
+//! text, adds the callables back in order and restores the snapshot, so the copy continues
+//! bitwise. The bindings keep no record of what was added: the engine is asked.
+//!
+//! The pickled `parts` are a dict: `scene` (the text), `loop` and `substeps` (the loop
+//! variant to rebuild under: the text's own unless changed, as the demos do to switch a
+//! world's loop), `forces` (the Python forces' specs), `body_forces` (`(body, point, spec)`)
+//! and `flow` (a Python flow's spec, or None).
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
 use crate::py_err;
-use crate::world::{raise, World};
-use physstep::clock::{ClockParams, LoopMode};
+use crate::world::{raise, Inner, World};
+use physstep::clock::LoopMode;
 use physstep::flows::Flow;
-use physstep::forces::{Endpoint, Force};
 use physstep::world::{World as Engine, WorldParams};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
-
-pub(crate) fn end(py: Python<'_>, j: Endpoint, dim: usize) -> PyResult<Py<PyAny>> {
-    Ok(match j {
-        Endpoint::Particle(j) => j.into_pyobject(py)?.into_any().unbind(),
-        Endpoint::Anchor(p) => PyList::new(py, &p[..dim])?.into_any().unbind(),
-    })
-}
-
-pub(crate) fn parse_end(o: &Bound<'_, PyAny>) -> PyResult<Endpoint> {
-    if let Ok(j) = o.extract::<usize>() {
-        return Ok(Endpoint::Particle(j));
-    }
-    let v: Vec<f64> = o.extract()?;
-    let mut p = [0.0; 3];
-    p[..v.len().min(3)].copy_from_slice(&v[..v.len().min(3)]);
-    Ok(Endpoint::Anchor(p))
-}
-
-fn v3(v: Vec<f64>) -> [f64; 3] {
-    let mut p = [0.0; 3];
-    p[..v.len().min(3)].copy_from_slice(&v[..v.len().min(3)]);
-    p
-}
-
-/// The parts of `w` as plain Python data; `user` are the Python forces' specs, `flow` a
-/// Python flow's spec.
-pub(crate) fn parts<'py>(
-    py: Python<'py>,
-    w: &Engine,
-    user: &[Py<PyAny>],
-    flow: Option<&Py<PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let dim = w.dim();
-    let c: &ClockParams = w.clock().params();
-    d.set_item("dim", dim)?;
-    d.set_item("method", w.integrator().info().name)?;
-    d.set_item("dt", c.dt)?;
-    d.set_item("max_steps_per_frame", c.max_steps_per_frame)?;
-    d.set_item("max_frame_time", c.max_frame_time)?;
-    d.set_item("loop", c.mode.name())?;
-    d.set_item("substeps", if let LoopMode::StepsPerFrame(n) = c.mode { n } else { 1 })?;
-    d.set_item("masses", w.model().mass().to_vec())?;
-    d.set_item("static", w.model().inv_mass().iter().map(|m| *m == 0.0).collect::<Vec<_>>())?;
-    d.set_item("positions", w.positions().to_vec())?;
-    let forces = PyList::empty(py);
-    for f in w.model().forces().iter() {
-        let item: Bound<'_, PyTuple> = match *f {
-            Force::Gravity { g } => ("gravity", g[..dim].to_vec()).into_pyobject(py)?,
-            Force::Spring { i, j, stiffness, rest_length, damping } => {
-                ("spring", i, end(py, j, dim)?, stiffness, rest_length, damping).into_pyobject(py)?
-            }
-            Force::Drag { linear, quadratic } => ("drag", linear, quadratic).into_pyobject(py)?,
-            Force::CentralGravity { center, gm } => {
-                ("central", center[..dim].to_vec(), gm).into_pyobject(py)?
-            }
-            Force::NBody { g, softening } => ("nbody", g, softening).into_pyobject(py)?,
-            Force::Rod { i, j, length } => ("rod", i, end(py, j, dim)?, length).into_pyobject(py)?,
-        };
-        forces.append(item)?;
-    }
-    d.set_item("forces", forces)?;
-    d.set_item("user_forces", PyList::new(py, user.iter().map(|u| u.bind(py)))?)?;
-    let flow_item: Option<Bound<'_, PyAny>> = match (w.flow(), flow) {
-        (_, Some(spec)) => Some(("user", spec.bind(py)).into_pyobject(py)?.into_any()),
-        (Some(Flow::Lorenz { sigma, rho, beta }), None) => {
-            Some(("lorenz", *sigma, *rho, *beta).into_pyobject(py)?.into_any())
-        }
-        (Some(Flow::Rossler { a, b, c }), None) => {
-            Some(("rossler", *a, *b, *c).into_pyobject(py)?.into_any())
-        }
-        (Some(Flow::Thomas { b }), None) => Some(("thomas", *b).into_pyobject(py)?.into_any()),
-        (Some(Flow::User { .. }), None) => {
-            return Err(PyValueError::new_err("this World's flow is not a Python one: it cannot be pickled"))
-        }
-        (None, None) => None,
-    };
-    d.set_item("flow", flow_item)?;
-    d.set_item("balls", crate::world_balls::parts(py, w)?)?;
-    Ok(d)
-}
-
-/// Rebuilds the engine from `parts` (without its Python forces, which the caller adds);
-/// `flow` is the world's flow, rebuilt by the caller (`n` its length).
-pub(crate) fn engine(parts: &Bound<'_, PyDict>, flow: Option<(Flow, usize)>) -> PyResult<Engine> {
-    let get = |k: &str| -> PyResult<Bound<'_, PyAny>> {
-        parts.get_item(k)?.ok_or_else(|| PyValueError::new_err(format!("invalid parts: no '{k}'")))
-    };
-    let substeps: u32 = get("substeps")?.extract()?;
-    let params = WorldParams {
-        dim: get("dim")?.extract()?,
-        method: text(&get("method")?, "method")?,
-        dt: get("dt")?.extract()?,
-        mode: LoopMode::from_name(&text(&get("loop")?, "loop")?, substeps).map_err(py_err)?,
-        max_steps_per_frame: get("max_steps_per_frame")?.extract()?,
-        max_frame_time: get("max_frame_time")?.extract()?,
-        ..WorldParams::default()
-    };
-    if let Some((flow, n)) = flow {
-        return Engine::with_flow(flow, &vec![0.0; n], params).map_err(py_err);
-    }
-    let masses: Vec<f64> = get("masses")?.extract()?;
-    let fixed: Vec<bool> = get("static")?.extract()?;
-    let x: Vec<f64> = get("positions")?.extract()?;
-    let mut w = Engine::new(params).map_err(py_err)?;
-    let d = w.dim();
-    for (p, (m, s)) in masses.iter().zip(&fixed).enumerate() {
-        w.add_particle(&x[p * d..(p + 1) * d], &vec![0.0; d], *m, *s).map_err(py_err)?;
-    }
-    for f in get("forces")?.try_iter()? {
-        let f = f?;
-        let kind: String = f.get_item(0)?.extract()?;
-        let a = |k: usize| f.get_item(k);
-        let force = match kind.as_str() {
-            "gravity" => Force::Gravity { g: v3(a(1)?.extract()?) },
-            "spring" => Force::Spring {
-                i: a(1)?.extract()?,
-                j: parse_end(&a(2)?)?,
-                stiffness: a(3)?.extract()?,
-                rest_length: a(4)?.extract()?,
-                damping: a(5)?.extract()?,
-            },
-            "drag" => Force::Drag { linear: a(1)?.extract()?, quadratic: a(2)?.extract()? },
-            "central" => Force::CentralGravity { center: v3(a(1)?.extract()?), gm: a(2)?.extract()? },
-            "nbody" => Force::NBody { g: a(1)?.extract()?, softening: a(2)?.extract()? },
-            "rod" => Force::Rod { i: a(1)?.extract()?, j: parse_end(&a(2)?)?, length: a(3)?.extract()? },
-            other => return Err(PyValueError::new_err(format!("invalid parts: unknown force '{other}'"))),
-        };
-        w.add_force(force).map_err(py_err)?;
-    }
-    crate::world_balls::rebuild(&mut w, parts.get_item("balls")?)?;
-    Ok(w)
-}
-
-/// The built-in flow in `parts`, if any: `(flow, length)`.
-pub(crate) fn builtin_flow(item: &Bound<'_, PyAny>) -> PyResult<Option<(Flow, usize)>> {
-    let kind: String = item.get_item(0)?.extract()?;
-    let a = |k: usize| -> PyResult<f64> { item.get_item(k)?.extract() };
-    Ok(match kind.as_str() {
-        "lorenz" => Some((Flow::Lorenz { sigma: a(1)?, rho: a(2)?, beta: a(3)? }, 3)),
-        "rossler" => Some((Flow::Rossler { a: a(1)?, b: a(2)?, c: a(3)? }, 3)),
-        "thomas" => Some((Flow::Thomas { b: a(1)? }, 3)),
-        _ => None,
-    })
-}
+use pyo3::types::{PyBytes, PyDict, PyList};
 
 /// What `__reduce__` returns: the rebuilding function and its arguments.
 pub(crate) type Reduce<'py> = (Bound<'py, PyAny>, (Bound<'py, PyAny>, Bound<'py, PyAny>));
 
-/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name.
-pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String);
+/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name,
+/// inplace.
+pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String, bool);
+
+/// `World.__reduce__` of a flushed world.
+pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
+    let w = &g.engine;
+    let scene = physstep::scenes::file::structure(w).map_err(py_err)?;
+    let d = PyDict::new(py);
+    d.set_item("scene", scene)?;
+    let mode = w.clock().params().mode;
+    d.set_item("loop", mode.name())?;
+    d.set_item("substeps", if let LoopMode::StepsPerFrame(n) = mode { n } else { 1 })?;
+    let forces = PyList::new(py, g.user.iter().map(|u| u.bind(py)))?;
+    let body_forces = PyList::empty(py);
+    for (body, point, spec) in &g.body_forces {
+        body_forces.append((*body, point.to_vec(), spec.bind(py)))?;
+    }
+    if let (Some(Flow::User { .. }), None) = (w.flow(), &g.flow) {
+        return Err(PyValueError::new_err("this World's flow is not a Python one: it cannot be pickled"));
+    }
+    // A callable that does not pickle (a lambda, a closure) is named here in one line, not
+    // deep inside pickle's traceback.
+    let pickle = py.import("pickle")?;
+    let (dumps, refused) = (pickle.getattr("dumps")?, pickle.getattr("PicklingError")?);
+    let check = |what: String, spec: &Bound<'py, PyAny>| -> PyResult<()> {
+        dumps.call1((spec,)).map(|_| ()).map_err(|e| {
+            let msg = format!(
+                "this World cannot be pickled: its {what} does not pickle ({}); define it at module \
+                 level, or copy the World instead (copy.copy)",
+                physstep::error::one_line(&e.value(py).to_string())
+            );
+            refused.call1((msg,)).map_or_else(|e| e, PyErr::from_value)
+        })
+    };
+    for (k, spec) in forces.iter().enumerate() {
+        let name: String = spec.get_item(4)?.extract()?;
+        check(format!("Python force {k} ('{name}')"), &spec)?;
+    }
+    for (k, item) in body_forces.iter().enumerate() {
+        let name: String = item.get_item(2)?.get_item(4)?.extract()?;
+        check(format!("Python force {k} at a body point ('{name}')"), &item)?;
+    }
+    if let Some(f) = &g.flow {
+        check("Python flow".into(), f.bind(py))?;
+    }
+    d.set_item("forces", forces)?;
+    d.set_item("body_forces", body_forces)?;
+    d.set_item("flow", g.flow.as_ref().map(|f| f.bind(py)))?;
+    let rebuild = py.import("physstep._core")?.getattr("_world_from_scene")?;
+    Ok((rebuild, (d.into_any(), PyBytes::new(py, &w.snapshot()).into_any())))
+}
 
 /// Rebuilds a World pickled by `World.__reduce__`.
 #[pyfunction]
-pub(crate) fn _world_from_parts(
+pub(crate) fn _world_from_scene(
     py: Python<'_>,
-    parts: &Bound<'_, pyo3::types::PyDict>,
+    parts: &Bound<'_, PyDict>,
     snapshot: &Bound<'_, PyAny>,
 ) -> PyResult<World> {
-    let slot = Slot::default();
-    let flow_item = parts.get_item("flow")?.filter(|f| !f.is_none());
-    let (flow, flow_spec) = match &flow_item {
-        None => (None, None),
-        Some(item) => match crate::pickle::builtin_flow(item)? {
-            Some(f) => (Some(f), None),
-            None => {
-                let spec = item.get_item(1)?;
-                let (func, jacobian, name, n): (Py<PyAny>, Option<Py<PyAny>>, String, usize) =
-                    spec.extract()?;
-                let generator = crate::force::PyFlow { name, func, jacobian, slot: slot.clone() };
-                let flow = physstep::flows::Flow::User { n, generator: std::sync::Arc::new(generator) };
-                (Some((flow, n)), Some(spec.unbind()))
-            }
-        },
+    let get = |k: &str| -> PyResult<Bound<'_, PyAny>> {
+        parts.get_item(k)?.ok_or_else(|| PyValueError::new_err(format!("invalid parts: no '{k}'")))
     };
-    let mut engine = crate::pickle::engine(parts, flow)?;
+    let scene = text(&get("scene")?, "scene")?;
+    let mode =
+        LoopMode::from_name(&text(&get("loop")?, "loop")?, get("substeps")?.extract()?).map_err(py_err)?;
+    let mut engine =
+        physstep::scenes::file::parse_with_loop(&scene, "a pickled World", mode).map_err(py_err)?.world;
+    let slot = Slot::default();
+    let flow = get("flow")?;
+    let flow_spec = if flow.is_none() {
+        None
+    } else {
+        let (func, jacobian, name, n): (Py<PyAny>, Option<Py<PyAny>>, String, usize) = flow.extract()?;
+        let c = engine.clock().params();
+        let params = WorldParams {
+            dim: engine.dim(),
+            method: engine.integrator().info().name.to_string(),
+            dt: engine.dt(),
+            mode,
+            max_steps_per_frame: c.max_steps_per_frame,
+            max_frame_time: c.max_frame_time,
+            ..WorldParams::default()
+        };
+        let generator = crate::force::PyFlow { name, func, jacobian, slot: slot.clone() };
+        let user_flow = Flow::User { n, generator: std::sync::Arc::new(generator) };
+        engine = Engine::with_flow(user_flow, &vec![0.0; n], params).map_err(py_err)?;
+        Some(flow.clone().unbind())
+    };
     let mut user = Vec::new();
-    if let Some(list) = parts.get_item("user_forces")? {
-        for spec in list.try_iter()? {
-            let spec = spec?;
-            let (func, potential, jacobian, velocity_dependent, name): ForceSpec = spec.extract()?;
-            let dim = engine.dim();
-            let force =
-                PyForce { name, dim, func, potential, jacobian, velocity_dependent, slot: slot.clone() };
-            engine.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
-            user.push(spec.unbind());
-        }
+    for spec in get("forces")?.try_iter()? {
+        let spec = spec?;
+        let (func, potential, jacobian, velocity_dependent, name, inplace): ForceSpec = spec.extract()?;
+        let force = PyForce::new(
+            name,
+            engine.dim(),
+            func,
+            potential,
+            jacobian,
+            velocity_dependent,
+            inplace,
+            slot.clone(),
+        );
+        engine.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
+        user.push(spec.unbind());
     }
-    let mut bodies = crate::world_bodies::BodyLog::default();
-    crate::world_bodies::rebuild(&mut engine, &mut bodies, parts, &slot)?;
-    crate::world_constraints::rebuild(&mut engine, parts)?;
+    let mut body_forces = Vec::new();
+    for item in get("body_forces")?.try_iter()? {
+        let item = item?;
+        let (body, point): (usize, [f64; 3]) = (item.get_item(0)?.extract()?, item.get_item(1)?.extract()?);
+        let spec = item.get_item(2)?.unbind();
+        crate::world_bodies::add_force(py, &mut engine, &mut body_forces, body, point, spec, &slot)?;
+    }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
-    let _ = py;
     let world = World::with_parts(engine, slot, user, flow_spec);
-    world.lock()?.bodies = bodies;
+    world.lock()?.body_forces = body_forces;
     Ok(world)
 }

@@ -52,7 +52,7 @@ pub(crate) fn simulate<'py>(
         w.set_velocities(&v0).map_err(py_err)?;
     }
     let rp = RecordParams { dt, until, every, stages, stop_on_diverge };
-    let (rec, elapsed) = run(py, w, rp, None)?;
+    let (rec, elapsed) = run(py, w, rp, None, true)?;
     let d = PyDict::new(py);
     d.set_item("scene", built.spec.name)?;
     let params_out = PyDict::new(py);
@@ -60,31 +60,60 @@ pub(crate) fn simulate<'py>(
         params_out.set_item(p.name, *v)?;
     }
     d.set_item("params", params_out)?;
-    if let Some((ex, ev)) = built.exact_rows(&rec.t) {
-        d.set_item("exact_x", matrix(py, ex, n)?)?;
-        d.set_item("exact_v", matrix(py, ev, n)?)?;
-    } else {
-        d.set_item("exact_x", py.None())?;
-        d.set_item("exact_v", py.None())?;
-    }
+    let exact_known = built.exact_rows(&[]).is_some();
     fill(&d, &built.world, rec, elapsed, stages)?;
+    // The exact solution is computed when it is read (`Trajectory.exact_x`): a sine and a
+    // cosine per row are a fair part of a recording of the spring.
+    if exact_known {
+        built.world = physstep::world::World::new(physstep::world::WorldParams::default()).map_err(py_err)?;
+        d.set_item("exact", ExactSolution { scene: std::sync::Mutex::new(built), n })?;
+    } else {
+        d.set_item("exact", py.None())?;
+    }
     Ok(d)
+}
+
+/// A `(rows, cols)` float array handed to Python.
+type Matrix<'py> = Bound<'py, numpy::PyArray2<f64>>;
+
+/// A built-in scene's exact solution, kept by `simulate`'s result until it is read.
+#[pyclass(module = "physstep._core", frozen)]
+pub(crate) struct ExactSolution {
+    /// The scene (its world emptied: only its exact solution is used).
+    scene: std::sync::Mutex<physstep::scenes::Scene>,
+    /// Coordinates per row.
+    n: usize,
+}
+
+#[pymethods]
+impl ExactSolution {
+    /// `(exact_x, exact_v)` at times `t`, each `(len(t), coordinates)`.
+    fn rows<'py>(&self, py: Python<'py>, t: &Bound<'py, PyAny>) -> PyResult<(Matrix<'py>, Matrix<'py>)> {
+        let t = array(t, "t", None, None)?;
+        let scene = self.scene.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let (ex, ev) = scene.exact_rows(&t).unwrap_or_default();
+        Ok((matrix(py, ex, self.n)?, matrix(py, ev, self.n)?))
+    }
 }
 
 /// Records `w` as `rp` says, in slices without the GIL (other Python threads run meanwhile)
 /// with a look for Ctrl-C between them; returns the recording and the stepping time, ns.
-/// A Python exception kept in `slot` by a user force comes first, unchanged.
+/// A Python exception kept in `slot` by a user force comes first, unchanged. With
+/// `defer_kinetic` the kinetic energies of a world of particles are left for [`fill`] to
+/// hand out as a column computed when read.
 pub(crate) fn run(
     py: Python<'_>,
     w: &mut physstep::world::World,
     rp: RecordParams,
     slot: Option<&crate::force::Slot>,
+    defer_kinetic: bool,
 ) -> PyResult<(Recording, u64)> {
     let fail = |e: physstep::Error| match slot {
         Some(s) => crate::world::raise(s, e),
         None => py_err(e),
     };
-    let mut recorder = Recorder::new(w, rp).map_err(fail)?;
+    let recorder = if defer_kinetic { Recorder::deferring_kinetic(w, rp) } else { Recorder::new(w, rp) };
+    let mut recorder = recorder.map_err(fail)?;
     // Steps between looks at the clock: up to 4096 for a small world (a call's set-up is a
     // fair part of a cheap step), at least 64; 64 with Python forces (slow steps).
     let coords = w.positions().len().max(1) as u64;
@@ -164,7 +193,8 @@ pub(crate) fn fill(
     d.set_item("kind", kind)?;
     d.set_item("t", numpy::PyArray1::from_vec(py, rec.t))?;
     d.set_item("x", table(py, rec.x, rows, n)?)?;
-    d.set_item("v", table(py, rec.v, rows, n)?)?;
+    let v = table(py, rec.v, rows, n)?;
+    d.set_item("v", &v)?;
     if is_flow {
         // A flow has a state and its derivative (`x`, `v` here), no accelerations.
         d.set_item("a", table(py, Vec::new(), rows, 0)?)?;
@@ -185,7 +215,13 @@ pub(crate) fn fill(
     } else {
         d.set_item("energy", py.None())?;
     }
-    d.set_item("kinetic", numpy::PyArray1::from_vec(py, rec.kinetic))?;
+    if rec.kinetic.len() == rows {
+        d.set_item("kinetic", numpy::PyArray1::from_vec(py, rec.kinetic))?;
+    } else {
+        // Deferred by the recorder (a world of particles): computed if it is read.
+        let model = std::sync::Mutex::new(w.model().clone());
+        d.set_item("kinetic", KineticRows { model, v: v.unbind() })?;
+    }
     if stages {
         let list = PyList::empty(py);
         for (k, stage, t, x, v, a) in rec.stages {
@@ -221,4 +257,35 @@ fn initial(o: &Bound<'_, PyAny>, field: &str, n: usize) -> PyResult<Vec<f64>> {
         )));
     }
     Ok(v)
+}
+
+/// The kinetic energy of every row of a recording of particles, computed when called (the
+/// `kinetic` a recording deferred): [`physstep::world::Model::kinetic`] of each velocity row,
+/// the bits the recording would have kept.
+#[pyclass(module = "physstep._core", frozen)]
+pub(crate) struct KineticRows {
+    /// The world's masses (its force model, of which only the masses are used).
+    model: std::sync::Mutex<physstep::world::Model>,
+    /// The recorded velocities, (rows, coordinates).
+    v: Py<numpy::PyArray2<f64>>,
+}
+
+#[pymethods]
+impl KineticRows {
+    /// The column, J, (rows,).
+    fn __call__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        use numpy::{PyArrayMethods, PyUntypedArrayMethods};
+        let v = self
+            .v
+            .bind(py)
+            .try_readonly()
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        let cols = v.shape()[1];
+        let model = self.model.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let k: Vec<f64> = match v.as_slice() {
+            Ok(s) if cols > 0 => s.chunks_exact(cols).map(|row| model.kinetic(row)).collect(),
+            _ => v.as_array().rows().into_iter().map(|row| model.kinetic(&row.to_vec())).collect(),
+        };
+        Ok(numpy::PyArray1::from_vec(py, k))
+    }
 }

@@ -12,11 +12,7 @@ use pyo3::prelude::*;
 pub(crate) fn read_scene(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<(World, Option<f64>)> {
     let path = text(path, "path")?;
     let loaded = py.detach(|| physstep::scenes::file::load(std::path::Path::new(&path))).map_err(py_err)?;
-    let bodies = loaded.world.body_params().to_vec();
-    let world = World::wrap(loaded.world);
-    // The bodies as added, so that a pickle or a copy rebuilds them.
-    world.lock()?.bodies.bodies = bodies;
-    Ok((world, loaded.until))
+    Ok((World::wrap(loaded.world), loaded.until))
 }
 
 /// `world` as the text of a scene file (`title` in its first comment line, `until` if

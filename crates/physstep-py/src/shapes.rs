@@ -32,18 +32,6 @@ fn make<T: pyo3::PyClass<BaseType = Shape>>(shape: Engine, sub: T) -> PyResult<P
     Ok(PyClassInitializer::from(Shape(shape)).add_subclass(sub))
 }
 
-/// The Python shape of an engine shape (for pickles of a World).
-pub(crate) fn to_py<'py>(py: Python<'py>, shape: &Engine) -> PyResult<Bound<'py, PyAny>> {
-    let base = PyClassInitializer::from(Shape(shape.clone()));
-    Ok(match shape {
-        Engine::Sphere { .. } => Bound::new(py, base.add_subclass(Sphere))?.into_any(),
-        Engine::Box { .. } => Bound::new(py, base.add_subclass(BoxShape))?.into_any(),
-        Engine::Cylinder { .. } => Bound::new(py, base.add_subclass(Cylinder))?.into_any(),
-        Engine::Capsule { .. } => Bound::new(py, base.add_subclass(Capsule))?.into_any(),
-        Engine::Mesh { .. } => Bound::new(py, base.add_subclass(Mesh))?.into_any(),
-    })
-}
-
 /// The engine shape of a Python one, or a ValueError naming `field`.
 pub(crate) fn from_py(o: &Bound<'_, PyAny>, field: &str) -> PyResult<Engine> {
     match o.cast::<Shape>() {

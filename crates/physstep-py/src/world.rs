@@ -14,7 +14,6 @@ use crate::record::SLICE;
 use physstep::clock::LoopMode;
 use physstep::world::{ParticleBatch, World as Engine, WorldParams};
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
 use std::sync::{Mutex, MutexGuard, TryLockError};
 use std::time::Instant;
 
@@ -32,8 +31,9 @@ pub(crate) struct Inner {
     pub(crate) engine: Engine,
     /// A Python exception raised inside a step by a user force, to re-raise unchanged.
     pub(crate) slot: Slot,
-    /// The Python forces as added: `(func, potential, jacobian, velocity_dependent, name)`,
-    /// for pickling.
+    /// The Python forces as added: `(func, potential, jacobian, velocity_dependent, name,
+    /// inplace)`: the callables the engine cannot hold, for pickling (the rest of a pickle is
+    /// the engine's scene text and snapshot, `crate::pickle`).
     pub(crate) user: Vec<Py<PyAny>>,
     /// A Python flow as made: `(func, jacobian, name, n)`, for pickling.
     pub(crate) flow: Option<Py<PyAny>>,
@@ -42,8 +42,8 @@ pub(crate) struct Inner {
     /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
     /// state flushes them first.
     pub(crate) pending: ParticleBatch,
-    /// The rigid bodies as added, for pickling.
-    pub(crate) bodies: crate::world_bodies::BodyLog,
+    /// The Python forces at body points as added, for pickling.
+    pub(crate) body_forces: Vec<crate::world_bodies::BodyForceSpec>,
     /// The zero-copy views lent out (`crate::views`): detached before the state reallocates.
     pub(crate) views: crate::views::Views,
 }
@@ -106,9 +106,9 @@ impl World {
         user: Vec<Py<PyAny>>,
         flow: Option<Py<PyAny>>,
     ) -> Self {
-        let (pending, bodies) = (ParticleBatch::default(), crate::world_bodies::BodyLog::default());
+        let (pending, body_forces) = (ParticleBatch::default(), Vec::new());
         let views = crate::views::Views::default();
-        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending, bodies, views }) }
+        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, views }) }
     }
 }
 
@@ -232,7 +232,7 @@ impl World {
         let w = g.flush()?;
         let dt = w.dt();
         let rp = physstep::record::RecordParams { dt, until, every, stages, stop_on_diverge };
-        let (rec, elapsed) = crate::record::run(py, w, rp, Some(&slot))?;
+        let (rec, elapsed) = crate::record::run(py, w, rp, Some(&slot), false)?;
         let d = pyo3::types::PyDict::new(py);
         crate::record::fill(&d, w, rec, elapsed, stages)?;
         Ok(d)
@@ -246,7 +246,7 @@ impl World {
         let user = g.user.iter().map(|u| u.clone_ref(py)).collect();
         let flow = g.flow.as_ref().map(|f| f.clone_ref(py));
         let copy = Self::with_parts(engine, g.slot.clone(), user, flow);
-        copy.lock()?.bodies = g.bodies.clone();
+        copy.lock()?.body_forces = g.body_forces.clone();
         Ok(copy)
     }
 
@@ -255,16 +255,14 @@ impl World {
         self.__copy__(py)
     }
 
-    /// Pickles as the world's parts (settings, particles, forces, flow, Python callables)
-    /// and its snapshot; unpickled, it continues bitwise as the original would.
+    /// Pickles as the engine's own scene text of the world and its snapshot, with the
+    /// Python callables beside them (pickled as Python pickles functions: a lambda does not,
+    /// and the World then refuses in one line); unpickled, it continues bitwise as the
+    /// original would.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<crate::pickle::Reduce<'py>> {
         let mut g = self.lock()?;
-        let snapshot = g.flush()?.snapshot();
-        let parts = crate::pickle::parts(py, &g.engine, &g.user, g.flow.as_ref())?;
-        crate::world_bodies::parts(py, &g.engine, &g.bodies, &parts)?;
-        crate::world_constraints::parts(py, &g.engine, &parts)?;
-        let rebuild = py.import("physstep._core")?.getattr("_world_from_parts")?;
-        Ok((rebuild, (parts.into_any(), PyBytes::new(py, &snapshot).into_any())))
+        g.flush()?;
+        crate::pickle::reduce(py, &g)
     }
 
     /// Spatial dimensions.

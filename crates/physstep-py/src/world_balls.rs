@@ -1,5 +1,4 @@
-//! `World`'s balls and walls: adding them, reading radii, walls and contact statistics, and
-//! their part of a pickle.
+//! `World`'s balls and walls: adding them, reading radii, walls and contact statistics.
 
 use crate::convert::{array, float, vector};
 use crate::py_err;
@@ -133,26 +132,4 @@ pub(crate) fn stats<'py>(py: Python<'py>, w: &Engine) -> PyResult<Option<Bound<'
     d.set_item("max_overlap", s.max_overlap)?;
     d.set_item("pair_tests", s.pair_tests)?;
     Ok(Some(d))
-}
-
-/// The balls' part of a pickle: `(radii, walls or None, restitution)`, or None without balls.
-pub(crate) fn parts<'py>(py: Python<'py>, w: &Engine) -> PyResult<Bound<'py, PyAny>> {
-    if w.ball_count() == 0 {
-        return Ok(py.None().into_bound(py));
-    }
-    let d = w.dim();
-    let walls = w.walls().map(|b| (b.lo[..d].to_vec(), b.hi[..d].to_vec()));
-    Ok((w.radii(), walls, w.restitution()).into_pyobject(py)?.into_any())
-}
-
-/// Rebuilds the balls of a pickle into `w` (its particles already added).
-pub(crate) fn rebuild(w: &mut Engine, item: Option<Bound<'_, PyAny>>) -> PyResult<()> {
-    let Some(item) = item.filter(|i| !i.is_none()) else { return Ok(()) };
-    type Parts = (Vec<f64>, Option<(Vec<f64>, Vec<f64>)>, f64);
-    let (radii, walls, e): Parts = item.extract()?;
-    if let Some((lo, hi)) = walls {
-        w.add_walls(&lo, &hi).map_err(py_err)?;
-    }
-    w.set_restitution(e).map_err(py_err)?;
-    w.set_radii(&radii).map_err(py_err)
 }

@@ -1,58 +1,46 @@
 //! `World`'s rigid bodies: adding them and their springs, reading their state, loads for the
-//! next step, the orientation rule and the angular form, and the bodies as added (for
-//! pickles).
+//! next step, the orientation rule and the angular form. (A pickle holds them through the
+//! engine's scene text, `crate::pickle`; only Python forces at body points are kept here.)
 
 use crate::convert::{array, float, matrix, text, vector};
 use crate::py_err;
 use crate::world::World;
 use numpy::{PyArray1, PyArray2};
-use physstep::forces::Endpoint;
 use physstep::rigid::body::{AngularForm, FORMS};
 use physstep::rigid::orientation::{Rule, RULES};
 use physstep::world::{BodyParams, World as Engine};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
-/// A body spring as added: body, point (shape frame), other end, stiffness, rest length
-/// (`None`: the distance when it was added), damping.
-pub(crate) type SpringSpec = (usize, [f64; 3], Endpoint, f64, Option<f64>, f64);
+/// A Python force at a body point as added: body, point (shape frame), and the force's spec
+/// `(func, potential, None, velocity_dependent, name, inplace)`: the callables the engine
+/// cannot hold, for pickles and copies.
+pub(crate) type BodyForceSpec = (usize, [f64; 3], std::sync::Arc<Py<PyAny>>);
 
-/// The bodies of a World and their springs as they were added, in order: a pickle rebuilds
-/// them from this before it restores the snapshot (which holds their state, not their
-/// shapes).
-#[derive(Debug, Clone, Default)]
-pub(crate) struct BodyLog {
-    pub(crate) bodies: Vec<BodyParams>,
-    pub(crate) springs: Vec<SpringSpec>,
-    /// Python forces at body points: body, point (shape frame), and the force's spec
-    /// `(func, potential, None, velocity_dependent, name)`.
-    pub(crate) forces: Vec<(usize, [f64; 3], std::sync::Arc<Py<PyAny>>)>,
-}
-
-/// Adds a Python force at a body point to `w` (from its spec) and logs it.
-fn add_force(
+/// Adds a Python force at a body point to `w` (from its spec) and keeps its spec in `kept`.
+pub(crate) fn add_force(
     py: Python<'_>,
     w: &mut Engine,
-    log: &mut BodyLog,
+    kept: &mut Vec<BodyForceSpec>,
     body: usize,
     point: [f64; 3],
     spec: Py<PyAny>,
     slot: &crate::force::Slot,
 ) -> PyResult<usize> {
-    let (func, potential, jacobian, velocity_dependent, name): crate::pickle::ForceSpec =
+    let (func, potential, jacobian, velocity_dependent, name, inplace): crate::pickle::ForceSpec =
         spec.bind(py).extract()?;
-    let force = crate::force::PyForce {
+    let force = crate::force::PyForce::new(
         name,
-        dim: 3,
+        3,
         func,
         potential,
         jacobian,
         velocity_dependent,
-        slot: slot.clone(),
-    };
+        inplace,
+        slot.clone(),
+    );
     let k = w.add_body_force(body, point, std::sync::Arc::new(force)).map_err(py_err)?;
-    log.forces.push((body, point, std::sync::Arc::new(spec)));
+    kept.push((body, point, std::sync::Arc::new(spec)));
     Ok(k)
 }
 
@@ -79,142 +67,6 @@ fn per_body<'py, const N: usize>(
         data.extend_from_slice(&read(w, b).map_err(py_err)?);
     }
     matrix(py, data, N)
-}
-
-/// Adds a body to `w` and logs it.
-pub(crate) fn add(w: &mut Engine, log: &mut BodyLog, p: BodyParams) -> PyResult<usize> {
-    let b = w.add_body(&p).map_err(py_err)?;
-    log.bodies.push(p);
-    Ok(b)
-}
-
-/// The bodies of `w` as pickle parts: `bodies`, `[(shape, mass, density, position,
-/// orientation, velocity, angular_velocity, pivot, angular_drag), ...]`; `body_springs`, `[(body, point,
-/// other, stiffness, rest_length, damping), ...]`; the orientation rule and angular form.
-pub(crate) fn parts(py: Python<'_>, w: &Engine, log: &BodyLog, d: &Bound<'_, PyDict>) -> PyResult<()> {
-    // The engine does not show a body's shape and parameters: only those added here are
-    // known (a scene's bodies are not).
-    if log.bodies.len() != w.bodies().len() {
-        return Err(PyValueError::new_err(format!(
-            "this World cannot be pickled: {} of its {} bodies were not added by World.add_body \
-             (a scene's bodies; a copy works)",
-            w.bodies().len() - log.bodies.len().min(w.bodies().len()),
-            w.bodies().len()
-        )));
-    }
-    let bodies = PyList::empty(py);
-    for p in &log.bodies {
-        let item = (
-            crate::shapes::to_py(py, &p.shape)?,
-            p.mass,
-            p.density,
-            p.position.to_vec(),
-            p.orientation.to_vec(),
-            p.velocity.to_vec(),
-            p.angular_velocity.to_vec(),
-            p.pivot.map(|v| v.to_vec()),
-            p.angular_drag,
-        );
-        bodies.append(item)?;
-    }
-    let springs = PyList::empty(py);
-    for (k, &(body, point, other, stiffness, rest_length, damping)) in log.springs.iter().enumerate() {
-        // The engine keeps the rest length it chose but does not show it: a spring added
-        // without one cannot be rebuilt as it was.
-        if rest_length.is_none() {
-            return Err(PyValueError::new_err(format!(
-                "this World cannot be pickled: body spring {k} was added without rest_length \
-                 (give rest_length to add_body_spring to pickle it)"
-            )));
-        }
-        let other = crate::pickle::end(py, other, 3)?;
-        springs.append((body, point.to_vec(), other, stiffness, rest_length, damping))?;
-    }
-    let forces = PyList::empty(py);
-    for (body, point, spec) in &log.forces {
-        forces.append((*body, point.to_vec(), spec.bind(py)))?;
-    }
-    d.set_item("bodies", bodies)?;
-    d.set_item("body_springs", springs)?;
-    d.set_item("body_forces", forces)?;
-    d.set_item("orientation_rule", w.bodies().rule().name())?;
-    d.set_item("angular_form", w.bodies().form().name())?;
-    Ok(())
-}
-
-/// A parts list of N numbers.
-fn numbers<const N: usize>(o: &Bound<'_, PyAny>) -> PyResult<[f64; N]> {
-    let v: Vec<f64> = o.extract()?;
-    v.try_into().map_err(|_| PyValueError::new_err(format!("invalid parts: a body vector of {N} numbers")))
-}
-
-/// Adds the bodies and body springs of pickle `parts` to `w`, with its orientation rule and
-/// angular form (before its snapshot is restored).
-pub(crate) fn rebuild(
-    w: &mut Engine,
-    log: &mut BodyLog,
-    parts: &Bound<'_, PyDict>,
-    slot: &crate::force::Slot,
-) -> PyResult<()> {
-    if let Some(rule) = parts.get_item("orientation_rule")? {
-        w.set_orientation_rule(Rule::from_name(&text(&rule, "orientation_rule")?).map_err(py_err)?);
-    }
-    if let Some(list) = parts.get_item("bodies")? {
-        for item in list.try_iter()? {
-            let item = item?;
-            let pivot = item.get_item(7)?;
-            let p = BodyParams {
-                shape: crate::shapes::from_py(&item.get_item(0)?, "shape")?,
-                mass: item.get_item(1)?.extract()?,
-                density: item.get_item(2)?.extract()?,
-                position: numbers(&item.get_item(3)?)?,
-                orientation: numbers(&item.get_item(4)?)?,
-                velocity: numbers(&item.get_item(5)?)?,
-                angular_velocity: numbers(&item.get_item(6)?)?,
-                pivot: if pivot.is_none() { None } else { Some(numbers(&pivot)?) },
-                angular_drag: item.get_item(8)?.extract()?,
-            };
-            add(w, log, p)?;
-        }
-    }
-    if let Some(list) = parts.get_item("body_springs")? {
-        for item in list.try_iter()? {
-            let item = item?;
-            let spec: SpringSpec = (
-                item.get_item(0)?.extract()?,
-                numbers(&item.get_item(1)?)?,
-                crate::pickle::parse_end(&item.get_item(2)?)?,
-                item.get_item(3)?.extract()?,
-                item.get_item(4)?.extract()?,
-                item.get_item(5)?.extract()?,
-            );
-            add_spring(w, log, spec)?;
-        }
-    }
-    if let Some(list) = parts.get_item("body_forces")? {
-        for item in list.try_iter()? {
-            let item = item?;
-            let (body, point): (usize, Vec<f64>) =
-                (item.get_item(0)?.extract()?, item.get_item(1)?.extract()?);
-            let point: [f64; 3] = point
-                .try_into()
-                .map_err(|_| PyValueError::new_err("invalid parts: a body force point of 3 numbers"))?;
-            add_force(parts.py(), w, log, body, point, item.get_item(2)?.unbind(), slot)?;
-        }
-    }
-    // Last: the form converts the angular slots of the bodies there are.
-    if let Some(form) = parts.get_item("angular_form")? {
-        w.set_angular_form(AngularForm::from_name(&text(&form, "angular_form")?).map_err(py_err)?);
-    }
-    Ok(())
-}
-
-/// Adds a body spring to `w` and logs it.
-fn add_spring(w: &mut Engine, log: &mut BodyLog, spec: SpringSpec) -> PyResult<()> {
-    let (body, point, other, stiffness, rest_length, damping) = spec;
-    w.add_body_spring(body, point, other, stiffness, rest_length, damping).map_err(py_err)?;
-    log.springs.push(spec);
-    Ok(())
 }
 
 #[pymethods]
@@ -256,14 +108,15 @@ impl World {
                 .and_then(|n| n.extract::<String>())
                 .unwrap_or_else(|_| "body force".into()),
         };
-        let spec = (func, potential.as_ref().map(|p| p.bind(py)), py.None(), velocity_dependent, &name)
-            .into_pyobject(py)?
-            .into_any()
-            .unbind();
+        let spec =
+            (func, potential.as_ref().map(|p| p.bind(py)), py.None(), velocity_dependent, &name, false)
+                .into_pyobject(py)?
+                .into_any()
+                .unbind();
         let mut g = self.lock()?;
         g.flush()?;
-        let crate::world::Inner { engine, bodies, slot, .. } = &mut *g;
-        add_force(py, engine, bodies, body, point, spec, slot)
+        let crate::world::Inner { engine, body_forces, slot, .. } = &mut *g;
+        add_force(py, engine, body_forces, body, point, spec, slot)
     }
 
     /// Adds a rigid body of `shape` (a physstep.Sphere, Box, Cylinder, Capsule or Mesh) in a
@@ -314,9 +167,7 @@ impl World {
             angular_drag: angular_drag.unwrap_or(0.0),
         };
         let mut g = self.lock()?;
-        g.grow()?;
-        let crate::world::Inner { engine, bodies, .. } = &mut *g;
-        add(engine, bodies, p)
+        g.grow()?.add_body(&p).map_err(py_err)
     }
 
     /// Number of rigid bodies.
@@ -436,9 +287,7 @@ impl World {
             rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
         let damping = damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?;
         let mut g = self.lock()?;
-        g.flush()?;
-        let crate::world::Inner { engine, bodies, .. } = &mut *g;
-        add_spring(engine, bodies, (b, point, other, stiffness, rest_length, damping))
+        g.flush()?.add_body_spring(b, point, other, stiffness, rest_length, damping).map_err(py_err)
     }
 
     /// Body orientations to draw (nb, 4), (w, x, y, z): slerped by `alpha` between the

@@ -159,13 +159,17 @@ impl World {
     }
 
     /// Adds a force written in Python: `func(t, x, v)` gets the time and the positions and
-    /// velocities of all particles as (n, dim) arrays and returns the forces (n, dim), N. It
-    /// is called once per force evaluation. `potential(x)` (J) makes the energy known;
+    /// velocities of all particles as read-only (n, dim) arrays and returns the forces
+    /// (n, dim), N; with `inplace=True` it is `func(t, x, v, out)` and writes the forces into
+    /// `out` (n, dim, zeroed), returning None. It is called once per force evaluation; the
+    /// arrays are reused between calls, not allocated (one kept past its call is left to
+    /// the caller, unchanged, and replaced). `potential(x)` (J) makes the energy known;
     /// `jacobian(t, x, v)` returns (dF/dx, dF/dv), each (n dim, n dim), for the implicit
     /// methods; `velocity_dependent=False` saves re-evaluations when the force ignores v.
     /// An exception raised inside propagates unchanged, with the step rolled back. Returns
     /// the force's index among the user forces.
-    #[pyo3(signature = (func, *, potential=None, jacobian=None, velocity_dependent=None, name=None))]
+    #[pyo3(signature = (func, *, potential=None, jacobian=None, velocity_dependent=None, name=None, inplace=None))]
+    #[allow(clippy::too_many_arguments)]
     fn add_force(
         &self,
         py: Python<'_>,
@@ -174,6 +178,7 @@ impl World {
         jacobian: Option<&Bound<'_, PyAny>>,
         velocity_dependent: Option<&Bound<'_, PyAny>>,
         name: Option<&Bound<'_, PyAny>>,
+        inplace: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
         let callable = |o: Option<&Bound<'_, PyAny>>, field: &str| -> PyResult<Option<Py<PyAny>>> {
             match o.filter(|o| !o.is_none()) {
@@ -188,6 +193,7 @@ impl World {
         let jacobian = callable(jacobian, "jacobian")?;
         let velocity_dependent =
             velocity_dependent.map_or(Ok(true), |v| crate::convert::flag(v, "velocity_dependent"))?;
+        let inplace = inplace.map_or(Ok(false), |v| crate::convert::flag(v, "inplace"))?;
         let mut g = self.lock()?;
         let k = g.engine.model().user_forces();
         let name = match name {
@@ -198,19 +204,10 @@ impl World {
                 .and_then(|n| n.extract::<String>())
                 .unwrap_or_else(|_| format!("force {k}")),
         };
-        let spec = (
-            func.bind(py),
-            potential.as_ref().map(|p| p.bind(py)),
-            jacobian.as_ref().map(|j| j.bind(py)),
-            velocity_dependent,
-            &name,
-        )
-            .into_pyobject(py)?
-            .into_any()
-            .unbind();
         let slot = g.slot.clone();
         let w = g.flush()?;
-        let force = PyForce { name, dim: w.dim(), func, potential, jacobian, velocity_dependent, slot };
+        let force = PyForce::new(name, w.dim(), func, potential, jacobian, velocity_dependent, inplace, slot);
+        let spec = force.spec(py)?.unbind();
         let k = w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
         g.user.push(spec);
         Ok(k)

@@ -1,16 +1,10 @@
-//! `World`'s position constraints: adding them, the sweep count, the violation, and the
-//! constraints as plain data (for pickles).
+//! `World`'s position constraints: adding them, the sweep count and the violation.
 
 use crate::convert::{array, float, index, whole};
-use crate::pickle::{end, parse_end};
 use crate::py_err;
 use crate::world::World;
 use crate::world_build::endpoint;
-use physstep::constraints::Constraint;
-use physstep::world::World as Engine;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
 
 #[pymethods]
 impl World {
@@ -116,67 +110,4 @@ impl World {
     fn constraint_count(&self) -> PyResult<usize> {
         Ok(self.lock()?.engine.constraints().list().len())
     }
-}
-
-/// Adds the constraints of `w` to the pickle `parts`, as tuples.
-pub(crate) fn parts(py: Python<'_>, w: &Engine, d: &Bound<'_, PyDict>) -> PyResult<()> {
-    let dim = w.dim();
-    let list = PyList::empty(py);
-    for c in w.constraints().list() {
-        let item: Bound<'_, PyTuple> = match *c {
-            Constraint::Distance { i, j, length, compliance } => {
-                ("distance", i, end(py, j, dim)?, length, compliance).into_pyobject(py)?
-            }
-            Constraint::Limit { i, j, min, max } => {
-                ("limit", i, end(py, j, dim)?, min, max).into_pyobject(py)?
-            }
-            Constraint::Pin { i, point } => ("pin", i, point[..dim].to_vec()).into_pyobject(py)?,
-            Constraint::Plane { normal, offset } => {
-                ("plane", normal[..dim].to_vec(), offset).into_pyobject(py)?
-            }
-        };
-        list.append(item)?;
-    }
-    d.set_item("constraints", list)?;
-    d.set_item("constraint_iterations", w.constraint_iterations())?;
-    Ok(())
-}
-
-/// Adds the constraints in the pickle `parts` to `w`.
-pub(crate) fn rebuild(w: &mut Engine, parts: &Bound<'_, PyDict>) -> PyResult<()> {
-    if let Some(n) = parts.get_item("constraint_iterations")? {
-        w.set_constraint_iterations(n.extract()?).map_err(py_err)?;
-    }
-    let Some(list) = parts.get_item("constraints")? else { return Ok(()) };
-    for item in list.try_iter()? {
-        let item = item?;
-        let kind: String = item.get_item(0)?.extract()?;
-        let a = |k: usize| item.get_item(k);
-        let v3 = |v: Vec<f64>| {
-            let mut p = [0.0; 3];
-            p[..v.len().min(3)].copy_from_slice(&v[..v.len().min(3)]);
-            p
-        };
-        let c = match kind.as_str() {
-            "distance" => Constraint::Distance {
-                i: a(1)?.extract()?,
-                j: parse_end(&a(2)?)?,
-                length: a(3)?.extract()?,
-                compliance: a(4)?.extract()?,
-            },
-            "limit" => Constraint::Limit {
-                i: a(1)?.extract()?,
-                j: parse_end(&a(2)?)?,
-                min: a(3)?.extract()?,
-                max: a(4)?.extract()?,
-            },
-            "pin" => Constraint::Pin { i: a(1)?.extract()?, point: v3(a(2)?.extract()?) },
-            "plane" => Constraint::Plane { normal: v3(a(1)?.extract()?), offset: a(2)?.extract()? },
-            other => {
-                return Err(PyValueError::new_err(format!("invalid parts: unknown constraint '{other}'")))
-            }
-        };
-        w.add_constraint(c).map_err(py_err)?;
-    }
-    Ok(())
 }

@@ -32,7 +32,7 @@ pub struct Recording {
     /// potential).
     pub energy: Vec<f64>,
     /// Kinetic energy of every row, J (the scale of the energy error where the total energy
-    /// is near zero).
+    /// is near zero); empty when the recorder deferred it ([`Recorder::deferring_kinetic`]).
     pub kinetic: Vec<f64>,
     /// Total angular momentum about the origin of every row (3 per row), kg m^2/s, where
     /// the world has rigid bodies; empty otherwise.
@@ -99,6 +99,9 @@ pub struct Recorder {
     done: bool,
     log: StageLog,
     rec: Recording,
+    /// Where the kinetic energies of the rows go while the energies are computed when the
+    /// recording defers them (a scratch column, reused), else `None`.
+    deferred: Option<Vec<f64>>,
 }
 
 impl Recorder {
@@ -108,6 +111,23 @@ impl Recorder {
     /// [`Error::InvalidValue`] naming `until`, `dt` or `every` for a run that is malformed or
     /// would not fit in memory (refused before anything is allocated).
     pub fn new(world: &mut World, params: RecordParams) -> Result<Self> {
+        Self::start(world, params, false)
+    }
+
+    /// [`Recorder::new`] that leaves [`Recording::kinetic`] empty in a world of particles
+    /// alone (no bodies, not a flow), for a caller that computes it only if it is read: row
+    /// by row from the recorded velocities with [`crate::world::Model::kinetic`], the same
+    /// bits. The energies are recorded as before (the kinetic energy of each row is
+    /// computed for them, not kept). Elsewhere the same as [`Recorder::new`].
+    ///
+    /// # Errors
+    /// As [`Recorder::new`].
+    pub fn deferring_kinetic(world: &mut World, params: RecordParams) -> Result<Self> {
+        let particles_alone = world.bodies().is_empty() && world.flow().is_none();
+        Self::start(world, params, particles_alone)
+    }
+
+    fn start(world: &mut World, params: RecordParams, defer: bool) -> Result<Self> {
         let steps = steps_until(params.dt, params.until)?;
         if params.every == 0 {
             return Err(Error::invalid("every", 0, "at least 1"));
@@ -141,12 +161,14 @@ impl Recorder {
             v: Vec::with_capacity(cap * n),
             a: Vec::with_capacity(cap * n),
             energy: Vec::with_capacity(cap),
-            kinetic: Vec::with_capacity(cap),
+            kinetic: if defer { Vec::new() } else { Vec::with_capacity(cap) },
             ..Recording::default()
         };
-        record(world, &mut rec)?;
+        record(world, &mut rec, defer)?;
         let evals0 = world.evals();
-        Ok(Self { params, steps, next: 1, evals0, done: steps == 0, log: StageLog::default(), rec })
+        let deferred = defer.then(Vec::new);
+        let log = StageLog::default();
+        Ok(Self { params, steps, next: 1, evals0, done: steps == 0, log, rec, deferred })
     }
 
     /// Steps the run takes in all.
@@ -211,7 +233,7 @@ impl Recorder {
             };
             let r = r.and_then(|()| {
                 if !recorded && (k % self.params.every == 0 || k == self.steps) {
-                    record(world, &mut self.rec)
+                    record(world, &mut self.rec, self.deferred.is_some())
                 } else {
                     Ok(())
                 }
@@ -222,7 +244,7 @@ impl Recorder {
                     self.done = true;
                     if !matches!(e, Error::NonFinite { .. }) {
                         // The world was rolled back to the last good state: record it.
-                        record(world, &mut self.rec)?;
+                        record(world, &mut self.rec, self.deferred.is_some())?;
                     }
                     self.rec.diverged = Some(e);
                     break;
@@ -256,13 +278,23 @@ impl Recorder {
             let r = world.run_observed(n, self.params.dt, &mut |r| push_state(&r, rec))?;
             let n = world.positions().len();
             let (xs, vs) = (&rec.x[from * n..], &rec.v[from * n..]);
-            world.model().energy_rows(xs, vs, &mut rec.kinetic, &mut rec.energy);
+            // Deferred, the kinetic energies go to a scratch column (in cache: at most one
+            // slice of rows), read back for the energies and dropped.
+            let kinetic = match self.deferred.as_mut() {
+                Some(scratch) => {
+                    scratch.clear();
+                    scratch
+                }
+                None => &mut rec.kinetic,
+            };
+            world.model().energy_rows(xs, vs, kinetic, &mut rec.energy);
             (r, None)
         } else {
             let method = world.integrator().info().name;
             let rec = &mut self.rec;
+            let defer = self.deferred.is_some();
             let mut failed = None;
-            let mut row = |r: crate::world::Row<'_>| match push_row(&r, method, rec) {
+            let mut row = |r: crate::world::Row<'_>| match push_row(&r, method, rec, defer) {
                 Ok(()) => true,
                 Err(e) => {
                     failed = Some(e);
@@ -287,8 +319,8 @@ impl Recorder {
 }
 
 /// Appends a row handed out by the kernel, as [`record`] would take it from the world (a
-/// world of particles only).
-fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording) -> Result<()> {
+/// world of particles only); its kinetic energy unless `defer`.
+fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording, defer: bool) -> Result<()> {
     let kinetic = r.model.kinetic(r.v);
     let e = r.model.potential(r.x).map(|u| kinetic + u);
     if let Some(e) = e.filter(|e| !e.is_finite()) {
@@ -304,7 +336,9 @@ fn push_row(r: &crate::world::Row<'_>, method: &str, rec: &mut Recording) -> Res
     if let Some(e) = e {
         rec.energy.push(e);
     }
-    rec.kinetic.push(kinetic);
+    if !defer {
+        rec.kinetic.push(kinetic);
+    }
     Ok(())
 }
 
@@ -321,9 +355,10 @@ fn push_state(r: &crate::world::Row<'_>, rec: &mut Recording) -> bool {
     true
 }
 
-/// Appends the world's current row; a non-finite energy (the state is finite, its energy
-/// overflowed) ends the run as a failure rather than a silent infinity.
-fn record(w: &mut World, rec: &mut Recording) -> Result<()> {
+/// Appends the world's current row (its kinetic energy unless `defer`); a non-finite energy
+/// (the state is finite, its energy overflowed) ends the run as a failure rather than a
+/// silent infinity.
+fn record(w: &mut World, rec: &mut Recording, defer: bool) -> Result<()> {
     let e = w.energy();
     if let Some(e) = e.filter(|e| !e.is_finite()) {
         return Err(Error::NonFinite {
@@ -341,7 +376,9 @@ fn record(w: &mut World, rec: &mut Recording) -> Result<()> {
     if let Some(e) = e {
         rec.energy.push(e);
     }
-    rec.kinetic.push(w.kinetic());
+    if !defer {
+        rec.kinetic.push(w.kinetic());
+    }
     if !w.bodies().is_empty() {
         rec.angular_momentum.extend_from_slice(&w.angular_momentum());
         for b in 0..w.bodies().len() {
@@ -349,4 +386,42 @@ fn record(w: &mut World, rec: &mut Recording) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(scene: &str, method: &str, every: u64, defer: bool) -> Recording {
+        let mut w = crate::scenes::build(scene, &[], method, 0.01).unwrap().world;
+        let p = RecordParams { dt: 0.01, until: 1.0, every, stages: false, stop_on_diverge: false };
+        let mut r =
+            if defer { Recorder::deferring_kinetic(&mut w, p) } else { Recorder::new(&mut w, p) }.unwrap();
+        while !r.run(&mut w, 7).unwrap() {}
+        r.finish()
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// A deferred kinetic energy is left out, and computed from the velocity rows it is the
+    /// recorded one bit for bit; nothing else changes (the small-world kernel and the staged
+    /// path, every row and every 3rd).
+    #[test]
+    fn deferred_kinetic_energy_is_the_recorded_one_from_the_rows() {
+        for (scene, method, every) in
+            [("spring", "symplectic-euler", 1), ("spring", "rk4", 3), ("chain", "leapfrog", 1)]
+        {
+            let (eager, lazy) = (run(scene, method, every, false), run(scene, method, every, true));
+            assert!(lazy.kinetic.is_empty(), "{scene} {method}");
+            assert_eq!(bits(&eager.energy), bits(&lazy.energy), "{scene} {method}");
+            assert_eq!(bits(&eager.x), bits(&lazy.x));
+            assert_eq!(bits(&eager.v), bits(&lazy.v));
+            let w = crate::scenes::build(scene, &[], method, 0.01).unwrap().world;
+            let n = w.positions().len();
+            let k: Vec<f64> = lazy.v.chunks_exact(n).map(|v| w.model().kinetic(v)).collect();
+            assert_eq!(bits(&eager.kinetic), bits(&k), "{scene} {method}");
+        }
+    }
 }

@@ -376,6 +376,23 @@ impl World {
         Ok(())
     }
 
+    /// Gives the body spring added last the arm `arm` (from its body's reference point, in
+    /// the principal frame, m), as a scene file written by `scenes::file::structure` holds it:
+    /// the point in the shape's frame, rotated there and back, may differ in the last bit.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `arm` when there is no body spring or it is not finite
+    /// and bounded.
+    pub(crate) fn set_last_body_spring_arm(&mut self, arm: [f64; 3]) -> Result<()> {
+        bounded("arm", &arm, RUNAWAY)?;
+        let Some(spring) = self.bodies.springs.last_mut() else {
+            return Err(Error::invalid("arm", "given", "on a body spring"));
+        };
+        spring.point = DVec3::from_array(arm);
+        self.touch();
+        Ok(())
+    }
+
     /// Adds a user force acting at `point` of body `body` (in the shape's frame, m): the
     /// generator sees that point as one particle (its world position and velocity) and
     /// returns the force on it, which also turns the body (`arm x F`). Its potential, if it

@@ -13,7 +13,7 @@ mod write;
 use crate::error::{Error, Result};
 use crate::world::World;
 
-pub use write::export;
+pub use write::{export, structure};
 
 /// The largest scene file read, bytes (a file is read whole before it is parsed).
 pub const MAX_FILE_BYTES: u64 = 64 << 20;
@@ -77,5 +77,14 @@ pub fn load(path: &std::path::Path) -> Result<SceneFile> {
 /// unknown key, a value of the wrong type or out of range (as the engine's checks say), a
 /// particle index that does not exist, a mesh that is not closed.
 pub fn parse(text: &str, file: &str) -> Result<SceneFile> {
-    read::scene(&doc::Doc { file, text })
+    read::scene(&doc::Doc { file, text }, None)
+}
+
+/// [`parse`] with the game loop's variant `mode` in place of the text's own: a world rebuilt
+/// from its [`structure`] under another loop (its snapshot then restored).
+///
+/// # Errors
+/// As [`parse`].
+pub fn parse_with_loop(text: &str, file: &str, mode: crate::clock::LoopMode) -> Result<SceneFile> {
+    read::scene(&doc::Doc { file, text }, Some(mode))
 }

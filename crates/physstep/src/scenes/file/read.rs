@@ -12,7 +12,7 @@ use crate::rigid::inertia::Shape;
 use crate::world::{BodyParams, World, WorldParams};
 use toml::de::DeTable;
 
-const TOP: [&str; 14] = [
+const TOP: [&str; 15] = [
     "dimension",
     "method",
     "dt",
@@ -25,12 +25,13 @@ const TOP: [&str; 14] = [
     "bodies",
     "forces",
     "springs",
+    "body_springs",
     "constraints",
     "collisions",
 ];
 
-/// The whole file.
-pub(super) fn scene(doc: &Doc<'_>) -> Result<SceneFile> {
+/// The whole file; `mode`, when given, in place of the file's loop variant.
+pub(super) fn scene(doc: &Doc<'_>, mode: Option<LoopMode>) -> Result<SceneFile> {
     let root = toml::de::DeTable::parse(doc.text).map_err(|e| {
         let at = e.span().map_or(0, |s| s.start);
         let msg = e.message().lines().next().unwrap_or("").trim().to_string();
@@ -74,6 +75,9 @@ pub(super) fn scene(doc: &Doc<'_>) -> Result<SceneFile> {
             params.max_frame_time = x;
         }
     }
+    if let Some(mode) = mode {
+        params.mode = mode;
+    }
     let method_at = top.table.get("method").map_or(0, |v| v.span().start);
     let mut world = match doc.table(top, "flow")? {
         Some((t, at)) => flow(doc, Table { table: t, at, path: "flow" }, params)?,
@@ -97,6 +101,7 @@ pub(super) fn scene(doc: &Doc<'_>) -> Result<SceneFile> {
     super::read_parts::bodies(doc, top, &mut world)?;
     forces(doc, top, &mut world)?;
     springs(doc, top, &mut world)?;
+    super::read_parts::body_springs(doc, top, &mut world)?;
     constraints(doc, top, &mut world)?;
     if let Some(n) = doc.index(top, "constraint_iterations")? {
         let n = u32::try_from(n).unwrap_or(u32::MAX);
@@ -166,7 +171,7 @@ pub(super) fn pad(v: &[f64]) -> [f64; 3] {
     p
 }
 
-fn each<'t, 'i>(
+pub(super) fn each<'t, 'i>(
     doc: &Doc<'_>,
     top: Table<'t, 'i>,
     key: &str,

@@ -81,6 +81,29 @@ pub(super) fn bodies(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result
     Ok(())
 }
 
+/// `[[body_springs]]`: `body`, `point` (the shape's frame), `j` or `anchor`, `stiffness`,
+/// `rest_length` (the current distance when left out), `damping`; `arm`, when given, the
+/// point as the engine keeps it (from the body's reference point, principal frame: what
+/// [`super::structure`] writes so that the spring reads back bitwise).
+pub(super) fn body_springs(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
+    for (table, at, path) in super::read::each(doc, top, "body_springs")? {
+        let t = Table { table, at, path: &path };
+        doc.keys(t, &["body", "point", "arm", "j", "anchor", "stiffness", "rest_length", "damping"])?;
+        let body = doc.index_req(t, "body")?;
+        let point = doc.vec(t, "point", Some(3))?.map_or([0.0; 3], |p| [p[0], p[1], p[2]]);
+        let other = super::read::endpoint(doc, t, w.dim())?;
+        let stiffness = doc.f64_req(t, "stiffness")?;
+        let rest_length = doc.f64(t, "rest_length")?;
+        let damping = doc.f64(t, "damping")?.unwrap_or(0.0);
+        w.add_body_spring(body, point, other, stiffness, rest_length, damping)
+            .map_err(|e| doc.engine(at, &path, e))?;
+        if let Some(arm) = doc.vec(t, "arm", Some(3))? {
+            w.set_last_body_spring_arm([arm[0], arm[1], arm[2]]).map_err(|e| doc.engine(at, &path, e))?;
+        }
+    }
+    Ok(())
+}
+
 /// `[collisions]`: `restitution`, `walls = { lo, hi }`.
 pub(super) fn collisions(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
     let Some((table, at)) = doc.table(top, "collisions")? else { return Ok(()) };
