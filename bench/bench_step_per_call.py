@@ -24,37 +24,10 @@ import argparse
 import numba
 import numpy as np
 import physstep
+from bench_particles import C, G, H, acc, floor_kernel
+from bench_particles import se_kernel as se_parallel
 from common import median_time, row, write_json
-from numba import njit, prange
-
-H, C, G = 1.0 / 120.0, 0.1, np.array([0.0, 0.0, -9.81])
-
-
-@njit(inline="always")
-def acc(v: float, s: float, im: float, g: float) -> float:
-    """physstep's per-element acceleration: (0 + s v) / m + g."""
-    return (0.0 + s * v) * im + g
-
-
-@njit(parallel=True)
-def floor_kernel(x, v, c, steps):  # noqa: ANN001, ANN201
-    for _ in range(steps):
-        for i in prange(x.shape[0]):
-            for k in range(3):
-                a = x[i, k]
-                b = v[i, k]
-                x[i, k] = a * c
-                v[i, k] = b * c
-
-
-@njit(parallel=True)
-def se_parallel(x, v, s, g, h, steps):  # noqa: ANN001, ANN201
-    for _ in range(steps):
-        for i in prange(x.shape[0]):
-            for k in range(3):
-                a = acc(v[i, k], s, 1.0, g[k])
-                v[i, k] += h * a
-                x[i, k] += h * v[i, k]
+from numba import njit
 
 
 @njit
