@@ -2,7 +2,8 @@
 //!
 //! A state entry past [`RUNAWAY`] (or NaN, or infinite) is a divergence wherever it is found:
 //! the staged step's Check, the fused kernels' folded flag, the Collide stage and the
-//! derivative refreshed after a change by hand all ask [`runaway`] (or [`first_runaway`]).
+//! derivative refreshed after a change by hand all ask [`runaway`] (or its scans over a
+//! slice, `any_runaway` and `first_runaway`).
 //! Parameters are bounded by [`PARAM_MIN`] and [`PARAM_MAX`] so that every accepted value is
 //! representable in the physics it feeds.
 
@@ -33,7 +34,7 @@ pub fn runaway(x: f64) -> bool {
 /// Whether any entry of `v` is [`runaway`] (a flag folded without branches).
 #[inline]
 #[must_use]
-pub fn any_runaway(v: &[f64]) -> bool {
+pub(crate) fn any_runaway(v: &[f64]) -> bool {
     v.iter().fold(false, |acc, &x| acc | runaway(x))
 }
 
@@ -41,7 +42,7 @@ pub fn any_runaway(v: &[f64]) -> bool {
 /// values, so it runs at memory speed; only a block that holds one is searched element by
 /// element.
 #[must_use]
-pub fn first_runaway(v: &[f64]) -> Option<usize> {
+pub(crate) fn first_runaway(v: &[f64]) -> Option<usize> {
     const BLOCK: usize = 256;
     v.chunks(BLOCK).enumerate().find_map(|(b, chunk)| {
         if any_runaway(chunk) {

@@ -71,7 +71,7 @@ pub struct RecordParams {
 /// # Errors
 /// [`Error::InvalidValue`] naming `until` when it is not a finite number >= 0 or asks for
 /// more than 1e9 steps.
-pub fn steps_until(dt: f64, until: f64) -> Result<u64> {
+pub(crate) fn steps_until(dt: f64, until: f64) -> Result<u64> {
     if !(until.is_finite() && until >= 0.0) {
         return Err(Error::invalid("until", until, "a finite number >= 0"));
     }

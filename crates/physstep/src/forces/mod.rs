@@ -265,7 +265,7 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 ///
 /// # Errors
 /// [`Error::InvalidValue`] naming `mass[i]` of the first infinite (or NaN) mass.
-pub fn finite_masses(mass: &[f64], first: usize) -> Result<()> {
+pub(crate) fn finite_masses(mass: &[f64], first: usize) -> Result<()> {
     match mass.iter().position(|m| !m.is_finite()) {
         None => Ok(()),
         Some(i) => {

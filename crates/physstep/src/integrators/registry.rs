@@ -120,7 +120,7 @@ pub fn applies<S: System + ?Sized>(info: &Info, sys: &S) -> Result<()> {
 ///
 /// # Errors
 /// As [`Integrator::applies`].
-pub fn applies_to(info: &Info, split: bool, vector_positions: bool) -> Result<()> {
+pub(crate) fn applies_to(info: &Info, split: bool, vector_positions: bool) -> Result<()> {
     if info.split && !split {
         return Err(split_only(info));
     }

@@ -242,7 +242,7 @@ pub fn box_mesh(half_extents: [f64; 3]) -> Shape {
 /// non-finite results.
 #[must_use]
 #[allow(clippy::many_single_char_names)] // the textbook's names
-pub fn symmetric_eigen(matrix: &[[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+pub(crate) fn symmetric_eigen(matrix: &[[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     let mut a = *matrix;
     for (p, q) in [(0, 1), (0, 2), (1, 2)] {
         let mean = 0.5 * a[p][q] + 0.5 * a[q][p];

@@ -168,7 +168,7 @@ pub fn drift(rule: Rule, q: DQuat, inv_inertia: DVec3, l: DVec3, h: f64) -> DQua
 /// # Errors
 /// [`Error::InvalidValue`] naming `field[i]` for a non-finite entry, or `field` when the
 /// length is below `1e-12` (no rotation to normalise).
-pub fn validate_quaternion(field: &str, wxyz: [f64; 4]) -> Result<DQuat> {
+pub(crate) fn validate_quaternion(field: &str, wxyz: [f64; 4]) -> Result<DQuat> {
     crate::error::all_finite(field, &wxyz)?;
     // Scaled by the largest entry, so a huge quaternion (1e200) does not overflow to an
     // infinite length and a tiny one's length is computed exactly enough to compare.

@@ -35,7 +35,6 @@ pub use bodies::BodyParams;
 pub(crate) use kernel::Row;
 pub use model::Model;
 pub use rules::ParticleBatch;
-pub use step::{Stage, StepContext};
 
 /// How to build a [`World`].
 #[derive(Debug, Clone, PartialEq)]

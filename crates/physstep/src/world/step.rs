@@ -29,7 +29,7 @@ use crate::integrators::{Integrator, Log};
 
 /// What every stage of one step sees, validated once when the step starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StepContext {
+pub(crate) struct StepContext {
     /// Time at the start of the step, s.
     pub t: f64,
     /// The step, s (finite, > 0).
@@ -44,19 +44,6 @@ pub struct StepContext {
     /// Whether this is the last step of its call: the Collide stage then measures the
     /// balls' overlaps at its end itself (else the next step's scan of the grid does).
     pub(super) last: bool,
-}
-
-/// The stages of a step, named in failures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stage {
-    /// The method's recipe (forces inside).
-    Integrate,
-    /// Position constraints.
-    Relax,
-    /// Contacts.
-    Collide,
-    /// The divergence check.
-    Check,
 }
 
 /// The stepping API: calls of steps and frames of the game loop.
