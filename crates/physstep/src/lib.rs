@@ -16,6 +16,26 @@
 //! assert_eq!(scene.world.positions(), &[10.0]);
 //! assert_eq!(scene.world.velocities(), &[-10.0]);
 //! ```
+//!
+//! # What is public
+//!
+//! | module | for a Rust user |
+//! |---|---|
+//! | [`world`] | [`world::World`] (particles, bodies, balls, constraints, the step and the game loop) and its parameters |
+//! | [`integrators`] | the methods, one type each, their [`integrators::Info`], and [`integrators::Integrator`] (a method by name; [`integrators::registry`] lists them) |
+//! | [`dynamics`] | the systems methods step: [`dynamics::SecondOrder`], [`dynamics::FirstOrder`], and [`dynamics::System`] / [`dynamics::Step`] for a method or a part of your own |
+//! | [`forces`], [`flows`] | the built-in forces and flows, and the traits of your own ([`forces::ForceGenerator`], [`flows::FlowGenerator`]) |
+//! | [`rigid`] | shapes and their mass properties, orientation rules, the bodies' angular forms |
+//! | [`constraints`], [`collide`] | position constraints; the balls' contact statistics and walls |
+//! | [`clock`] | the fixed-timestep loop on its own |
+//! | [`record`] | a run recorded row by row |
+//! | [`scenes`] | the built-in scenes and scene files |
+//! | [`linalg`] | the sparse Newton solve's blocks and conjugate gradients (what [`dynamics::System::blocks`] fills) |
+//! | [`error`], [`limits`] | the one error type, and the bounds every input is held to |
+//! | [`simd`] | the AVX2 switch (also [`world::set_vector_paths`]) |
+//!
+//! The rest is `pub(crate)`: how a step is taken inside (the rollback, the fused kernels, the
+//! contact stage's grid and events) may change without notice.
 #![warn(missing_docs)]
 
 pub mod clock;
