@@ -13,7 +13,7 @@
 //! arithmetic, so the same bits) and takes step `k` the staged way, which fails the same
 //! way, rolls back, and names the particle.
 
-use super::flat::{Flat, Recipe};
+use super::flat::{self, Flat};
 use super::small::{self, Elements};
 use super::tiles::{self, Forces, Run};
 use super::{Epoch, World};
@@ -35,8 +35,8 @@ enum Stop {
 /// dispatched once for the whole run.
 struct Fused<'a, const D: usize> {
     forces: Forces<'a>,
-    /// The element-wise recipe and forces, when they apply.
-    flat: Option<(Recipe, Flat)>,
+    /// The element-wise forces, when they apply.
+    flat: Option<Flat>,
     inv_mass: &'a [f64],
     /// The state `[x; v]`.
     y: &'a mut [f64],
@@ -71,11 +71,12 @@ impl<const D: usize> Visit for Fused<'_, D> {
         let Self { forces, flat, inv_mass, y, saved, t, steps, evals, epoch, h, n } = self;
         let movable = movable(epoch, *steps, *t, n);
         let run = Run { epoch, steps: *steps, h, n: movable };
-        let (good, e) = match flat {
-            Some((r, k)) => (
-                tiles::elementwise::<D>(r, k, forces.velocity, inv_mass, y, saved, run),
-                r.evals(forces.velocity),
-            ),
+        // The method's element-wise form where it has one and the forces are element-wise.
+        let elementwise = flat.zip(flat::evals(method, forces.velocity));
+        let (good, e) = match elementwise {
+            Some((k, e)) => {
+                (tiles::elementwise::<D, M>(method, k, forces.velocity, inv_mass, y, saved, run), e)
+            }
             None => tiles::recipe::<D, M>(method, forces, inv_mass, y, saved, run),
         };
         *steps += good;
@@ -109,8 +110,8 @@ pub(crate) struct Row<'a> {
 /// [`Integrator::visit`].
 struct Observe<'a, 'b, const D: usize, F> {
     forces: Forces<'a>,
-    /// The element-wise recipe and forces, when they apply.
-    small: Option<(Recipe, &'a Elements)>,
+    /// The element-wise forces, when they apply.
+    small: Option<&'a Elements>,
     model: &'a super::Model,
     y: &'a mut [f64],
     saved: &'a mut [f64],
@@ -136,10 +137,8 @@ impl<const D: usize, F: FnMut(Row<'_>) -> bool> Visit for Observe<'_, '_, D, F> 
             let t = epoch.time(s).unwrap_or(f64::NAN);
             on_row(Row { model, steps: s, t, x: &y[..m], v: &y[m..], a: &f[m..] })
         };
-        let elementwise = small.and_then(|(r, k)| {
-            let (good, halted) = small::observed(k, r, h, movable, y, saved, &mut look)?;
-            Some(((good, r.evals(forces.velocity)), halted))
-        });
+        let elementwise =
+            small.and_then(|k| small::observed(method, k, forces.velocity, h, movable, y, saved, &mut look));
         let ((good, e), halted) = match elementwise {
             Some(out) => out,
             None => tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look),
@@ -195,7 +194,7 @@ impl World {
         let local = self.model.forces.local();
         let forces = Forces { local, velocity: self.model.velocity_dependent() };
         let elements = Elements::of(local, self.model.dim, &self.model.inv_mass);
-        let small = Recipe::of(method.info().name).zip(elements.as_ref());
+        let small = elements.as_ref();
         let model = &self.model;
         let State { t, y, steps, evals, .. } = &mut self.state;
         let (epoch, saved_slice) = (ctx.epoch, saved.as_mut_slice());
@@ -306,7 +305,7 @@ impl World {
     ) -> (u64, Option<Stop>) {
         let local = self.model.forces.local();
         let forces = Forces { local, velocity: self.model.velocity_dependent() };
-        let flat = Recipe::of(method.info().name).zip(local.element_wise().map(|(s, g)| Flat { s, g }));
+        let flat = local.element_wise().map(|(s, g)| Flat { s, g });
         let inv_mass = &self.model.inv_mass;
         let State { t, y, steps, evals, .. } = &mut self.state;
         let run = Fused::<D> { forces, flat, inv_mass, y, saved, t, steps, evals, epoch, h, n };
