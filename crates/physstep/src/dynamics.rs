@@ -471,19 +471,15 @@ impl<S: System + ?Sized> Ops for Step<'_, S> {
         rule: impl Fn(f64, f64, [f64; K]) -> f64 + Sync,
     ) {
         let (y, f) = (&mut *self.y, &*self.f);
-        let entry = |i: usize, yi: &mut f64| *yi = rule(*yi, f[i], ks.map(|k| k[i]));
+        let ks = ks.map(Vec::as_slice);
         if y.len() >= crate::integrators::PAR_MIN {
             use rayon::prelude::*;
             let c = crate::integrators::PAR_CHUNK;
             y.par_chunks_mut(c).enumerate().for_each(|(q, yc)| {
-                for (i, yi) in yc.iter_mut().enumerate() {
-                    entry(q * c + i, yi);
-                }
+                combine_serial(yc, &f[q * c..], ks.map(|k| &k[q * c..]), &rule);
             });
         } else {
-            for (i, yi) in y.iter_mut().enumerate() {
-                entry(i, yi);
-            }
+            combine_serial(y, f, ks, &rule);
         }
     }
     #[inline]
@@ -519,6 +515,22 @@ impl<S: System + ?Sized> Ops for Step<'_, S> {
     #[inline]
     fn sync(&mut self) {
         Step::sync(self);
+    }
+}
+
+/// `y_i = rule(y_i, f_i, [k_i, ...])` over `y` (the others at least as long).
+#[inline(always)]
+fn combine_serial<const K: usize>(
+    y: &mut [f64],
+    f: &[f64],
+    ks: [&[f64]; K],
+    rule: &impl Fn(f64, f64, [f64; K]) -> f64,
+) {
+    // All cut to one length first, so the loop indexes without bounds checks (and vectorises).
+    let n = y.len();
+    let (f, ks) = (&f[..n], ks.map(|k| &k[..n]));
+    for i in 0..n {
+        y[i] = rule(y[i], f[i], ks.map(|k| k[i]));
     }
 }
 

@@ -35,6 +35,7 @@ impl Method for ExplicitEuler {
         Ok(())
     }
 
+    #[inline(always)]
     fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
         recipe(e);
         true

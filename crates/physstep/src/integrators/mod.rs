@@ -112,12 +112,12 @@ pub trait Method {
     /// [`Error::Unsupported`] when the system is too large for the dense solver.
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()>;
 
-    /// One step of one element (see [`Element`]) by the same recipe as [`Method::step`],
-    /// the recipe being written once, generic over the storage it runs on ([`Ops`](crate::dynamics::Ops)); returns
-    /// whether the method has that form (`false`, the default: `e` is left as it was). The
-    /// element-wise kernels run it for methods that are local and keep no memory (see
-    /// [`Integrator::fresh_local`]); `tests/kernels.rs` holds them bitwise to the staged
-    /// step.
+    /// One step of one element (see [`Element`]) by the same recipe as [`Method::step`], the
+    /// recipe written once, generic over the storage it runs on
+    /// ([`Ops`](crate::dynamics::Ops)); returns whether the method has that form (`false`,
+    /// the default: `e` is left as it was). The element-wise kernels run it for methods that
+    /// are local and keep no memory (see [`Integrator::fresh_local`]); `tests/kernels.rs`
+    /// and `world/flat.rs`'s unit test hold it bitwise to the staged step.
     fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
         let _ = e;
         false

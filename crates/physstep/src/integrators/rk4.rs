@@ -33,6 +33,7 @@ impl Method for Rk4 {
         Ok(())
     }
 
+    #[inline(always)]
     fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
         recipe(e, [&mut [0.0; 2], &mut [0.0; 2], &mut [0.0; 2], &mut [0.0; 2]]);
         true

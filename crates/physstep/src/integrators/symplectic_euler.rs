@@ -75,6 +75,7 @@ impl Method for SymplecticEuler {
         Ok(())
     }
 
+    #[inline(always)]
     fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
         velocity_first(e);
         true

@@ -114,6 +114,7 @@ impl Method for VelocityVerlet {
         Ok(())
     }
 
+    #[inline(always)]
     fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
         velocity_verlet(e, e.t, e.h, 1, &mut 0.0);
         true

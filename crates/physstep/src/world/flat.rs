@@ -128,3 +128,81 @@ fn chunk<M: Method, const A: bool>(
     }
     n
 }
+
+#[cfg(test)]
+mod tests {
+    use super::evals;
+    use crate::dynamics::{Element, Second, SecondOrder, Step};
+    use crate::integrators::registry::Visit;
+    use crate::integrators::{Integrator, Method, INFOS};
+
+    /// One coordinate under `a = acc(x, v)`, as a system the staged step runs on.
+    struct One<A>(A, bool);
+
+    impl<A: Fn(f64, f64) -> f64> SecondOrder for One<A> {
+        fn len(&self) -> usize {
+            1
+        }
+        fn accel(&mut self, _t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
+            a[0] = (self.0)(x[0], v[0]);
+        }
+        fn velocity_dependent(&self) -> bool {
+            self.1
+        }
+    }
+
+    /// A method's steps on an element and the staged steps on the same one-coordinate system
+    /// (a spring, with drag when `velocity`): the same bits and evaluations, step after step.
+    /// The evaluations of a step, or `None` when the method has no element-wise form.
+    struct Agree {
+        velocity: bool,
+    }
+
+    impl Visit for Agree {
+        type Out = Option<u64>;
+
+        fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> Option<u64> {
+            let velocity = self.velocity;
+            let c = if velocity { 0.7 } else { 0.0 };
+            let acc = |x: f64, v: f64| (0.0 + -c * v + (-3.0 * (x - 0.25) - 0.2 * c * v)) * 0.8 - 9.81;
+            let per_step = evals(m, velocity)?;
+            let mut y = [1.3, -0.4];
+            let mut f = [y[1], acc(y[0], y[1])];
+            let mut one = One(acc, velocity);
+            let mut sys = Second(&mut one);
+            for k in 0..60 {
+                let h = [0.01, 0.1, 0.37][k % 3];
+                let mut e = Element::new(0.0, h, y, f, velocity, acc);
+                assert!(m.element_step(&mut e));
+                let mut n = 0;
+                m.step(&mut Step::new(&mut sys, 0.0, h, &mut y, &mut f, &mut n, None)).unwrap();
+                let what = format!("{} (velocity {velocity}), step {k}", M::INFO.name);
+                assert_eq!(e.y.map(f64::to_bits), y.map(f64::to_bits), "{what}: y");
+                assert_eq!(e.f.map(f64::to_bits), f.map(f64::to_bits), "{what}: f");
+                assert_eq!((e.evals, n), (per_step, per_step), "{what}: evaluations");
+            }
+            Some(per_step)
+        }
+    }
+
+    #[test]
+    fn an_element_steps_bitwise_as_the_staged_step() {
+        let mut forms = Vec::new();
+        for info in &INFOS {
+            let mut m = Integrator::new(info.name).unwrap();
+            let still = m.visit(Agree { velocity: false });
+            let moving = m.visit(Agree { velocity: true });
+            assert_eq!(still.is_some(), moving.is_some(), "{}", info.name);
+            if let Some(e) = still {
+                // The kernels run element-wise forms on any part of the particles at a time.
+                assert!(m.fresh_local().is_some(), "{}: an element-wise form but not local", info.name);
+                assert_eq!(e, u64::from(info.evals), "{}: evaluations as INFO gives them", info.name);
+                forms.push(info.name);
+            }
+        }
+        // The fast paths the README's performance table measures.
+        for name in ["explicit-euler", "symplectic-euler", "velocity-verlet", "rk4"] {
+            assert!(forms.contains(&name), "{name} lost its element-wise form");
+        }
+    }
+}
