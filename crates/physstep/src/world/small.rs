@@ -26,20 +26,26 @@ use crate::integrators::Method;
 /// Most elements (coordinates) a small world has.
 const CAP: usize = OBSERVED_MAX * 3;
 
+/// The forces on one element: inverse mass, gravity (0 on a static particle), whether a
+/// spring acts, and the spring's stiffness, damping and anchor (0 without one).
+#[derive(Debug, Clone, Copy, Default)]
+struct Param {
+    im: f64,
+    g: f64,
+    spring: bool,
+    k: f64,
+    c: f64,
+    at: f64,
+}
+
 /// The forces on each element of a small world.
 pub(super) struct Elements {
     /// Elements: particles times dimensions.
     len: usize,
     /// The drag factor `-(c1 + c2 * 0)`, or 0 without drag.
     s: f64,
-    /// Inverse mass, gravity (0 on a static particle), whether a spring acts, and the
-    /// spring's stiffness, damping and anchor (0 without one), per element.
-    im: [f64; CAP],
-    g: [f64; CAP],
-    spring: [bool; CAP],
-    k: [f64; CAP],
-    c: [f64; CAP],
-    at: [f64; CAP],
+    /// Per element.
+    p: [Param; CAP],
 }
 
 impl Elements {
@@ -50,32 +56,27 @@ impl Elements {
         if inv_mass.len() > OBSERVED_MAX {
             return None;
         }
-        let z = [0.0; CAP];
-        let mut e =
-            Self { len: inv_mass.len() * dim, s, im: z, g: z, spring: [false; CAP], k: z, c: z, at: z };
+        let mut e = Self { len: inv_mass.len() * dim, s, p: [Param::default(); CAP] };
         for (p, &w) in inv_mass.iter().enumerate() {
-            let r = p * dim..(p + 1) * dim;
-            for ((im, gm), gc) in e.im[r.clone()].iter_mut().zip(&mut e.g[r]).zip(g) {
-                (*im, *gm) = (w, if w > 0.0 { gc } else { 0.0 });
+            for (q, gc) in e.p[p * dim..(p + 1) * dim].iter_mut().zip(g) {
+                (q.im, q.g) = (w, if w > 0.0 { gc } else { 0.0 });
             }
         }
         for sp in springs {
             let [k, _, c] = sp.p;
-            let r = sp.i * dim..(sp.i + 1) * dim;
-            e.spring[r.clone()].fill(true);
-            e.k[r.clone()].fill(k);
-            e.c[r.clone()].fill(c);
-            e.at[r].copy_from_slice(&sp.at[..dim]);
+            for (q, at) in e.p[sp.i * dim..(sp.i + 1) * dim].iter_mut().zip(sp.at) {
+                (q.spring, q.k, q.c, q.at) = (true, k, c, at);
+            }
         }
         Some(e)
     }
 
-    /// The acceleration of element `j` at `x`, `v`: `(0 + s v + (-k (x - at) - c v)) / m + g`,
-    /// as the per-particle function computes it.
+    /// The acceleration of an element with forces `p` at `x`, `v`:
+    /// `(0 + s v + (-k (x - at) - c v)) / m + g`, as the per-particle function computes it.
     #[inline(always)]
-    fn acc(&self, j: usize, x: f64, v: f64) -> f64 {
-        let spring = -self.k[j] * (x - self.at[j]) - self.c[j] * v;
-        ((0.0 + self.s * v) + if self.spring[j] { spring } else { 0.0 }) * self.im[j] + self.g[j]
+    fn acc(&self, p: &Param, x: f64, v: f64) -> f64 {
+        let spring = -p.k * (x - p.at) - p.c * v;
+        ((0.0 + self.s * v) + if p.spring { spring } else { 0.0 }) * p.im + p.g
     }
 }
 
@@ -108,18 +109,19 @@ pub(super) fn observed<M: Method>(
     let (mut ys, mut fs) = ([0.0; 2 * CAP], [0.0; 2 * CAP]);
     let (ys, f) = (&mut ys[..2 * m], &mut fs[..2 * m]);
     ys.copy_from_slice(y);
-    for j in 0..m {
-        (f[j], f[m + j]) = (ys[m + j], e.acc(j, ys[j], ys[m + j]));
+    for (j, p) in e.p[..m].iter().enumerate() {
+        (f[j], f[m + j]) = (ys[m + j], e.acc(p, ys[j], ys[m + j]));
     }
     let (mut good, mut halted) = (n, false);
     for k in 0..n {
         let mut flag = false;
-        for j in 0..m {
-            let (yj, fj) = ([ys[j], ys[m + j]], [f[j], f[m + j]]);
-            let mut el = Element::new(0.0, h, yj, fj, velocity, |x, v| e.acc(j, x, v));
+        let ((xs, vs), (dxs, acs)) = (ys.split_at_mut(m), f.split_at_mut(m));
+        let rows = xs.iter_mut().zip(vs.iter_mut()).zip(dxs.iter_mut().zip(acs.iter_mut()));
+        for (((x, v), (dx, a)), p) in rows.zip(&e.p[..m]) {
+            let mut el = Element::new(0.0, h, [*x, *v], [*dx, *a], velocity, |x, v| e.acc(p, x, v));
             method.element_step(&mut el);
-            ([ys[j], ys[m + j]], [f[j], f[m + j]]) = (el.y, el.f);
-            flag |= bad(el.y[0]) | bad(el.y[1]) | bad(el.f[1]);
+            ([*x, *v], [*dx, *a]) = (el.y, el.f);
+            flag |= bad(*x) | bad(*v) | bad(*a);
         }
         if flag {
             good = k;
