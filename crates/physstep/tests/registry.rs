@@ -89,12 +89,6 @@ fn every_scene_line_builds_its_own_scene() {
 
 // ---------------------------------------------------------------- no name checks
 
-/// Files that still compare method names, each with the reason it may for now.
-const ALLOWED: &[(&str, &str)] = &[(
-    "crates/physstep/src/world/flat.rs",
-    "Recipe::of picks a flat kernel by name; the `methods` branch rewrites flat.rs",
-)];
-
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
@@ -108,7 +102,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 /// A stage asks a method's INFO or a method hook, never its name: no source of the engine or
 /// the bindings compares a string with a registry name (`== "verlet"`, `"leapfrog" =>`, a
-/// `|` of names in a match) outside the allowed files. The method files hold their names
+/// `|` of names in a match). The method files hold their names
 /// as `name: "...",` in their INFO, which is not a comparison.
 #[test]
 fn no_method_name_is_compared_outside_the_registry() {
@@ -120,9 +114,6 @@ fn no_method_name_is_compared_outside_the_registry() {
     let mut found = Vec::new();
     for path in &files {
         let rel = path.strip_prefix(&root).unwrap().to_string_lossy().replace('\\', "/");
-        if ALLOWED.iter().any(|(f, _)| *f == rel) {
-            continue;
-        }
         let text = std::fs::read_to_string(path).unwrap();
         for (n, line) in text.lines().enumerate() {
             let code = line.split("//").next().unwrap_or("");

@@ -1,14 +1,22 @@
 //! Explicit (forward) Euler, as in the notes' code: `x += v dt; v += a dt`, both from the
 //! old state.
 
-use super::{axpy, ConstraintMode, Info, Method};
-use crate::dynamics::{Step, System};
+use super::{ConstraintMode, Info, Method};
+use crate::dynamics::{Element, Ops, Step, System};
 use crate::error::Result;
 
 /// Explicit Euler: `y[n+1] = y[n] + dt f(t[n], y[n])`. First order; gains energy on every
 /// oscillator at every dt.
 #[derive(Debug, Clone, Default)]
 pub struct ExplicitEuler;
+
+/// The step: `y += h f`, then `f` at the new state.
+#[inline(always)]
+fn recipe<O: Ops>(s: &mut O) {
+    let (t, h) = (s.t(), s.h());
+    s.combine([], |y, f, []| y + h * f);
+    s.refresh(t + h);
+}
 
 impl Method for ExplicitEuler {
     const INFO: Info = Info {
@@ -25,9 +33,13 @@ impl Method for ExplicitEuler {
     };
 
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
-        let (t, h) = (s.t, s.h);
-        axpy(s.y, h, s.f);
-        s.refresh(t + h);
+        recipe(s);
         Ok(())
+    }
+
+    #[inline(always)]
+    fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
+        recipe(e);
+        true
     }
 }

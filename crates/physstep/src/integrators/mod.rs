@@ -43,7 +43,7 @@ pub use symplectic_euler::{SymplecticEuler, SymplecticEulerAlternating, Symplect
 pub use verlet::{VelocityVerlet, Verlet};
 pub use yoshida::Yoshida4;
 
-use crate::dynamics::{Step, System};
+use crate::dynamics::{Element, Step, System};
 use crate::error::{Error, Result};
 
 /// What a method is, read by the registry, the CLI's method list, Python's docs and the
@@ -134,6 +134,17 @@ pub trait Method {
     /// [`Error::NotConverged`] when an implicit method's Newton iteration fails;
     /// [`Error::Unsupported`] when the system is too large for the dense solver.
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()>;
+
+    /// One step of one element (see [`Element`]) by the same recipe as [`Method::step`], the
+    /// recipe written once, generic over the storage it runs on
+    /// ([`Ops`](crate::dynamics::Ops)); returns whether the method has that form (`false`,
+    /// the default: `e` is left as it was). The element-wise kernels run it for methods that
+    /// are local and keep no memory (see [`Integrator::fresh_local`]); `tests/kernels.rs`
+    /// and `world/flat.rs`'s unit test hold it bitwise to the staged step.
+    fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
+        let _ = e;
+        false
+    }
 
     /// Forgets internal state (after the user moved the system or a rollback); the next
     /// step starts afresh from `(x, v)`.

@@ -1,7 +1,7 @@
 //! The classic fourth-order Runge-Kutta method.
 
-use super::{scratch, ConstraintMode, Info, Method};
-use crate::dynamics::{Step, System};
+use super::{ConstraintMode, Info, Method};
+use crate::dynamics::{Element, Ops, Step, System};
 use crate::error::Result;
 
 /// RK4 with the notes' names for the evaluation points: `k1 = f(y)`, `xa = y + k1 dt/2`,
@@ -31,24 +31,29 @@ impl Method for Rk4 {
     };
 
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
-        let (t, h) = (s.t, s.h);
-        let n = s.y.len();
-        let stage = scratch(&mut self.stage, n);
-        let ka = scratch(&mut self.ka, n);
-        let kb = scratch(&mut self.kb, n);
-        let kc = scratch(&mut self.kc, n);
-        let th = t + 0.5 * h;
-        s.stage(0.5, None, stage, ka);
-        s.record("xa", th, stage, ka);
-        s.stage(0.5, Some(ka), stage, kb);
-        s.record("xb", th, stage, kb);
-        s.stage(1.0, Some(kb), stage, kc);
-        s.record("xc", t + h, stage, kc);
-        let h6 = h / 6.0;
-        for i in 0..n {
-            s.y[i] += h6 * (s.f[i] + 2.0 * ka[i] + 2.0 * kb[i] + kc[i]);
-        }
-        s.refresh(t + h);
+        recipe(s, [&mut self.stage, &mut self.ka, &mut self.kb, &mut self.kc]);
         Ok(())
     }
+
+    #[inline(always)]
+    fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
+        recipe(e, [&mut [0.0; 2], &mut [0.0; 2], &mut [0.0; 2], &mut [0.0; 2]]);
+        true
+    }
+}
+
+/// The step, its stage and the three slopes in the buffers given.
+#[inline(always)]
+fn recipe<O: Ops>(s: &mut O, [stage, ka, kb, kc]: [&mut O::Y; 4]) {
+    let (t, h) = (s.t(), s.h());
+    let th = t + 0.5 * h;
+    s.stage(0.5, None, stage, ka);
+    s.record("xa", th, stage, ka);
+    s.stage(0.5, Some(ka), stage, kb);
+    s.record("xb", th, stage, kb);
+    s.stage(1.0, Some(kb), stage, kc);
+    s.record("xc", t + h, stage, kc);
+    let h6 = h / 6.0;
+    s.combine([ka, kb, kc], |y, f, [a, b, c]| y + h6 * (f + 2.0 * a + 2.0 * b + c));
+    s.refresh(t + h);
 }

@@ -1,7 +1,7 @@
 //! Symplectic (semi-implicit) Euler in both orders, and the two alternated.
 
 use super::{axpy_to, scratch, ConstraintMode, Info, Method, Sizes};
-use crate::dynamics::{Step, System};
+use crate::dynamics::{Element, Ops, Step, System};
 use crate::error::Result;
 
 /// Velocity first: `v[n+1] = v[n] + a[n] dt; x[n+1] = x[n] + v[n+1] dt`.
@@ -23,10 +23,11 @@ pub struct SymplecticEulerAlternating {
 }
 
 /// Velocity-first step: kick, drift, then `A` at the new state.
-#[inline]
-fn velocity_first<S: System + ?Sized>(s: &mut Step<'_, S>) {
-    s.kick_drift(s.h);
-    s.eval(s.t + s.h);
+#[inline(always)]
+fn velocity_first<O: Ops>(s: &mut O) {
+    let (t, h) = (s.t(), s.h());
+    s.kick_drift(h);
+    s.eval(t + h);
 }
 
 /// Position-first step; with velocity-dependent forces the kick uses `a(x[n+1], v[n])` and
@@ -74,6 +75,12 @@ impl Method for SymplecticEuler {
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
         velocity_first(s);
         Ok(())
+    }
+
+    #[inline(always)]
+    fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
+        velocity_first(e);
+        true
     }
 }
 

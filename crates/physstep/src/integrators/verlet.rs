@@ -1,7 +1,7 @@
 //! Velocityless (Stormer) Verlet and velocity Verlet.
 
-use super::{axpy_to, carried_memory, scratch, Carried, ConstraintMode, Info, Method};
-use crate::dynamics::{Step, System};
+use super::{carried_memory, scratch, Carried, ConstraintMode, Info, Method};
+use crate::dynamics::{Element, Ops, Step, System};
 use crate::error::Result;
 
 /// Velocityless Verlet: `x[n+1] = 2 x[n] - x[n-1] + a[n] dt^2`, started with
@@ -92,24 +92,16 @@ pub struct VelocityVerlet {
 /// alone would make it first order); Yoshida's composition needs the step symmetric to
 /// `O(dt^5)`, three passes. The acceleration is then evaluated once more at the new state.
 /// Velocity-independent forces take one evaluation whatever `corrections` is.
-#[inline]
-pub(crate) fn velocity_verlet<S: System + ?Sized>(
-    s: &mut Step<'_, S>,
-    t: f64,
-    h: f64,
-    corrections: u32,
-    v_half: &mut Vec<f64>,
-) {
+#[inline(always)]
+pub(crate) fn velocity_verlet<O: Ops>(s: &mut O, t: f64, h: f64, corrections: u32, v_half: &mut O::V) {
     let again = s.velocity_dependent();
     s.kick(0.5 * h);
     s.drift(h);
     s.eval(t + h);
     if again {
-        let v_half = scratch(v_half, s.vel_len());
-        v_half.copy_from_slice(s.xva().1);
+        s.save_velocities(v_half);
         for _ in 0..=corrections {
-            let (_, v, a) = s.xva();
-            axpy_to(v, v_half, 0.5 * h, a);
+            s.kick_from(v_half, 0.5 * h);
             s.eval(t + h);
         }
     } else {
@@ -135,5 +127,11 @@ impl Method for VelocityVerlet {
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
         velocity_verlet(s, s.t, s.h, 1, &mut self.v_half);
         Ok(())
+    }
+
+    #[inline(always)]
+    fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
+        velocity_verlet(e, e.t, e.h, 1, &mut 0.0);
+        true
     }
 }

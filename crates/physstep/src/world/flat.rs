@@ -1,47 +1,18 @@
 //! Element-wise kernels: where every force is uniform gravity and linear drag, a particle's
-//! acceleration component `a_j` depends on its own velocity component `v_j` alone, so
-//! explicit Euler, symplectic Euler, velocity Verlet and RK4 are recipes on one number pair
-//! `(x_j, v_j)` at a time. These recipes run over blocks of four particles whose inverse
-//! masses and gravity are laid out per element, which the compiler turns into vector code.
+//! acceleration component `a_j` depends on its own velocity component `v_j` alone, so a
+//! method's step is its recipe on one number pair `(x_j, v_j)` at a time, an
+//! [`Element`]: the method file's own recipe, written once generic over the storage it runs
+//! on ([`Method::element_step`]), not a copy of it. It runs over chunks of particles whose
+//! inverse masses and gravity are laid out per element, all the steps of a run while a chunk
+//! sits in L1, and the compiler turns the loop over elements into vector code.
 //!
-//! Each recipe is the method file's recipe written for one element, operation for operation
-//! (`tests/kernels.rs` checks every method against the staged step bitwise), and the
-//! acceleration is [`Local`](crate::forces::local::Local)'s per-particle function in its
-//! element-wise case.
+//! `tests/kernels.rs` checks every method with an element form against the staged step
+//! bitwise; the acceleration is [`Local`](crate::forces::local::Local)'s per-particle
+//! function in its element-wise case.
 
+use crate::dynamics::Element;
 use crate::integrators::registry::RUNAWAY;
-
-/// The element-wise recipes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Recipe {
-    ExplicitEuler,
-    SymplecticEuler,
-    VelocityVerlet,
-    Rk4,
-}
-
-impl Recipe {
-    /// The recipe of the method registered as `name`, if it has one.
-    pub(super) fn of(name: &str) -> Option<Self> {
-        Some(match name {
-            "explicit-euler" => Self::ExplicitEuler,
-            "symplectic-euler" => Self::SymplecticEuler,
-            "velocity-verlet" => Self::VelocityVerlet,
-            "rk4" => Self::Rk4,
-            _ => return None,
-        })
-    }
-
-    /// Evaluations a step takes, as the method file counts them.
-    pub(super) fn evals(self, velocity: bool) -> u64 {
-        match self {
-            Self::ExplicitEuler | Self::SymplecticEuler => 1,
-            Self::VelocityVerlet if velocity => 3,
-            Self::VelocityVerlet => 1,
-            Self::Rk4 => 4,
-        }
-    }
-}
+use crate::integrators::Method;
 
 /// Gravity and linear drag, element by element.
 #[derive(Debug, Clone, Copy)]
@@ -61,73 +32,11 @@ impl Flat {
     }
 }
 
-// The recipes as constants, so each is compiled on its own (no branch in the loop).
-const EXPLICIT_EULER: u8 = 0;
-const SYMPLECTIC_EULER: u8 = 1;
-const VELOCITY_VERLET: u8 = 2;
-const RK4: u8 = 3;
-
-/// One step of `h` of the element `(x, v)` with inverse mass `im` and gravity component `g`;
-/// returns the acceleration at the new state (with `A`; 0 without).
-#[inline(always)]
-fn element<const R: u8, const A: bool>(
-    k: Flat,
-    velocity: bool,
-    h: f64,
-    x: &mut f64,
-    v: &mut f64,
-    im: f64,
-    g: f64,
-) -> f64 {
-    let acc = |v: f64| k.acc(v, im, g);
-    let a0 = acc(*v);
-    match R {
-        EXPLICIT_EULER => {
-            *x += h * *v;
-            *v += h * a0;
-        }
-        SYMPLECTIC_EULER => {
-            *v += h * a0;
-            *x += h * *v;
-        }
-        VELOCITY_VERLET => {
-            let hh = 0.5 * h;
-            *v += hh * a0;
-            *x += h * *v;
-            let mut a = acc(*v);
-            if velocity {
-                let v_half = *v;
-                for _ in 0..2 {
-                    *v = v_half + hh * a;
-                    a = acc(*v);
-                }
-            } else {
-                *v += hh * a;
-            }
-            return a;
-        }
-        _ => {
-            let (x0, v0) = (*x, *v);
-            let hh = 0.5 * h;
-            let va = v0 + hh * a0;
-            let aa = acc(va);
-            let vb = v0 + hh * aa;
-            let ab = acc(vb);
-            let h1 = 1.0 * h;
-            let vc = v0 + h1 * ab;
-            let ac = acc(vc);
-            let h6 = h / 6.0;
-            *x = x0 + h6 * (v0 + 2.0 * va + 2.0 * vb + vc);
-            *v = v0 + h6 * (a0 + 2.0 * aa + 2.0 * ab + ac);
-        }
-    }
-    // The acceleration at the new state, for the check: not needed where it is bounded by
-    // the velocity's (see `run_r`).
-    if A {
-        acc(*v)
-    } else {
-        0.0
-    }
+/// The evaluations a step of `method` takes on elements, or `None` when it has no
+/// element-wise form ([`Method::element_step`]): counted on a step of a probe element.
+pub(super) fn evals<M: Method>(method: &M, velocity: bool) -> Option<u64> {
+    let mut e = Element::at(0.0, 1.0, [0.0, 0.0], velocity, |_, _| 0.0);
+    method.element_step(&mut e).then_some(e.evals)
 }
 
 /// Whether `x` is NaN, infinite or past [`RUNAWAY`].
@@ -141,31 +50,13 @@ fn bad(x: f64) -> bool {
 /// element (`4 * CHUNK * dim` values) stay in L1 for all the steps of a run.
 const CHUNK: usize = 64;
 
-/// `n` steps of `h` of particles (positions `x`, velocities `v`, flat, `D` per particle),
-/// chunk by chunk, the state at the start kept in `sx`, `sv`; returns the first step at which
-/// a new value or acceleration ran away (or `n`).
+/// `n` steps of `h` of particles (positions `x`, velocities `v`, flat, `D` per particle) by
+/// `method`'s element-wise form, chunk by chunk, the state at the start kept in `sx`, `sv`;
+/// returns the first step at which a new value or acceleration ran away (or `n`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(super) fn run<const D: usize>(
-    r: Recipe,
-    k: Flat,
-    velocity: bool,
-    h: f64,
-    n: u64,
-    inv_mass: &[f64],
-    xv: (&mut [f64], &mut [f64]),
-    saved: (&mut [f64], &mut [f64]),
-) -> u64 {
-    match r {
-        Recipe::ExplicitEuler => run_r::<D, EXPLICIT_EULER>(k, velocity, h, n, inv_mass, xv, saved),
-        Recipe::SymplecticEuler => run_r::<D, SYMPLECTIC_EULER>(k, velocity, h, n, inv_mass, xv, saved),
-        Recipe::VelocityVerlet => run_r::<D, VELOCITY_VERLET>(k, velocity, h, n, inv_mass, xv, saved),
-        Recipe::Rk4 => run_r::<D, RK4>(k, velocity, h, n, inv_mass, xv, saved),
-    }
-}
-
-#[inline(always)]
-fn run_r<const D: usize, const R: u8>(
+pub(super) fn run<const D: usize, M: Method>(
+    method: &M,
     k: Flat,
     velocity: bool,
     h: f64,
@@ -191,23 +82,27 @@ fn run_r<const D: usize, const R: u8>(
         let m = xc.len();
         let (im, gm) = (&im[..m], &gm[..m]);
         // Where |s / m| <= 1/2 and |g| <= 1e90, |a| <= |v| / 2 + 1e90 stays finite and within
-        // the runaway limit whenever v does: a new acceleration that explicit or symplectic
-        // Euler or RK4 only computes for the check cannot fail it, and is not computed.
+        // the runaway limit whenever v does: the acceleration at the new state cannot fail the
+        // check, and a recipe that computes it only for the check (explicit or symplectic
+        // Euler, RK4: their last evaluation) does not compute it.
         let w_max = ic.iter().fold(0.0f64, |a, &w| if w > a { w } else { a });
         let bounded = k.s.abs() * w_max <= 0.5 && k.g.iter().all(|g| g.abs() <= 1e90);
-        let steps = if bounded && R != VELOCITY_VERLET {
-            chunk::<R, false>(k, velocity, h, good, (xc, vc), im, gm)
+        let steps = if bounded {
+            chunk::<M, false>(method, k, velocity, h, good, (xc, vc), im, gm)
         } else {
-            chunk::<R, true>(k, velocity, h, good, (xc, vc), im, gm)
+            chunk::<M, true>(method, k, velocity, h, good, (xc, vc), im, gm)
         };
         good = good.min(steps);
     }
     good
 }
 
-/// Up to `n` steps of one chunk's elements; the first step that ran away (or `n`).
+/// Up to `n` steps of one chunk's elements; the first step that ran away (or `n`). With `A`
+/// the acceleration at the new state is checked too.
 #[inline(always)]
-fn chunk<const R: u8, const A: bool>(
+#[allow(clippy::too_many_arguments)]
+fn chunk<M: Method, const A: bool>(
+    method: &M,
     k: Flat,
     velocity: bool,
     h: f64,
@@ -219,12 +114,95 @@ fn chunk<const R: u8, const A: bool>(
     for s in 0..n {
         let mut flag = 0u64;
         for j in 0..xc.len() {
-            let a = element::<R, A>(k, velocity, h, &mut xc[j], &mut vc[j], im[j], gm[j]);
-            flag |= u64::from(bad(xc[j]) | bad(vc[j]) | (A && bad(a)));
+            let (im, g) = (im[j], gm[j]);
+            // The acceleration at the start is evaluated again, not kept from the last step:
+            // the same bits, and one array less to carry.
+            let mut e = Element::at(0.0, h, [xc[j], vc[j]], velocity, |_, v| k.acc(v, im, g));
+            method.element_step(&mut e);
+            [xc[j], vc[j]] = e.y;
+            flag |= u64::from(bad(xc[j]) | bad(vc[j]) | (A && bad(e.f[1])));
         }
         if flag != 0 {
             return s;
         }
     }
     n
+}
+
+#[cfg(test)]
+mod tests {
+    use super::evals;
+    use crate::dynamics::{Element, Second, SecondOrder, Step};
+    use crate::integrators::registry::Visit;
+    use crate::integrators::{Integrator, Method, INFOS};
+
+    /// One coordinate under `a = acc(x, v)`, as a system the staged step runs on.
+    struct One<A>(A, bool);
+
+    impl<A: Fn(f64, f64) -> f64> SecondOrder for One<A> {
+        fn len(&self) -> usize {
+            1
+        }
+        fn accel(&mut self, _t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
+            a[0] = (self.0)(x[0], v[0]);
+        }
+        fn velocity_dependent(&self) -> bool {
+            self.1
+        }
+    }
+
+    /// A method's steps on an element and the staged steps on the same one-coordinate system
+    /// (a spring, with drag when `velocity`): the same bits and evaluations, step after step.
+    /// The evaluations of a step, or `None` when the method has no element-wise form.
+    struct Agree {
+        velocity: bool,
+    }
+
+    impl Visit for Agree {
+        type Out = Option<u64>;
+
+        fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> Option<u64> {
+            let velocity = self.velocity;
+            let c = if velocity { 0.7 } else { 0.0 };
+            let acc = |x: f64, v: f64| (0.0 + -c * v + (-3.0 * (x - 0.25) - 0.2 * c * v)) * 0.8 - 9.81;
+            let per_step = evals(m, velocity)?;
+            let mut y = [1.3, -0.4];
+            let mut f = [y[1], acc(y[0], y[1])];
+            let mut one = One(acc, velocity);
+            let mut sys = Second(&mut one);
+            for k in 0..60 {
+                let h = [0.01, 0.1, 0.37][k % 3];
+                let mut e = Element::new(0.0, h, y, f, velocity, acc);
+                assert!(m.element_step(&mut e));
+                let mut n = 0;
+                m.step(&mut Step::new(&mut sys, 0.0, h, &mut y, &mut f, &mut n, None)).unwrap();
+                let what = format!("{} (velocity {velocity}), step {k}", M::INFO.name);
+                assert_eq!(e.y.map(f64::to_bits), y.map(f64::to_bits), "{what}: y");
+                assert_eq!(e.f.map(f64::to_bits), f.map(f64::to_bits), "{what}: f");
+                assert_eq!((e.evals, n), (per_step, per_step), "{what}: evaluations");
+            }
+            Some(per_step)
+        }
+    }
+
+    #[test]
+    fn an_element_steps_bitwise_as_the_staged_step() {
+        let mut forms = Vec::new();
+        for info in &INFOS {
+            let mut m = Integrator::new(info.name).unwrap();
+            let still = m.visit(Agree { velocity: false });
+            let moving = m.visit(Agree { velocity: true });
+            assert_eq!(still.is_some(), moving.is_some(), "{}", info.name);
+            if let Some(e) = still {
+                // The kernels run element-wise forms on any part of the particles at a time.
+                assert!(m.fresh_local().is_some(), "{}: an element-wise form but not local", info.name);
+                assert_eq!(e, u64::from(info.evals), "{}: evaluations as INFO gives them", info.name);
+                forms.push(info.name);
+            }
+        }
+        // The fast paths the README's performance table measures.
+        for name in ["explicit-euler", "symplectic-euler", "velocity-verlet", "rk4"] {
+            assert!(forms.contains(&name), "{name} lost its element-wise form");
+        }
+    }
 }

@@ -13,7 +13,7 @@
 //! steps (the same arithmetic, so the same bits) and takes step `k` the staged way, which
 //! fails the same way, rolls back, and names the particle (`World::run`).
 
-use super::flat::{Flat, Recipe};
+use super::flat::{self, Flat};
 use super::rollback::Epoch;
 use super::small::{self, Elements};
 use super::tiles::{self, Forces, Run};
@@ -52,8 +52,8 @@ pub(crate) struct Row<'a> {
 /// dispatched once for the whole run. The good steps and the evaluations each took.
 struct Fused<'a, const D: usize> {
     forces: Forces<'a>,
-    /// The element-wise recipe and forces, when they apply.
-    flat: Option<(Recipe, Flat)>,
+    /// The element-wise forces, when they apply.
+    flat: Option<Flat>,
     inv_mass: &'a [f64],
     /// The state `[x; v]`.
     y: &'a mut [f64],
@@ -67,11 +67,11 @@ impl<const D: usize> Visit for Fused<'_, D> {
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, u64) {
         let Self { forces, flat, inv_mass, y, saved, run } = self;
-        match flat {
-            Some((r, k)) => (
-                tiles::elementwise::<D>(r, k, forces.velocity, inv_mass, y, saved, run),
-                r.evals(forces.velocity),
-            ),
+        // The method's element-wise form where it has one and the forces are element-wise.
+        match flat.zip(flat::evals(method, forces.velocity)) {
+            Some((k, e)) => {
+                (tiles::elementwise::<D, M>(method, k, forces.velocity, inv_mass, y, saved, run), e)
+            }
             None => tiles::recipe::<D, M>(method, forces, inv_mass, y, saved, run),
         }
     }
@@ -82,8 +82,8 @@ impl<const D: usize> Visit for Fused<'_, D> {
 /// stopped the run.
 struct Observe<'a, 'b, const D: usize, F> {
     forces: Forces<'a>,
-    /// The element-wise recipe and forces, when they apply.
-    small: Option<(Recipe, &'a Elements)>,
+    /// The element-wise forces, when they apply.
+    small: Option<&'a Elements>,
     model: &'a super::Model,
     y: &'a mut [f64],
     saved: &'a mut [f64],
@@ -101,10 +101,8 @@ impl<const D: usize, F: FnMut(Row<'_>) -> bool> Visit for Observe<'_, '_, D, F> 
             let t = run.epoch.time(s).unwrap_or(f64::NAN);
             on_row(Row { model, steps: s, t, x: &y[..m], v: &y[m..], a: &f[m..] })
         };
-        let elementwise = small.and_then(|(r, k)| {
-            let (good, halted) = small::observed(k, r, run.h, run.n, y, saved, &mut look)?;
-            Some(((good, r.evals(forces.velocity)), halted))
-        });
+        let elementwise = small
+            .and_then(|k| small::observed(method, k, forces.velocity, run.h, run.n, y, saved, &mut look));
         match elementwise {
             Some(out) => out,
             None => tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look),
@@ -172,16 +170,15 @@ impl World {
         let model = &self.model;
         let local = model.forces.local();
         let forces = Forces { local, velocity: model.velocity_dependent() };
-        let recipe = Recipe::of(method.info().name);
         let State { y, .. } = &mut self.state;
         match on_row {
             Some(on_row) => {
                 let elements = Elements::of(local, model.dim, &model.inv_mass);
-                let small = recipe.zip(elements.as_ref());
+                let small = elements.as_ref();
                 method.visit(Observe::<D, F> { forces, small, model, y, saved, run, on_row })
             }
             _ => {
-                let flat = recipe.zip(local.element_wise().map(|(s, g)| Flat { s, g }));
+                let flat = local.element_wise().map(|(s, g)| Flat { s, g });
                 let inv_mass = &model.inv_mass;
                 (method.visit(Fused::<D> { forces, flat, inv_mass, y, saved, run }), false)
             }

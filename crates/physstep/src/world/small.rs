@@ -1,26 +1,42 @@
 //! The small-world kernel: a recording of every step of a world of a few particles (at most
 //! [`OBSERVED_MAX`]) whose every acceleration component is a function of its own coordinate
 //! and velocity component (gravity, linear drag, springs of zero rest length to anchors, see
-//! [`Local::element_springs`]), stepped by explicit or symplectic Euler. As in
-//! [`super::flat`], each recipe is the method file's recipe written for one number pair
-//! `(x_j, v_j)`, operation for operation, and the acceleration is [`Local`]'s per-particle
-//! function in its element-wise case (`tests/kernels.rs` checks both against the staged
-//! step bitwise); a step costs little more than its arithmetic.
+//! [`Local::element_springs`]), stepped by a method with an element-wise form. As in
+//! [`super::flat`], a step is the method file's own recipe run on one number pair
+//! `(x_j, v_j)` at a time ([`Method::element_step`]), and the acceleration is [`Local`]'s
+//! per-particle function in its element-wise case (`tests/kernels.rs` checks both against
+//! the staged step bitwise); a step costs little more than its arithmetic.
 //!
 //! Why the element-wise acceleration is the per-particle one bit for bit: that function sums
 //! the force from `+0` (`+0 + s v` with drag, `s = 0` without: `+0 + 0 v` is `+0` for a
-//! finite `v`), adds its one spring's `-k d - c v` (an element without one adds `-0 d - 0 v`,
-//! a zero, to a sum that is never `-0`: the same sum), multiplies by `1/m` (a sum of `+0`
-//! times `1/m` is the `+0` the function starts from when no force acts) and adds gravity
-//! (`0` on a static particle). A non-finite coordinate or velocity fails the step either way.
+//! finite `v`), adds its one spring's `-k d - c v` (an element without one adds `+0`, chosen
+//! rather than computed, to a sum that is never `-0`: the same sum at any position, a stage's
+//! included), multiplies by `1/m` (a sum of `+0` times `1/m` is the `+0` the function starts
+//! from when no force acts) and adds gravity (`0` on a static particle). A non-finite
+//! velocity, at the new state or at a stage, fails the step either way (a stage's velocity
+//! is part of the new position: RK4's weighted sum, velocity Verlet's drift).
 
-use super::flat::Recipe;
+use super::flat;
 use super::tiles::OBSERVED_MAX;
+use crate::dynamics::Element;
 use crate::forces::local::Local;
 use crate::integrators::registry::RUNAWAY;
+use crate::integrators::Method;
 
 /// Most elements (coordinates) a small world has.
 const CAP: usize = OBSERVED_MAX * 3;
+
+/// The forces on one element: inverse mass, gravity (0 on a static particle), whether a
+/// spring acts, and the spring's stiffness, damping and anchor (0 without one).
+#[derive(Debug, Clone, Copy, Default)]
+struct Param {
+    im: f64,
+    g: f64,
+    spring: bool,
+    k: f64,
+    c: f64,
+    at: f64,
+}
 
 /// The forces on each element of a small world.
 pub(super) struct Elements {
@@ -28,13 +44,8 @@ pub(super) struct Elements {
     len: usize,
     /// The drag factor `-(c1 + c2 * 0)`, or 0 without drag.
     s: f64,
-    /// Inverse mass, gravity (0 on a static particle), and the spring's stiffness, damping
-    /// and anchor (0 without one), per element.
-    im: [f64; CAP],
-    g: [f64; CAP],
-    k: [f64; CAP],
-    c: [f64; CAP],
-    at: [f64; CAP],
+    /// Per element.
+    p: [Param; CAP],
 }
 
 impl Elements {
@@ -45,29 +56,27 @@ impl Elements {
         if inv_mass.len() > OBSERVED_MAX {
             return None;
         }
-        let z = [0.0; CAP];
-        let mut e = Self { len: inv_mass.len() * dim, s, im: z, g: z, k: z, c: z, at: z };
+        let mut e = Self { len: inv_mass.len() * dim, s, p: [Param::default(); CAP] };
         for (p, &w) in inv_mass.iter().enumerate() {
-            let r = p * dim..(p + 1) * dim;
-            for ((im, gm), gc) in e.im[r.clone()].iter_mut().zip(&mut e.g[r]).zip(g) {
-                (*im, *gm) = (w, if w > 0.0 { gc } else { 0.0 });
+            for (q, gc) in e.p[p * dim..(p + 1) * dim].iter_mut().zip(g) {
+                (q.im, q.g) = (w, if w > 0.0 { gc } else { 0.0 });
             }
         }
         for sp in springs {
             let [k, _, c] = sp.p;
-            let r = sp.i * dim..(sp.i + 1) * dim;
-            e.k[r.clone()].fill(k);
-            e.c[r.clone()].fill(c);
-            e.at[r].copy_from_slice(&sp.at[..dim]);
+            for (q, at) in e.p[sp.i * dim..(sp.i + 1) * dim].iter_mut().zip(sp.at) {
+                (q.spring, q.k, q.c, q.at) = (true, k, c, at);
+            }
         }
         Some(e)
     }
 
-    /// The acceleration of element `j` at `x`, `v`: `(0 + s v + (-k (x - at) - c v)) / m + g`,
-    /// as the per-particle function computes it.
+    /// The acceleration of an element with forces `p` at `x`, `v`:
+    /// `(0 + s v + (-k (x - at) - c v)) / m + g`, as the per-particle function computes it.
     #[inline(always)]
-    fn acc(&self, j: usize, x: f64, v: f64) -> f64 {
-        ((0.0 + self.s * v) + (-self.k[j] * (x - self.at[j]) - self.c[j] * v)) * self.im[j] + self.g[j]
+    fn acc(&self, p: &Param, x: f64, v: f64) -> f64 {
+        let spring = -p.k * (x - p.at) - p.c * v;
+        ((0.0 + self.s * v) + if p.spring { spring } else { 0.0 }) * p.im + p.g
     }
 }
 
@@ -78,63 +87,41 @@ fn bad(x: f64) -> bool {
     !(x.abs() <= RUNAWAY)
 }
 
-/// Up to `n` steps of `h` of the state `y = [x; v]` by `recipe` (explicit or symplectic
-/// Euler; `None` for another), the state at the start kept in `saved`, `on_step(k, y, f)`
-/// called after each good step `k` with the state and its derivative `[v; a]` (return
-/// `false` to stop after it), as [`super::tiles::observed`] takes them; the steps taken and
-/// whether `on_step` stopped the run.
-pub(super) fn observed(
+/// Up to `n` steps of `h` of the state `y = [x; v]` by `method`'s element-wise form (`None`
+/// when it has none), the state at the start kept in `saved`, `on_step(k, y, f)` called after
+/// each good step `k` with the state and its derivative `[v; a]` (return `false` to stop
+/// after it), as [`super::tiles::observed`] takes them; the steps taken, the evaluations a
+/// step takes, and whether `on_step` stopped the run.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn observed<M: Method>(
+    method: &M,
     e: &Elements,
-    recipe: Recipe,
+    velocity: bool,
     h: f64,
     n: u64,
     y: &mut [f64],
     saved: &mut [f64],
     on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
-) -> Option<(u64, bool)> {
-    match recipe {
-        Recipe::SymplecticEuler => Some(run::<true>(e, h, n, y, saved, on_step)),
-        Recipe::ExplicitEuler => Some(run::<false>(e, h, n, y, saved, on_step)),
-        Recipe::VelocityVerlet | Recipe::Rk4 => None,
-    }
-}
-
-/// [`observed`] by symplectic Euler (`VELOCITY_FIRST`) or explicit Euler, each compiled on
-/// its own (no branch in the loop).
-#[inline(always)]
-fn run<const VELOCITY_FIRST: bool>(
-    e: &Elements,
-    h: f64,
-    n: u64,
-    y: &mut [f64],
-    saved: &mut [f64],
-    on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
-) -> (u64, bool) {
+) -> Option<((u64, u64), bool)> {
+    let evals = flat::evals(method, velocity)?;
     let m = e.len;
     saved.copy_from_slice(y);
     let (mut ys, mut fs) = ([0.0; 2 * CAP], [0.0; 2 * CAP]);
     let (ys, f) = (&mut ys[..2 * m], &mut fs[..2 * m]);
     ys.copy_from_slice(y);
-    for j in 0..m {
-        (f[j], f[m + j]) = (ys[m + j], e.acc(j, ys[j], ys[m + j]));
+    for (j, p) in e.p[..m].iter().enumerate() {
+        (f[j], f[m + j]) = (ys[m + j], e.acc(p, ys[j], ys[m + j]));
     }
     let (mut good, mut halted) = (n, false);
     for k in 0..n {
         let mut flag = false;
-        for j in 0..m {
-            let (mut x, mut v, a) = (ys[j], ys[m + j], f[m + j]);
-            if VELOCITY_FIRST {
-                // Symplectic Euler: kick, drift.
-                v += h * a;
-                x += h * v;
-            } else {
-                // Explicit Euler: y += h f.
-                x += h * v;
-                v += h * a;
-            }
-            let a = e.acc(j, x, v);
-            (ys[j], ys[m + j], f[j], f[m + j]) = (x, v, v, a);
-            flag |= bad(x) | bad(v) | bad(a);
+        let ((xs, vs), (dxs, acs)) = (ys.split_at_mut(m), f.split_at_mut(m));
+        let rows = xs.iter_mut().zip(vs.iter_mut()).zip(dxs.iter_mut().zip(acs.iter_mut()));
+        for (((x, v), (dx, a)), p) in rows.zip(&e.p[..m]) {
+            let mut el = Element::new(0.0, h, [*x, *v], [*dx, *a], velocity, |x, v| e.acc(p, x, v));
+            method.element_step(&mut el);
+            ([*x, *v], [*dx, *a]) = (el.y, el.f);
+            flag |= bad(*x) | bad(*v) | bad(*a);
         }
         if flag {
             good = k;
@@ -146,5 +133,5 @@ fn run<const VELOCITY_FIRST: bool>(
         }
     }
     y.copy_from_slice(ys);
-    (good, halted)
+    Some(((good, evals), halted))
 }

@@ -4,14 +4,15 @@
 //! from memory and written back once per run instead of once per step.
 //!
 //! Two kinds of tile: the method's own recipe on a tile [`System`] (any local method, any
-//! per-particle force), and the element-wise recipes of [`super::flat`]. Both run compiled
+//! per-particle force), and the same recipe on one element at a time ([`super::flat`], for
+//! methods with an element-wise form under gravity and linear drag). Both run compiled
 //! for AVX2 where the CPU has it (run-time dispatch) and for the baseline target otherwise;
 //! only `+ - * / sqrt` of IEEE doubles are used and no multiply-add is fused (Rust never
 //! contracts), so the two paths give bitwise the same results.
 
 use rayon::prelude::*;
 
-use super::flat::{self, Flat, Recipe};
+use super::flat::{self, Flat};
 use super::Epoch;
 use crate::dynamics::{Second, SecondOrder, Step};
 use crate::forces::local::{AnchorSpring, Local};
@@ -284,11 +285,12 @@ unsafe fn recipe_avx2<const D: usize, M: Method>(
     recipe_task::<D, M>(method, forces, p0, inv_mass, xv, saved, run)
 }
 
-/// A run of every particle (state `y = [x; v]`) by an element-wise recipe
+/// A run of every particle (state `y = [x; v]`) by `method`'s element-wise form
 /// ([`super::flat`]), the state at its start kept in `saved`; the first step that ran away
 /// (or `run.n`).
-pub(super) fn elementwise<const D: usize>(
-    r: Recipe,
+#[allow(clippy::too_many_arguments)]
+pub(super) fn elementwise<const D: usize, M: Method + Sync>(
+    method: &M,
     k: Flat,
     velocity: bool,
     inv_mass: &[f64],
@@ -302,9 +304,9 @@ pub(super) fn elementwise<const D: usize>(
         if avx2() {
             // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
             // `target_feature` function.
-            return unsafe { elementwise_avx2::<D>(r, k, velocity, h, n, im, xv, s) };
+            return unsafe { elementwise_avx2::<D, M>(method, k, velocity, h, n, im, xv, s) };
         }
-        flat::run::<D>(r, k, velocity, h, n, im, xv, s)
+        flat::run::<D, M>(method, k, velocity, h, n, im, xv, s)
     };
     if inv_mass.len() < PARALLEL_MIN {
         let ((x, v), (sx, sv)) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
@@ -316,8 +318,8 @@ pub(super) fn elementwise<const D: usize>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn elementwise_avx2<const D: usize>(
-    r: Recipe,
+unsafe fn elementwise_avx2<const D: usize, M: Method>(
+    method: &M,
     k: Flat,
     velocity: bool,
     h: f64,
@@ -326,5 +328,5 @@ unsafe fn elementwise_avx2<const D: usize>(
     xv: (&mut [f64], &mut [f64]),
     saved: (&mut [f64], &mut [f64]),
 ) -> u64 {
-    flat::run::<D>(r, k, velocity, h, n, inv_mass, xv, saved)
+    flat::run::<D, M>(method, k, velocity, h, n, inv_mass, xv, saved)
 }
