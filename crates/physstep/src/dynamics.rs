@@ -17,7 +17,29 @@
 //! Users write a system as a [`SecondOrder`] (`x'' = a(t, x, v)`) or a [`FirstOrder`]
 //! (`y' = f(t, y)`); [`Second`] and [`First`] make them [`System`]s.
 
-use crate::integrators::{Log, StageRow};
+/// The intermediate evaluation points of a step, as the notes print them (`half` for
+/// midpoint; `xa`, `xb`, `xc` for RK4).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StageLog {
+    /// Rows in the order they were evaluated.
+    pub rows: Vec<StageRow>,
+}
+
+/// One evaluation point inside a step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageRow {
+    /// Stage name (`half`, `xa`, `xb`, `xc`).
+    pub stage: &'static str,
+    /// Time of the evaluation point, s.
+    pub t: f64,
+    /// The state there (`[x; v]` for a second-order system).
+    pub y: Vec<f64>,
+    /// The derivative there (`[v; a]` for a second-order system).
+    pub f: Vec<f64>,
+}
+
+/// Where a method reports its stages; `None` on the hot path.
+pub type Log<'a> = Option<&'a mut StageLog>;
 
 /// A second-order system `x'' = a(t, x, v)` on `n` coordinates.
 pub trait SecondOrder {
@@ -125,7 +147,7 @@ pub trait System {
     /// the whole of a symplectic Euler step but its evaluation. Parts fuse it into one pass
     /// over memory where they can; the result must be what the three would give.
     fn kick_drift(&mut self, x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
-        crate::integrators::axpy(v, h, a);
+        crate::linalg::vector::axpy(v, h, a);
         self.drift(x, v, h);
         self.rate(x, v, dx);
     }
@@ -185,7 +207,7 @@ impl<S: SecondOrder + ?Sized> System for Second<'_, S> {
     }
     #[inline]
     fn drift(&mut self, x: &mut [f64], w: &[f64], h: f64) {
-        crate::integrators::axpy(x, h, w);
+        crate::linalg::vector::axpy(x, h, w);
     }
     #[inline]
     fn rate(&self, _x: &[f64], v: &[f64], dx: &mut [f64]) {
@@ -197,7 +219,7 @@ impl<S: SecondOrder + ?Sized> System for Second<'_, S> {
     }
     #[inline]
     fn kick_drift(&mut self, x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
-        crate::integrators::kick_drift(x, v, dx, a, h);
+        crate::linalg::vector::kick_drift(x, v, dx, a, h);
     }
 }
 
@@ -277,7 +299,7 @@ impl<'a, S: System + ?Sized> Step<'a, S> {
     /// state's own derivative `f` when `None` (an Euler stage).
     #[inline]
     pub fn stage(&mut self, c: f64, k: Option<&[f64]>, y_out: &mut [f64], f_out: &mut [f64]) {
-        crate::integrators::axpy_to(y_out, self.y, c * self.h, k.unwrap_or(self.f));
+        crate::linalg::vector::axpy_to(y_out, self.y, c * self.h, k.unwrap_or(self.f));
         self.deriv(self.t + c * self.h, y_out, f_out);
     }
 
@@ -351,7 +373,7 @@ impl<'a, S: System + ?Sized> Step<'a, S> {
     #[inline]
     pub fn kick(&mut self, h: f64) {
         let (_, v, a) = self.xva();
-        crate::integrators::axpy(v, h, a);
+        crate::linalg::vector::axpy(v, h, a);
     }
 
     /// Drift: `X` moved by `V` over `h`.
@@ -457,7 +479,8 @@ impl<S: System + ?Sized> Ops for Step<'_, S> {
     #[inline]
     fn stage(&mut self, c: f64, k: Option<&Vec<f64>>, y_out: &mut Vec<f64>, f_out: &mut Vec<f64>) {
         let n = self.y.len();
-        let (y_out, f_out) = (crate::integrators::scratch(y_out, n), crate::integrators::scratch(f_out, n));
+        let (y_out, f_out) =
+            (crate::linalg::vector::scratch(y_out, n), crate::linalg::vector::scratch(f_out, n));
         Step::stage(self, c, k.map(Vec::as_slice), y_out, f_out);
     }
     #[inline]
@@ -472,9 +495,9 @@ impl<S: System + ?Sized> Ops for Step<'_, S> {
     ) {
         let (y, f) = (&mut *self.y, &*self.f);
         let ks = ks.map(Vec::as_slice);
-        if y.len() >= crate::integrators::PAR_MIN {
+        if y.len() >= crate::linalg::vector::PAR_MIN {
             use rayon::prelude::*;
-            let c = crate::integrators::PAR_CHUNK;
+            let c = crate::linalg::vector::PAR_CHUNK;
             y.par_chunks_mut(c).enumerate().for_each(|(q, yc)| {
                 combine_serial(yc, &f[q * c..], ks.map(|k| &k[q * c..]), &rule);
             });
@@ -504,13 +527,13 @@ impl<S: System + ?Sized> Ops for Step<'_, S> {
     }
     #[inline]
     fn save_velocities(&mut self, w: &mut Vec<f64>) {
-        let w = crate::integrators::scratch(w, self.vel_len());
+        let w = crate::linalg::vector::scratch(w, self.vel_len());
         w.copy_from_slice(self.xva().1);
     }
     #[inline]
     fn kick_from(&mut self, w: &Vec<f64>, h: f64) {
         let (_, v, a) = self.xva();
-        crate::integrators::axpy_to(v, w, h, a);
+        crate::linalg::vector::axpy_to(v, w, h, a);
     }
     #[inline]
     fn sync(&mut self) {

@@ -94,29 +94,7 @@ pub enum ConstraintMode {
     Rattle,
 }
 
-/// The intermediate evaluation points of a step, as the notes print them (`half` for
-/// midpoint; `xa`, `xb`, `xc` for RK4).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct StageLog {
-    /// Rows in the order they were evaluated.
-    pub rows: Vec<StageRow>,
-}
-
-/// One evaluation point inside a step.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StageRow {
-    /// Stage name (`half`, `xa`, `xb`, `xc`).
-    pub stage: &'static str,
-    /// Time of the evaluation point, s.
-    pub t: f64,
-    /// The state there (`[x; v]` for a second-order system).
-    pub y: Vec<f64>,
-    /// The derivative there (`[v; a]` for a second-order system).
-    pub f: Vec<f64>,
-}
-
-/// Where a method reports its stages; `None` on the hot path.
-pub type Log<'a> = Option<&'a mut StageLog>;
+pub use crate::dynamics::{Log, StageLog, StageRow};
 
 /// One integration method: a recipe run on a [`Step`].
 ///
@@ -302,86 +280,5 @@ pub(crate) fn vectors_only(info: &Info) -> Error {
     }
 }
 
-/// `y += s * x`, elementwise: the one update every method is made of (in parallel for long
-/// arrays, bitwise the same for any thread count).
-#[inline]
-pub fn axpy(y: &mut [f64], s: f64, x: &[f64]) {
-    if y.len() >= PAR_MIN {
-        use rayon::prelude::*;
-        y.par_chunks_mut(PAR_CHUNK).zip(x.par_chunks(PAR_CHUNK)).for_each(|(y, x)| axpy_serial(y, s, x));
-    } else {
-        axpy_serial(y, s, x);
-    }
-}
-
-#[inline]
-fn axpy_serial(y: &mut [f64], s: f64, x: &[f64]) {
-    for (yi, xi) in y.iter_mut().zip(x) {
-        *yi += s * xi;
-    }
-}
-
-/// Arrays at least this long are updated in parallel, in chunks of [`PAR_CHUNK`]. Every
-/// element is computed by the same expression whichever thread runs it, so the result is
-/// bitwise the same for any thread count.
-pub(crate) const PAR_MIN: usize = 1 << 16;
-/// Elements per parallel task (256 KiB of f64).
-pub(crate) const PAR_CHUNK: usize = 1 << 15;
-
-/// `out = y + s * x` (in parallel for long arrays, like [`axpy`]).
-#[inline]
-pub fn axpy_to(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
-    if out.len() >= PAR_MIN {
-        use rayon::prelude::*;
-        out.par_chunks_mut(PAR_CHUNK)
-            .zip(y.par_chunks(PAR_CHUNK))
-            .zip(x.par_chunks(PAR_CHUNK))
-            .for_each(|((o, y), x)| axpy_to_serial(o, y, s, x));
-    } else {
-        axpy_to_serial(out, y, s, x);
-    }
-}
-
-#[inline]
-fn axpy_to_serial(out: &mut [f64], y: &[f64], s: f64, x: &[f64]) {
-    for ((oi, yi), xi) in out.iter_mut().zip(y).zip(x) {
-        *oi = yi + s * xi;
-    }
-}
-
-/// Kick then drift in one pass, the whole of a velocity-first symplectic Euler update of
-/// particles: `v += h a; x += h v; dx = v` (the last keeps `f = [v; a]` without another
-/// pass). The same operations per element as a kick then a drift, so bitwise the same
-/// result.
-#[inline]
-pub(crate) fn kick_drift(x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
-    if x.len() >= PAR_MIN {
-        use rayon::prelude::*;
-        x.par_chunks_mut(PAR_CHUNK)
-            .zip(v.par_chunks_mut(PAR_CHUNK))
-            .zip(dx.par_chunks_mut(PAR_CHUNK))
-            .zip(a.par_chunks(PAR_CHUNK))
-            .for_each(|(((x, v), dx), a)| kick_drift_serial(x, v, dx, a, h));
-    } else {
-        kick_drift_serial(x, v, dx, a, h);
-    }
-}
-
-#[inline]
-fn kick_drift_serial(x: &mut [f64], v: &mut [f64], dx: &mut [f64], a: &[f64], h: f64) {
-    for (((xi, vi), di), ai) in x.iter_mut().zip(v.iter_mut()).zip(dx.iter_mut()).zip(a) {
-        *vi += h * ai;
-        *xi += h * *vi;
-        *di = *vi;
-    }
-}
-
-/// A scratch buffer of length `n`, reallocated only when the length changes.
-#[inline]
-pub(crate) fn scratch(buf: &mut Vec<f64>, n: usize) -> &mut [f64] {
-    if buf.len() != n {
-        buf.clear();
-        buf.resize(n, 0.0);
-    }
-    buf.as_mut_slice()
-}
+pub(crate) use crate::linalg::vector::scratch;
+pub use crate::linalg::vector::{axpy, axpy_to};

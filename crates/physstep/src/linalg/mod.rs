@@ -34,6 +34,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod cg;
+pub mod vector;
 
 pub use cg::{cg, CgParams, CgResult, CgWork};
 

@@ -7,7 +7,6 @@
 
 mod doc;
 mod read;
-mod read_parts;
 mod write;
 
 use crate::error::{Error, Result};
