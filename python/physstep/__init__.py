@@ -89,7 +89,8 @@ class MethodInfo:
 
     ``split``: it needs positions and velocities apart (not for first-order flows);
     ``vector_positions``: it does arithmetic on positions as vectors (Verlet's
-    ``2 x - x_prev``), so it does not apply to rigid bodies' orientations."""
+    ``2 x - x_prev``), so it does not apply to rigid bodies' orientations; ``period``: the
+    steps after which its step map repeats (2 for the alternating symplectic Euler)."""
 
     name: str
     order: int
@@ -99,6 +100,7 @@ class MethodInfo:
     split: bool
     doc: str
     vector_positions: bool = False
+    period: int = 1
 
 
 def methods() -> list[MethodInfo]:

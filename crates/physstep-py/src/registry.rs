@@ -17,6 +17,7 @@ fn info_dict<'py>(py: Python<'py>, i: &Info) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("evals", i.evals)?;
     d.set_item("split", i.split)?;
     d.set_item("vector_positions", i.vector_positions)?;
+    d.set_item("period", i.period)?;
     d.set_item("doc", i.doc)?;
     Ok(d)
 }

@@ -70,7 +70,7 @@ ABOVE_FACTORS = (1.01, 1.02, 1.03, 1.05, 1.1)
 
 def _map_period(method: str) -> int:
     """Steps after which the method's step map repeats (alternating Euler: two)."""
-    return 2 if method == "symplectic-euler-alternating" else 1
+    return physstep.method(method).period
 
 
 def amplification(scene: Any, method: str, dt: float, params: dict[str, float] | None = None) -> np.ndarray:

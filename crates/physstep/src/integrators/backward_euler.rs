@@ -39,6 +39,7 @@ impl Method for BackwardEuler {
         vector_positions: false,
         local: false,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "x += v_new dt; v += a_new dt, solved by Newton iteration; loses energy, stable at any dt",
     };
 

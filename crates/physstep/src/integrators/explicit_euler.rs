@@ -29,6 +29,7 @@ impl Method for ExplicitEuler {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "x += v dt; v += a dt, both from the old state (the notes' code); gains energy",
     };
 

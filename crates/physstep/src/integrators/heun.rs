@@ -22,6 +22,7 @@ impl Method for Heun {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "Euler predictor y_p = y + f dt, then y += (f(y) + f(y_p)) dt/2 (trapezoid RK2)",
     };
 

@@ -39,6 +39,7 @@ impl Method for ImplicitMidpoint {
         vector_positions: false,
         local: false,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "y += f((y + y_new)/2) dt, solved by Newton iteration; symplectic, stable at any dt",
     };
 

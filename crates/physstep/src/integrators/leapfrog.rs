@@ -28,6 +28,7 @@ impl Method for Leapfrog {
         vector_positions: false,
         local: false,
         constraints: ConstraintMode::Rattle,
+        period: 1,
         doc: "v_half += a dt; x += v_half dt (half-step velocity inside; synchronised v reported)",
     };
 

@@ -23,6 +23,7 @@ impl Method for Midpoint {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "x_half = x + v dt/2, v_half = v + a dt/2; x += v_half dt, v += a(x_half, v_half) dt (RK2)",
     };
 

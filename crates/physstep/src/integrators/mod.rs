@@ -74,6 +74,10 @@ pub struct Info {
     pub local: bool,
     /// How the Relax stage meets position constraints under this method.
     pub constraints: ConstraintMode,
+    /// Steps after which the method's step map repeats: 1, or 2 for a method that alternates
+    /// two steps (symplectic Euler in both orders). The lab's amplification matrix is the map
+    /// of one period.
+    pub period: u32,
     /// One-line description with the update rule.
     pub doc: &'static str,
 }

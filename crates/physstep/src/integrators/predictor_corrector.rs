@@ -26,6 +26,7 @@ impl Method for PredictorCorrector {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "explicit Euler predictor y* = y + f dt fed into backward Euler: y += f(y*) dt",
     };
 

@@ -27,6 +27,7 @@ impl Method for Rk4 {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "classic Runge-Kutta: evaluation points xa, xb (half step), xc (full step), weights 1/6 1/3 1/3 1/6",
     };
 

@@ -69,6 +69,7 @@ impl Method for SymplecticEuler {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "v += a dt, then x += v dt with the new v (semi-implicit Euler); bounded energy",
     };
 
@@ -95,6 +96,7 @@ impl Method for SymplecticEulerX {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc: "x += v dt, then v += a(x_new) dt (the other order of symplectic Euler)",
     };
 
@@ -115,6 +117,7 @@ impl Method for SymplecticEulerAlternating {
         vector_positions: false,
         local: false,
         constraints: ConstraintMode::Project,
+        period: 2,
         doc: "the two symplectic Euler orders alternated (velocity first on even steps); a pair of steps is velocity Verlet at 2 dt",
     };
 

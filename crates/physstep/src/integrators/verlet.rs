@@ -28,6 +28,7 @@ impl Method for Verlet {
         vector_positions: true,
         local: false,
         constraints: ConstraintMode::Jakobsen,
+        period: 1,
         doc: "velocityless Stormer Verlet x' = 2x - x_prev + a dt^2, x_prev = x0 - v0 dt; v by backward difference",
     };
 
@@ -121,6 +122,7 @@ impl Method for VelocityVerlet {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Rattle,
+        period: 1,
         doc: "v += a dt/2; x += v dt; a = a(x); v += a dt/2",
     };
 

@@ -37,6 +37,7 @@ impl Method for Yoshida4 {
         vector_positions: false,
         local: true,
         constraints: ConstraintMode::Project,
+        period: 1,
         doc:
             "velocity Verlet composed over w1 dt, w0 dt, w1 dt (Yoshida / Forest-Ruth), 4th order symplectic",
     };
