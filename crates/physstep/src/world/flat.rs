@@ -11,8 +11,8 @@
 //! function in its element-wise case.
 
 use crate::dynamics::Element;
-use crate::integrators::registry::RUNAWAY;
 use crate::integrators::Method;
+use crate::limits::runaway as bad;
 
 /// Gravity and linear drag, element by element.
 #[derive(Debug, Clone, Copy)]
@@ -37,13 +37,6 @@ impl Flat {
 pub(super) fn evals<M: Method>(method: &M, velocity: bool) -> Option<u64> {
     let mut e = Element::at(0.0, 1.0, [0.0, 0.0], velocity, |_, _| 0.0);
     method.element_step(&mut e).then_some(e.evals)
-}
-
-/// Whether `x` is NaN, infinite or past [`RUNAWAY`].
-#[inline(always)]
-fn bad(x: f64) -> bool {
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    !(x.abs() <= RUNAWAY)
 }
 
 /// Particles per chunk: a chunk's positions, velocities, inverse masses and gravity per

@@ -20,8 +20,8 @@ use super::flat;
 use super::tiles::OBSERVED_MAX;
 use crate::dynamics::Element;
 use crate::forces::local::Local;
-use crate::integrators::registry::RUNAWAY;
 use crate::integrators::Method;
+use crate::limits::runaway as bad;
 
 /// Most elements (coordinates) a small world has.
 const CAP: usize = OBSERVED_MAX * 3;
@@ -78,13 +78,6 @@ impl Elements {
         let spring = -p.k * (x - p.at) - p.c * v;
         ((0.0 + self.s * v) + if p.spring { spring } else { 0.0 }) * p.im + p.g
     }
-}
-
-/// Whether `x` is NaN, infinite or past [`RUNAWAY`].
-#[inline(always)]
-fn bad(x: f64) -> bool {
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    !(x.abs() <= RUNAWAY)
 }
 
 /// Up to `n` steps of `h` of the state `y = [x; v]` by `method`'s element-wise form (`None`

@@ -16,8 +16,8 @@ use super::flat::{self, Flat};
 use super::Epoch;
 use crate::dynamics::{Second, SecondOrder, Step};
 use crate::forces::local::{AnchorSpring, Local};
-use crate::integrators::registry::RUNAWAY;
 use crate::integrators::Method;
+use crate::limits::any_runaway as runaway;
 use crate::simd::avx2;
 
 /// Particles per tile of the recipe kernel: the tile's stage buffers (`2 * TILE * dim`
@@ -78,13 +78,6 @@ impl<const D: usize> SecondOrder for Tile<'_, D> {
     fn velocity_dependent(&self) -> bool {
         self.velocity
     }
-}
-
-/// Whether any entry is NaN, infinite or past [`RUNAWAY`] (a flag folded without branches).
-#[inline]
-fn runaway(v: &[f64]) -> bool {
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    v.iter().fold(false, |acc, x| acc | !(x.abs() <= RUNAWAY))
 }
 
 /// The run over particles `p0..` (positions `x`, velocities `v`, flat, `D` per particle)
