@@ -77,7 +77,7 @@ pub(crate) struct PyForce {
 }
 
 impl PyForce {
-    /// A Python force; see [`World.add_force`](crate::world::World).
+    /// A Python force; see [`World.add_force`](crate::handle::World).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         name: String,

@@ -11,6 +11,8 @@
 mod convert;
 mod errors;
 mod force;
+mod handle;
+mod lease;
 mod pickle;
 mod record;
 mod registry;
@@ -36,7 +38,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(record::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(scene_file::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene_file::scene_file_text, m)?)?;
-    m.add_class::<world::World>()?;
+    m.add_class::<handle::World>()?;
     m.add_class::<shapes::Shape>()?;
     m.add_class::<shapes::Sphere>()?;
     m.add_class::<shapes::BoxShape>()?;

@@ -13,8 +13,8 @@
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
+use crate::handle::{raise, ForceSpec, Inner, World};
 use crate::py_err;
-use crate::world::{raise, Inner, World};
 use physstep::clock::LoopMode;
 use physstep::flows::Flow;
 use physstep::world::{World as Engine, WorldParams};
@@ -24,10 +24,6 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 
 /// What `__reduce__` returns: the rebuilding function and its arguments.
 pub(crate) type Reduce<'py> = (Bound<'py, PyAny>, (Bound<'py, PyAny>, Bound<'py, PyAny>));
-
-/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name,
-/// inplace.
-pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String, bool);
 
 /// `World.__reduce__` of a flushed world.
 pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {

@@ -109,7 +109,7 @@ pub(crate) fn run(
     defer_kinetic: bool,
 ) -> PyResult<(Recording, u64)> {
     let fail = |e: physstep::Error| match slot {
-        Some(s) => crate::world::raise(s, e),
+        Some(s) => crate::handle::raise(s, e),
         None => py_err(e),
     };
     let recorder = if defer_kinetic { Recorder::deferring_kinetic(w, rp) } else { Recorder::new(w, rp) };

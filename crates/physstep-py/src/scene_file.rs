@@ -2,8 +2,8 @@
 //! `scene_file_text` (a World written as one). The engine parses and writes; this is glue.
 
 use crate::convert::{float, text};
+use crate::handle::World;
 use crate::py_err;
-use crate::world::World;
 use pyo3::prelude::*;
 
 /// Reads the scene file at `path`: the World it describes and its `until` (None when the

@@ -10,8 +10,8 @@
 //! * The engine writes those buffers in place, except when a call changes the state's layout
 //!   (adding particles or bodies), which reallocates them (`World::detach_state` says so, and
 //!   a test in `physstep::world::state` pins it for every method). Every such call in this
-//!   crate goes through [`crate::world::Inner::flush`] or [`crate::world::Inner::grow`], and
-//!   both call [`Views::detach`] first: when views of the current buffers are alive, the
+//!   crate goes through [`crate::handle::Inner::flush`] or [`crate::handle::Inner::grow`], and
+//!   both call [`crate::lease::Views::detach`] first: when views of the current buffers are alive, the
 //!   engine is given copies and the buffers themselves move, unchanged (moving a `Vec` does
 //!   not move its heap memory), into the current lease, where they stay until the last view
 //!   holding that lease is gone. A view kept across the change shows the values it had then.
@@ -19,39 +19,13 @@
 //!   World's lock, the same lock `detach` runs under, so none can appear during the check; a
 //!   view dropped meanwhile only makes `detach` keep buffers it no longer needed to.
 
-use crate::world::World;
+use crate::handle::World;
+use crate::lease::Lease;
 use numpy::ndarray::ArrayView2;
 use numpy::{npyffi, PyArray2, PyUntypedArrayMethods};
-use physstep::world::World as Engine;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use std::sync::{Arc, OnceLock};
-
-/// The buffers lent out since the last detach, once they have been retired.
-#[derive(Debug, Default)]
-struct Lease {
-    /// The engine's `[y, f]` of the time the views were made, after a reallocating call.
-    retired: OnceLock<[Vec<f64>; 2]>,
-}
-
-/// A World's side of its views: the lease its current buffers are lent under.
-#[derive(Debug, Default)]
-pub(crate) struct Views {
-    current: Arc<Lease>,
-}
-
-impl Views {
-    /// Before a call that may reallocate the engine's state: when views of the current
-    /// buffers are alive, the engine gets copies and the buffers are kept for the views.
-    pub(crate) fn detach(&mut self, engine: &mut Engine) {
-        if Arc::strong_count(&self.current) > 1 {
-            let old = engine.detach_state();
-            // A lease is current until it is retired, and retired once: `set` finds it empty.
-            let _ = self.current.retired.set(old);
-            self.current = Arc::default();
-        }
-    }
-}
+use std::sync::Arc;
 
 /// The base object of a `World.positions` / `World.velocities` view: it keeps the World and
 /// the memory the view reads alive.

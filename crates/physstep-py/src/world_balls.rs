@@ -1,8 +1,8 @@
 //! `World`'s balls and walls: adding them, reading radii, walls and contact statistics.
 
 use crate::convert::{array, float, vector};
+use crate::handle::World;
 use crate::py_err;
-use crate::world::World;
 use numpy::PyArray1;
 use physstep::world::World as Engine;
 use pyo3::prelude::*;

@@ -3,19 +3,14 @@
 //! engine's scene text, `crate::pickle`; only Python forces at body points are kept here.)
 
 use crate::convert::{array, float, matrix, text, vector};
+use crate::handle::{BodyForceSpec, World};
 use crate::py_err;
-use crate::world::World;
 use numpy::{PyArray1, PyArray2};
 use physstep::rigid::body::{AngularForm, FORMS};
 use physstep::rigid::orientation::{Rule, RULES};
 use physstep::world::{BodyParams, World as Engine};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// A Python force at a body point as added: body, point (shape frame), and the force's spec
-/// `(func, potential, None, velocity_dependent, name, inplace)`: the callables the engine
-/// cannot hold, for pickles and copies.
-pub(crate) type BodyForceSpec = (usize, [f64; 3], std::sync::Arc<Py<PyAny>>);
 
 /// Adds a Python force at a body point to `w` (from its spec) and keeps its spec in `kept`.
 pub(crate) fn add_force(
@@ -27,7 +22,7 @@ pub(crate) fn add_force(
     spec: Py<PyAny>,
     slot: &crate::force::Slot,
 ) -> PyResult<usize> {
-    let (func, potential, jacobian, velocity_dependent, name, inplace): crate::pickle::ForceSpec =
+    let (func, potential, jacobian, velocity_dependent, name, inplace): crate::handle::ForceSpec =
         spec.bind(py).extract()?;
     let force = crate::force::PyForce::new(
         name,
@@ -115,7 +110,7 @@ impl World {
                 .unbind();
         let mut g = self.lock()?;
         g.flush()?;
-        let crate::world::Inner { engine, body_forces, slot, .. } = &mut *g;
+        let crate::handle::Inner { engine, body_forces, slot, .. } = &mut *g;
         add_force(py, engine, body_forces, body, point, spec, slot)
     }
 

@@ -2,8 +2,8 @@
 
 use crate::convert::{array, float, index, text, vector};
 use crate::force::PyForce;
+use crate::handle::{Inner, World};
 use crate::py_err;
-use crate::world::{Inner, World};
 use numpy::PyArray1;
 use physstep::forces::{Endpoint, Force};
 use pyo3::exceptions::PyValueError;

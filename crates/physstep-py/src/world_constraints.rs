@@ -1,8 +1,8 @@
 //! `World`'s position constraints: adding them, the sweep count and the violation.
 
 use crate::convert::{array, float, index, whole};
+use crate::handle::World;
 use crate::py_err;
-use crate::world::World;
 use crate::world_build::endpoint;
 use pyo3::prelude::*;
 

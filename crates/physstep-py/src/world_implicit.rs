@@ -1,8 +1,8 @@
 //! `World`'s implicit-solver settings and what the latest implicit step's solve did.
 
 use crate::convert::{count, float, whole};
+use crate::handle::World;
 use crate::py_err;
-use crate::world::World;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

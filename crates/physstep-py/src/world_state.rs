@@ -2,9 +2,9 @@
 //! time, energy, snapshots and hashes, the game loop's interpolation and totals.
 
 use crate::convert::{array, bytes, matrix};
+use crate::handle::{raise, World};
 use crate::py_err;
 use crate::views::{view, Part};
-use crate::world::{raise, World};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;

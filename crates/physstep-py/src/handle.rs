@@ -1,0 +1,120 @@
+//! The `World` handle: the engine world behind a mutex with the parts only Python can hold
+//! (its forces' callables, the particles waiting to be added, the lease of the buffers its
+//! views read). The modules that give `physstep.World` its methods (`world`, `world_*`,
+//! `pickle`, `record`, `views`) import it; it imports none of them.
+//!
+//! Threading: a World is used by one thread at a time. Its state sits behind a mutex; a call
+//! that finds it taken (another thread is stepping it, or a callback inside its own step
+//! touched it) raises `WorldBusyError` at once rather than wait or corrupt anything.
+
+use crate::errors::WorldBusyError;
+use crate::force::Slot;
+use crate::lease::Views;
+use crate::py_err;
+use physstep::world::{ParticleBatch, World as Engine};
+use pyo3::prelude::*;
+use std::sync::{Mutex, MutexGuard, TryLockError};
+
+/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name,
+/// inplace.
+pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String, bool);
+
+/// A Python force at a body point as added: body, point (shape frame), and the force's spec
+/// `(func, potential, None, velocity_dependent, name, inplace)`: the callables the engine
+/// cannot hold, for pickles and copies.
+pub(crate) type BodyForceSpec = (usize, [f64; 3], std::sync::Arc<Py<PyAny>>);
+
+/// Particles, forces, an integrator and a fixed-timestep game loop.
+///
+/// World(dim, method="symplectic-euler", dt=1/120, max_steps_per_frame=8,
+/// max_frame_time=0.1, loop="accumulator", substeps=1). A World serves one thread at a time
+/// (WorldBusyError otherwise); step() and the recording release the GIL and see Ctrl-C.
+#[pyclass(module = "physstep._core", frozen)]
+pub struct World {
+    inner: Mutex<Inner>,
+}
+
+pub(crate) struct Inner {
+    pub(crate) engine: Engine,
+    /// A Python exception raised inside a step by a user force, to re-raise unchanged.
+    pub(crate) slot: Slot,
+    /// The Python forces as added: `(func, potential, jacobian, velocity_dependent, name,
+    /// inplace)`: the callables the engine cannot hold, for pickling (the rest of a pickle is
+    /// the engine's scene text and snapshot, `crate::pickle`).
+    pub(crate) user: Vec<Py<PyAny>>,
+    /// A Python flow as made: `(func, jacobian, name, n)`, for pickling.
+    pub(crate) flow: Option<Py<PyAny>>,
+    /// Particles from `add_particle`, validated and waiting to be added in one batch:
+    /// growing the engine's `[x; v]` state one particle at a time moves the velocity half
+    /// every time, which is quadratic in a spawn loop. Every method that reads or steps the
+    /// state flushes them first.
+    pub(crate) pending: ParticleBatch,
+    /// The Python forces at body points as added, for pickling.
+    pub(crate) body_forces: Vec<BodyForceSpec>,
+    /// The zero-copy views lent out (`crate::views`): detached before the state reallocates.
+    pub(crate) views: Views,
+}
+
+impl Inner {
+    /// The engine, with the particles waiting in the batch added.
+    pub(crate) fn flush(&mut self) -> PyResult<&mut Engine> {
+        if !self.pending.is_empty() {
+            self.views.detach(&mut self.engine);
+            self.pending.commit(&mut self.engine).map_err(py_err)?;
+        }
+        Ok(&mut self.engine)
+    }
+
+    /// The engine for a call that adds particles or bodies (which reallocates its state):
+    /// flushed, and the zero-copy views lent out detached first.
+    pub(crate) fn grow(&mut self) -> PyResult<&mut Engine> {
+        self.flush()?;
+        self.views.detach(&mut self.engine);
+        Ok(&mut self.engine)
+    }
+
+    /// Particles in the world, waiting ones included.
+    pub(crate) fn count(&self) -> usize {
+        self.engine.len() + self.pending.len()
+    }
+}
+
+/// The engine's error as a Python exception; an exception a user force raised during the
+/// call comes first, unchanged.
+pub(crate) fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
+    let kept = slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
+    kept.unwrap_or_else(|| py_err(e))
+}
+
+impl World {
+    /// The state, or `WorldBusyError` when another thread (or a callback of this world's own
+    /// step) holds it.
+    pub(crate) fn lock(&self) -> PyResult<MutexGuard<'_, Inner>> {
+        match self.inner.try_lock() {
+            Ok(g) => Ok(g),
+            Err(TryLockError::WouldBlock) => Err(WorldBusyError::new_err(
+                "this World is in use by another thread (a World serves one thread at a time: \
+                 give each thread its own World, or guard it with a lock)",
+            )),
+            // A panic cannot happen inside (every engine call returns a Result); were it to,
+            // the data is still whole, so go on with it.
+            Err(TryLockError::Poisoned(p)) => Ok(p.into_inner()),
+        }
+    }
+
+    /// A World around an engine world with no Python parts (a scene, a loaded scene file).
+    pub(crate) fn wrap(engine: Engine) -> Self {
+        Self::with_parts(engine, Slot::default(), Vec::new(), None)
+    }
+
+    pub(crate) fn with_parts(
+        engine: Engine,
+        slot: Slot,
+        user: Vec<Py<PyAny>>,
+        flow: Option<Py<PyAny>>,
+    ) -> Self {
+        let (pending, body_forces) = (ParticleBatch::default(), Vec::new());
+        let views = Views::default();
+        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, views }) }
+    }
+}
