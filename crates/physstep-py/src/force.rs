@@ -76,6 +76,10 @@ pub(crate) struct PyForce {
     lent: Mutex<Lent>,
 }
 
+/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name,
+/// inplace.
+type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String, bool);
+
 impl PyForce {
     /// A Python force; see [`World.add_force`](crate::handle::World).
     #[allow(clippy::too_many_arguments)]
@@ -105,6 +109,12 @@ impl PyForce {
             self.inplace,
         );
         Ok(spec.into_pyobject(py)?.into_any())
+    }
+
+    /// The force a spec of [`PyForce::spec`] describes, on points of `dim` coordinates.
+    pub(crate) fn from_spec(spec: &Bound<'_, PyAny>, dim: usize, slot: &Slot) -> PyResult<Self> {
+        let (func, potential, jacobian, velocity_dependent, name, inplace): ForceSpec = spec.extract()?;
+        Ok(Self::new(name, dim, func, potential, jacobian, velocity_dependent, inplace, slot.clone()))
     }
 
     /// The `(rows, dim)` array `which` for a call, holding `data` (zeros when `None`): the

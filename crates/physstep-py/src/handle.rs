@@ -15,10 +15,6 @@ use physstep::world::{ParticleBatch, World as Engine};
 use pyo3::prelude::*;
 use std::sync::{Mutex, MutexGuard, TryLockError};
 
-/// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name,
-/// inplace.
-pub(crate) type ForceSpec = (Py<PyAny>, Option<Py<PyAny>>, Option<Py<PyAny>>, bool, String, bool);
-
 /// A Python force at a body point as added: body, point (shape frame), and the force's spec
 /// `(func, potential, None, velocity_dependent, name, inplace)`: the callables the engine
 /// cannot hold, for pickles and copies.

@@ -13,7 +13,7 @@
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
-use crate::handle::{raise, ForceSpec, Inner, World};
+use crate::handle::{raise, Inner, World};
 use crate::py_err;
 use physstep::clock::LoopMode;
 use physstep::flows::Flow;
@@ -113,17 +113,7 @@ pub(crate) fn _world_from_scene(
     let mut user = Vec::new();
     for spec in get("forces")?.try_iter()? {
         let spec = spec?;
-        let (func, potential, jacobian, velocity_dependent, name, inplace): ForceSpec = spec.extract()?;
-        let force = PyForce::new(
-            name,
-            engine.dim(),
-            func,
-            potential,
-            jacobian,
-            velocity_dependent,
-            inplace,
-            slot.clone(),
-        );
+        let force = PyForce::from_spec(&spec, engine.dim(), &slot)?;
         engine.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
         user.push(spec.unbind());
     }

@@ -22,18 +22,7 @@ pub(crate) fn add_force(
     spec: Py<PyAny>,
     slot: &crate::force::Slot,
 ) -> PyResult<usize> {
-    let (func, potential, jacobian, velocity_dependent, name, inplace): crate::handle::ForceSpec =
-        spec.bind(py).extract()?;
-    let force = crate::force::PyForce::new(
-        name,
-        3,
-        func,
-        potential,
-        jacobian,
-        velocity_dependent,
-        inplace,
-        slot.clone(),
-    );
+    let force = crate::force::PyForce::from_spec(spec.bind(py), 3, slot)?;
     let k = w.add_body_force(body, point, std::sync::Arc::new(force)).map_err(py_err)?;
     kept.push((body, point, std::sync::Arc::new(spec)));
     Ok(k)
