@@ -215,6 +215,97 @@ fn a_failing_step_inside_a_call_is_rolled_back_and_named() {
     }
 }
 
+/// A spring to an anchor stiff enough that every method here diverges, slowly: after
+/// about a hundred steps at dt = 1/120, so that a game loop of one step per call goes past the
+/// point where the kernel keeps its rollback afresh (every 64 steps).
+fn slowly_exploding(method: &str) -> World {
+    let mut w = world(method, 2, 5, &[Force::Gravity { g: [0.0, -9.81, 0.0] }], false, false);
+    w.add_force(Force::Spring {
+        i: 3,
+        j: Endpoint::Anchor([0.0; 3]),
+        stiffness: 2e5,
+        rest_length: 0.0,
+        damping: 0.0,
+    })
+    .unwrap();
+    w
+}
+
+/// Changes by hand a game might make between steps, at step 5: velocities nudged (1), the
+/// fixed dt changed (2), the method switched (3). Each must make the kernel keep its rollback
+/// afresh: a failure must not replay steps from before the change.
+fn change_by_hand(w: &mut World, change: u8) {
+    if w.steps() != 5 {
+        return;
+    }
+    match change {
+        1 => {
+            let v: Vec<f64> = w.velocities().iter().map(|v| v * 1.000_001).collect();
+            w.set_velocities(&v).unwrap();
+        }
+        2 => w.set_dt(1.0 / 110.0).unwrap(),
+        3 => {
+            let other = if w.integrator().info().name == "rk4" { "velocity-verlet" } else { "rk4" };
+            w.set_method(other).unwrap();
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn a_game_loop_of_one_step_per_call_rolls_back_a_failure_bitwise() {
+    // The kernel reuses the rollback an earlier call kept (no copy of the state per call) and
+    // replays the good steps since on a failure: it must give the staged step's failure, state
+    // and evaluations, over many fresh rollbacks (slowly diverging) and after changes by hand
+    // between the calls (diverging within the 64 steps of one rollback).
+    let mut longest = 0;
+    let methods = ["explicit-euler", "symplectic-euler", "velocity-verlet", "rk4"];
+    for (method, change) in methods.into_iter().flat_map(|m| (0..4).map(move |c| (m, c))) {
+        let what = format!("{method} (change by hand {change})");
+        let make = if change == 0 { slowly_exploding } else { exploding };
+        let mut staged = make(method);
+        let mut log = StageLog::default();
+        let staged_err = loop {
+            change_by_hand(&mut staged, change);
+            if let Err(e) = staged.step_logged(staged.dt(), &mut log) {
+                break e;
+            }
+            assert!(staged.steps() < 100_000, "{what}: never diverged");
+        };
+        let mut w = make(method);
+        let err = loop {
+            change_by_hand(&mut w, change);
+            if let Err(e) = w.step(1) {
+                break e;
+            }
+            assert!(w.steps() <= staged.steps(), "{what}: went past the staged failure");
+        };
+        assert_eq!(err.to_string(), staged_err.to_string(), "{what}");
+        assert_eq!(w.steps(), staged.steps(), "{what}: the good steps stay taken");
+        assert_eq!(w.state_hash(), staged.state_hash(), "{what}: state before the failing step");
+        assert_eq!(w.evals(), staged.evals(), "{what}: evaluations");
+        assert_eq!(bits(w.accelerations().unwrap()), bits(staged.accelerations().unwrap()), "{what}");
+        // And it goes on from there as the staged step does.
+        w.set_dt(1e-9).unwrap();
+        staged.set_dt(1e-9).unwrap();
+        w.step(3).unwrap();
+        for _ in 0..3 {
+            staged.step_logged(1e-9, &mut log).unwrap();
+        }
+        assert_eq!(w.state_hash(), staged.state_hash(), "{what}: continued");
+        if change == 0 {
+            longest = longest.max(staged.steps());
+        } else {
+            let steps = staged.steps() - 3;
+            assert!(
+                (6..64).contains(&steps),
+                "{what}: failed at step {steps}, not after the change within a rollback"
+            );
+        }
+    }
+    assert!(longest > 128, "no failure came after two fresh rollbacks ({longest} steps)");
+}
+
 /// A stiff spring between two particles (not per-particle: the staged step takes it).
 fn exploding_pair(method: &str) -> World {
     let mut w = world(method, 3, 6, &[Force::Gravity { g: [0.0, -9.81, 0.0] }], false, false);

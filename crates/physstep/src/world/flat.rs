@@ -10,6 +10,7 @@
 //! bitwise; the acceleration is [`Local`](crate::forces::local::Local)'s per-particle
 //! function in its element-wise case.
 
+use super::tiles::Run;
 use crate::dynamics::Element;
 use crate::integrators::Method;
 use crate::limits::runaway as bad;
@@ -43,29 +44,31 @@ pub(super) fn evals<M: Method>(method: &M, velocity: bool) -> Option<u64> {
 /// element (`4 * CHUNK * dim` values) stay in L1 for all the steps of a run.
 const CHUNK: usize = 64;
 
-/// `n` steps of `h` of particles (positions `x`, velocities `v`, flat, `D` per particle) by
-/// `method`'s element-wise form, chunk by chunk, the state at the start kept in `sx`, `sv`;
-/// returns the first step at which a new value or acceleration ran away (or `n`).
+/// `run.n` steps of `run.h` of particles (positions `x`, velocities `v`, flat, `D` per
+/// particle) by `method`'s element-wise form, chunk by chunk, the state at the start kept in
+/// `sx`, `sv` when `run.save`; returns the first step at which a new value or acceleration
+/// ran away (or `run.n`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn run<const D: usize, M: Method>(
     method: &M,
     k: Flat,
     velocity: bool,
-    h: f64,
-    n: u64,
+    run: Run,
     inv_mass: &[f64],
     (x, v): (&mut [f64], &mut [f64]),
     (sx, sv): (&mut [f64], &mut [f64]),
 ) -> u64 {
-    let mut good = n;
+    let (h, mut good) = (run.h, run.n);
     let c = CHUNK * D;
     let chunks = x.chunks_mut(c).zip(v.chunks_mut(c)).zip(sx.chunks_mut(c).zip(sv.chunks_mut(c)));
     // Inverse mass and gravity per element (gravity 0 on a static particle), set per chunk.
     let (mut im, mut gm) = ([0.0; CHUNK * 3], [0.0; CHUNK * 3]);
     for (((xc, vc), (sxc, svc)), ic) in chunks.zip(inv_mass.chunks(CHUNK)) {
-        sxc.copy_from_slice(xc);
-        svc.copy_from_slice(vc);
+        if run.save {
+            sxc.copy_from_slice(xc);
+            svc.copy_from_slice(vc);
+        }
         for (p, &w) in ic.iter().enumerate() {
             for c in 0..D {
                 im[p * D + c] = w;

@@ -9,13 +9,15 @@
 //! a bit: the kernel and the staged step give bitwise the same trajectory.
 //!
 //! Rollback: the kernel writes the state at its start into the call's [`Rollback`] as it
-//! reads it. When step `k` of its run fails, the world goes back to it, replays the `k` good
-//! steps (the same arithmetic, so the same bits) and takes step `k` the staged way, which
-//! fails the same way, rolls back, and names the particle (`World::run`).
+//! reads it, or, when an earlier call of the kernel kept it and nothing changed since
+//! (`World::reusable`), writes nothing and leaves that one in place. When step `k` of its
+//! run fails, the world goes back to the rollback, replays the good steps since (the same
+//! arithmetic, so the same bits) and takes step `k` the staged way, which fails the same way,
+//! rolls back, and names the particle (`World::run`).
 
 use super::flat::{self, Flat};
-use super::rollback::Epoch;
 use super::small::{self, Elements};
+use super::step::StepContext;
 use super::tiles::{self, Forces, Run};
 use super::World;
 use crate::dynamics::SecondOrder;
@@ -101,8 +103,8 @@ impl<const D: usize, F: FnMut(Row<'_>) -> bool> Visit for Observe<'_, '_, D, F> 
             let t = run.epoch.time(s).unwrap_or(f64::NAN);
             on_row(Row { model, steps: s, t, x: &y[..m], v: &y[m..], a: &f[m..] })
         };
-        let elementwise = small
-            .and_then(|k| small::observed(method, k, forces.velocity, run.h, run.n, y, saved, &mut look));
+        let elementwise =
+            small.and_then(|k| small::observed(method, k, forces.velocity, run, y, saved, &mut look));
         match elementwise {
             Some(out) => out,
             None => tiles::observed::<D, M>(method, forces, &model.inv_mass, y, saved, run, &mut look),
@@ -129,21 +131,20 @@ impl World {
         self.integrator.fresh_local()
     }
 
-    /// Up to `n` fused steps of `h` from the current state, timed from `epoch`, the state at
-    /// the start written into `saved`; `on_row` (a small world only) looks at each good step
+    /// Up to `n` fused steps of `ctx.h` from the current state, timed from `ctx.epoch`, the
+    /// state at the start written into `saved` when `ctx.save`; `on_row` (a small world only) looks at each good step
     /// and may stop the run after it. The good steps (their evaluations counted; time and
     /// step count are the caller's) and how the run ended.
     pub(super) fn fused_run<F: FnMut(Row<'_>) -> bool>(
         &mut self,
         method: &mut Integrator,
         saved: &mut [f64],
-        epoch: Epoch,
+        ctx: &StepContext,
         n: u64,
-        h: f64,
         on_row: Option<&mut F>,
     ) -> (u64, Ran) {
-        let movable = epoch.movable(self.state.steps, self.state.t, n);
-        let run = Run { epoch, steps: self.state.steps, h, n: movable };
+        let movable = ctx.epoch.movable(self.state.steps, self.state.t, n);
+        let run = Run { epoch: ctx.epoch, steps: self.state.steps, h: ctx.h, n: movable, save: ctx.save };
         let ((good, evals), halted) = match self.dim() {
             1 => self.fused_run_d::<1, F>(method, saved, run, on_row),
             2 => self.fused_run_d::<2, F>(method, saved, run, on_row),

@@ -11,6 +11,12 @@
 //! they can be replayed, else each step keeps its own (see `World::run`); the fused kernel
 //! writes the positions and velocities into it as it reads them, so it costs no pass of its
 //! own.
+//!
+//! The fused kernel's rollback outlives its call: the next call of the fused kernel reuses it
+//! while nothing changed the world in between and fewer than [`REPLAY_MAX`] steps were taken
+//! since ([`World::reusable`]). A failure then goes back to it and replays the good steps
+//! since, the same arithmetic giving the same bits, so the game loop's one step per call pays
+//! a copy of its state once in [`REPLAY_MAX`] steps instead of at every call.
 
 use super::{Derivative, World};
 use crate::collide::CollisionStats;
@@ -55,6 +61,10 @@ impl Epoch {
     }
 }
 
+/// Steps after which the fused kernel keeps a fresh rollback rather than reuse the one it
+/// kept before: a failure replays at most this many steps plus those of its own call.
+pub(super) const REPLAY_MAX: u64 = 64;
+
 /// What rolls back with a failed step or call.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Keep {
@@ -78,6 +88,8 @@ pub(super) struct Rollback {
     epoch: Epoch,
     stats: CollisionStats,
     derivative: Derivative,
+    /// The method the state was kept under (a fused rollback is reused by the same method only).
+    method: &'static str,
 }
 
 impl World {
@@ -92,6 +104,24 @@ impl World {
         (r.t, r.steps, r.evals, r.epoch) = (self.state.t, self.state.steps, self.state.evals, self.epoch);
         r.stats = self.balls.stats;
         r.derivative = self.derivative;
+        r.method = self.integrator.info().name;
+    }
+
+    /// Whether the fused kernel's next pass of steps of `h` can go back to `r`, kept by an
+    /// earlier fused pass, instead of keeping the state afresh: the steps since were all taken
+    /// by the fused kernel with this method and this `h` (the derivative is still as the
+    /// kernel left it: every change by hand, of the state, a force, a particle or dt, marks it
+    /// stale, and any other step stores it), there are fewer than [`REPLAY_MAX`] of them, and
+    /// the state has the length it had. Replaying them from `r` then gives the current state,
+    /// bitwise.
+    pub(super) fn reusable(&self, r: &Rollback, h: f64) -> bool {
+        r.keep == Some(Keep::Positions)
+            && self.derivative == Derivative::Unstored
+            && r.method == self.integrator.info().name
+            && r.epoch == self.epoch
+            && self.epoch.dt == h
+            && r.y.len() == self.state.y.len()
+            && self.state.steps.checked_sub(r.steps).is_some_and(|k| k < REPLAY_MAX)
     }
 
     /// Puts back, bitwise, what [`World::keep`] kept.

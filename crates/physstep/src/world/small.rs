@@ -17,7 +17,7 @@
 //! is part of the new position: RK4's weighted sum, velocity Verlet's drift).
 
 use super::flat;
-use super::tiles::OBSERVED_MAX;
+use super::tiles::{Run, OBSERVED_MAX};
 use crate::dynamics::Element;
 use crate::forces::local::Local;
 use crate::integrators::Method;
@@ -80,8 +80,8 @@ impl Elements {
     }
 }
 
-/// Up to `n` steps of `h` of the state `y = [x; v]` by `method`'s element-wise form (`None`
-/// when it has none), the state at the start kept in `saved`, `on_step(k, y, f)` called after
+/// Up to `run.n` steps of `run.h` of the state `y = [x; v]` by `method`'s element-wise form
+/// (`None` when it has none), the state at the start kept in `saved` when `run.save`, `on_step(k, y, f)` called after
 /// each good step `k` with the state and its derivative `[v; a]` (return `false` to stop
 /// after it), as [`super::tiles::observed`] takes them; the steps taken, the evaluations a
 /// step takes, and whether `on_step` stopped the run.
@@ -90,15 +90,16 @@ pub(super) fn observed<M: Method>(
     method: &M,
     e: &Elements,
     velocity: bool,
-    h: f64,
-    n: u64,
+    run: Run,
     y: &mut [f64],
     saved: &mut [f64],
     on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
 ) -> Option<((u64, u64), bool)> {
     let evals = flat::evals(method, velocity)?;
-    let m = e.len;
-    saved.copy_from_slice(y);
+    let (m, h, n) = (e.len, run.h, run.n);
+    if run.save {
+        saved.copy_from_slice(y);
+    }
     let (mut ys, mut fs) = ([0.0; 2 * CAP], [0.0; 2 * CAP]);
     let (ys, f) = (&mut ys[..2 * m], &mut fs[..2 * m]);
     ys.copy_from_slice(y);

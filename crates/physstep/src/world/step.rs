@@ -44,6 +44,9 @@ pub(crate) struct StepContext {
     /// Whether this is the last step of its call: the Collide stage then measures the
     /// balls' overlaps at its end itself (else the next step's scan of the grid does).
     pub(super) last: bool,
+    /// Whether the fused kernel keeps the state at its start in the rollback as it reads it
+    /// (else the rollback is one an earlier fused call kept, reused).
+    pub(super) save: bool,
 }
 
 /// The stepping API: calls of steps and frames of the game loop.
@@ -190,6 +193,7 @@ impl World {
             t_end,
             epoch,
             last: true,
+            save: true,
         })
     }
 
@@ -286,13 +290,16 @@ impl World {
             if taken == n {
                 break None;
             }
+            // The fused kernel keeps the state as it reads it, unless it goes back to the
+            // rollback an earlier call of it kept (a failure replays the steps since).
+            let fused = matches!(how, Integrate::Fused(_));
+            let save = each_pass && !(fused && self.reusable(&back, h));
             let ctx = match self.context(h) {
-                Ok(ctx) => StepContext { last: taken + 1 == n, ..ctx },
+                Ok(ctx) => StepContext { last: taken + 1 == n, save, ..ctx },
                 Err(e) => break Some(Err(e)),
             };
-            if each_pass {
-                let what = if matches!(how, Integrate::Fused(_)) { Keep::Positions } else { Keep::State };
-                self.keep(&mut back, what);
+            if save {
+                self.keep(&mut back, if fused { Keep::Positions } else { Keep::State });
             }
             match self.pass(&ctx, &mut how, n - taken, &mut back, log.as_deref_mut(), on_row.as_deref_mut()) {
                 Ok((k, halted)) => {
@@ -304,10 +311,10 @@ impl World {
                 // A replay takes the same bits as the run it replays: it does not fail (were it
                 // to, the staged step after it would name the failure from there).
                 Err(Failure::Again(_)) if keep == Checkpoints::Replay => break None,
-                Err(Failure::Again(good)) => break Some(Ok(if each_pass { good } else { taken + good })),
-                Err(Failure::Error(_)) if keep == Checkpoints::Call => {
-                    break Some(Ok(if each_pass { 0 } else { taken }));
-                }
+                // The good steps, counted from the start of the world: the rollback may be
+                // older than the pass (kept by the call, or by an earlier fused call).
+                Err(Failure::Again(good)) => break Some(Ok(self.state.steps + good)),
+                Err(Failure::Error(_)) if keep == Checkpoints::Call => break Some(Ok(self.state.steps)),
                 Err(Failure::Error(e)) => {
                     if keep == Checkpoints::Step {
                         // The evaluations the failed attempt made stay counted (work done).
@@ -330,13 +337,15 @@ impl World {
                 self.rollback = back;
                 Err(e)
             }
-            // Back to the rollback, the good steps again (the same arithmetic, the same bits),
-            // then the failing step staged with its own rollback: it fails as before, rolls
-            // back and names what failed. Were it to pass, the call goes on from there.
+            // Back to the rollback, the good steps since it again (the same arithmetic, the
+            // same bits), then the failing step staged with its own rollback: it fails as
+            // before, rolls back and names what failed. Were it to pass, the call goes on from
+            // there.
             Some(Ok(good)) => {
                 self.roll_back(&back);
                 self.rollback = back;
-                self.steps_as(how, good, h, Checkpoints::Replay, None, None::<&mut NoRows>)?;
+                let replay = good - self.state.steps;
+                self.steps_as(how, replay, h, Checkpoints::Replay, None, None::<&mut NoRows>)?;
                 self.steps_as(Integrate::Staged, 1, h, Checkpoints::Step, None, None::<&mut NoRows>)?;
                 let done = self.state.steps - start;
                 self.run(n - done, h)
@@ -373,7 +382,7 @@ impl World {
     }
 
     /// Integrate, the fused kernel: up to `left` steps, the state at their start kept in
-    /// `back`.
+    /// `back` when `ctx.save` (else `back` is an earlier fused call's, reused).
     fn integrate_fused<F: FnMut(Row<'_>) -> bool>(
         &mut self,
         ctx: &StepContext,
@@ -382,7 +391,7 @@ impl World {
         back: &mut Rollback,
         on_row: Option<&mut F>,
     ) -> std::result::Result<(u64, bool), Failure> {
-        let (good, ran) = self.fused_run(method, &mut back.y, ctx.epoch, left, ctx.h, on_row);
+        let (good, ran) = self.fused_run(method, &mut back.y, ctx, left, on_row);
         if good > 0 {
             self.derivative = Derivative::Unstored;
         }

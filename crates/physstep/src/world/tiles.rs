@@ -44,6 +44,9 @@ pub(super) struct Run {
     pub h: f64,
     /// Steps to take.
     pub n: u64,
+    /// Whether the state at the start is written into the checkpoint as it is read (else the
+    /// call's rollback is one kept by an earlier call, which a failure replays from).
+    pub save: bool,
 }
 
 impl Run {
@@ -135,7 +138,8 @@ fn recipe_task<const D: usize, M: Method>(
 }
 
 /// The run on one tile, its state in buffers of `L` values (at least `2 * particles * D`):
-/// read once (and kept in `sx`, `sv`, the call's checkpoint), all steps, written once;
+/// read once (and kept in `sx`, `sv`, the call's checkpoint, when `run.save`), all steps,
+/// written once;
 /// returns the first step that ran away (or `run.n`) and the evaluations a step takes.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
@@ -149,8 +153,10 @@ fn tile<const D: usize, M: Method, const L: usize>(
     run: Run,
     on_step: &mut impl FnMut(u64, &[f64], &[f64]) -> bool,
 ) -> ((u64, u64), bool) {
-    sx.copy_from_slice(xt);
-    sv.copy_from_slice(vt);
+    if run.save {
+        sx.copy_from_slice(xt);
+        sv.copy_from_slice(vt);
+    }
     let mut y = [0.0; L];
     let mut f = [0.0; L];
     let m = xt.len();
@@ -291,21 +297,22 @@ pub(super) fn elementwise<const D: usize, M: Method + Sync>(
     saved: &mut [f64],
     run: Run,
 ) -> u64 {
-    let (h, n) = (run.h, run.n);
     let task = |im: &[f64], xv: (&mut [f64], &mut [f64]), s: (&mut [f64], &mut [f64])| {
         #[cfg(target_arch = "x86_64")]
         if avx2() {
             // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
             // `target_feature` function.
-            return unsafe { elementwise_avx2::<D, M>(method, k, velocity, h, n, im, xv, s) };
+            return unsafe { elementwise_avx2::<D, M>(method, k, velocity, run, im, xv, s) };
         }
-        flat::run::<D, M>(method, k, velocity, h, n, im, xv, s)
+        flat::run::<D, M>(method, k, velocity, run, im, xv, s)
     };
     if inv_mass.len() < PARALLEL_MIN {
         let ((x, v), (sx, sv)) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
         return task(inv_mass, (x, v), (sx, sv));
     }
-    tasks::<D>(inv_mass, y, saved).map(|(x, v, sx, sv, im)| task(im, (x, v), (sx, sv))).reduce(|| n, u64::min)
+    tasks::<D>(inv_mass, y, saved)
+        .map(|(x, v, sx, sv, im)| task(im, (x, v), (sx, sv)))
+        .reduce(|| run.n, u64::min)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -315,11 +322,10 @@ unsafe fn elementwise_avx2<const D: usize, M: Method>(
     method: &M,
     k: Flat,
     velocity: bool,
-    h: f64,
-    n: u64,
+    run: Run,
     inv_mass: &[f64],
     xv: (&mut [f64], &mut [f64]),
     saved: (&mut [f64], &mut [f64]),
 ) -> u64 {
-    flat::run::<D, M>(method, k, velocity, h, n, inv_mass, xv, saved)
+    flat::run::<D, M>(method, k, velocity, run, inv_mass, xv, saved)
 }
