@@ -4,16 +4,19 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=${PHYSSTEP_VENV:-.venv}
-[ -x "$VENV/bin/python" ] || python3 -m venv "$VENV"
-"$VENV/bin/python" -m pip install -q --upgrade pip
-"$VENV/bin/python" -m pip install -q -e ".[test,distributed,demo,docs]"
+PHYSSTEP_EXTRAS=test,distributed,demo,docs bash scripts/setup.sh
 cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace --exclude physstep-py
 RUSTDOCFLAGS="-D warnings" cargo doc -q -p physstep --no-deps
-cargo run -q -p physstep --example custom_force
-"$VENV/bin/ruff" check python tests scripts bench examples
-"$VENV/bin/ruff" format --check python tests scripts bench examples
+# The test profile: the example as `cargo test` just built it, not a build of its own.
+cargo run -q --profile test -p physstep --example custom_force
+# The wheel a user without Rust installs: built from the same release build, installed into a
+# new venv with no toolchain on PATH, the quick-start table and a smoke test run from it.
+bash scripts/build-wheel.sh >/dev/null
+bash scripts/check-wheel.sh
+"$VENV/bin/ruff" check python tests scripts bench examples build_backend
+"$VENV/bin/ruff" format --check python tests scripts bench examples build_backend
 "$VENV/bin/python" -m mypy.stubtest physstep._core
 for example in examples/*.py; do MPLBACKEND=Agg "$VENV/bin/python" "$example" >/dev/null; done
 MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q
