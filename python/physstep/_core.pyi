@@ -15,6 +15,7 @@ from typing_extensions import disjoint_base
 __all__ = [
     "Box",
     "Capsule",
+    "ConstraintWarning",
     "ConvergenceError",
     "Cylinder",
     "DivergedError",
@@ -47,6 +48,9 @@ class ConvergenceError(StepError):
 
 class WorldBusyError(RuntimeError):
     """The World is in use by another thread (or by a callback inside its own step)."""
+
+class ConstraintWarning(UserWarning):
+    """The world's constraints cannot all be met (World.constraint_conflicts() lists why)."""
 
 _Params = dict[str, float] | list[tuple[str, float]] | None
 
@@ -467,6 +471,13 @@ class World:
 
     @constraint_iterations.setter
     def constraint_iterations(self, n: int) -> None: ...
+    def constraint_conflicts(self) -> list[str]:
+        """What in the constraints cannot be met whatever the sweeps, one line each (empty when
+        nothing is seen): a particle pinned to two points, two pinned balls closer than their
+        radii, opposite planes with no point between them, a pinned particle behind a plane,
+        held ends at a distance a constraint forbids, a distance whose ends coincide. Adding
+        such a constraint warns (`ConstraintWarning`); the check is of pairs, not a proof."""
+
     @property
     def constraint_stats(self) -> dict[str, Any]:
         """What the relaxation sweeps did: {"last_sweeps": the last step's sweeps,
