@@ -108,6 +108,42 @@ def test_bad_input_is_a_value_error_naming_the_field(call, needle: str) -> None:
     np.testing.assert_array_equal(w.walls[1], [10, 10])
 
 
+@pytest.mark.parametrize(
+    ("positions", "needle"),
+    [
+        (
+            [[1, 1], [1.5, 1], [9, 9]],
+            "invalid positions[1] = [1.5, 1]: must be clear of ball 0 at [1, 1] "
+            "(distance 0.5 < radius + 0.5 = 1)",
+        ),
+        ([[1, 1], [4, 4], [9.8, 9]], "invalid positions[2][0] = 9.8: must be inside the walls"),
+        ([[-3, 1], [4, 4], [9, 9]], "invalid positions[0][0] = -3: must be inside the walls"),
+    ],
+)
+def test_positions_set_by_hand_are_checked_as_add_ball_checks_them(positions, needle: str) -> None:
+    w = physstep.World(2)
+    w.add_walls([0, 0], [10, 10])
+    w.add_balls([[1, 1], [4, 4], [9, 9]], radii=0.5)
+    w.add_particle([1.2, 1.0])  # not a ball: may sit anywhere, inside a ball too
+    before = w.state_hash()
+    with pytest.raises(ValueError) as err:
+        w.positions = [*positions, [1.2, 1.0]]
+    assert needle in str(err.value)
+    assert "\n" not in str(err.value)
+    assert w.state_hash() == before
+    # touching is allowed, as for add_ball, and a particle without a radius is not a ball
+    w.positions = [[1, 1], [2, 1], [9, 9], [30.0, 1.0]]
+    np.testing.assert_array_equal(w.positions[1], [2, 1])
+
+
+def test_a_state_a_run_left_can_be_set_back_as_it_is() -> None:
+    w = physstep.World.from_scene("balls", params={"n": 200})
+    w.step(300)
+    x = w.positions
+    w.positions = x  # touching balls a rounding closer than their radii: kept allowed
+    np.testing.assert_array_equal(w.positions, x)
+
+
 def test_pickles_and_copies_keep_the_balls() -> None:
     w = physstep.World.from_scene("balls", method="leapfrog", params={"n": 100, "fraction": 0.3})
     w.step(30)

@@ -191,3 +191,142 @@ def test_the_lab_measures_the_rod_constraint_against_rattle(method: str, order: 
     assert abs(res["order"] - order) < 0.15, res["order"]
     table = lab.compare("pendulum", [method, "rk4"], dt=0.01, until=1.0)
     assert table["error_against"].startswith("reference: velocity-verlet")
+
+
+# --- issue 25, item 12: SHAKE's sweep cap is said, with the violation it left -------------
+
+
+def _double_pendulum(sweeps: int | None = None) -> physstep.World:
+    """Two rods of 1 m from the origin, held out horizontally, under velocity Verlet (RATTLE)."""
+    w = physstep.World(2, method="velocity-verlet", dt=0.01)
+    w.add_particles([[1.0, 0.0], [2.0, 0.0]])
+    w.add_gravity([0.0, -9.81])
+    w.add_distance_constraint(0, [0.0, 0.0])
+    w.add_distance_constraint(0, 1)
+    if sweeps is not None:
+        w.constraint_iterations = sweeps
+    return w
+
+
+def test_shake_stopped_by_its_sweep_cap_is_counted_with_the_violation_it_left() -> None:
+    w = _double_pendulum()
+    assert w.constraint_stats == {"last_sweeps": 0, "capped_steps": 0, "capped_violation": 0.0}
+    worst = 0.0
+    for _ in range(1000):
+        w.step()
+        worst = max(worst, w.constraint_violation())
+    stats = w.constraint_stats
+    # 16 sweeps (the default) do not reach SHAKE's 1e-13 on this chain of two rods: the
+    # violation reaches 1e-7 m, and the world says so instead of staying silent
+    assert worst > 1e-9
+    assert stats["capped_steps"] > 0 and stats["capped_violation"] == pytest.approx(worst, rel=1e-6)
+    assert 1 <= stats["last_sweeps"] <= 16
+    # with enough sweeps SHAKE meets its tolerance, and no step is capped
+    w = _double_pendulum(64)
+    worst = 0.0
+    for _ in range(1000):
+        w.step()
+        worst = max(worst, w.constraint_violation())
+    assert worst <= 1e-12
+    assert w.constraint_stats["capped_steps"] == 0 and w.constraint_stats["capped_violation"] == 0.0
+
+
+def test_a_plane_normal_too_short_to_square_is_a_direction_all_the_same() -> None:
+    # [1e-300, 0] is a nonzero vector: it used to be refused as "not a nonzero vector"
+    w = physstep.World(2)
+    w.add_particle([-1.0, 0.0])
+    w.add_plane([1e-300, 0.0], 0.0)
+    w.add_plane([0.0, 5e-324], -10.0)
+    w.step()
+    assert w.positions[0, 0] == pytest.approx(0.0, abs=1e-12)
+    with pytest.raises(ValueError, match=r"invalid normal = \(0, 0\): must be a nonzero vector"):
+        w.add_plane([0.0, 0.0])
+
+
+# --- issue 25, item 11: constraints that cannot all be met are reported ---------------------
+
+
+@pytest.mark.parametrize(
+    ("build", "needle"),
+    [
+        (
+            lambda w: (
+                w.add_balls([[0.0, 0.0], [3.0, 0.0]], radii=0.5),
+                w.add_pin(0, [1, 1]),
+                w.add_pin(1, [1, 1]),
+            ),
+            "constraints 0 and 1 pin balls 0 and 1 0 m apart, closer than their radii add to (1)",
+        ),
+        (
+            lambda w: (w.add_particle([0.0, 0.0]), w.add_plane([1, 0], 1.0), w.add_plane([-1, 0], 0.0)),
+            "constraints 0 and 1 are opposite planes with no point between them (1 m apart)",
+        ),
+        (
+            lambda w: (w.add_particles([[0.0, 0.0], [0.0, 0.0]]), w.add_distance_constraint(0, 1, 1.0)),
+            "constraint 0: the ends of a distance of 1 m coincide (particle 0 at [0, 0])",
+        ),
+        (
+            lambda w: (w.add_particle([0.0, 0.0]), w.add_pin(0, [0, 0]), w.add_pin(0, [2, 0])),
+            "constraints 0 and 1 pin particle 0 to two points, [0, 0] and [2, 0]",
+        ),
+        (
+            lambda w: (w.add_particle([0.0, 0.0]), w.add_pin(0, [0, -1]), w.add_plane([0, 1], 0.0)),
+            "constraint 0 pins particle 0 at [0, -1], 1 m behind the plane of constraint 1",
+        ),
+        (
+            lambda w: (
+                w.add_particles([[0.0, 0.0], [1.0, 0.0]]),
+                w.add_distance_constraint(0, 1),
+                w.add_pin(0, [0, 0]),
+                w.add_pin(1, [3, 0]),
+            ),
+            "constraint 0: its ends are held 3 m apart (pinned, static or an anchor): 1 m cannot be met",
+        ),
+    ],
+)
+def test_constraints_that_cannot_all_be_met_warn_and_keep_their_violation(build, needle: str) -> None:
+    w = physstep.World(2, dt=0.01)
+    with pytest.warns(physstep.ConstraintWarning) as caught:
+        build(w)
+    said = [str(c.message) for c in caught]
+    assert any(needle in m for m in said), said
+    assert all(m.startswith("the constraints cannot all be met: ") and "\n" not in m for m in said)
+    assert any(needle in c for c in w.constraint_conflicts())
+    # the world still steps, and the violation stays to be seen
+    w.step(10)
+    assert w.constraint_violation() > 0.1
+
+
+def test_constraints_that_can_be_met_do_not_warn() -> None:
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for name in ["pendulum", "cloth", "ragdoll"]:
+            assert physstep.World.from_scene(name).constraint_conflicts() == []
+        w = physstep.World(2)
+        w.add_particles([[0.0, 0.0], [1.0, 0.0]])
+        w.add_distance_constraint(0, 1)
+        w.add_pin(0, [0, 0])
+        w.add_pin(1, [1, 0])  # held 1 m apart, the rod's length
+        w.add_plane([1, 0], -1.0)
+        w.add_plane([-1, 0], -1.0)  # -1 <= x <= 1: room between them
+    assert w.constraint_conflicts() == []
+
+
+def test_run_reports_constraints_that_cannot_all_be_met(tmp_path) -> None:
+    scene = tmp_path / "rods.toml"
+    scene.write_text(
+        'dimension = 2\nmethod = "symplectic-euler"\ndt = 0.01\nuntil = 0.1\n'
+        "[[particles]]\nposition = [0.0, 0.0]\n[[particles]]\nposition = [0.0, 0.0]\n"
+        '[[constraints]]\nkind = "distance"\ni = 0\nj = 1\nlength = 1.0\n'
+    )
+    out = run_cli("run", str(scene))
+    assert out.returncode == 0, out.stderr
+    assert "Warning" not in out.stderr
+    assert (
+        "the constraints cannot all be met: constraint 0: the ends of a distance of 1 m coincide"
+        in out.stdout
+    )
+    data = json.loads(run_cli("run", str(scene), "--format", "json").stdout)
+    assert any("coincide" in c for c in data["constraints"]["conflicts"])

@@ -92,7 +92,7 @@ def test_an_exception_propagates_unchanged_and_the_step_is_rolled_back() -> None
     [
         (lambda x: np.zeros((len(x) + 1, 2)), "must have shape (3, 2), not (4, 2)"),
         (lambda x: np.full_like(x, np.nan), "force[0][0] = NaN is not finite"),
-        (lambda x: "abc", "must be an array of numbers of shape (3, 2)"),
+        (lambda x: "abc", "must be an array of real numbers of shape (3, 2), not 'abc' (str)"),
     ],
 )
 def test_a_wrong_shape_or_a_non_finite_force_is_a_value_error_naming_the_force(returned, needle) -> None:
@@ -207,3 +207,205 @@ def test_an_array_reshaped_in_place_by_the_force_is_replaced_not_refilled() -> N
     w.add_force(force)
     w.step(3)
     assert shapes == [(2, 2)] * 4
+
+
+# --- jacobians, potentials and return types (issue 25, items 7-9) ----------------------------
+
+
+class _Boom(Exception):
+    pass
+
+
+def _implicit_world(method: str, jacobian) -> physstep.World:
+    w = physstep.World(2, method=method, dt=0.1)
+    w.add_particles([[1.0, 0.0], [0.0, 2.0]])
+    w.add_force(_spring, jacobian=jacobian, name="spring")
+    return w
+
+
+@pytest.mark.parametrize("method", ["backward-euler", "implicit-midpoint"])
+def test_an_exception_in_a_jacobian_propagates_unchanged_and_the_step_is_rolled_back(method: str) -> None:
+    armed = {"on": False}
+
+    def jacobian(t: float, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if armed["on"]:
+            raise _Boom("from the user's jacobian")
+        return _jacobian(t, x, v)
+
+    w = _implicit_world(method, jacobian)
+    w.step(2)
+    h, steps = w.state_hash(), w.steps
+    armed["on"] = True
+    with pytest.raises(_Boom, match="from the user's jacobian"):
+        w.step(3)
+    assert (w.state_hash(), w.steps) == (h, steps)
+    with pytest.raises(_Boom):
+        physstep.simulate(lambda: _implicit_world(method, jacobian), until=0.5)
+    armed["on"] = False
+    w.step(1)
+    assert w.steps == steps + 1
+
+
+def test_an_exception_in_a_flows_jacobian_propagates_unchanged() -> None:
+    def jac(t: float, y: np.ndarray) -> np.ndarray:
+        raise _Boom("flow jacobian")
+
+    w = physstep.World.from_flow(lambda t, y: -y, [1.0, 2.0], method="backward-euler", dt=0.1, jacobian=jac)
+    with pytest.raises(_Boom, match="flow jacobian"):
+        w.step()
+    assert w.steps == 0
+
+
+@pytest.mark.parametrize(
+    ("returned", "needle"),
+    [
+        (
+            lambda n: (np.eye(n + 1), np.eye(n + 1)),
+            "its jacobian returned dF/dx must have shape (4, 4), not (5, 5)",
+        ),
+        (
+            lambda n: (np.full((n, n), np.nan), np.zeros((n, n))),
+            "its jacobian returned dF/dx[0][0] = NaN: must be finite",
+        ),
+        (lambda n: (np.zeros((n, n)), np.full((n, n), np.inf)), "dF/dv[0][0] = inf: must be finite"),
+        (
+            lambda n: np.eye(n),
+            "its jacobian must return a pair (dF/dx, dF/dv), not an array of float64 of shape (4, 4)",
+        ),
+        (lambda n: ("a", None), "dF/dx must be an array of real numbers of shape (4, 4), not 'a' (str)"),
+        (lambda n: (np.eye(n) * 1j, np.zeros((n, n))), "not an array of complex128 of shape (4, 4)"),
+    ],
+)
+def test_a_jacobian_of_the_wrong_shape_or_not_finite_is_a_value_error_naming_it(
+    returned, needle: str
+) -> None:
+    w = _implicit_world("backward-euler", lambda t, x, v: returned(x.size))
+    with pytest.raises(ValueError, match="force 'spring' failed: its jacobian") as info:
+        w.step()
+    assert needle in str(info.value)
+    assert w.steps == 0 and w.time == 0.0
+
+
+def test_a_flows_bad_jacobian_is_a_value_error_naming_it() -> None:
+    w = physstep.World.from_flow(
+        lambda t, y: -y,
+        [1.0, 2.0],
+        method="backward-euler",
+        dt=0.1,
+        jacobian=lambda t, y: np.eye(3),
+        name="decay",
+    )
+    with pytest.raises(
+        ValueError, match=r"force 'decay' failed: its jacobian returned the Jacobian \(2 x 2\)"
+    ):
+        w.step()
+    assert w.steps == 0
+
+
+@pytest.mark.parametrize(
+    ("potential", "got"),
+    [
+        (lambda x: float("nan"), "= NaN"),
+        (lambda x: "abc", "= 'abc' (str)"),
+        (lambda x: np.array([1.0, 2.0]), "= an array of float64 of shape (2,)"),
+        (lambda x: 1 + 2j, "= (1+2j) (complex)"),
+        (lambda x: True, "= True (bool)"),
+    ],
+)
+def test_a_potential_that_returns_no_real_number_is_a_value_error_naming_it(potential, got: str) -> None:
+    def well() -> physstep.World:
+        w = physstep.World(1)
+        w.add_particle([1.0])
+        w.add_force(lambda t, x, v: -x, potential=potential, name="well")
+        return w
+
+    w = well()
+    with pytest.raises(ValueError, match=r"invalid potential of force 'well' ") as info:
+        w.energy()
+    assert got in str(info.value) and "must be a finite real number" in str(info.value)
+    with pytest.raises(ValueError, match="potential of force 'well'"):
+        w.energy()  # again: said each time it is asked
+    w.step(3)  # stepping needs no potential
+    with pytest.raises(ValueError, match="potential of force 'well'"):
+        physstep.simulate(well, until=0.05)
+
+
+def test_a_potential_as_a_numpy_scalar_or_0d_array_or_int_is_read() -> None:
+    for potential in (lambda x: np.float64(2.5), lambda x: np.array(2.5), lambda x: 2, lambda x: np.int32(2)):
+        w = physstep.World(1)
+        w.add_particle([1.0])
+        w.add_force(lambda t, x, v: -x, potential=potential)
+        assert w.energy() == pytest.approx(float(potential(None)))
+
+
+@pytest.mark.parametrize(
+    ("returned", "needle"),
+    [
+        (lambda x: -x + 0.5j, "not an array of complex128 of shape (3, 2)"),
+        (lambda x: x > 0, "not an array of bool of shape (3, 2)"),
+        (lambda x: np.array([["1", "2"]] * 3), "not an array of <U1 of shape (3, 2)"),
+    ],
+)
+def test_a_complex_or_boolean_force_is_refused_not_cast(returned, needle: str) -> None:
+    w = physstep.World(2)
+    w.add_particles(np.ones((3, 2)))
+    w.add_force(lambda t, x, v: returned(x), name="wind")
+    with pytest.raises(
+        ValueError, match="force 'wind' failed: the returned force must be an array of real"
+    ) as info:
+        w.step()
+    assert needle in str(info.value)
+    assert w.steps == 0
+    # integers are real numbers: accepted
+    w2 = physstep.World(2)
+    w2.add_particles(np.ones((3, 2)))
+    w2.add_force(lambda t, x, v: np.ones(x.shape, dtype=np.int64))
+    w2.step()
+
+
+def test_a_flow_returning_complex_numbers_is_refused_not_cast() -> None:
+    w = physstep.World.from_flow(lambda t, y: -y * 1j, [1.0, 2.0], method="rk4", dt=0.1, name="rot")
+    with pytest.raises(
+        ValueError, match="force 'rot' failed: the returned derivative must be an array of 2 real"
+    ):
+        w.step()
+    assert w.steps == 0
+
+
+@pytest.mark.parametrize("what", ["force", "potential", "jacobian"])
+def test_a_callback_that_uses_its_own_world_is_told_so(what: str) -> None:
+    w = physstep.World(1, method="backward-euler", dt=0.1)
+    w.add_particle([1.0])
+    seen: list[BaseException] = []
+
+    def peek() -> None:
+        try:
+            w.positions  # noqa: B018
+        except physstep.WorldBusyError as e:
+            seen.append(e)
+
+    def force(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        if what == "force":
+            peek()
+        return -x
+
+    def potential(x: np.ndarray) -> float:
+        if what == "potential":
+            peek()
+        return 0.5 * float((x**2).sum())
+
+    def jacobian(t: float, x: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if what == "jacobian":
+            peek()
+        return -np.eye(x.size), np.zeros((x.size, x.size))
+
+    w.add_force(force, potential=potential, jacobian=jacobian)
+    w.step(2)
+    w.energy()
+    assert seen, "the callback never ran"
+    message = str(seen[0])
+    assert "in use by another thread" not in message
+    assert message.startswith("this World is in use by the call that ran this callback (its own force")
+    assert "read the t, x and v it is handed" in message
+    # after the step the World answers, from the same thread
+    assert w.positions.shape == (1, 1) and w.steps == 2

@@ -25,6 +25,7 @@ from physstep import _constraints, _core
 from physstep._core import (
     Box,
     Capsule,
+    ConstraintWarning,
     ConvergenceError,
     Cylinder,
     DivergedError,
@@ -43,6 +44,7 @@ from physstep._scenefile import SceneFile, export_scene, load_scene, scene_text
 __all__ = [
     "Box",
     "Capsule",
+    "ConstraintWarning",
     "ConvergenceError",
     "Cylinder",
     "DivergedError",

@@ -15,6 +15,7 @@ from typing_extensions import disjoint_base
 __all__ = [
     "Box",
     "Capsule",
+    "ConstraintWarning",
     "ConvergenceError",
     "Cylinder",
     "DivergedError",
@@ -47,6 +48,9 @@ class ConvergenceError(StepError):
 
 class WorldBusyError(RuntimeError):
     """The World is in use by another thread (or by a callback inside its own step)."""
+
+class ConstraintWarning(UserWarning):
+    """The world's constraints cannot all be met (World.constraint_conflicts() lists why)."""
 
 _Params = dict[str, float] | list[tuple[str, float]] | None
 
@@ -461,12 +465,26 @@ class World:
 
     @property
     def constraint_iterations(self) -> int:
-        """Relaxation sweeps per step (default 16): exactly this many for projection, at most
-        this many for SHAKE/RATTLE (they stop at their tolerance). Assign to change it
-        (ValueError outside 1 to 1000000)."""
+        """Relaxation sweeps per step (default 16), at most: the sweeps stop once every
+        constraint is within 1e-13 (relative); ``constraint_stats`` counts the steps that
+        reached this cap first. Assign to change it (ValueError outside 1 to 1000000)."""
 
     @constraint_iterations.setter
     def constraint_iterations(self, n: int) -> None: ...
+    def constraint_conflicts(self) -> list[str]:
+        """What in the constraints cannot be met whatever the sweeps, one line each (empty when
+        nothing is seen): a particle pinned to two points, two pinned balls closer than their
+        radii, opposite planes with no point between them, a pinned particle behind a plane,
+        held ends at a distance a constraint forbids, a distance whose ends coincide. Adding
+        such a constraint warns (`ConstraintWarning`); the check is of pairs, not a proof."""
+
+    @property
+    def constraint_stats(self) -> dict[str, Any]:
+        """What the relaxation sweeps did: {"last_sweeps": the last step's sweeps,
+        "capped_steps": steps whose sweeps ended at constraint_iterations with a constraint
+        still off by more than 1e-13 (relative), "capped_violation": the largest violation,
+        m, such a step left (0.0 when none)}. A diagnostic over the world's steps, not state."""
+
     @property
     def constraint_count(self) -> int:
         """The number of constraints."""
@@ -488,7 +506,10 @@ class World:
         ``max_iter``, the conjugate-gradient tolerance ``cg_tol`` and cap ``cg_max_iter`` of
         the sparse solve, and ``dense_up_to`` (systems of at most this many unknowns are
         solved densely; 0 always sparse). Arguments left out keep their values; the defaults
-        are ``tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000, dense_up_to=64``."""
+        are ``tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000, dense_up_to=64``.
+        ``tol`` is relative to the terms Newton balances, stiffness included: on a stiff scene
+        the default leaves a step's velocities about 1e-7 (relative) from the converged step's
+        (docs/stiff.md); ``tol=1e-13`` gives the converged step."""
 
     @property
     def solve_stats(self) -> dict[str, Any] | None:

@@ -6,7 +6,7 @@
 
 use physstep::error::Error;
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(_core, StepError, PyRuntimeError, "A step failed; the state was rolled back.");
@@ -29,6 +29,25 @@ create_exception!(
     "The World is in use by another thread (or by a callback inside its own step)."
 );
 
+create_exception!(
+    _core,
+    ConstraintWarning,
+    PyUserWarning,
+    "The world's constraints cannot all be met (World.constraint_conflicts() lists why)."
+);
+
+/// Warns (`ConstraintWarning`) each line of `conflicts`: constraints that cannot all be
+/// met. Called with the World unlocked (a warning filter may run Python code).
+pub(crate) fn warn_conflicts(py: Python<'_>, conflicts: Vec<String>) -> PyResult<()> {
+    let category = py.get_type::<ConstraintWarning>();
+    for c in conflicts {
+        let msg = std::ffi::CString::new(format!("the constraints cannot all be met: {c}"))
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        PyErr::warn(py, category.as_any(), &msg, 1)?;
+    }
+    Ok(())
+}
+
 /// The engine's error as the matching Python exception.
 pub(crate) fn py_err(e: Error) -> PyErr {
     let msg = e.to_string();
@@ -46,5 +65,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DivergedError", py.get_type::<DivergedError>())?;
     m.add("ConvergenceError", py.get_type::<ConvergenceError>())?;
     m.add("WorldBusyError", py.get_type::<WorldBusyError>())?;
+    m.add("ConstraintWarning", py.get_type::<ConstraintWarning>())?;
     Ok(())
 }

@@ -30,6 +30,7 @@
 use numpy::{npyffi, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use physstep::forces::ForceGenerator;
 use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyFloat};
 use std::sync::{Arc, Mutex, PoisonError};
 
 /// Where a Python exception raised inside a step waits to be re-raised.
@@ -200,11 +201,9 @@ impl PyForce {
                 }
             }
         }
-        let py = out.py();
-        let arr = py
-            .import("numpy")
-            .and_then(|np| np.call_method1("ascontiguousarray", (out, "float64")))
-            .map_err(|_| format!("{what} must be an array of numbers of shape ({rows}, {cols})"))?;
+        let arr = real_array(out).map_err(|got| {
+            format!("{what} must be an array of real numbers of shape ({rows}, {cols}), not {got}")
+        })?;
         let a: PyReadonlyArray2<'_, f64> = arr.extract().map_err(|_| bad_shape(&arr))?;
         if a.shape() != [rows, cols] {
             return Err(bad_shape(&arr));
@@ -227,6 +226,79 @@ fn keep(slot: &Slot, py: Python<'_>, e: PyErr) -> String {
 
 fn shape(a: &Bound<'_, PyAny>) -> String {
     a.getattr("shape").and_then(|s| s.str()).map(|s| s.to_string()).unwrap_or_else(|_| "?".into())
+}
+
+/// What a callable returned, in a few words for a message: `an array of complex128 of
+/// shape (3, 2)`, `'abc' (str)`, `nan`.
+fn describe(v: &Bound<'_, PyAny>) -> String {
+    if let (Ok(dtype), Ok(shape)) = (v.getattr("dtype"), v.getattr("shape")) {
+        if shape.len().is_ok_and(|n| n > 0) {
+            return format!("an array of {dtype} of shape {shape}");
+        }
+    }
+    let text = v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+    let text = if text.chars().count() > 40 {
+        format!("{}...", text.chars().take(40).collect::<String>())
+    } else {
+        text
+    };
+    let kind = v.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+    if v.is_instance_of::<PyFloat>() {
+        text
+    } else {
+        format!("{text} ({kind})")
+    }
+}
+
+/// `v` as a C-contiguous float64 array when it holds real numbers (float, integer; never
+/// complex, bool, strings or objects, which numpy would cast in silence or mangle), else
+/// what it is ([`describe`]).
+fn real_array<'py>(v: &Bound<'py, PyAny>) -> Result<Bound<'py, PyAny>, String> {
+    let np = v.py().import("numpy").map_err(|_| describe(v))?;
+    let arr = np.call_method1("asarray", (v,)).map_err(|_| describe(v))?;
+    let kind: String = arr
+        .getattr("dtype")
+        .and_then(|d| d.getattr("kind"))
+        .and_then(|k| k.extract())
+        .map_err(|_| describe(v))?;
+    if !matches!(kind.as_str(), "f" | "i" | "u") {
+        return Err(describe(v));
+    }
+    np.call_method1("ascontiguousarray", (arr, "float64")).map_err(|_| describe(v))
+}
+
+/// `v` as one real number (a float, an integer, a numpy scalar or 0-d array of them), else
+/// what it is ([`describe`]).
+fn real_scalar(v: &Bound<'_, PyAny>) -> Result<f64, String> {
+    // (A float or a subclass of it: numpy's float64.)
+    if let Ok(f) = v.cast::<PyFloat>() {
+        return Ok(f.value());
+    }
+    if v.is_instance_of::<PyBool>() {
+        return Err(describe(v));
+    }
+    let arr =
+        v.py().import("numpy").and_then(|np| np.call_method1("asarray", (v,))).map_err(|_| describe(v))?;
+    let kind: String = arr
+        .getattr("dtype")
+        .and_then(|d| d.getattr("kind"))
+        .and_then(|k| k.extract())
+        .map_err(|_| describe(v))?;
+    let ndim = arr.getattr("ndim").and_then(|n| n.extract::<usize>()).map_err(|_| describe(v))?;
+    if ndim != 0 || !matches!(kind.as_str(), "f" | "i" | "u") {
+        return Err(describe(v));
+    }
+    arr.call_method0("item").and_then(|x| x.extract::<f64>()).map_err(|_| describe(v))
+}
+
+/// The error a Python force's jacobian (or a flow's) that returned something unusable
+/// leaves for the caller: a `ValueError` naming the force.
+fn bad_jacobian(name: &str, reason: String) -> PyErr {
+    crate::py_err(physstep::Error::Force {
+        name: name.into(),
+        reason: format!("its jacobian {reason}"),
+        non_finite: false,
+    })
 }
 
 impl ForceGenerator for PyForce {
@@ -275,11 +347,20 @@ impl ForceGenerator for PyForce {
             let r = self.take(py, Which::X, x.len() / self.dim, Some(x)).and_then(|xa| {
                 let u = p.bind(py).call1((&xa,));
                 self.give_back(Which::X, xa);
-                u?.extract::<f64>()
+                Ok(real_scalar(&u?))
             });
             match r {
-                Ok(u) if u.is_finite() => Some(u),
-                Ok(_) => None,
+                Ok(Ok(u)) if u.is_finite() => Some(u),
+                Ok(bad) => {
+                    let got = bad.map_or_else(|got| got, physstep::error::num);
+                    let e = physstep::Error::invalid(
+                        format!("potential of force '{}'", physstep::error::one_line(&self.name)),
+                        got,
+                        "a finite real number (the potential energy, J)",
+                    );
+                    self.keep(py, crate::py_err(e));
+                    None
+                }
                 Err(e) => {
                     self.keep(py, e);
                     None
@@ -288,6 +369,10 @@ impl ForceGenerator for PyForce {
         })
     }
 
+    /// `true` whenever the force has a jacobian: when it raises or returns something
+    /// unusable, its error is kept for the caller and `dF/dx` is filled with NaN, so the
+    /// Newton solve fails and the step is rolled back (never a silent fall back to finite
+    /// differences).
     fn jacobian(&self, t: f64, x: &[f64], v: &[f64], dfdx: &mut [f64], dfdv: &mut [f64]) -> bool {
         let Some(jac) = self.jacobian.as_ref() else { return false };
         Python::attach(|py| {
@@ -301,25 +386,40 @@ impl ForceGenerator for PyForce {
                 self.give_back(Which::V, va);
                 r
             })();
-            let out = match r {
-                Ok(o) => o,
-                Err(e) => {
-                    self.keep(py, e);
-                    return false;
+            let read = r.and_then(|out| {
+                let pair = out.extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>)>().map_err(|_| {
+                    bad_jacobian(
+                        &self.name,
+                        format!("must return a pair (dF/dx, dF/dv), not {}", describe(&out)),
+                    )
+                })?;
+                let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
+                for (m, what, acc) in [(&pair.0, "dF/dx", &mut a), (&pair.1, "dF/dv", &mut b)] {
+                    Self::add_matrix(m, what, n, n, acc)
+                        .map_err(|e| bad_jacobian(&self.name, format!("returned {e}")))?;
+                    if let Some(i) = acc.iter().position(|c| !c.is_finite()) {
+                        let reason = format!(
+                            "returned {what}[{}][{}] = {}: must be finite",
+                            i / n,
+                            i % n,
+                            physstep::error::num(acc[i])
+                        );
+                        return Err(bad_jacobian(&self.name, reason));
+                    }
                 }
-            };
-            let pair: Result<(Bound<'_, PyAny>, Bound<'_, PyAny>), _> = out.extract();
-            let Ok((jx, jv)) = pair else { return false };
-            let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
-            match (Self::add_matrix(&jx, "dF/dx", n, n, &mut a), Self::add_matrix(&jv, "dF/dv", n, n, &mut b))
-            {
-                (Ok(()), Ok(())) if a.iter().chain(&b).all(|c| c.is_finite()) => {
+                Ok((a, b))
+            });
+            match read {
+                Ok((a, b)) => {
                     dfdx.iter_mut().zip(&a).for_each(|(d, s)| *d += s);
                     dfdv.iter_mut().zip(&b).for_each(|(d, s)| *d += s);
-                    true
                 }
-                _ => false,
+                Err(e) => {
+                    self.keep(py, e);
+                    dfdx.fill(f64::NAN);
+                }
             }
+            true
         })
     }
 }
@@ -339,13 +439,11 @@ impl PyFlow {
 
     /// A flat float vector of length `n` from `out`, or a message naming what is wrong.
     fn vector(out: &Bound<'_, PyAny>, what: &str, n: usize) -> Result<Vec<f64>, String> {
-        let py = out.py();
-        let arr = py
-            .import("numpy")
-            .and_then(|np| np.call_method1("asarray", (out, "float64")))
-            .and_then(|a| a.call_method0("ravel"))
-            .map_err(|_| format!("{what} must be an array of {n} numbers"))?;
-        let v: Vec<f64> = arr.extract().map_err(|_| format!("{what} must be an array of {n} numbers"))?;
+        let arr = real_array(out)
+            .and_then(|a| a.call_method0("ravel").map_err(|_| describe(out)))
+            .map_err(|got| format!("{what} must be an array of {n} real numbers, not {got}"))?;
+        let v: Vec<f64> =
+            arr.extract().map_err(|_| format!("{what} must be an array of {n} real numbers"))?;
         if v.len() != n {
             return Err(format!("{what} must have {n} entries, not {}", v.len()));
         }
@@ -368,20 +466,34 @@ impl physstep::flows::FlowGenerator for PyFlow {
         })
     }
 
+    /// As [`PyForce`]'s: an exception or an unusable value is kept for the caller and the
+    /// Jacobian filled with NaN, so the step fails and is rolled back.
     fn jacobian(&self, t: f64, y: &[f64], dfdy: &mut [f64]) -> bool {
         let Some(jac) = self.jacobian.as_ref() else { return false };
-        Python::attach(|py| match jac.bind(py).call1((t, PyArray1::from_slice(py, y))) {
-            Ok(out) => match Self::vector(&out, "the Jacobian", y.len() * y.len()) {
-                Ok(v) if v.iter().all(|c| c.is_finite()) => {
-                    dfdy.copy_from_slice(&v);
-                    true
+        Python::attach(|py| {
+            let n = y.len();
+            let read = jac.bind(py).call1((t, PyArray1::from_slice(py, y))).and_then(|out| {
+                let v = Self::vector(&out, &format!("the Jacobian ({n} x {n})"), n * n)
+                    .map_err(|e| bad_jacobian(&self.name, format!("returned {e}")))?;
+                if let Some(i) = v.iter().position(|c| !c.is_finite()) {
+                    let reason = format!(
+                        "returned df/dy[{}][{}] = {}: must be finite",
+                        i / n,
+                        i % n,
+                        physstep::error::num(v[i])
+                    );
+                    return Err(bad_jacobian(&self.name, reason));
                 }
-                _ => false,
-            },
-            Err(e) => {
-                self.keep(py, e);
-                false
+                Ok(v)
+            });
+            match read {
+                Ok(v) => dfdy.copy_from_slice(&v),
+                Err(e) => {
+                    self.keep(py, e);
+                    dfdy.fill(f64::NAN);
+                }
             }
+            true
         })
     }
 }

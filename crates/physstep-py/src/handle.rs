@@ -13,6 +13,7 @@ use crate::lease::Views;
 use crate::py_err;
 use physstep::world::{ParticleBatch, World as Engine};
 use pyo3::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, TryLockError};
 
 /// A Python force at a body point as added: body, point (shape frame), and the force's spec
@@ -28,6 +29,41 @@ pub(crate) type BodyForceSpec = (usize, [f64; 3], std::sync::Arc<Py<PyAny>>);
 #[pyclass(module = "physstep._core", frozen)]
 pub struct World {
     inner: Mutex<Inner>,
+    /// The thread holding `inner` ([`thread_tag`]), 0 when no one does: a call that finds
+    /// the World taken by its own thread is a callback inside the World's own step.
+    holder: AtomicUsize,
+}
+
+/// A number for the current thread, never 0 (the address of a thread-local).
+fn thread_tag() -> usize {
+    thread_local!(static TAG: u8 = const { 0 });
+    TAG.with(|t| std::ptr::from_ref(t) as usize)
+}
+
+/// The World's state while one call holds it; the holder is forgotten when it drops.
+pub(crate) struct Guard<'a> {
+    guard: MutexGuard<'a, Inner>,
+    holder: &'a AtomicUsize,
+}
+
+impl std::ops::Deref for Guard<'_> {
+    type Target = Inner;
+    fn deref(&self) -> &Inner {
+        &self.guard
+    }
+}
+
+impl std::ops::DerefMut for Guard<'_> {
+    fn deref_mut(&mut self) -> &mut Inner {
+        &mut self.guard
+    }
+}
+
+impl Drop for Guard<'_> {
+    fn drop(&mut self) {
+        // (Before the mutex is released: the field drops after this.)
+        self.holder.store(0, Ordering::Release);
+    }
 }
 
 pub(crate) struct Inner {
@@ -83,19 +119,31 @@ pub(crate) fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
 }
 
 impl World {
-    /// The state, or `WorldBusyError` when another thread (or a callback of this world's own
-    /// step) holds it.
-    pub(crate) fn lock(&self) -> PyResult<MutexGuard<'_, Inner>> {
-        match self.inner.try_lock() {
-            Ok(g) => Ok(g),
-            Err(TryLockError::WouldBlock) => Err(WorldBusyError::new_err(
-                "this World is in use by another thread (a World serves one thread at a time: \
-                 give each thread its own World, or guard it with a lock)",
-            )),
+    /// The state, or `WorldBusyError` when another thread holds it, or when a callback of
+    /// this world's own step (a force, potential or Jacobian) asks for it: the step holds
+    /// the state, and the callback is handed what it may read (`t`, `x`, `v`).
+    pub(crate) fn lock(&self) -> PyResult<Guard<'_>> {
+        let guard = match self.inner.try_lock() {
+            Ok(g) => g,
+            Err(TryLockError::WouldBlock) if self.holder.load(Ordering::Acquire) == thread_tag() => {
+                return Err(WorldBusyError::new_err(
+                    "this World is in use by the call that ran this callback (its own force, \
+                     potential or jacobian): a callback cannot use the World it belongs to; \
+                     read the t, x and v it is handed instead",
+                ))
+            }
+            Err(TryLockError::WouldBlock) => {
+                return Err(WorldBusyError::new_err(
+                    "this World is in use by another thread (a World serves one thread at a time: \
+                     give each thread its own World, or guard it with a lock)",
+                ))
+            }
             // A panic cannot happen inside (every engine call returns a Result); were it to,
             // the data is still whole, so go on with it.
-            Err(TryLockError::Poisoned(p)) => Ok(p.into_inner()),
-        }
+            Err(TryLockError::Poisoned(p)) => p.into_inner(),
+        };
+        self.holder.store(thread_tag(), Ordering::Release);
+        Ok(Guard { guard, holder: &self.holder })
     }
 
     /// A World around an engine world with no Python parts (a scene, a loaded scene file).
@@ -111,6 +159,7 @@ impl World {
     ) -> Self {
         let (pending, body_forces) = (ParticleBatch::default(), Vec::new());
         let views = Views::default();
-        Self { inner: Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, views }) }
+        let inner = Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, views });
+        Self { inner, holder: AtomicUsize::new(0) }
     }
 }

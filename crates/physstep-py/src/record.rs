@@ -138,8 +138,9 @@ pub(crate) fn run(
     }
     let elapsed = start.elapsed().as_nanos() as u64;
     let mut rec = recorder.finish();
-    // A failure the run stopped at (stop_on_diverge) may have been a Python exception.
-    if let (Some(s), Some(_)) = (slot, rec.diverged.as_ref()) {
+    // A failure the run stopped at (stop_on_diverge) may have been a Python exception; a
+    // potential that returned no number (its energy column unknown) left its error too.
+    if let Some(s) = slot {
         if let Some(e) = s.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take() {
             rec.diverged = None;
             return Err(e);

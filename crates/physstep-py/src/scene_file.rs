@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 pub(crate) fn read_scene(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<(World, Option<f64>)> {
     let path = text(path, "path")?;
     let loaded = py.detach(|| physstep::scenes::file::load(std::path::Path::new(&path))).map_err(py_err)?;
+    crate::errors::warn_conflicts(py, loaded.world.constraint_conflicts())?;
     Ok((World::wrap(loaded.world), loaded.until))
 }
 

@@ -64,6 +64,7 @@ impl World {
         let params = crate::convert::params(params)?;
         let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         let scene = physstep::scenes::build(&name, &overrides, &method, dt).map_err(py_err)?;
+        Python::attach(|py| crate::errors::warn_conflicts(py, scene.world.constraint_conflicts()))?;
         Ok(Self::wrap(scene.world))
     }
 

@@ -6,6 +6,17 @@ use crate::py_err;
 use crate::world_build::endpoint;
 use pyo3::prelude::*;
 
+/// After constraint `k` was added: the World unlocked, then a `ConstraintWarning` for each
+/// conflict it makes (the constraint stays). Returns `k`.
+fn added(g: crate::handle::Guard<'_>, k: usize) -> PyResult<usize> {
+    let conflicts = g.engine.constraint_conflicts_of(k);
+    drop(g);
+    if !conflicts.is_empty() {
+        Python::attach(|py| crate::errors::warn_conflicts(py, conflicts))?;
+    }
+    Ok(k)
+}
+
 #[pymethods]
 impl World {
     /// Adds the constraint |x_i - x_j| = length (m) between particle `i` and particle `j`
@@ -27,7 +38,8 @@ impl World {
         let j = endpoint(j, "j", w.dim())?;
         let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
         let compliance = compliance.map_or(Ok(0.0), |c| float(c, "compliance"))?;
-        w.add_distance_constraint(i, j, length, compliance).map_err(py_err)
+        let k = w.add_distance_constraint(i, j, length, compliance).map_err(py_err)?;
+        added(g, k)
     }
 
     /// Holds particle `i` at `point` (dim numbers, m); other constraints see it as fixed.
@@ -37,7 +49,8 @@ impl World {
         let w = g.flush()?;
         let i = index(i, "i")?;
         let point = array(point, "point", Some(w.dim()), None)?;
-        w.add_pin(i, &point).map_err(py_err)
+        let k = w.add_pin(i, &point).map_err(py_err)?;
+        added(g, k)
     }
 
     /// A rope of `max_length` (m) from particle `i` to particle (or anchor point) `j`: the
@@ -53,7 +66,8 @@ impl World {
         let i = index(i, "i")?;
         let j = endpoint(j, "j", w.dim())?;
         let max_length = float(max_length, "max_length")?;
-        w.add_rope(i, j, max_length).map_err(py_err)
+        let k = w.add_rope(i, j, max_length).map_err(py_err)?;
+        added(g, k)
     }
 
     /// A joint limit: min_length <= |x_i - x_j| <= max_length (m). Returns its index.
@@ -69,7 +83,8 @@ impl World {
         let i = index(i, "i")?;
         let j = endpoint(j, "j", w.dim())?;
         let (lo, hi) = (float(min_length, "min_length")?, float(max_length, "max_length")?);
-        w.add_distance_limit(i, j, lo, hi).map_err(py_err)
+        let k = w.add_distance_limit(i, j, lo, hi).map_err(py_err)?;
+        added(g, k)
     }
 
     /// Keeps every particle in the half-space normal . x >= offset (m): a ground (normal
@@ -81,11 +96,13 @@ impl World {
         let w = g.flush()?;
         let normal = array(normal, "normal", Some(w.dim()), None)?;
         let offset = offset.map_or(Ok(0.0), |o| float(o, "offset"))?;
-        w.add_plane(&normal, offset).map_err(py_err)
+        let k = w.add_plane(&normal, offset).map_err(py_err)?;
+        added(g, k)
     }
 
-    /// Relaxation sweeps per step (default 16): exactly this many for projection, at most
-    /// this many for SHAKE/RATTLE, which stop at their tolerance. Assign to change it.
+    /// Relaxation sweeps per step (default 16), at most: the sweeps stop once every
+    /// constraint is within 1e-13 (relative); `constraint_stats` counts the steps that
+    /// reached this cap first. Assign to change it.
     #[getter]
     fn constraint_iterations(&self) -> PyResult<u32> {
         Ok(self.lock()?.engine.constraint_iterations())
@@ -103,6 +120,29 @@ impl World {
     fn constraint_violation(&self) -> PyResult<f64> {
         let mut g = self.lock()?;
         Ok(g.flush()?.constraint_violation())
+    }
+
+    /// What the relaxation sweeps did: {"last_sweeps": the last step's sweeps,
+    /// "capped_steps": steps whose sweeps ended at constraint_iterations with a constraint
+    /// still off by more than 1e-13 (relative), "capped_violation": the largest violation,
+    /// m, such a step left (0.0 when none)}. A diagnostic over the world's steps, not state.
+    #[getter]
+    fn constraint_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let s = self.lock()?.engine.constraint_stats();
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("last_sweeps", s.last_sweeps)?;
+        d.set_item("capped_steps", s.capped_steps)?;
+        d.set_item("capped_violation", s.capped_violation)?;
+        Ok(d)
+    }
+
+    /// What in the constraints cannot be met whatever the sweeps, one line each (empty when
+    /// nothing is seen): a particle pinned to two points, two pinned balls closer than their
+    /// radii, opposite planes with no point between them, a pinned particle behind a plane,
+    /// held ends at a distance a constraint forbids, a distance whose ends coincide. Adding
+    /// such a constraint warns (`ConstraintWarning`); the check is of pairs, not a proof.
+    fn constraint_conflicts(&self) -> PyResult<Vec<String>> {
+        Ok(self.lock()?.engine.constraint_conflicts())
     }
 
     /// The number of constraints.

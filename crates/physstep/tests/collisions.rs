@@ -432,3 +432,20 @@ fn contacts_that_do_not_end_fail_the_step_and_roll_back() {
     }
     panic!("the pile kept within the budget: pick a harder case for this test");
 }
+
+/// Positions set by hand are checked as `add_ball` checks a ball (issue 25, item 10): no
+/// overlap deeper than the state's, no ball out of the walls; the world unchanged.
+#[test]
+fn positions_set_by_hand_keep_balls_apart_and_inside() {
+    let mut w = world(2, "symplectic-euler", 0.01);
+    w.add_walls(&[0.0, 0.0], &[4.0, 4.0]).unwrap();
+    w.add_ball(&[1.0, 1.0], &[0.0, 0.0], 0.5, 1.0).unwrap();
+    w.add_ball(&[3.0, 3.0], &[0.0, 0.0], 0.5, 1.0).unwrap();
+    let hash = w.state_hash();
+    let m = w.set_positions(&[1.0, 1.0, 1.5, 1.0]).unwrap_err().to_string();
+    assert!(m.starts_with("invalid positions[1] = [1.5, 1]: must be clear of ball 0 at [1, 1]"), "{m}");
+    let m = w.set_positions(&[1.0, 1.0, 3.8, 3.0]).unwrap_err().to_string();
+    assert!(m.starts_with("invalid positions[1][0] = 3.8: must be inside the walls"), "{m}");
+    assert_eq!(w.state_hash(), hash);
+    w.set_positions(&[1.0, 1.0, 2.0, 1.0]).unwrap(); // touching
+}

@@ -14,6 +14,7 @@ import argparse
 import os
 import re
 import sys
+import warnings
 from typing import NoReturn
 
 import physstep
@@ -81,8 +82,12 @@ def _run(argv: list[str] | None) -> int:
     try:
         args = parser().parse_args(argv)
         options.check_paths(args)
-        options.resolve_scene(args)
-        status = int(args.func(args))
+        with warnings.catch_warnings():
+            # (a Python warning is two lines on stderr: run gives constraints that cannot
+            # all be met as a line of its summary instead)
+            warnings.filterwarnings("ignore", category=physstep.ConstraintWarning)
+            options.resolve_scene(args)
+            status = int(args.func(args))
         sys.stdout.flush()
         return status
     except BrokenPipeError:

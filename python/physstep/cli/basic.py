@@ -10,6 +10,7 @@ import argparse
 import math
 import statistics
 import sys
+import warnings
 from typing import Any
 
 import physstep
@@ -163,15 +164,26 @@ def _cmd_run(args: argparse.Namespace) -> int:
     def once() -> physstep.Trajectory:
         return physstep.simulate(args.scene, args.method, args.dt, args.until, params, every=args.every)
 
-    traj = once()
-    timings = [traj.ns_per_step]
-    if traj.elapsed_ns * 1e-9 < TIMING_MIN_S:
-        timings += [once().ns_per_step for _ in range(TIMING_RUNS - 1)]
-    summary = physstep.summarize(traj)
+    # Constraints that cannot all be met are a line of the summary, not a Python warning.
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", physstep.ConstraintWarning)
+        traj = once()
+        timings = [traj.ns_per_step]
+        if traj.elapsed_ns * 1e-9 < TIMING_MIN_S:
+            timings += [once().ns_per_step for _ in range(TIMING_RUNS - 1)]
+        summary = physstep.summarize(traj)
+    conflicts = list(
+        dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, physstep.ConstraintWarning))
+    )
+    for w in caught:
+        if not issubclass(w.category, physstep.ConstraintWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     until = options.requested_until(args.scene, args.until)
     summary["until"] = until
     summary["ns_per_step"] = statistics.median(timings)
     summary["ns_per_step_runs"] = len(timings)
+    if conflicts:
+        summary.setdefault("constraints", {})["conflicts"] = conflicts
     output.finite(summary)
     if args.out is not None:
         files.write_text(args.out, _trajectory_csv(traj), "--out")
@@ -208,10 +220,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
             f"|L| {math.hypot(*ang['initial']):.6g} -> {math.hypot(*ang['final']):.6g} kg m^2/s "
             f"(max rel. error {ang['max_rel_error']:.3g})",
         )
-    if "constraints" in summary:
+    if "max_violation" in summary.get("constraints", {}):
         table.add_row(
             "constraints", f"max violation {summary['constraints']['max_violation']:.3g} m over the run"
         )
+    for line in summary.get("constraints", {}).get("conflicts", []):
+        table.add_row("constraints", output.one_line(line))
     if "collisions" in summary:
         col = summary["collisions"]
         table.add_row("collisions", f"{col['count']} contacts, max overlap {col['max_overlap']:.3g} m")

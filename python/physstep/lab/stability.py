@@ -62,6 +62,19 @@ SCAN_ROUNDS = 4
 #: 0.944 s, runs stable again at 0.972 s (whatever the start near x0 = 1) and fails for good
 #: above 1.0 s. dt_max stays where instability first appears; ``stable_above`` lists these.
 ABOVE_FACTORS = (1.01, 1.02, 1.03, 1.05, 1.1)
+#: Bounded growth is a finite-horizon test, so a limit it finds is checked against a longer
+#: horizon: HORIZON_STEPS times the steps at HORIZON_DT dt_max. Where that fails, the search
+#: runs again over the longer horizon. A method whose state drifts away at every dt
+#: (explicit Euler on an undamped oscillator gains energy by a factor 1 + (w dt)^2 every
+#: step, Heun and midpoint by 1 + (w dt)^4 / 4) has a limit that only measures the run's
+#: length, falling as steps^(-1/q) for a growth per step of order dt^q: 8 times the steps
+#: take it to 0.35 of itself for q = 2 and 0.59 for q = 4, below HORIZON_SHRINK. Such a
+#: method is reported unstable at every dt, with the horizon that showed it. A limit that
+#: shrinks less (RK4's slow drift on an orbit, 0.71; a chain's long-time resonances) is
+#: replaced by the longer horizon's, and the note gives both.
+HORIZON_DT = 0.75
+HORIZON_STEPS = 8
+HORIZON_SHRINK = 0.65
 
 
 # --------------------------------------------------------------------------------------
@@ -360,6 +373,63 @@ def _criterion(
     return text, stable, screen
 
 
+def _only(horizon: dict[str, Any]) -> str:
+    """How far the longer horizon's limit got, in words."""
+    d = horizon["long_dt_max"]
+    return "at no dt of the grid" if not d else f"only up to {d:.6g} s"
+
+
+def _horizon(
+    subject: Subject,
+    method: str,
+    growth: Growth,
+    grid: list[float],
+    rtol: float,
+    dt_max: float,
+    hi: float | None,
+) -> tuple[float, float | None, dict[str, Any], Callable[[float], bool] | None]:
+    """A bounded-growth limit checked against a longer horizon: (dt_max, the unstable point
+    above it, what the check found). The limit stands when HORIZON_STEPS times the steps at
+    HORIZON_DT dt_max stay within the limit. Otherwise the search runs again over the longer
+    horizon: a limit that shrinks below HORIZON_DT of the first (a drift: the method's state
+    leaves at every dt, sooner the larger the dt) below HORIZON_SHRINK of the first is
+    reported as 0, unstable at every dt;
+    one that shrinks less (the system's own long-time reach, a resonance) replaces it, and the
+    longer horizon's test is returned for the checks above it."""
+    steps = HORIZON_STEPS * growth.steps
+    g_long = growth.measure(subject, method, HORIZON_DT * dt_max, steps)
+    out: dict[str, Any] = {
+        "steps": steps,
+        "dt": HORIZON_DT * dt_max,
+        "growth": g_long,
+        "first_dt_max": dt_max,
+    }
+    if g_long <= GROWTH_LIMIT:
+        out.update(long_dt_max=None, dt_max=dt_max)
+        return dt_max, hi, out, None
+    longer = Growth(steps, growth.x_scale, growth.v_scale, growth.how)
+    _, test, screen = _criterion(subject, method, False, longer)
+    test = _memo(test)
+    d_long, hi_long = _search(test, _memo(screen), grid, rtol)
+    d_long = d_long if d_long is not None else dt_max
+    out["long_dt_max"] = d_long
+    if d_long == 0:
+        # Even the grid's lowest dt leaves the scales over the longer horizon: the system's own
+        # reach (bodies flung out of a cluster), not a drift that can be told from it.
+        out["dt_max"] = dt_max
+        out["long_dt_max"] = None
+        out["note"] = (
+            f"over {steps} steps the state leaves its scales at every dt of the grid (the "
+            "system's own reach), so the longer horizon cannot judge the limit"
+        )
+        return dt_max, hi, out, None
+    if d_long < HORIZON_SHRINK * dt_max:
+        out["dt_max"] = 0.0
+        return 0.0, hi_long if d_long == 0 else d_long, out, None
+    out["dt_max"] = d_long
+    return d_long, hi_long, out, test
+
+
 def stability(
     scene: Any,
     method: str,
@@ -406,6 +476,12 @@ def stability(
     naming ``cap`` unless it is above the grid's lowest point, naming ``rtol`` outside its
     range, ``steps`` unless 10 to 1e7.
 
+    A bounded-growth limit is checked against a longer horizon (``horizon``: :data:`HORIZON_STEPS`
+    times the steps at :data:`HORIZON_DT` dt_max, its growth and whether it stayed within the
+    limit): a method whose state drifts away at every dt (explicit Euler on an oscillator)
+    fails there and gets ``dt_max`` 0 with ``note`` saying "unstable at every dt" and the
+    horizon tested, instead of a number that only measures the length of the run.
+
     Why the grid starts at 1e-3 time scales: there omega dt = 2 pi 1e-3, where the growth per
     step of the methods unstable on the undamped oscillator (Heun, midpoint: |R| - 1 =
     (omega dt)^4/8 = 2e-10) is still well above the 1e-12 threshold.
@@ -435,12 +511,30 @@ def stability(
     grid = _grid(scale, cap)
     dt_max, hi = _search(stable, stable if screen is test else _memo(screen), grid, rtol)
     above = []
-    if dt_max is None:
+    horizon = None
+    if growth is not None and dt_max:
+        dt_max, hi, horizon, long_test = _horizon(subject, method, growth, grid, rtol, dt_max, hi)
+        stable = long_test or stable
+    if horizon is not None and horizon["dt_max"] == 0:
+        note = (
+            f"unstable at every dt (the horizon tested: {horizon['steps']} steps): "
+            f"{growth.steps if growth else 0} steps stay within the limit up to "
+            f"{horizon['first_dt_max']:.6g} s, {horizon['steps']} steps {_only(horizon)}: "
+            "the limit shrinks as the run grows (the state drifts away whatever the dt)"
+        )
+    elif dt_max is None:
         note = f"stable at every dt up to the cap {cap:.6g} s"
     elif dt_max == 0:
         note = f"unstable at every dt down to {grid[0]:.6g} s ({GRID_LOW_SCALES:g} natural time scales)"
     else:
         note = f"stable interval (0, {dt_max:.12g}] s; unstable at {hi:.12g} s"
+        if horizon is not None and "note" in horizon:
+            note += f" ({horizon['note']})"
+        if horizon is not None and horizon["long_dt_max"] is not None:
+            note += (
+                f" over the longer horizon of {horizon['steps']} steps ({horizon['first_dt_max']:.6g} s "
+                f"over {growth.steps if growth else 0})"
+            )
         if not linear:
             above = [f for f in ABOVE_FACTORS if f * dt_max <= cap and stable(f * dt_max)]
         if above:
@@ -466,6 +560,7 @@ def stability(
     if growth is not None:
         out["growth"] = growth.as_dict()
         out["stable_above"] = [f * dt_max for f in above]
+        out["horizon"] = horizon
     if linear and dt_max:
         out["spectral_radius_at_dt_max"] = _rho(subject, method, dt_max)
     return out

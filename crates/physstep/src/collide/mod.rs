@@ -135,8 +135,13 @@ pub(crate) fn check_walls(lo: &[f64], hi: &[f64], dim: usize) -> Result<Walls> {
 /// # Errors
 /// [`Error::InvalidValue`] naming `field` and the coordinate.
 pub(crate) fn check_inside(field: &str, x: &[f64], r: f64, walls: &Walls) -> Result<()> {
+    check_inside_by(field, x, r, walls, 0.0)
+}
+
+/// [`check_inside`], a ball allowed `slack` m past a wall.
+pub(crate) fn check_inside_by(field: &str, x: &[f64], r: f64, walls: &Walls, slack: f64) -> Result<()> {
     for (k, &xk) in x.iter().enumerate() {
-        if xk - r < walls.lo[k] || xk + r > walls.hi[k] {
+        if xk - r < walls.lo[k] - slack || xk + r > walls.hi[k] + slack {
             return Err(Error::invalid(
                 format!("{field}[{k}]"),
                 num(xk),
@@ -154,10 +159,37 @@ pub(crate) fn check_inside(field: &str, x: &[f64], r: f64, walls: &Walls) -> Res
 /// The first pair of balls (slots `i < j`) among `x` (by slot, `d` per ball) that overlap,
 /// with their distance; touching is not overlapping.
 pub(crate) fn first_overlap(x: &[f64], d: usize, radius: &[f64]) -> Option<(usize, usize, f64)> {
+    overlaps(x, d, radius, 0.0).0
+}
+
+/// How deep the balls `x` (by slot, `d` per ball) overlap, m: the deepest pair, or ball past
+/// a wall; 0 when nothing overlaps.
+pub(crate) fn deepest_overlap(x: &[f64], d: usize, radius: &[f64], walls: Option<&Walls>) -> f64 {
+    let mut deepest = overlaps(x, d, radius, 0.0).1;
+    if let Some(w) = walls {
+        for (b, r) in radius.iter().enumerate() {
+            for k in 0..d {
+                let xk = x[b * d + k];
+                deepest = deepest.max(w.lo[k] - (xk - r)).max(xk + r - w.hi[k]);
+            }
+        }
+    }
+    deepest
+}
+
+/// The first pair of balls (slots `i < j`) that overlap by more than `slack` m, with their
+/// distance, and the deepest overlap of any pair (0 when none overlaps).
+pub(crate) fn overlaps(
+    x: &[f64],
+    d: usize,
+    radius: &[f64],
+    slack: f64,
+) -> (Option<(usize, usize, f64)>, f64) {
     let mut grid = grid::Grid::default();
     let rmax = radius.iter().copied().fold(0.0, f64::max);
     grid.build(x, d, 2.0 * rmax);
     let mut found: Option<(usize, usize, f64)> = None;
+    let mut deepest: f64 = 0.0;
     let mut spans = [(0u32, 0u32, 0u64); 14];
     for i in 0..radius.len() {
         let count = grid.partners(i, d, &mut spans);
@@ -169,11 +201,15 @@ pub(crate) fn first_overlap(x: &[f64], d: usize, radius: &[f64]) -> Option<(usiz
                 let j = grid.order()[t];
                 let (i, j) = (i.min(j as usize), i.max(j as usize));
                 let dist = (0..d).map(|k| (x[j * d + k] - x[i * d + k]).powi(2)).sum::<f64>().sqrt();
-                if dist < radius[i] + radius[j] && found.is_none_or(|f| (j, i) < (f.1, f.0)) {
+                let sum = radius[i] + radius[j];
+                if dist < sum {
+                    deepest = deepest.max(sum - dist);
+                }
+                if dist < sum - slack && found.is_none_or(|f| (j, i) < (f.1, f.0)) {
                     found = Some((i, j, dist));
                 }
             }
         }
     }
-    found
+    (found, deepest)
 }

@@ -147,11 +147,19 @@ impl Constraint {
                 Self::Pin { i, point: point("point", p, dim)? }
             }
             Self::Plane { normal, offset } => {
-                let c = point("normal", normal, dim)?;
-                let len = c.iter().map(|v| v * v).sum::<f64>().sqrt();
-                if !(len > 0.0 && len.is_finite()) {
-                    let shown = c[..dim].iter().map(|v| num(*v)).collect::<Vec<_>>().join(", ");
-                    return Err(Error::invalid("normal", format!("({shown})"), "a nonzero vector"));
+                let mut c = point("normal", normal, dim)?;
+                let mut len = c.iter().map(|v| v * v).sum::<f64>().sqrt();
+                // A normal so short (or long) that its squares leave the range of doubles
+                // (`[1e-300, 0]`) is a direction all the same: scaled by its largest entry
+                // first. (Lengths in range are normalised as before: the same bits.)
+                if !(1e-150..=1e150).contains(&len) {
+                    let big = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    if big == 0.0 {
+                        let shown = c[..dim].iter().map(|v| num(*v)).collect::<Vec<_>>().join(", ");
+                        return Err(Error::invalid("normal", format!("({shown})"), "a nonzero vector"));
+                    }
+                    c = c.map(|v| v / big);
+                    len = c.iter().map(|v| v * v).sum::<f64>().sqrt();
                 }
                 if !(offset.is_finite() && offset.abs() <= crate::limits::RUNAWAY) {
                     return Err(Error::invalid("offset", num(offset), "finite, at most 1e100 in magnitude"));
@@ -254,11 +262,31 @@ pub struct Constraints {
     pub(crate) list: Vec<Constraint>,
     pub(crate) iterations: u32,
     pub(crate) solver: Solver,
+    pub(crate) stats: SweepStats,
+}
+
+/// What the relaxation sweeps did: a diagnostic of the world's steps (not state: neither
+/// hashed, nor saved, nor rolled back).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SweepStats {
+    /// Sweeps the last step took (at most the world's `constraint_iterations`).
+    pub last_sweeps: u32,
+    /// Steps whose sweeps ended at the cap with a constraint still off by more than
+    /// [`TOLERANCE`] (relative): SHAKE or the projection stopped short.
+    pub capped_steps: u64,
+    /// The largest violation (m, as [`crate::world::World::constraint_violation`]) one of
+    /// those steps left after its sweeps; 0 when none was capped.
+    pub capped_violation: f64,
 }
 
 impl Default for Constraints {
     fn default() -> Self {
-        Self { list: Vec::new(), iterations: DEFAULT_ITERATIONS, solver: Solver::default() }
+        Self {
+            list: Vec::new(),
+            iterations: DEFAULT_ITERATIONS,
+            solver: Solver::default(),
+            stats: SweepStats::default(),
+        }
     }
 }
 

@@ -21,6 +21,9 @@ pub(crate) struct Solver {
     w: Vec<f64>,
     /// XPBD multipliers of this step, one per constraint.
     lambda: Vec<f64>,
+    /// The largest relative correction of the last sweep of [`Solver::positions`] (above
+    /// [`TOLERANCE`] when the sweeps ended at their cap with a constraint still off).
+    pub last_worst: f64,
 }
 
 /// The other end's position component `k` (a particle's or the anchor's).
@@ -144,6 +147,7 @@ impl Solver {
                 };
                 worst = worst.max(r);
             }
+            self.last_worst = worst;
             if worst <= TOLERANCE {
                 return sweep + 1;
             }

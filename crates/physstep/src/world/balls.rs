@@ -118,6 +118,54 @@ impl World {
         Ok(first)
     }
 
+    /// Checks that the positions `x` (flat, as [`World::set_positions`] takes them) keep
+    /// the balls clear of each other and inside the walls, as adding them does; no deeper
+    /// overlap than the current state already has is refused (a state a run left, where
+    /// touching balls are a rounding closer than their radii, can be set back as it is).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `positions[p]` (`positions[p][k]` for a wall).
+    pub(super) fn check_ball_positions(&self, x: &[f64]) -> Result<()> {
+        let index = &self.balls.index;
+        if index.is_empty() {
+            return Ok(());
+        }
+        let d = self.dim();
+        let gather = |src: &[f64]| -> Vec<f64> {
+            index.iter().flat_map(|&p| src[p * d..(p + 1) * d].to_vec()).collect()
+        };
+        let (old, new) = (gather(&self.state.y), gather(x));
+        let r: Vec<f64> = index.iter().map(|&p| self.balls.radius[p]).collect();
+        let walls = self.balls.walls.as_ref();
+        let slack = collide::deepest_overlap(&old, d, &r, walls);
+        if let Some(w) = walls {
+            for (s, &p) in index.iter().enumerate() {
+                collide::check_inside_by(
+                    &format!("positions[{p}]"),
+                    &new[s * d..(s + 1) * d],
+                    r[s],
+                    w,
+                    slack,
+                )?;
+            }
+        }
+        if let (Some((i, j, dist)), _) = collide::overlaps(&new, d, &r, slack) {
+            return Err(Error::invalid(
+                format!("positions[{}]", index[j]),
+                point(&new[j * d..(j + 1) * d]),
+                format!(
+                    "clear of ball {} at {} (distance {} < radius + {} = {}): balls may not overlap",
+                    index[i],
+                    point(&new[i * d..(i + 1) * d]),
+                    num(dist),
+                    num(r[i]),
+                    num(r[i] + r[j])
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     fn mark_ball(&mut self, p: usize, radius: f64) {
         if self.balls.radius.len() <= p {
             self.balls.radius.resize(p + 1, 0.0);

@@ -140,6 +140,14 @@ impl World {
         Ok(())
     }
 
+    /// What the relaxation sweeps did over the world's steps: the last step's sweeps, and
+    /// the steps whose sweeps ended at the cap (`constraint_iterations`) with a constraint
+    /// still off, with the largest violation they left.
+    #[must_use]
+    pub fn constraint_stats(&self) -> crate::constraints::SweepStats {
+        self.constraints.stats
+    }
+
     /// The largest violation of any constraint at the current positions, m (0 without
     /// constraints): `||x_i - x_j| - L|`, a limit's excess, a pinned particle's distance from
     /// its point, the deepest particle behind a plane. Constraints among static particles
@@ -188,10 +196,16 @@ impl World {
         }
         let (n, nx, dim) = (self.model.len(), self.nx(), self.dim());
         let mode = self.constraint_mode();
-        let Constraints { list, iterations, solver } = &mut self.constraints;
+        let Constraints { list, iterations, solver, stats } = &mut self.constraints;
         let (xs, vs) = self.state.y.split_at_mut(nx);
         let (x, v) = (&mut xs[..n], &mut vs[..n]);
-        solver.positions(list, *iterations, mode, dim, x, &self.model.inv_mass, ctx.h);
+        stats.last_sweeps = solver.positions(list, *iterations, mode, dim, x, &self.model.inv_mass, ctx.h);
+        if stats.last_sweeps == *iterations && solver.last_worst > crate::constraints::TOLERANCE {
+            let movable = |p: usize| self.model.inv_mass[p] > 0.0;
+            let left = list.iter().map(|c| c.violation(dim, x, &movable)).fold(0.0, f64::max);
+            stats.capped_steps += 1;
+            stats.capped_violation = stats.capped_violation.max(left);
+        }
         solver.implied(x, v, ctx.inv_h);
         if mode == Mode::Project {
             // A method whose position step is not `x + h v_new` (explicit Euler, RK4, ...)
@@ -208,7 +222,7 @@ impl World {
         }
         self.refresh_at(ctx.t_end)?;
         if mode == Mode::Rattle {
-            let Constraints { list, iterations, solver } = &mut self.constraints;
+            let Constraints { list, iterations, solver, .. } = &mut self.constraints;
             let (xs, vs) = self.state.y.split_at_mut(nx);
             let (x, v) = (&xs[..n], &mut vs[..n]);
             let a = &self.state.f[nx..nx + n];
@@ -238,5 +252,162 @@ impl World {
             Some(e) => Err(e),
             None => Ok(()),
         }
+    }
+}
+
+/// `[a, b]` of the first `dim` numbers, as messages show points.
+fn shown(p: &[f64], dim: usize) -> String {
+    let parts: Vec<String> = p[..dim].iter().map(|v| num(*v)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// The distance between two points of `dim` numbers.
+fn apart(a: &[f64; 3], b: &[f64; 3], dim: usize) -> f64 {
+    (0..dim).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+impl World {
+    /// What in the constraints cannot be met whatever the sweeps, one line each (empty when
+    /// nothing is seen): a particle pinned to two points; two pinned balls closer than their
+    /// radii; two opposite planes with no point between them; a pinned particle behind a
+    /// plane; a distance or limit between two held ends (pinned, static or an anchor) at a
+    /// distance it forbids; a distance whose ends coincide, which no sweep can push apart
+    /// (no direction). A check of the constraints in pairs at the current positions, not a
+    /// proof: three planes that leave no room between them are not seen.
+    #[must_use]
+    pub fn constraint_conflicts(&self) -> Vec<String> {
+        self.conflicts(None)
+    }
+
+    /// [`World::constraint_conflicts`] that involve constraint `k` (the one just added).
+    #[must_use]
+    pub fn constraint_conflicts_of(&self, k: usize) -> Vec<String> {
+        self.conflicts(Some(k))
+    }
+
+    fn conflicts(&self, only: Option<usize>) -> Vec<String> {
+        let list = &self.constraints.list;
+        let (dim, inv) = (self.dim(), &self.model.inv_mass);
+        let x = &self.state.y[..self.model.len()];
+        let at = |p: usize| {
+            let mut q = [0.0; 3];
+            q[..dim].copy_from_slice(&x[p * dim..(p + 1) * dim]);
+            q
+        };
+        let wanted = |a: usize, b: usize| only.is_none_or(|k| k == a || k == b);
+        let mut out = Vec::new();
+        // Pins of movable particles, in order: (constraint, particle, point).
+        let pins: Vec<(usize, usize, [f64; 3])> = list
+            .iter()
+            .enumerate()
+            .filter_map(|(k, c)| match *c {
+                Constraint::Pin { i, point } if inv[i] > 0.0 => Some((k, i, point)),
+                _ => None,
+            })
+            .collect();
+        let scan_pins = only
+            .is_none_or(|k| matches!(list.get(k), Some(Constraint::Pin { .. } | Constraint::Plane { .. })));
+        if scan_pins {
+            for (a, &(ka, pa, qa)) in pins.iter().enumerate() {
+                for &(kb, pb, qb) in &pins[a + 1..] {
+                    if !wanted(ka, kb) {
+                        continue;
+                    }
+                    let d = apart(&qa, &qb, dim);
+                    if pa == pb && d > 0.0 {
+                        out.push(format!(
+                            "constraints {ka} and {kb} pin particle {pa} to two points, {} and {}",
+                            shown(&qa, dim),
+                            shown(&qb, dim)
+                        ));
+                    }
+                    let (ra, rb) = (self.balls.radius_of(pa), self.balls.radius_of(pb));
+                    if pa != pb && ra > 0.0 && rb > 0.0 && d < ra + rb {
+                        out.push(format!(
+                            "constraints {ka} and {kb} pin balls {pa} and {pb} {} m apart, closer than their radii add to ({})",
+                            num(d),
+                            num(ra + rb)
+                        ));
+                    }
+                }
+            }
+        }
+        // The point particle `p` is held at: its pin's, or where it is if static.
+        let held = |p: usize| -> Option<[f64; 3]> {
+            if inv[p] == 0.0 {
+                return Some(at(p));
+            }
+            pins.iter().find(|(_, q, _)| *q == p).map(|(_, _, point)| *point)
+        };
+        let movable = inv.iter().any(|w| *w > 0.0);
+        for (k, c) in list.iter().enumerate() {
+            match *c {
+                Constraint::Distance { i, j, .. } | Constraint::Limit { i, j, .. }
+                    if only.is_none_or(|o| {
+                        let pinned_by = |p: usize| pins.iter().any(|&(kp, q, _)| kp == o && q == p);
+                        o == k || pinned_by(i) || matches!(j, Endpoint::Particle(j) if pinned_by(j))
+                    }) =>
+                {
+                    let (lo, hi) = match *c {
+                        Constraint::Distance { length, .. } => (length, length),
+                        Constraint::Limit { min, max, .. } => (min, max),
+                        _ => unreachable!(),
+                    };
+                    let other = match j {
+                        Endpoint::Particle(j) => held(j),
+                        Endpoint::Anchor(a) => Some(a),
+                    };
+                    if let (Some(a), Some(b)) = (held(i), other) {
+                        let r = apart(&a, &b, dim);
+                        let tol = 1e-12 * hi.max(r);
+                        if r < lo - tol || r > hi + tol {
+                            let want = if lo == hi {
+                                format!("{} m", num(lo))
+                            } else {
+                                format!("{} to {} m", num(lo), num(hi))
+                            };
+                            out.push(format!(
+                                "constraint {k}: its ends are held {} m apart (pinned, static or an anchor): {want} cannot be met",
+                                num(r)
+                            ));
+                        }
+                        continue;
+                    }
+                    let r = crate::constraints::distance(dim, x, i, j);
+                    if r == 0.0 && lo > 0.0 {
+                        out.push(format!(
+                            "constraint {k}: the ends of a distance of {} m coincide (particle {i} at {}): no sweep can push them apart",
+                            num(lo),
+                            shown(&at(i), dim)
+                        ));
+                    }
+                }
+                Constraint::Plane { normal, offset } if movable => {
+                    for (k2, c2) in list.iter().enumerate().skip(k + 1) {
+                        let Constraint::Plane { normal: n2, offset: o2 } = *c2 else { continue };
+                        let opposite = (0..3).all(|d| (normal[d] + n2[d]).abs() <= 1e-12);
+                        let gap = offset + o2;
+                        if wanted(k, k2) && opposite && gap > 1e-12 * (1.0 + offset.abs() + o2.abs()) {
+                            out.push(format!(
+                                "constraints {k} and {k2} are opposite planes with no point between them ({} m apart)",
+                                num(gap)
+                            ));
+                        }
+                    }
+                    for &(kp, p, q) in &pins {
+                        let s = (0..dim).map(|d| normal[d] * q[d]).sum::<f64>() - offset;
+                        if wanted(k, kp) && s < -1e-12 * (1.0 + offset.abs()) {
+                            out.push(format!(
+                                "constraint {kp} pins particle {p} at {}, {} m behind the plane of constraint {k}",
+                                shown(&q, dim),
+                                num(-s)
+                            ));
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        out
     }
 }

@@ -65,13 +65,16 @@ impl World {
     /// Sets every position (flat, `n * dim`).
     ///
     /// # Errors
-    /// [`Error::InvalidValue`] for a wrong length or a non-finite entry; nothing changes.
+    /// [`Error::InvalidValue`] for a wrong length or a non-finite entry, or positions that
+    /// would make balls overlap or stick out of the walls (as [`World::add_ball`] refuses;
+    /// an overlap the current state already has is kept allowed); nothing changes.
     pub fn set_positions(&mut self, x: &[f64]) -> Result<()> {
         let n = self.coords();
         if x.len() != n {
             return Err(Error::invalid("len(positions)", x.len(), format!("{n}")));
         }
         bounded("position", x, RUNAWAY)?;
+        self.check_ball_positions(x)?;
         self.state.y[..n].copy_from_slice(x);
         self.touch();
         Ok(())
