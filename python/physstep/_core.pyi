@@ -499,7 +499,7 @@ class World:
     def step(self, n: int | None = None) -> None:
         """Takes ``n`` fixed steps (default 1). Raises DivergedError or ConvergenceError if a
         step fails (that step rolled back, those before it kept); Ctrl-C stops after a whole
-        step (KeyboardInterrupt)."""
+        step, heard inside a long step too (KeyboardInterrupt, the step under way rolled back)."""
 
     def advance(self, frame_time: float) -> int:
         """Runs one frame of the game loop over ``frame_time`` s of wall time; returns the

@@ -95,6 +95,12 @@ pub enum Error {
         /// The budget of collisions that was used up.
         contacts: u64,
     },
+    /// A stop was requested ([`crate::interrupt::request`], Ctrl-C) while a call took its
+    /// steps: the step under way was rolled back, the steps before it stay taken.
+    Interrupted {
+        /// Steps taken by the world when it stopped.
+        step: u64,
+    },
     /// Serialised state that cannot be read back (snapshot from another world or corrupted).
     Corrupt {
         /// What was wrong.
@@ -190,6 +196,9 @@ impl fmt::Display for Error {
                 f,
                 "method '{method}': the contacts of step {step} (t = {t}) did not end within {contacts} collisions (balls packed at rest); state rolled back"
             ),
+            Self::Interrupted { step } => {
+                write!(f, "interrupted after step {step}; the step under way was rolled back")
+            }
             Self::Corrupt { reason } => write!(f, "corrupt snapshot: {reason}"),
             Self::SceneFile { file, line, field, reason } => {
                 let at = if *line > 0 { format!(":{line}") } else { String::new() };

@@ -1,0 +1,122 @@
+//! Ctrl-C inside a long step (Unix).
+//!
+//! Python looks at signals only between calls: a step of n-body gravity on 20,000 bodies
+//! would hear Ctrl-C after it. While a long call runs on the main thread, a [`Watch`] puts a
+//! SIGINT handler of its own in front of Python's: one atomic store asking the engine to stop
+//! inside the step (`physstep::interrupt`, async-signal-safe), then Python's handler, which
+//! raises KeyboardInterrupt when the call looks ([`stopped`]). The step under way is rolled
+//! back; the steps before it stay taken. Python's handler is put back when the call ends.
+
+use pyo3::prelude::*;
+
+/// Whether an engine answer is a stop asked by Ctrl-C: the request withdrawn, Python's
+/// handler run (KeyboardInterrupt, as a rule); when that handler does not raise the call goes
+/// on (the step is taken again).
+pub(crate) fn stopped(py: Python<'_>, e: &physstep::Error) -> PyResult<bool> {
+    if !matches!(e, physstep::Error::Interrupted { .. }) {
+        return Ok(false);
+    }
+    physstep::interrupt::clear();
+    py.check_signals()?;
+    Ok(true)
+}
+
+/// While it lives (on the main thread, in front of a Python handler), SIGINT also asks the
+/// engine to stop. Not nested: an inner call inside a callback leaves the outer one's.
+pub(crate) struct Watch {
+    #[cfg(unix)]
+    previous: Option<libc::sigaction>,
+}
+
+#[cfg(unix)]
+mod unix {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+    /// Python's handler, called after the request.
+    pub(super) static PYTHON: AtomicUsize = AtomicUsize::new(0);
+    /// Whether a Watch holds SIGINT.
+    pub(super) static HELD: AtomicBool = AtomicBool::new(false);
+
+    pub(super) extern "C" fn on_sigint(signal: libc::c_int) {
+        physstep::interrupt::request();
+        let previous = PYTHON.load(Ordering::Relaxed);
+        if previous != 0 {
+            // SAFETY: a plain handler (not SIG_DFL or SIG_IGN, no SA_SIGINFO) read from
+            // sigaction when the Watch began: a function of one int.
+            let f: extern "C" fn(libc::c_int) = unsafe { std::mem::transmute(previous) };
+            f(signal);
+        }
+    }
+}
+
+impl Watch {
+    /// A watch over the current call; does nothing off the main thread, where Python ignores
+    /// SIGINT or leaves it to the system, or inside another watch.
+    pub(crate) fn new(py: Python<'_>) -> Self {
+        #[cfg(unix)]
+        {
+            Self { previous: Self::install(py) }
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = py;
+            Self {}
+        }
+    }
+
+    #[cfg(unix)]
+    fn install(py: Python<'_>) -> Option<libc::sigaction> {
+        use std::sync::atomic::Ordering;
+        let main = (|| -> PyResult<bool> {
+            let threading = py.import("threading")?;
+            let main = threading.call_method0("main_thread")?;
+            Ok(main.is(&threading.call_method0("current_thread")?))
+        })()
+        .unwrap_or(false);
+        if !main || unix::HELD.swap(true, Ordering::AcqRel) {
+            return None;
+        }
+        // SAFETY: sigaction with valid pointers; the new handler only does an atomic store
+        // and calls the handler it replaces.
+        unsafe {
+            let mut old: libc::sigaction = std::mem::zeroed();
+            if libc::sigaction(libc::SIGINT, std::ptr::null(), &mut old) != 0
+                || old.sa_sigaction == libc::SIG_DFL
+                || old.sa_sigaction == libc::SIG_IGN
+                || old.sa_flags & libc::SA_SIGINFO != 0
+            {
+                unix::HELD.store(false, Ordering::Release);
+                return None;
+            }
+            unix::PYTHON.store(old.sa_sigaction, Ordering::Relaxed);
+            let mut new = old;
+            new.sa_sigaction = unix::on_sigint as extern "C" fn(libc::c_int) as usize;
+            if libc::sigaction(libc::SIGINT, &new, std::ptr::null_mut()) != 0 {
+                unix::HELD.store(false, Ordering::Release);
+                return None;
+            }
+            Some(old)
+        }
+    }
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        #[cfg(unix)]
+        if let Some(old) = self.previous.take() {
+            use std::sync::atomic::Ordering;
+            // SAFETY: as in `install`. Python's handler goes back only if ours is still there
+            // (a callback may have set another meanwhile).
+            unsafe {
+                let mut current: libc::sigaction = std::mem::zeroed();
+                if libc::sigaction(libc::SIGINT, std::ptr::null(), &mut current) == 0
+                    && current.sa_sigaction == unix::on_sigint as extern "C" fn(libc::c_int) as usize
+                {
+                    libc::sigaction(libc::SIGINT, &old, std::ptr::null_mut());
+                }
+            }
+            physstep::interrupt::clear();
+            unix::HELD.store(false, Ordering::Release);
+        }
+    }
+}
