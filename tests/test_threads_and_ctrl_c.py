@@ -64,11 +64,11 @@ def test_a_world_touched_by_a_second_thread_while_it_steps_raises_world_busy() -
 
 def test_ctrl_c_interrupts_a_long_step_after_its_last_whole_step() -> None:
     # The state after the interrupt is that of its whole steps, bitwise (the step under way
-    # rolled back; it may be the first). The child says "stepping" from a second thread once the World is held by the step
-    # (the probe gets WorldBusyError). Where the probe itself holds the World for a moment
-    # as the step starts, the step raises WorldBusyError having done nothing, and is called
-    # again. The step cannot end by itself (10**9 steps of a 2000-body system), so only the
-    # signal ends it.
+    # rolled back; it may be the first). The child says "stepping" from a second thread once
+    # the World is held by the step (the probe gets WorldBusyError). Where the probe itself
+    # holds the World for a moment as the step starts, the step raises WorldBusyError having
+    # done nothing, and is called again. The step cannot end by itself (10**9 steps of a
+    # 2000-body system), so only the signal ends it.
     code = (
         "import threading, physstep\n"
         "w = physstep.World.from_scene('nbody', 'leapfrog', 0.001, params={'n': 2000})\n"

@@ -61,8 +61,10 @@ def method_info(name: str) -> dict[str, Any]:
     """
 
 def scenes() -> list[dict[str, Any]]:
-    """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``dt`` (s), ``until`` (s)
-    and ``params`` (dicts with ``name``, ``default``, ``doc``)."""
+    """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``method`` (the method
+    that runs it well at its ``dt``: the default of ``simulate``, ``World.from_scene`` and
+    the command line), ``dt`` (s), ``until`` (s) and ``params`` (dicts with ``name``,
+    ``default``, ``doc``)."""
 
 def orientation_rules() -> dict[str, str]:
     """The orientation rules of rigid bodies (how a drift turns a body), in order: a dict of
@@ -279,7 +281,9 @@ class World:
         params: _Params = None,
     ) -> World:
         """A world built from the built-in scene ``name`` (``params`` override its parameters;
-        ``dt`` in s). Raises ValueError for an unknown scene, method or parameter."""
+        ``dt`` in s). ``method`` and ``dt`` default to the scene's own (:func:`physstep.scenes`
+        lists them: RK4 for the flows, backward Euler for the stiff scenes). Raises ValueError
+        for an unknown scene, method or parameter."""
 
     @staticmethod
     def from_flow(

@@ -1,7 +1,7 @@
 //! Ctrl-C inside a long step (Unix).
 //!
 //! Python looks at signals only between calls: a step of n-body gravity on 20,000 bodies
-//! would hear Ctrl-C after it. While a long call runs on the main thread, a [`Watch`] puts a
+//! would hear Ctrl-C after it. While a long call runs, a [`Watch`] puts a
 //! SIGINT handler of its own in front of Python's: one atomic store asking the engine to stop
 //! inside the step (`physstep::interrupt`, async-signal-safe), then Python's handler, which
 //! raises KeyboardInterrupt when the call looks ([`stopped`]). The step under way is rolled
@@ -21,8 +21,7 @@ pub(crate) fn stopped(py: Python<'_>, e: &physstep::Error) -> PyResult<bool> {
     Ok(true)
 }
 
-/// While it lives (on the main thread, in front of a Python handler), SIGINT also asks the
-/// engine to stop. Not nested: an inner call inside a callback leaves the outer one's.
+/// While it lives (in front of a Python handler), SIGINT also asks the engine to stop. Not nested: an inner call inside a callback leaves the outer one's.
 pub(crate) struct Watch {
     #[cfg(unix)]
     previous: Option<libc::sigaction>,
@@ -50,30 +49,27 @@ mod unix {
 }
 
 impl Watch {
-    /// A watch over the current call; does nothing off the main thread, where Python ignores
-    /// SIGINT or leaves it to the system, or inside another watch.
-    pub(crate) fn new(py: Python<'_>) -> Self {
+    /// A watch over the current call; does nothing where Python ignores SIGINT or leaves it
+    /// to the system, or while another watch holds it. A call on another thread than the
+    /// main one may hold it: Ctrl-C then rolls its step back and takes it again (its thread
+    /// does not handle signals), while the main thread gets KeyboardInterrupt.
+    pub(crate) fn new() -> Self {
         #[cfg(unix)]
         {
-            Self { previous: Self::install(py) }
+            Self { previous: Self::install() }
         }
         #[cfg(not(unix))]
         {
-            let _ = py;
             Self {}
         }
     }
 
     #[cfg(unix)]
-    fn install(py: Python<'_>) -> Option<libc::sigaction> {
+    fn install() -> Option<libc::sigaction> {
         use std::sync::atomic::Ordering;
-        let main = (|| -> PyResult<bool> {
-            let threading = py.import("threading")?;
-            let main = threading.call_method0("main_thread")?;
-            Ok(main.is(&threading.call_method0("current_thread")?))
-        })()
-        .unwrap_or(false);
-        if !main || unix::HELD.swap(true, Ordering::AcqRel) {
+        // No Python code runs here: a signal already pending would be handled by it, and
+        // its KeyboardInterrupt lost.
+        if unix::HELD.swap(true, Ordering::AcqRel) {
             return None;
         }
         // SAFETY: sigaction with valid pointers; the new handler only does an atomic store

@@ -121,7 +121,7 @@ pub(crate) fn run(
     let start = Instant::now();
     // A Ctrl-C before the watch began (while the scene was built) is heard here; after it,
     // inside a step.
-    let _watch = crate::interrupt::Watch::new(py);
+    let _watch = crate::interrupt::Watch::new();
     py.check_signals()?;
     loop {
         let done = py.detach(|| -> physstep::Result<bool> {

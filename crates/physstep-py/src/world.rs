@@ -63,8 +63,11 @@ impl World {
         params: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let name = text(name, "name")?;
-        let method = method.map_or(Ok("symplectic-euler".to_string()), |m| text(m, "method"))?;
-        let dt = dt.map_or(Ok(WorldParams::default().dt), |d| float(d, "dt"))?;
+        // The scene's own method and dt unless given (physstep scenes lists them).
+        let spec = physstep::scenes::spec(&name).map_err(py_err)?;
+        let method =
+            method.filter(|m| !m.is_none()).map_or(Ok(spec.method.to_string()), |m| text(m, "method"))?;
+        let dt = dt.filter(|d| !d.is_none()).map_or(Ok(spec.dt), |d| float(d, "dt"))?;
         let params = crate::convert::params(params)?;
         let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         let scene = physstep::scenes::build(&name, &overrides, &method, dt).map_err(py_err)?;
@@ -234,7 +237,7 @@ impl World {
         let w = g.flush()?;
         // Ctrl-C inside a step of a call that may take long (crate::interrupt).
         let work = left.saturating_mul(w.positions().len() as u64);
-        let _watch = (work >= WATCHED_WORK).then(|| crate::interrupt::Watch::new(py));
+        let _watch = (work >= WATCHED_WORK).then(crate::interrupt::Watch::new);
         if work >= WATCHED_WORK {
             py.check_signals()?;
         }
