@@ -195,3 +195,30 @@ def test_the_command_line_exits_130_at_the_first_ctrl_c_inside_a_long_step() -> 
     assert p.returncode == 130, (p.returncode, err)
     assert err == "physstep: interrupted\n" and out == ""
     assert took < HEARD, took
+
+
+def test_ctrl_c_inside_a_python_force_of_a_watched_call_is_not_lost() -> None:
+    # The force sends SIGINT to its own process on its 50th call, in a call long enough to
+    # be watched: Python raises KeyboardInterrupt inside the force while the engine is asked
+    # to stop; the step is rolled back and the KeyboardInterrupt reaches the caller (it was
+    # not swallowed and the run did not go on).
+    code = (
+        "import os, signal, physstep\n"
+        "w = physstep.World(1, method='rk4', dt=0.01)\n"
+        "w.add_particle([1.0])\n"
+        "calls = [0]\n"
+        "def force(t, x, v):\n"
+        "    calls[0] += 1\n"
+        "    if calls[0] == 50:\n"
+        "        os.kill(os.getpid(), signal.SIGINT)\n"
+        "    return -x\n"
+        "w.add_force(force)\n"
+        "try:\n"
+        "    w.step(100000)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', w.steps < 20, calls[0] < 100, flush=True)\n"
+    )
+    p = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=HANG, preexec_fn=sigint_default
+    )
+    assert p.stdout.strip() == "interrupted True True", p.stderr

@@ -63,8 +63,10 @@ def method_info(name: str) -> dict[str, Any]:
 def scenes() -> list[dict[str, Any]]:
     """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``method`` (the method
     that runs it well at its ``dt``: the default of ``simulate``, ``World.from_scene`` and
-    the command line), ``dt`` (s), ``until`` (s) and ``params`` (dicts with ``name``,
-    ``default``, ``doc``)."""
+    the command line), ``loss`` (where the scene loses energy by design: ``(when, param,
+    why)`` with ``when`` one of ``"always"``, ``"nonzero"`` (when ``param`` is not 0),
+    ``"below_one"`` (when ``param`` is below 1), or None), ``dt`` (s), ``until`` (s) and
+    ``params`` (dicts with ``name``, ``default``, ``doc``)."""
 
 def orientation_rules() -> dict[str, str]:
     """The orientation rules of rigid bodies (how a drift turns a body), in order: a dict of

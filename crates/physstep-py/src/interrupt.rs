@@ -9,14 +9,23 @@
 
 use pyo3::prelude::*;
 
-/// Whether an engine answer is a stop asked by Ctrl-C: the request withdrawn, Python's
-/// handler run (KeyboardInterrupt, as a rule); when that handler does not raise the call goes
-/// on (the step is taken again).
-pub(crate) fn stopped(py: Python<'_>, e: &physstep::Error) -> PyResult<bool> {
+/// Whether an engine answer is a stop asked by Ctrl-C: the request withdrawn, then the
+/// exception a user callback raised meanwhile (the KeyboardInterrupt Python raised inside
+/// it) or Python's handler run (KeyboardInterrupt, as a rule); when that handler does not
+/// raise the call goes on (the step is taken again).
+pub(crate) fn stopped(
+    py: Python<'_>,
+    e: &physstep::Error,
+    slot: Option<&crate::force::Slot>,
+) -> PyResult<bool> {
     if !matches!(e, physstep::Error::Interrupted { .. }) {
         return Ok(false);
     }
     physstep::interrupt::clear();
+    if let Some(kept) = slot.and_then(|s| s.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take())
+    {
+        return Err(kept);
+    }
     py.check_signals()?;
     Ok(true)
 }

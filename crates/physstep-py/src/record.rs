@@ -138,7 +138,7 @@ pub(crate) fn run(
         match done {
             Ok(true) => break,
             Ok(false) => {}
-            Err(e) if crate::interrupt::stopped(py, &e)? => continue,
+            Err(e) if crate::interrupt::stopped(py, &e, slot)? => continue,
             Err(e) => return Err(fail(e)),
         }
         py.check_signals()?;

@@ -258,7 +258,7 @@ impl World {
             });
             left -= w.steps() - before;
             if let Err(e) = taken {
-                if !crate::interrupt::stopped(py, &e)? {
+                if !crate::interrupt::stopped(py, &e, Some(&slot))? {
                     return Err(raise(&slot, e));
                 }
             }
