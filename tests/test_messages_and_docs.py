@@ -172,3 +172,14 @@ def test_the_readme_game_loop_runs() -> None:
 def test_no_doc_tells_to_install_physstep_from_an_index() -> None:
     for path in [ROOT / "README.md", *(ROOT / "docs").glob("*.md")]:
         assert "pip install 'physstep[demo]'" not in path.read_text(), path
+
+
+def test_compare_says_where_the_energy_is_lost_by_design() -> None:
+    r = run_cli("compare", "drag", "--methods", "rk4,backward-euler", "--until", "1", "--format", "json")
+    assert r.returncode == 0, r.stderr
+    rows = {row["method"]: row["energy_dissipation"] for row in json.loads(r.stdout)["rows"]}
+    assert rows == {"rk4": "drag", "backward-euler": "drag; backward-euler damps by design"}
+    res = physstep.lab.compare("spring", ["rk4", "implicit-midpoint"], until=1.0)
+    assert [row["energy_dissipation"] for row in res["rows"]] == [None, None]
+    text = run_cli("compare", "drag", "--methods", "rk4", "--until", "1").stdout
+    assert "energy lost by design, not an error: rk4 (drag)" in " ".join(text.split())

@@ -132,6 +132,10 @@ def _cmd_compare(args: argparse.Namespace) -> int:
         caption += (
             "; |dL|/|L| = max |L - L0| / |L0| of the total angular momentum (an error unless a torque acts)"
         )
+    lost = {r["method"]: r.get("energy_dissipation") for r in res["rows"] if r.get("energy_dissipation")}
+    if lost:
+        why = ", ".join(f"{m} ({reason})" for m, reason in lost.items())
+        caption += f"; energy lost by design, not an error: {why}"
     table = Table(title=f"{res['scene']}: dt = {res['dt']:g} s, {span}", caption=caption)
     repeats = res.get("ns_per_step_runs", res.get("repeats"))
     timing = "ns/step" if repeats in (None, 1) else f"ns/step (median of {repeats})"
