@@ -2,11 +2,11 @@
 //!
 //! [`request`] is one atomic store, safe to call from a signal handler: the bindings' SIGINT
 //! handler calls it while a long call runs. The step looks at it where one step can take long
-//! (between the pair blocks of n-body gravity, and after each pass of the step loop); a step
-//! that sees it is rolled back, bitwise, and the call answers [`Error::Interrupted`]
-//! (`crate::Error`), the steps before it taken. The request stays until [`clear`]. A replay
-//! of good steps (after a divergence, `World::run`) is never interrupted: it must give the
-//! same bits as the run it replays ([`Masked`]).
+//! (between the pair blocks of n-body gravity, between Newton and CG iterations, and after
+//! each pass of the step loop); a step that sees it is rolled back, bitwise, and the call
+//! answers [`crate::Error::Interrupted`], the steps before it taken. The request stays until
+//! [`clear`]. A replay of good steps (after a divergence, `World::run`) is never
+//! interrupted: it must give the same bits as the run it replays.
 
 use std::cell::Cell;
 use std::sync::atomic::{AtomicBool, Ordering};
