@@ -163,3 +163,19 @@ def test_unexpected_exception_is_one_line(monkeypatch, capsys) -> None:
     assert cli.main(["run", "spring"]) == 1
     err = capsys.readouterr().err
     assert err == "physstep: internal error: RuntimeError: boom\\nsecond line (please report it)\n"
+
+
+def test_a_scene_too_large_for_memory_is_refused_before_the_work() -> None:
+    # stiff-cloth n = 100000 (1e10 particles) ran with growing memory; refused at once, exit
+    # 2, one line naming the size. (The timeout bounds a hang, measures nothing.)
+    r = subprocess.run(
+        [sys.executable, "-m", "physstep", "run", "stiff-cloth", "--param", "n=100000"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert r.returncode == 2, r.stderr
+    assert r.stderr == (
+        "physstep: error: invalid n x n = 100000 x 100000: must be at most 1000000 particles\n"
+    )
+    assert r.stdout == ""

@@ -16,7 +16,7 @@ from __future__ import annotations
 import copy
 import functools
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -129,7 +129,7 @@ def _spec(name: str) -> dict[str, Any]:
 
 
 def scenes() -> list[dict[str, Any]]:
-    """Every built-in scene: name, doc, dim, default dt and until, and parameters."""
+    """Every built-in scene: name, doc, dim, default method, dt and until, and parameters."""
     return copy.deepcopy(list(_scene_specs()))
 
 
@@ -244,6 +244,12 @@ def _kinetic_column(raw: dict[str, Any]) -> None:
         raw["kinetic"] = _Deferred(k)
 
 
+#: The smallest ``|E0|``, as a fraction of the largest kinetic energy of a run, that the energy
+#: error is measured against (:attr:`Trajectory.energy_scale`): below it E0 is a near
+#: cancellation (or rounding), and the error is relative to the energy that moves.
+E0_MEANINGFUL = 1e-3
+
+
 @dataclass
 class Trajectory:
     """A recorded run: rows of time, positions, velocities, accelerations and energy.
@@ -257,6 +263,10 @@ class Trajectory:
     (rows, bodies, 3) each body's angular velocity in its principal frame (ascending
     moments), where the tennis-racket flips show. Where the world has balls, ``collisions``
     holds the contact statistics at the end (``count``, ``max_overlap`` in m, ``pair_tests``).
+    ``world`` is the World a system's run stepped (a scene file, your callable or Flow), at
+    its final state; None for a built-in scene. What :func:`summarize` says of the run's
+    constraints comes from it (or from the built-in scene), never from a scene of the same
+    name.
     """
 
     scene: str
@@ -281,6 +291,7 @@ class Trajectory:
     angular_momentum: np.ndarray | None = None
     body_spin: np.ndarray | None = None
     collisions: dict[str, float] | None = None
+    world: World | None = field(default=None, repr=False, compare=False)
 
     @property
     def ns_per_step(self) -> float:
@@ -289,20 +300,33 @@ class Trajectory:
 
     @property
     def energy_scale(self) -> float:
-        """The energy the error is measured against, J: ``max(|E0|, max kinetic energy)``.
-
-        Relative to ``|E0|`` alone the error is meaningless where the total energy is near
-        zero (a chain hanging at rest: E0 = 3e-30 J from rounding). The kinetic energy
-        reached during the run is the size of the energy that moves around; 1 J (an absolute
-        error) when nothing moves and E0 = 0.
+        """The energy the error is measured against, J (:attr:`energy_scale_of` says which):
+        ``|E0|`` where it is a scale, at least :data:`E0_MEANINGFUL` of the largest kinetic
+        energy of the run (a Kepler orbit's error is relative to its binding energy, so one
+        that became unbound reads above 1); else the largest kinetic energy (a chain released
+        from rest at the height of its pivot: E0 = 3e-30 J, from rounding, is no scale); 1 J
+        (an absolute error) when nothing moves and E0 = 0.
         """
+        return self._energy_scale()[0]
+
+    @property
+    def energy_scale_of(self) -> str:
+        """What :attr:`energy_scale` is: ``"|E0|"``, ``"the largest kinetic energy"`` or
+        ``"1 J"``."""
+        return self._energy_scale()[1]
+
+    def _energy_scale(self) -> tuple[float, str]:
         if self.energy is None:
             raise ValueError(
                 f"the energy of this {self.kind} run is unknown (a flow, or a force without a potential)"
             )
         kin = float(np.max(self.kinetic)) if self.kinetic is not None and len(self.kinetic) else 0.0
-        scale = max(abs(float(self.energy[0])), kin)
-        return scale if scale > 0 else 1.0
+        e0 = abs(float(self.energy[0]))
+        if e0 > 0 and e0 >= E0_MEANINGFUL * kin:
+            return e0, "|E0|"
+        if kin > 0:
+            return kin, "the largest kinetic energy"
+        return 1.0, "1 J"
 
     @property
     def energy_error(self) -> np.ndarray | None:
@@ -341,7 +365,8 @@ def simulate(
     given) replace the world's own, and the trajectory has no exact solution (the lab
     measures it against a reference run).
 
-    ``dt`` and ``until`` default to the scene's own (see :func:`scenes`); ``params``
+    ``method``, ``dt`` and ``until`` default to the scene's own (see :func:`scenes`: RK4 for
+    the flows, backward Euler for the stiff scenes, symplectic Euler elsewhere); ``params``
     override the scene's parameters; ``x0``/``v0`` (flat or (n, dim)) replace its initial
     state. ``every`` records one row in ``every`` steps (the last is always recorded).
     ``stages`` records the intermediate evaluation points (midpoint's ``half``, RK4's
@@ -359,7 +384,7 @@ def simulate(
     spec = _spec(scene)
     raw = _core.simulate(
         scene,
-        "symplectic-euler" if method is None else method,
+        spec["method"] if method is None else method,
         spec["dt"] if dt is None else dt,
         spec["until"] if until is None else until,
         params,
@@ -399,7 +424,28 @@ def _simulate_system(
         world.velocities = np.asarray(v0, dtype=float).reshape(world.velocities.shape)
     raw = world.record(until, every=every, stop_on_diverge=stop_on_diverge, stages=stages)
     _kinetic_column(raw)
-    return Trajectory(scene=name, params={}, **raw)
+    return Trajectory(scene=name, params={}, world=world, **raw)
+
+
+def _dissipation(traj: Trajectory) -> str | None:
+    """Why the run loses energy by design, or None: the scene's damping, drag or inelastic
+    contacts (``scene(name)["loss"]``, with the run's parameters), or a method that damps
+    (implicit and not symplectic: backward Euler)."""
+    why: list[str] = []
+    if traj.world is None:
+        try:
+            loss = _spec(traj.scene)["loss"]
+        except ValueError:
+            loss = None
+        if loss is not None:
+            when, param, reason = loss
+            value = traj.params.get(param, 0.0)
+            if when == "always" or (when == "nonzero" and value != 0) or (when == "below_one" and value < 1):
+                why.append(reason)
+    info = {m.name: m for m in methods()}.get(traj.method)
+    if info is not None and info.implicit and not info.symplectic:
+        why.append(f"{traj.method} damps by design")
+    return "; ".join(why) or None
 
 
 def summarize(traj: Trajectory) -> dict[str, Any]:
@@ -424,6 +470,11 @@ def summarize(traj: Trajectory) -> dict[str, Any]:
             "final": float(e[-1]),
             "max_rel_error": float(np.max(np.abs(e - e0)) / scale),
             "scale": scale,
+            "scale_of": traj.energy_scale_of,
+            # Where the scene or the method loses energy by design: why, and the energy lost
+            # (J; what the run lost is not an error there).
+            "dissipation": _dissipation(traj),
+            "lost": e0 - float(e[-1]),
         }
     if traj.angular_momentum is not None:
         ang = traj.angular_momentum

@@ -65,8 +65,12 @@ def method_info(name: str) -> dict[str, Any]:
     """
 
 def scenes() -> list[dict[str, Any]]:
-    """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``dt`` (s), ``until`` (s)
-    and ``params`` (dicts with ``name``, ``default``, ``doc``)."""
+    """Every built-in scene: dicts with ``name``, ``doc``, ``dim``, ``method`` (the method
+    that runs it well at its ``dt``: the default of ``simulate``, ``World.from_scene`` and
+    the command line), ``loss`` (where the scene loses energy by design: ``(when, param,
+    why)`` with ``when`` one of ``"always"``, ``"nonzero"`` (when ``param`` is not 0),
+    ``"below_one"`` (when ``param`` is below 1), or None), ``dt`` (s), ``until`` (s) and
+    ``params`` (dicts with ``name``, ``default``, ``doc``)."""
 
 def orientation_rules() -> dict[str, str]:
     """The orientation rules of rigid bodies (how a drift turns a body), in order: a dict of
@@ -283,7 +287,9 @@ class World:
         params: _Params = None,
     ) -> World:
         """A world built from the built-in scene ``name`` (``params`` override its parameters;
-        ``dt`` in s). Raises ValueError for an unknown scene, method or parameter."""
+        ``dt`` in s). ``method`` and ``dt`` default to the scene's own (:func:`physstep.scenes`
+        lists them: RK4 for the flows, backward Euler for the stiff scenes). Raises ValueError
+        for an unknown scene, method or parameter."""
 
     @staticmethod
     def from_flow(
@@ -520,7 +526,7 @@ class World:
     def step(self, n: int | None = None) -> None:
         """Takes ``n`` fixed steps (default 1). Raises DivergedError or ConvergenceError if a
         step fails (that step rolled back, those before it kept); Ctrl-C stops after a whole
-        step (KeyboardInterrupt)."""
+        step, heard inside a long step too (KeyboardInterrupt, the step under way rolled back)."""
 
     def advance(self, frame_time: float) -> int:
         """Runs one frame of the game loop over ``frame_time`` s of wall time; returns the

@@ -18,11 +18,6 @@ from physstep._core import World
 
 __all__ = ["SceneFile", "export_scene", "load_scene", "scene_text"]
 
-#: The method a built-in scene is exported with: the command line's default, but a flow
-#: (which a split method refuses) gets rk4 and a stiff network (on which explicit methods
-#: explode at its step) backward Euler; the determinism table uses the same.
-FLOW_SCENES = ("lorenz", "rossler", "thomas")
-
 
 def _path(path: Any) -> str:
     try:
@@ -85,12 +80,11 @@ def scene_text(world: World, title: str = "physstep world", until: float | None 
 
 
 def export_scene(name: str, params: dict[str, float] | None = None) -> str:
-    """The built-in scene ``name`` (``params`` override its parameters) as a scene file, at
-    its default step and run length: loading it gives bitwise the built-in trajectory.
-    Raises ValueError for an unknown scene or parameter."""
+    """The built-in scene ``name`` (``params`` override its parameters) as a scene file, with
+    its default method, step and run length: loading it gives bitwise the built-in
+    trajectory. Raises ValueError for an unknown scene or parameter."""
     import physstep
 
     spec = physstep.scene(name)
-    method = "rk4" if name in FLOW_SCENES else "backward-euler" if name.startswith("stiff-") else None
-    world = World.from_scene(name, method, spec["dt"], params or {})
+    world = World.from_scene(name, spec["method"], spec["dt"], params or {})
     return scene_text(world, f"{name}: {spec['doc']}", spec["until"])

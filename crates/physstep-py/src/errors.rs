@@ -54,6 +54,7 @@ pub(crate) fn py_err(e: Error) -> PyErr {
     match e {
         Error::Diverged { .. } | Error::NonFinite { .. } => DivergedError::new_err(msg),
         Error::NotConverged { .. } | Error::Contacts { .. } => ConvergenceError::new_err(msg),
+        Error::Interrupted { .. } => pyo3::exceptions::PyKeyboardInterrupt::new_err(msg),
         _ => PyValueError::new_err(msg),
     }
 }

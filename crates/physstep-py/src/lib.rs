@@ -12,6 +12,7 @@ mod convert;
 mod errors;
 mod force;
 mod handle;
+mod interrupt;
 mod lease;
 mod pickle;
 mod record;

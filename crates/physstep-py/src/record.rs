@@ -119,6 +119,10 @@ pub(crate) fn run(
     let coords = w.positions().len().max(1) as u64;
     let per_look = if slot.is_some() { 64 } else { (65_536 / coords).clamp(64, 4096) };
     let start = Instant::now();
+    // A Ctrl-C before the watch began (while the scene was built) is heard here; after it,
+    // inside a step.
+    let _watch = crate::interrupt::Watch::new();
+    py.check_signals()?;
     loop {
         let done = py.detach(|| -> physstep::Result<bool> {
             let slice = Instant::now();
@@ -131,8 +135,11 @@ pub(crate) fn run(
                 }
             }
         });
-        if done.map_err(fail)? {
-            break;
+        match done {
+            Ok(true) => break,
+            Ok(false) => {}
+            Err(e) if crate::interrupt::stopped(py, &e, slot)? => continue,
+            Err(e) => return Err(fail(e)),
         }
         py.check_signals()?;
     }

@@ -3,7 +3,7 @@
 use crate::convert::text;
 use crate::py_err;
 use physstep::integrators::{registry, Info, INFOS};
-use physstep::scenes::SCENES;
+use physstep::scenes::{Loss, SCENES};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -41,6 +41,15 @@ fn scenes(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         d.set_item("name", s.name)?;
         d.set_item("doc", s.doc)?;
         d.set_item("dim", s.dim)?;
+        d.set_item("method", s.method)?;
+        // Where it loses energy by design: (when, parameter, why), or None.
+        let loss = match s.loss {
+            Loss::None => None,
+            Loss::Always(why) => Some(("always", "", why)),
+            Loss::Nonzero(param, why) => Some(("nonzero", param, why)),
+            Loss::BelowOne(param, why) => Some(("below_one", param, why)),
+        };
+        d.set_item("loss", loss)?;
         d.set_item("dt", s.dt)?;
         d.set_item("until", s.until)?;
         let params = PyList::empty(py);

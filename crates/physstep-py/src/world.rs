@@ -8,6 +8,10 @@ use crate::force::Slot;
 use crate::handle::{raise, World};
 use crate::py_err;
 use crate::record::SLICE;
+
+/// Steps times coordinates from which a `step` call hears Ctrl-C inside a step (below it a
+/// call is over in microseconds: not worth two system calls).
+const WATCHED_WORK: u64 = 4096;
 use physstep::clock::LoopMode;
 use physstep::world::{World as Engine, WorldParams};
 use pyo3::prelude::*;
@@ -59,8 +63,11 @@ impl World {
         params: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let name = text(name, "name")?;
-        let method = method.map_or(Ok("symplectic-euler".to_string()), |m| text(m, "method"))?;
-        let dt = dt.map_or(Ok(WorldParams::default().dt), |d| float(d, "dt"))?;
+        // The scene's own method and dt unless given (physstep scenes lists them).
+        let spec = physstep::scenes::spec(&name).map_err(py_err)?;
+        let method =
+            method.filter(|m| !m.is_none()).map_or(Ok(spec.method.to_string()), |m| text(m, "method"))?;
+        let dt = dt.filter(|d| !d.is_none()).map_or(Ok(spec.dt), |d| float(d, "dt"))?;
         let params = crate::convert::params(params)?;
         let overrides: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         let scene = physstep::scenes::build(&name, &overrides, &method, dt).map_err(py_err)?;
@@ -221,15 +228,23 @@ impl World {
     }
 
     /// Takes n fixed steps. Raises DivergedError/ConvergenceError if a step fails (that step
-    /// is rolled back, the steps before it stay taken); Ctrl-C stops after a whole step.
+    /// is rolled back, the steps before it stay taken); Ctrl-C stops after a whole step, heard
+    /// inside a long step too (the step under way rolled back).
     #[pyo3(signature = (n=None))]
     fn step(&self, py: Python<'_>, n: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
         let mut left = n.map_or(Ok(1), |n| count(n, "n"))?;
         let mut g = self.lock()?;
         let slot = g.slot.clone();
         let w = g.flush()?;
+        // Ctrl-C inside a step of a call that may take long (crate::interrupt).
+        let work = left.saturating_mul(w.positions().len() as u64);
+        let _watch = (work >= WATCHED_WORK).then(crate::interrupt::Watch::new);
+        if work >= WATCHED_WORK {
+            py.check_signals()?;
+        }
         while left > 0 {
-            let taken = py.detach(|| -> physstep::Result<u64> {
+            let before = w.steps();
+            let taken = py.detach(|| -> physstep::Result<()> {
                 let start = Instant::now();
                 let mut k = 0;
                 while k < left {
@@ -240,9 +255,14 @@ impl World {
                         break;
                     }
                 }
-                Ok(k)
+                Ok(())
             });
-            left -= taken.map_err(|e| raise(&slot, e))?;
+            left -= w.steps() - before;
+            if let Err(e) = taken {
+                if !crate::interrupt::stopped(py, &e, Some(&slot))? {
+                    return Err(raise(&slot, e));
+                }
+            }
             if left > 0 {
                 py.check_signals()?;
             }

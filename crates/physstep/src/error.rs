@@ -84,7 +84,8 @@ pub enum Error {
         non_finite: bool,
     },
     /// The contacts of a step did not end within the stage's budget of collisions (balls
-    /// packed at rest); the step was rolled back.
+    /// pressed together, or one so fast it hits the walls that often in a step); the step
+    /// was rolled back.
     Contacts {
         /// The method.
         method: String,
@@ -94,6 +95,12 @@ pub enum Error {
         t: f64,
         /// The budget of collisions that was used up.
         contacts: u64,
+    },
+    /// A stop was requested ([`crate::interrupt::request`], Ctrl-C) while a call took its
+    /// steps: the step under way was rolled back, the steps before it stay taken.
+    Interrupted {
+        /// Steps taken by the world when it stopped.
+        step: u64,
     },
     /// Serialised state that cannot be read back (snapshot from another world or corrupted).
     Corrupt {
@@ -114,10 +121,18 @@ pub enum Error {
 }
 
 impl Error {
-    /// Shorthand for [`Error::InvalidValue`].
+    /// Shorthand for [`Error::InvalidValue`]. A value that is a number written in more than
+    /// 17 characters (`1e308` displayed as 309 digits) is shown as [`num`] shows it, with an
+    /// exponent.
     #[must_use]
     pub fn invalid(field: impl Into<String>, value: impl fmt::Display, expected: impl Into<String>) -> Self {
-        Self::InvalidValue { field: field.into(), value: value.to_string(), expected: expected.into() }
+        let mut value = value.to_string();
+        if value.len() > 17 {
+            if let Ok(v) = value.parse::<f64>() {
+                value = num(v);
+            }
+        }
+        Self::InvalidValue { field: field.into(), value, expected: expected.into() }
     }
 
     /// Shorthand for [`Error::UnknownName`].
@@ -159,7 +174,7 @@ impl fmt::Display for Error {
             }
             Self::Unsupported { method, reason } => write!(f, "method '{method}' {reason}"),
             Self::Diverged { method, step, t, index, particle, body } => {
-                write!(f, "method '{method}' diverged at step {step} (t = {t}): ")?;
+                write!(f, "method '{method}' diverged at step {step} (t = {}): ", num(*t))?;
                 match (particle, body) {
                     (Some(p), _) => write!(
                         f,
@@ -181,15 +196,21 @@ impl fmt::Display for Error {
             ),
             Self::NonFinite { method, quantity, value, step, t } => write!(
                 f,
-                "method '{method}' diverged: the {quantity} is {value} after step {step} (t = {t}); the run stops there"
+                "method '{method}' diverged: the {quantity} is {} after step {step} (t = {}); the run stops there",
+                num(*value),
+                num(*t)
             ),
             Self::Force { name, reason, .. } => {
                 write!(f, "force '{}' failed: {}; step rolled back", one_line(name), one_line(reason))
             }
             Self::Contacts { method, step, t, contacts } => write!(
                 f,
-                "method '{method}': the contacts of step {step} (t = {t}) did not end within {contacts} collisions (balls packed at rest); state rolled back"
+                "method '{method}': the contacts of step {step} (t = {}) did not end within {contacts} collisions (balls pressed together, or a ball fast enough to hit the walls that often in one step: try a smaller dt); state rolled back",
+                num(*t)
             ),
+            Self::Interrupted { step } => {
+                write!(f, "interrupted after step {step}; the step under way was rolled back")
+            }
             Self::Corrupt { reason } => write!(f, "corrupt snapshot: {reason}"),
             Self::SceneFile { file, line, field, reason } => {
                 let at = if *line > 0 { format!(":{line}") } else { String::new() };

@@ -46,6 +46,7 @@ pub mod error;
 pub mod flows;
 pub mod forces;
 pub mod integrators;
+pub mod interrupt;
 pub mod limits;
 pub mod linalg;
 pub mod record;

@@ -95,6 +95,8 @@ pub struct Recorder {
     params: RecordParams,
     steps: u64,
     next: u64,
+    /// The world's steps when the recording started.
+    steps0: u64,
     evals0: u64,
     done: bool,
     log: StageLog,
@@ -168,7 +170,8 @@ impl Recorder {
         let evals0 = world.evals();
         let deferred = defer.then(Vec::new);
         let log = StageLog::default();
-        Ok(Self { params, steps, next: 1, evals0, done: steps == 0, log, rec, deferred })
+        let steps0 = world.steps();
+        Ok(Self { params, steps, next: 1, steps0, evals0, done: steps == 0, log, rec, deferred })
     }
 
     /// Steps the run takes in all.
@@ -188,7 +191,9 @@ impl Recorder {
     ///
     /// # Errors
     /// A failed step ([`Error::Diverged`], [`Error::NotConverged`], [`Error::NonFinite`])
-    /// unless `stop_on_diverge`, which records the state at the failure and ends the run.
+    /// unless `stop_on_diverge`, which records the state at the failure and ends the run;
+    /// [`Error::Interrupted`] (a stop requested: [`crate::interrupt`]), after which `run`
+    /// may be called again and goes on from the first step not taken.
     pub fn run(&mut self, world: &mut World, max_steps: u64) -> Result<bool> {
         let n = world.positions().len();
         let dt = self.params.dt;
@@ -239,6 +244,12 @@ impl Recorder {
                 }
             });
             self.next = k + 1;
+            if let Err(e @ Error::Interrupted { .. }) = r {
+                // Stopped (Ctrl-C) with the failed step rolled back: the run can go on from
+                // the first step not taken.
+                self.next = world.steps() - self.steps0 + 1;
+                return Err(e);
+            }
             if let Err(e) = r {
                 if self.params.stop_on_diverge && e.is_step_failure() {
                     self.done = true;

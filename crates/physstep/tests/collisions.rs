@@ -449,3 +449,42 @@ fn positions_set_by_hand_keep_balls_apart_and_inside() {
     assert_eq!(w.state_hash(), hash);
     w.set_positions(&[1.0, 1.0, 2.0, 1.0]).unwrap(); // touching
 }
+
+#[test]
+fn a_first_order_method_loses_energy_at_every_bounce() {
+    // docs/collisions.md: the bounce's energy error does not accumulate under a second-order
+    // method, and does under symplectic Euler (40% lost in 10 s at dt = 1/120).
+    let bounce = |method: &str| {
+        let mut w = world(2, method, 1.0 / 120.0);
+        w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+        w.add_walls(&[0.0, 0.0], &[1.0, 2.0]).unwrap();
+        w.add_ball(&[0.5, 1.0], &[0.7, 0.0], 0.1, 1.0).unwrap();
+        let e0 = w.energy().unwrap();
+        w.step(1200).unwrap();
+        (w.energy().unwrap() - e0) / e0
+    };
+    let lost = bounce("symplectic-euler");
+    assert!((-0.42..-0.38).contains(&lost), "{lost}");
+    for method in ["velocity-verlet", "leapfrog", "rk4"] {
+        assert!(bounce(method).abs() < 1e-12, "{method}: {}", bounce(method));
+    }
+}
+
+#[test]
+fn one_fast_ball_that_hits_the_walls_too_often_is_not_called_a_pile() {
+    // One ball at 1e6 m/s in a 1 m box hits the walls about 1e4 times in a step of 1/120 s:
+    // past the budget (64 N + 1024). The message says what can cause that, not "packed at
+    // rest", and the step is rolled back.
+    let mut w = world(2, "symplectic-euler", 1.0 / 120.0);
+    w.add_walls(&[0.0, 0.0], &[1.0, 1.0]).unwrap();
+    w.add_ball(&[0.5, 0.5], &[1e6, 3e5], 0.1, 1.0).unwrap();
+    let before = w.state_hash();
+    let e = w.step(1).unwrap_err();
+    let text = e.to_string();
+    assert!(text.contains("did not end within 1088 collisions"), "{text}");
+    assert!(
+        text.contains("a ball fast enough to hit the walls that often in one step")
+            && !text.contains("at rest")
+    );
+    assert_eq!((w.steps(), w.state_hash()), (0, before));
+}

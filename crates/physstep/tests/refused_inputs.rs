@@ -48,3 +48,37 @@ fn a_recording_too_large_names_until_not_every() {
     let e = Recorder::new(&mut s.world, params).unwrap_err().to_string();
     assert!(e.starts_with("invalid until = 1000000000000: must be at most 1e9 steps"), "{e}");
 }
+
+#[test]
+fn huge_numbers_in_messages_are_shown_with_an_exponent() {
+    // `until = 1e308` was shown as 309 digits; the docs promise exponents.
+    let mut w = physstep::scenes::build("spring", &[], "rk4", 0.1).unwrap().world;
+    let rp = physstep::record::RecordParams {
+        dt: 0.1,
+        until: 1e308,
+        every: 1,
+        stages: false,
+        stop_on_diverge: false,
+    };
+    let e = physstep::record::Recorder::new(&mut w, rp).err().unwrap().to_string();
+    assert!(e.starts_with("invalid until = 1e308: "), "{e}");
+    assert!(e.len() < 120, "{e}");
+    // The time of a divergence too.
+    let d = physstep::Error::Diverged {
+        method: "rk4".into(),
+        step: 3,
+        t: 1e300,
+        index: 0,
+        particle: Some(0),
+        body: None,
+    };
+    assert!(d.to_string().starts_with("method 'rk4' diverged at step 3 (t = 1e300): "), "{d}");
+    let nf = physstep::Error::NonFinite {
+        method: "rk4".into(),
+        quantity: "energy".into(),
+        value: f64::INFINITY,
+        step: 3,
+        t: 2.5e20,
+    };
+    assert!(nf.to_string().contains("the energy is inf after step 3 (t = 2.5e20)"), "{nf}");
+}

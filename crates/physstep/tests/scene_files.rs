@@ -72,7 +72,7 @@ fn bad_files_are_refused_with_the_file_line_and_field() {
     let m = err("dimension = 2\n[[particles]]\nposition = [0.0, nan]\n");
     assert_eq!(m, "scene file bad.toml:3: particles[0].position[1]: must be a number (nan is not one)");
     let m = err("dimension = 2\nmethod = \"eulr\"\n");
-    assert!(m.starts_with("scene file bad.toml:2: unknown method 'eulr'; valid methods: "), "{m}");
+    assert!(m.starts_with("scene file bad.toml:2: method: unknown method 'eulr'; valid methods: "), "{m}");
     let m = err("dimension = 2\ndt = -1\n");
     assert!(m.contains("invalid dt = -1"), "{m}");
 }
@@ -93,4 +93,47 @@ fn a_mesh_that_is_not_closed_is_refused_at_its_body() {
 fn a_file_that_cannot_be_read_is_named() {
     let e = file::load(std::path::Path::new("/nonexistent/scene.toml")).unwrap_err().to_string();
     assert!(e.starts_with("scene file /nonexistent/scene.toml: cannot be read: "), "{e}");
+}
+
+#[test]
+fn values_the_world_refuses_are_reported_at_their_key() {
+    // They were reported at line 1 with no field.
+    let head = "dimension = 2\n# a comment\n\n";
+    let tail = "[[particles]]\nposition = [0.0, 0.0]\n";
+    assert_eq!(
+        err(&format!("{head}until = 1\ndt = 0\n{tail}")),
+        "scene file bad.toml:5: dt: invalid dt = 0: must be a finite number > 0"
+    );
+    assert_eq!(
+        err(&format!("{head}dt = 0.01\nconstraint_iterations = 0\n{tail}")),
+        "scene file bad.toml:5: constraint_iterations: invalid constraint_iterations = 0: must be a whole number from 1 to 1000000"
+    );
+    assert_eq!(
+        err(&format!("{head}dt = 0.01\n\n[loop]\nmax_frame_time = -1\n{tail}")),
+        "scene file bad.toml:7: loop.max_frame_time: invalid max_frame_time = -1: must be a finite number > 0"
+    );
+    assert_eq!(
+        err(&format!("{head}dt = 0.01\n[loop]\nmode = \"steps-per-frame\"\nsubsteps = 0\n{tail}")),
+        "scene file bad.toml:7: loop.substeps: = 0: must be a whole number from 1 to 4294967295"
+    );
+    // A whole number past 64 bits is the number it is, not NaN.
+    let text = format!("{head}dt = 0.01\n[[particles]]\nposition = [99999999999999999999, 0]\n");
+    let w = file::parse(&text, "s.toml").unwrap().world;
+    assert_eq!(w.positions()[0], 1e20);
+    assert_eq!(
+        err(&format!("{head}dt = 0.01\n[[particles]]\nposition = [0x1ffffffffffffffff, 0]\n")),
+        "scene file bad.toml:6: particles[0].position[0]: = 0x1ffffffffffffffff: a hexadecimal, octal or binary number must fit in 64 bits"
+    );
+}
+
+#[test]
+fn a_file_is_not_written_with_an_until_it_could_not_load() {
+    // scene_text(..., until=nan) wrote `until = NaN`, which the loader refuses.
+    let w = physstep::scenes::build("spring", &[], "rk4", 0.1).unwrap().world;
+    for bad in [f64::NAN, f64::INFINITY, -1.0] {
+        let e = file::export(&w, "t", Some(bad)).unwrap_err().to_string();
+        assert!(e.starts_with("invalid until = ") && e.ends_with("must be a finite number >= 0, s"), "{e}");
+    }
+    let text = file::export(&w, "t", Some(2.5)).unwrap();
+    assert_eq!(file::parse(&text, "t.toml").unwrap().until, Some(2.5));
 }

@@ -432,3 +432,16 @@ fn bad_param_values_name_the_param() {
     let s = scenes::build("chain", &[("n", 1.0)], "rk4", 0.01).unwrap();
     assert_eq!(s.world.len(), 1);
 }
+
+#[test]
+fn grids_past_a_million_particles_are_refused_before_they_are_built() {
+    // stiff-cloth n = 100000 was 1e10 particles built with growing memory; each side is a
+    // count up to a million, the grid is refused naming its size, at once.
+    let e = scenes::build("stiff-cloth", &[("n", 100_000.0)], "backward-euler", 0.01).unwrap_err();
+    assert_eq!(e.to_string(), "invalid n x n = 100000 x 100000: must be at most 1000000 particles");
+    let e = scenes::build("cloth", &[("w", 2000.0), ("h", 1000.0)], "rk4", 0.01).unwrap_err();
+    assert_eq!(e.to_string(), "invalid w x h = 2000 x 1000: must be at most 1000000 particles");
+    // The bound is the grid's: 1000 x 1000 is the largest, 1001 x 1001 refused.
+    let e = scenes::build("stiff-cloth", &[("n", 1001.0)], "backward-euler", 0.01).unwrap_err();
+    assert_eq!(e.to_string(), "invalid n x n = 1001 x 1001: must be at most 1000000 particles");
+}

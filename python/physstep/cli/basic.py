@@ -70,7 +70,7 @@ def _cmd_scenes(args: argparse.Namespace) -> int:
         return 0
     for s in rows:
         params = ", ".join(f"{p['name']}={p['default']:g}" for p in s["params"])
-        print(f"{s['name']:<11} {s['dim']}D  dt={s['dt']:g} until={s['until']:.4g}  {s['doc']}")
+        print(f"{s['name']:<11} {s['dim']}D  {s['method']} dt={s['dt']:g} until={s['until']:.4g}  {s['doc']}")
         print(f"{'':<15}params: {params}")
     return 0
 
@@ -210,9 +210,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         why = "a flow has none" if traj.kind == "flow" else "a force has no potential"
         table.add_row("energy", f"unknown ({why})")
     else:
-        table.add_row(
-            "energy", f"{en['initial']:.6g} -> {en['final']:.6g} J (max rel. error {en['max_rel_error']:.3g})"
-        )
+        table.add_row("energy", f"{en['initial']:.6g} -> {en['final']:.6g} J ({_energy_note(en)})")
     if "angular_momentum" in summary:
         ang = summary["angular_momentum"]
         table.add_row(
@@ -242,13 +240,25 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _energy_note(en: dict[str, Any]) -> str:
+    """How the energy changed, in words: the energy lost where the run loses it by design
+    (and what of), else the largest error and the scale it is relative to."""
+    scale_of = en["scale_of"]
+    if en["dissipation"] and en["lost"] > 0:
+        share = "" if scale_of == "1 J" else f", {en['lost'] / en['scale']:.3g} of {scale_of}"
+        return f"energy lost {en['lost']:.3g} J{share}: {en['dissipation']}"
+    if scale_of == "1 J":
+        return f"max error {en['max_rel_error']:.3g} J"
+    return f"max rel. error {en['max_rel_error']:.3g} of {scale_of}"
+
+
 def _add_run_args(p: argparse.ArgumentParser) -> None:
     """The arguments ``table`` and ``run`` share: scene, method, dt, until and params."""
     p.add_argument("scene", help=options.SCENE_HELP)
     p.add_argument(
         "--method",
         default=None,
-        help=options.METHOD_HELP + " (default: symplectic-euler, or the scene file's)",
+        help=options.METHOD_HELP + " (default: the scene's own, as physstep scenes lists, or the file's)",
     )
     p.add_argument("--dt", type=options.DT, default=None, help="step, s (default: the scene's)")
     p.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)

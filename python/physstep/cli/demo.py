@@ -1,6 +1,6 @@
 """``physstep demo``: the interactive demos (:mod:`physstep.demos`), or their list.
 
-pygame-ce is the optional extra ``physstep[demo]``: without it ``physstep demo NAME`` says
+pygame-ce is the optional extra ``demo`` (``pip install pygame-ce``): without it ``physstep demo NAME`` says
 how to install it in one line (exit status 2); ``--list`` needs no pygame.
 """
 

@@ -20,9 +20,12 @@ from physstep import _files as files
 from physstep import lab
 from physstep.cli import options, output
 from physstep.lab.common import MAX_JOBS
+from physstep.lab.order import MAX_LEVELS as ORDER_MAX_LEVELS
 
-#: The most step sizes ``order --levels`` runs (the finest run is 2**(levels-1) times finer).
-MAX_LEVELS = 12
+#: The most step sizes ``order --levels`` runs (the finest run is 2**(levels-1) times finer):
+#: the lab's own bound (:data:`physstep.lab.order.MAX_LEVELS`), so the command line, the API
+#: and the docs say the same.
+MAX_LEVELS = ORDER_MAX_LEVELS
 
 
 def _params(args: argparse.Namespace) -> dict[str, float] | None:
@@ -34,10 +37,20 @@ def _methods(text: str) -> list[str] | str:
     ``"all"``: every method that applies, the split methods skipped on a flow)."""
     if text.strip() == "all":
         return "all"
-    names = [m.strip() for m in text.split(",") if m.strip()]
-    if not names:
+    names = [m.strip() for m in text.split(",")]
+    if not any(names):
         raise options.UsageError(
             f"invalid --methods '{text}': give a comma-separated list of methods, or all"
+        )
+    if not all(names):
+        raise options.UsageError(
+            f"invalid --methods '{text}': an empty name between commas; "
+            "give a comma-separated list of methods"
+        )
+    twice = sorted({m for m in names if names.count(m) > 1})
+    if twice:
+        raise options.UsageError(
+            f"invalid --methods '{text}': '{twice[0]}' is given twice (each method is one row)"
         )
     return names
 
@@ -112,13 +125,17 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     span = note or f"until = {until:.10g} s" + ("" if steps is None else f" ({steps} steps)")
     unknown = all(r.get("energy_scale") is None for r in res["rows"])
     caption = (
-        f"final error against the {res['error_against']}; energy error relative to the energy "
-        "scale max(|E0|, max kinetic energy), drift = its least-squares slope per second"
+        f"final error against the {res['error_against']}; energy error relative to |E0| (to the "
+        "largest kinetic energy where |E0| is below 1e-3 of it), drift = its least-squares slope per second"
     )
     if res.get("kind") == "bodies":
         caption += (
             "; |dL|/|L| = max |L - L0| / |L0| of the total angular momentum (an error unless a torque acts)"
         )
+    lost = {r["method"]: r.get("energy_dissipation") for r in res["rows"] if r.get("energy_dissipation")}
+    if lost:
+        why = ", ".join(f"{m} ({reason})" for m, reason in lost.items())
+        caption += f"; energy lost by design, not an error: {why}"
     table = Table(title=f"{res['scene']}: dt = {res['dt']:g} s, {span}", caption=caption)
     repeats = res.get("ns_per_step_runs", res.get("repeats"))
     timing = "ns/step" if repeats in (None, 1) else f"ns/step (median of {repeats})"

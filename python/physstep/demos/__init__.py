@@ -7,7 +7,8 @@ line, ``physstep demo --list`` and the headless smoke test read: adding a demo i
 a line here.
 
 This module imports no pygame, so the list works without the ``demo`` extra; pygame-ce is
-loaded with the demo (``pip install 'physstep[demo]'``).
+loaded with the demo (``pip install pygame-ce``; in a checkout, ``pip install -e '.[demo]'``:
+physstep is not on a package index).
 """
 
 from __future__ import annotations
@@ -22,7 +23,9 @@ __all__ = ["DEMOS", "INSTALL_HINT", "DemoEntry", "entry", "load", "names"]
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")  # pygame's banner would go to stdout
 
 #: What ``physstep demo`` says when pygame-ce is not installed.
-INSTALL_HINT = "the demos need pygame-ce: pip install 'physstep[demo]' (or pip install pygame-ce)"
+INSTALL_HINT = (
+    "the demos need pygame-ce: pip install pygame-ce (in a checkout of physstep: pip install -e '.[demo]')"
+)
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,8 @@ TIMING_MAX_RUNS = 25
 TIMING_MAX_S = 1.0
 #: What the energy errors are relative to (see :attr:`physstep.Trajectory.energy_scale`).
 ENERGY_ERROR = (
-    "(E - E0) / energy scale, the scale = max(|E0|, max kinetic energy of the run); "
+    "(E - E0) / energy scale, the scale = |E0|, or the largest kinetic energy of the run where "
+    "|E0| is below 1e-3 of it (a near cancellation); "
     "None where the energy is unknown (a flow, or a force without a potential)"
 )
 #: What the angular-momentum errors of rigid-body runs are (compare's |L| column).

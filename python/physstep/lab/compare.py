@@ -59,6 +59,9 @@ def compare(
     (least-squares slope of the relative energy error, per second; None without two finite
     rows), ``energy_scale`` (J: what the energy error is relative to, :data:`ENERGY_ERROR`),
     the three None where the energy is unknown (a flow, or a force without a potential),
+    ``energy_dissipation`` (why the run loses energy by design: the scene's damping, drag or
+    inelastic contacts, or a method that damps; there the energy change is energy lost, not
+    an error; None otherwise),
     ``final_error`` (max coordinate distance of the final position from the exact solution,
     or from the reference: see ``error_against``; for rigid bodies, of the final body-frame
     angular velocities, rad/s), ``angular_momentum_max_rel_error`` (rigid bodies: max
@@ -140,6 +143,7 @@ def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory
         "energy_max_rel_error": max_abs(traj.energy_error),
         "energy_drift": drift(traj),
         "energy_scale": energy_scale(traj),
+        "energy_dissipation": physstep._dissipation(traj) if traj.energy is not None else None,
         "final_error": final_error(traj, ref) if len(traj.t) else math.nan,
         "angular_momentum_max_rel_error": _l_error(traj),
         "ns_per_step": ns,

@@ -185,6 +185,12 @@ class Subject:
             raise ValueError("invalid methods = []: give at least one method")
         for m in names:
             self.check_method(m)
+        twice = sorted({m for m in names if names.count(m) > 1})
+        if twice:
+            raise ValueError(
+                f"invalid methods = {names!r}: {', '.join(repr(m) for m in twice)} given twice "
+                "(each method is one row)"
+            )
         return names, []
 
     def time_scale(self, override: Any = None) -> float:

@@ -34,20 +34,28 @@ fn accel_d<const D: usize>(g: f64, eps: f64, x: &[f64], mass: &[f64], inv_mass: 
     let eps2 = eps * eps;
     // One array per axis.
     let axes: [Vec<f64>; D] = std::array::from_fn(|k| (0..n).map(|i| x[i * D + k]).collect());
+    // A stop requested (Ctrl-C) is looked at between blocks, on the stepping thread's terms
+    // (never inside a replay): the lanes leave their sums unfinished and the accelerations are
+    // poisoned, so the step fails and is rolled back (`World::run`).
+    let watch = crate::interrupt::watching();
     let lane = |l: usize| {
         #[cfg(target_arch = "x86_64")]
         if crate::simd::avx2() {
             // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
             // `target_feature` function.
-            return unsafe { lane_avx2::<D>(l, eps2, &axes, mass) };
+            return unsafe { lane_avx2::<D>(l, eps2, &axes, mass, watch) };
         }
-        lane_sums::<D>(l, eps2, &axes, mass)
+        lane_sums::<D>(l, eps2, &axes, mass, watch)
     };
     let lanes: Vec<[Vec<f64>; D]> = if n >= PARALLEL_MIN {
         (0..LANES).into_par_iter().map(lane).collect()
     } else {
         (0..LANES).map(lane).collect()
     };
+    if watch && crate::interrupt::requested() {
+        a.fill(f64::NAN);
+        return;
+    }
     for (i, ai) in a.chunks_exact_mut(D).enumerate() {
         if inv_mass[i] > 0.0 {
             for (k, ak) in ai.iter_mut().enumerate() {
@@ -64,10 +72,19 @@ fn accel_d<const D: usize>(g: f64, eps: f64, x: &[f64], mass: &[f64], inv_mass: 
 /// The sums of lane `l`: its blocks' pairs, per axis. Only `+ - * / sqrt` of IEEE doubles,
 /// no fused multiply-add: the AVX2 build gives the same bits as the baseline one.
 #[inline(always)]
-fn lane_sums<const D: usize>(l: usize, eps2: f64, axes: &[Vec<f64>; D], mass: &[f64]) -> [Vec<f64>; D] {
+fn lane_sums<const D: usize>(
+    l: usize,
+    eps2: f64,
+    axes: &[Vec<f64>; D],
+    mass: &[f64],
+    watch: bool,
+) -> [Vec<f64>; D] {
     let n = mass.len();
     let mut acc: [Vec<f64>; D] = std::array::from_fn(|_| vec![0.0; n]);
     for b in (l..n.div_ceil(BLOCK)).step_by(LANES) {
+        if watch && crate::interrupt::requested() {
+            break;
+        }
         for i in b * BLOCK..((b + 1) * BLOCK).min(n) {
             let rest = i + 1;
             let xi: [f64; D] = std::array::from_fn(|k| axes[k][i]);
@@ -145,8 +162,9 @@ unsafe fn lane_avx2<const D: usize>(
     eps2: f64,
     axes: &[Vec<f64>; D],
     mass: &[f64],
+    watch: bool,
 ) -> [Vec<f64>; D] {
-    lane_sums::<D>(l, eps2, axes, mass)
+    lane_sums::<D>(l, eps2, axes, mass, watch)
 }
 
 /// `-sum_{i<j} G m_i m_j / sqrt(r^2 + eps^2)`, J (pairs with `r^2 + eps^2 = 0` skipped).

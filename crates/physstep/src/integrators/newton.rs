@@ -128,6 +128,10 @@ impl Newton {
         let mut stiffness = 0.0f64;
         // One more pass than updates: the last one only checks the final update.
         for iter in 0..=self.params.max_iter {
+            // Ctrl-C (crate::interrupt): unconverged, the step fails and is rolled back.
+            if crate::interrupt::stop() {
+                break;
+            }
             flow.deriv(tau, z, fz);
             let scale;
             (residual, scale) = measure(g, z, y0, fz, c, stiffness);
@@ -215,6 +219,10 @@ impl Newton {
         let mut cg_total = 0;
         let mut previous = f64::INFINITY;
         for iter in 0..=self.params.max_iter {
+            // Ctrl-C (crate::interrupt): unconverged, the step fails and is rolled back.
+            if crate::interrupt::stop() {
+                break;
+            }
             flow.deriv(tau, z, fz);
             // c |df/dz|, as the dense solve measures it (from the blocks at z's start).
             let scale;

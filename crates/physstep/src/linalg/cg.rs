@@ -62,6 +62,10 @@ pub fn cg(a: &NewtonMatrix, b: &[f64], x: &mut [f64], params: CgParams, w: &mut 
     let mut rz = dot(&w.r, &w.z);
     let mut residual = 1.0;
     for it in 1..=params.max_iter {
+        // Ctrl-C (crate::interrupt): unconverged, the step fails and is rolled back.
+        if crate::interrupt::stop() {
+            return CgResult { iterations: it, residual, converged: false };
+        }
         a.apply(&w.p, &mut w.q);
         let curvature = dot(&w.p, &w.q);
         if curvature.is_nan() || curvature <= 0.0 || !rz.is_finite() {

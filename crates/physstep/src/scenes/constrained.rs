@@ -39,8 +39,7 @@ const LIMITS: [(usize, usize, f64, f64); 8] = [
     (5, 2, 0.5, 1.3),  // right shoulder
 ];
 
-/// The most particles a cloth may have (w x h).
-const MAX_CLOTH: usize = 1_000_000;
+use super::specs::MAX_PARTICLES;
 
 /// A `W x H` grid in the x-y plane, row 0 at the top (y = 0) hanging down, particle
 /// `(c, r)` at index `r W + c`; structural links to the right and below, shear links on both
@@ -48,11 +47,11 @@ const MAX_CLOTH: usize = 1_000_000;
 pub(super) fn cloth(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     let (nw, nh, s) = (v("w") as usize, v("h") as usize, v("spacing"));
     // Each of w and h may be up to a million; their product is refused before it is built.
-    if nw.saturating_mul(nh) > MAX_CLOTH {
+    if nw.saturating_mul(nh) > MAX_PARTICLES {
         return Err(crate::Error::invalid(
             "w x h",
             format!("{nw} x {nh}"),
-            format!("at most {MAX_CLOTH} particles"),
+            format!("at most {MAX_PARTICLES} particles"),
         ));
     }
     let x: Vec<f64> =

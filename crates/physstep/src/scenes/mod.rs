@@ -11,7 +11,7 @@ mod particles;
 mod specs;
 mod stiff;
 
-pub use specs::{resolve, spec, ParamSpec, Rule, SceneSpec, PARAM_MAX, PARAM_MIN, SCENES};
+pub use specs::{resolve, spec, Loss, ParamSpec, Rule, SceneSpec, PARAM_MAX, PARAM_MIN, SCENES};
 
 use crate::error::Result;
 use crate::flows::Flow;

@@ -6,6 +6,12 @@ use crate::error::{Error, Result};
 
 pub use crate::limits::{PARAM_MAX, PARAM_MIN};
 
+/// The most particles (or balls) a built-in scene may have: a count parameter is at most this,
+/// and a grid of two (`cloth`'s w x h, `stiff-cloth`'s n x n) is refused past it before
+/// anything is built (a million particles, their springs and a step's buffers fit in a few
+/// hundred MB).
+pub const MAX_PARTICLES: usize = 1_000_000;
+
 /// What a parameter may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Rule {
@@ -19,6 +25,20 @@ pub enum Rule {
     Count,
     /// A number in [0, 1).
     Fraction,
+}
+
+/// Where a scene loses energy by design (damping, drag, inelastic contacts): a run that
+/// loses energy there reports the energy lost, not an error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Loss {
+    /// The scene conserves energy (what a method loses or gains is its error).
+    None,
+    /// Always, for the reason given.
+    Always(&'static str),
+    /// When the parameter named is not 0 (damping, drag), for the reason given.
+    Nonzero(&'static str, &'static str),
+    /// When the parameter named is below 1 (restitution), for the reason given.
+    BelowOne(&'static str, &'static str),
 }
 
 /// One named parameter of a scene.
@@ -45,6 +65,13 @@ pub struct SceneSpec {
     pub dim: usize,
     /// Its parameters.
     pub params: &'static [ParamSpec],
+    /// The method that runs the scene well at its `dt` (the default of the command line,
+    /// `simulate` and `World.from_scene`): RK4 for the flows (the split methods do not apply
+    /// to them), backward Euler for the stiff scenes (explicit methods diverge at their dt),
+    /// symplectic Euler (the notes' default) elsewhere.
+    pub method: &'static str,
+    /// Where it loses energy by design.
+    pub loss: Loss,
     /// A step that shows the scene well, s (the command line's default).
     pub dt: f64,
     /// A run length that shows the scene well, s (the command line's default).
@@ -71,6 +98,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("x0", 20.0, "initial position, m", Rule::Any),
             p("v0", 0.0, "initial velocity, m/s", Rule::Any),
         ],
+        method: "symplectic-euler",
+        loss: Loss::Nonzero("c", "damping"),
         dt: 0.1,
         until: 20.0,
         build: Build::Parts(particles::spring),
@@ -87,6 +116,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("y0", 0.0, "initial y, m", Rule::Any),
             p("m", 1.0, "mass, kg", Rule::Positive),
         ],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 0.01,
         until: 2.0,
         build: Build::Parts(particles::projectile),
@@ -101,6 +132,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("x0", 0.0, "initial position, m", Rule::Any),
             p("v0", 10.0, "initial velocity, m/s", Rule::Any),
         ],
+        method: "symplectic-euler",
+        loss: Loss::Nonzero("c", "drag"),
         dt: 0.01,
         until: 5.0,
         build: Build::Parts(particles::drag),
@@ -113,6 +146,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("gm", 1.0, "gravitational parameter GM, m^3/s^2", Rule::Positive),
             p("r", 1.0, "orbit radius, m", Rule::Positive),
         ],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 0.01,
         until: 2.0 * std::f64::consts::TAU,
         build: Build::Parts(particles::orbit),
@@ -122,6 +157,8 @@ pub const SCENES: [SceneSpec; 19] = [
         doc: "2D Kepler ellipse, GM = 1, a = 1, from the pericentre (1 - e, 0); period 2 pi",
         dim: 2,
         params: &[p("e", 0.6, "eccentricity, in [0, 1)", Rule::Fraction)],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 0.01,
         until: std::f64::consts::TAU,
         build: Build::Parts(particles::kepler),
@@ -143,6 +180,8 @@ pub const SCENES: [SceneSpec; 19] = [
                 Rule::NonNegative,
             ),
         ],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 0.01,
         until: 5.0,
         build: Build::Parts(particles::pendulum),
@@ -156,6 +195,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("seed", 1.0, "random seed", Rule::NonNegative),
             p("softening", 0.05, "softening length, m", Rule::NonNegative),
         ],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 0.001,
         until: 1.0,
         build: Build::Parts(particles::nbody),
@@ -172,6 +213,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("g", 9.81, "gravity, m/s^2", Rule::Any),
             p("m", 0.1, "mass of each particle, kg", Rule::Positive),
         ],
+        method: "symplectic-euler",
+        loss: Loss::Nonzero("c", "spring damping"),
         dt: 0.001,
         until: 2.0,
         build: Build::Parts(particles::chain),
@@ -189,6 +232,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("y0", 1.0, "initial y", Rule::Any),
             p("z0", 1.0, "initial z", Rule::Any),
         ],
+        method: "rk4",
+        loss: Loss::None,
         dt: 0.005,
         until: 40.0,
         build: Build::Flow(flows::lorenz),
@@ -205,6 +250,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("y0", 1.0, "initial y", Rule::Any),
             p("z0", 0.0, "initial z", Rule::Any),
         ],
+        method: "rk4",
+        loss: Loss::None,
         dt: 0.01,
         until: 200.0,
         build: Build::Flow(flows::rossler),
@@ -219,6 +266,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("y0", 0.0, "initial y", Rule::Any),
             p("z0", 0.0, "initial z", Rule::Any),
         ],
+        method: "rk4",
+        loss: Loss::None,
         dt: 0.05,
         until: 500.0,
         build: Build::Flow(flows::thomas),
@@ -233,6 +282,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("m", 0.01, "mass of each particle, kg", Rule::Positive),
             p("g", 9.81, "gravity, m/s^2", Rule::Any),
         ],
+        method: "backward-euler",
+        loss: Loss::None,
         dt: 1.0 / 60.0,
         until: 10.0,
         build: Build::Parts(stiff::chain),
@@ -242,11 +293,13 @@ pub const SCENES: [SceneSpec; 19] = [
         doc: "3D n x n cloth 1 m square of stiff structural and shear springs, two corners pinned, falling",
         dim: 3,
         params: &[
-            p("n", 12.0, "particles along each side", Rule::Count),
+            p("n", 12.0, "particles along each side (n x n at most 1000000)", Rule::Count),
             p("k", 1e5, "spring stiffness, N/m", Rule::Positive),
             p("m", 0.01, "mass of each particle, kg", Rule::Positive),
             p("g", 9.81, "gravity, m/s^2", Rule::Any),
         ],
+        method: "backward-euler",
+        loss: Loss::None,
         dt: 1.0 / 60.0,
         until: 10.0,
         build: Build::Parts(stiff::cloth),
@@ -259,13 +312,15 @@ pub const SCENES: [SceneSpec; 19] = [
             p("spin", 2.0, "angular velocity about the intermediate axis, rad/s", Rule::Any),
             p("wobble", 0.01, "angular velocity about the other two axes, rad/s", Rule::Any),
         ],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 1.0 / 120.0,
         until: 1200.0,
         build: Build::Parts(bodies::racket),
     },
     SceneSpec {
         name: "top",
-        doc: "spinning top: a cylinder pinned at its tip under gravity, tilted, precessing",
+        doc: "slow top: a cylinder pinned at its tip under gravity, tilted 0.3 rad and spun below the 132 rad/s it needs to stay up, nodding from 17 to 85 degrees as it precesses (spin=1000: a fast top)",
         dim: 3,
         params: &[
             p("radius", 0.1, "cylinder radius, m", Rule::Positive),
@@ -275,6 +330,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("spin", 100.0, "spin about its axis, rad/s", Rule::Any),
             p("g", 9.81, "gravity, m/s^2", Rule::Any),
         ],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 1.0 / 1200.0,
         until: 5.0,
         build: Build::Parts(bodies::top),
@@ -287,6 +344,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("impulse", 6.0, "upward impulse at the corner, N s", Rule::Any),
             p("g", 9.81, "gravity, m/s^2", Rule::Any),
         ],
+        method: "symplectic-euler",
+        loss: Loss::None,
         dt: 1.0 / 120.0,
         until: 1.0,
         build: Build::Parts(bodies::tumble),
@@ -305,6 +364,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("drag", 0.0, "linear air drag on each particle, N s/m", Rule::NonNegative),
             p("compliance", 0.0, "compliance of every link, m/N (0: rigid)", Rule::NonNegative),
         ],
+        method: "symplectic-euler",
+        loss: Loss::Nonzero("drag", "air drag"),
         dt: 1.0 / 120.0,
         until: 5.0,
         build: Build::Parts(constrained::cloth),
@@ -320,6 +381,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("m", 1.0, "mass of each particle, kg", Rule::Positive),
             p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
         ],
+        method: "symplectic-euler",
+        loss: Loss::Always("inelastic ground contact and joint limits"),
         dt: 1.0 / 120.0,
         until: 3.0,
         build: Build::Parts(constrained::ragdoll),
@@ -337,6 +400,8 @@ pub const SCENES: [SceneSpec; 19] = [
             p("fraction", 0.1, "fraction of the box's length, area or volume the balls fill", Rule::Fraction),
             p("speed", 1.0, "each velocity component uniform in [-speed, speed], m/s", Rule::Positive),
         ],
+        method: "symplectic-euler",
+        loss: Loss::BelowOne("restitution", "inelastic collisions"),
         dt: 1.0 / 120.0,
         until: 10.0,
         build: Build::Parts(balls::scene),

@@ -38,6 +38,14 @@ pub(super) fn cloth(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     // An n x n grid 1 m square lying flat (z = 0), its two corners on the y = 1 edge
     // pinned; structural springs along the grid and shear springs across each cell.
     let (n, k, m) = (v("n") as usize, v("k"), v("m"));
+    // n may be up to a million; the grid of n^2 particles is refused before it is built.
+    if n.saturating_mul(n) > super::specs::MAX_PARTICLES {
+        return Err(crate::Error::invalid(
+            "n x n",
+            format!("{n} x {n}"),
+            format!("at most {} particles", super::specs::MAX_PARTICLES),
+        ));
+    }
     let sp = 1.0 / (n - 1).max(1) as f64;
     let id = |r: usize, c: usize| r * n + c;
     for r in 0..n {

@@ -272,8 +272,17 @@ impl World {
         self.context(h)?;
         // The kernel does not read the derivative: it is computed (and checked) first only
         // when the state was set by hand.
+        // A replay takes the bits of the run it replays: a stop requested meanwhile waits for
+        // the steps after it.
+        let _masked = (keep == Checkpoints::Replay).then(crate::interrupt::Masked::new);
         if !matches!(how, Integrate::Fused(_)) || self.derivative == Derivative::Stale {
-            self.refresh()?;
+            let refreshed = self.refresh();
+            if crate::interrupt::stop() {
+                // The evaluation was cut short: computed again when next needed.
+                self.derivative = Derivative::Stale;
+                return Err(Error::Interrupted { step: self.state.steps });
+            }
+            refreshed?;
         }
         // Interpolation is between the last two states of a frame of `advance`; outside it
         // the current positions are drawn as they are.
@@ -301,11 +310,29 @@ impl World {
             if save {
                 self.keep(&mut back, if fused { Keep::Positions } else { Keep::State });
             }
-            match self.pass(&ctx, &mut how, n - taken, &mut back, log.as_deref_mut(), on_row.as_deref_mut()) {
+            let passed =
+                self.pass(&ctx, &mut how, n - taken, &mut back, log.as_deref_mut(), on_row.as_deref_mut());
+            if crate::interrupt::stop() && matches!(passed, Err(Failure::Error(_))) {
+                // Ctrl-C, a stage cut short (n-body gravity poisons what it left unfinished):
+                // back to the start of the pass, or of the call where it kept only that,
+                // without a replay (it would take as long again), the work done counted. A
+                // runaway in the kernel or the split loop goes the usual way (its replay does
+                // not look); a pass that ended well keeps its steps (below).
+                let evals = self.state.evals;
+                self.roll_back(&back);
+                self.state.evals = evals;
+                self.rollback = back;
+                return Err(Error::Interrupted { step: self.state.steps });
+            }
+            match passed {
                 Ok((k, halted)) => {
                     taken += k;
                     if halted {
                         break None;
+                    }
+                    if taken < n && crate::interrupt::stop() {
+                        self.rollback = back;
+                        return Err(Error::Interrupted { step: self.state.steps });
                     }
                 }
                 // A replay takes the same bits as the run it replays: it does not fail (were it

@@ -74,7 +74,20 @@ impl Doc<'_> {
         let x = match v.get_ref() {
             DeValue::Float(f) => f.as_str().replace('_', "").parse::<f64>().ok(),
             DeValue::Integer(i) => {
-                i64::from_str_radix(&i.as_str().replace('_', ""), i.radix()).ok().map(|i| i as f64)
+                let digits = i.as_str().replace('_', "");
+                match i64::from_str_radix(&digits, i.radix()) {
+                    Ok(n) => Some(n as f64),
+                    // Past 64 bits (99999999999999999999): the number it is, as a float; a
+                    // non-decimal one that long is refused by name.
+                    Err(_) if i.radix() == 10 => digits.parse::<f64>().ok(),
+                    Err(_) => {
+                        return Err(self.err(
+                            v.span().start,
+                            path,
+                            format!("= {i}: a hexadecimal, octal or binary number must fit in 64 bits"),
+                        ))
+                    }
+                }
             }
             other => {
                 return Err(self.err(

@@ -7,7 +7,7 @@ use super::doc::{Doc, Table};
 use super::SceneFile;
 use crate::clock::LoopMode;
 use crate::constraints::Constraint;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::flows::Flow;
 use crate::forces::{Endpoint, Force};
 use crate::rigid::inertia::Shape;
@@ -60,14 +60,25 @@ pub(super) fn scene(doc: &Doc<'_>, mode: Option<LoopMode>) -> Result<SceneFile> 
             return Err(doc.range(top, "until", u, "a finite number >= 0, s"));
         }
     }
+    // Where a value the world refuses was given (World::new names the field): its key's line.
+    let mut given: Vec<(&str, usize, &str)> = vec![
+        ("dt", top.table.get("dt").map_or(0, |v| v.span().start), "dt"),
+        ("method", top.table.get("method").map_or(0, |v| v.span().start), "method"),
+    ];
     if let Some((t, at)) = doc.table(top, "loop")? {
         let t = Table { table: t, at, path: "loop" };
         doc.keys(t, &["mode", "substeps", "max_steps_per_frame", "max_frame_time"])?;
+        let key_at = |key: &str| t.table.get(key).map_or(at, |v| v.span().start);
+        given.push(("max_frame_time", key_at("max_frame_time"), "loop.max_frame_time"));
+        given.push(("max_steps_per_frame", key_at("max_steps_per_frame"), "loop.max_steps_per_frame"));
+        given.push(("steps_per_frame", key_at("substeps"), "loop.substeps"));
         let substeps = doc.index(t, "substeps")?.unwrap_or(1);
-        let substeps = u32::try_from(substeps)
-            .map_err(|_| doc.range(t, "substeps", substeps as f64, "at most 4294967295"))?;
+        let substeps = u32::try_from(substeps).ok().filter(|&s| s >= 1).ok_or_else(|| {
+            doc.range(t, "substeps", substeps as f64, "a whole number from 1 to 4294967295")
+        })?;
         if let Some(mode) = doc.str(t, "mode")? {
-            params.mode = LoopMode::from_name(mode, substeps).map_err(|e| doc.engine(at, "loop.mode", e))?;
+            params.mode = LoopMode::from_name(mode, substeps)
+                .map_err(|e| doc.engine(key_at("mode"), "loop.mode", e))?;
         }
         if let Some(n) = doc.index(t, "max_steps_per_frame")? {
             params.max_steps_per_frame = u32::try_from(n)
@@ -80,10 +91,27 @@ pub(super) fn scene(doc: &Doc<'_>, mode: Option<LoopMode>) -> Result<SceneFile> 
     if let Some(mode) = mode {
         params.mode = mode;
     }
-    let method_at = top.table.get("method").map_or(0, |v| v.span().start);
+    // A value World::new refuses is reported at its key, named as the file names it.
+    let at_key = |e: Error| {
+        let field = match &e {
+            Error::InvalidValue { field, .. } => field.as_str(),
+            Error::UnknownName { kind, .. } | Error::Unsupported { method: kind, .. } if kind == "method" => {
+                "method"
+            }
+            Error::Unsupported { .. } => "method",
+            _ => "",
+        };
+        match given.iter().find(|(f, _, _)| *f == field) {
+            Some(&(_, at, path)) => doc.engine(at, path, e),
+            None => doc.engine(given[1].1, "", e),
+        }
+    };
+    // The step, the loop and the method checked as a world of particles checks them (a
+    // flow's own checks follow), each error at its key.
+    let world = World::new(params.clone()).map_err(at_key)?;
     let mut world = match doc.table(top, "flow")? {
         Some((t, at)) => flow(doc, Table { table: t, at, path: "flow" }, params)?,
-        None => World::new(params).map_err(|e| doc.engine(method_at, "", e))?,
+        None => world,
     };
     if let Some((t, at)) = doc.table(top, "rigid")? {
         let t = Table { table: t, at, path: "rigid" };
@@ -107,7 +135,8 @@ pub(super) fn scene(doc: &Doc<'_>, mode: Option<LoopMode>) -> Result<SceneFile> 
     constraints(doc, top, &mut world)?;
     if let Some(n) = doc.index(top, "constraint_iterations")? {
         let n = u32::try_from(n).unwrap_or(u32::MAX);
-        world.set_constraint_iterations(n).map_err(|e| doc.engine(0, "constraint_iterations", e))?;
+        let at = top.table.get("constraint_iterations").map_or(0, |v| v.span().start);
+        world.set_constraint_iterations(n).map_err(|e| doc.engine(at, "constraint_iterations", e))?;
     }
     collisions(doc, top, &mut world)?;
     Ok(SceneFile { world, until })

@@ -44,8 +44,14 @@ enum Purpose {
 /// # Errors
 /// [`Error::Unsupported`] for what a scene file cannot hold: user forces and flows (code,
 /// not data), springs and forces on bodies, and bodies of a world that has stepped (a body
-/// is written as it was added).
+/// is written as it was added); [`Error::InvalidValue`] naming `until` when it is not a
+/// finite number >= 0 (the loader would refuse the file).
 pub fn export(world: &World, title: &str, until: Option<f64>) -> Result<String> {
+    if let Some(u) = until {
+        if !(u.is_finite() && u >= 0.0) {
+            return Err(Error::invalid("until", num(u), "a finite number >= 0, s"));
+        }
+    }
     write(world, title, until, Purpose::File)
 }
 
