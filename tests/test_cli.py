@@ -99,7 +99,7 @@ def test_methods_lists_every_registered_method() -> None:
     res = run_cli("methods", "--format", "json")
     listed = [m["name"] for m in json.loads(res.stdout)]
     assert listed == [m.name for m in physstep.methods()]
-    assert len(listed) == 14
+    assert len(listed) == 15
     text = run_cli("methods").stdout
     for m in physstep.methods():
         assert m.name in text

@@ -67,6 +67,7 @@ def test_order_of_a_method_exact_on_the_scene_is_none() -> None:
 #   R = 1 + z + z^2, |R|^2 = (1 - y^2)^2 + y^2 = 1 - y^2 + y^4 <= 1 iff y <= 1 -> 1/omega
 # - backward Euler R = 1/(1 - z), |R| < 1, and implicit midpoint R = (1 + z/2)/(1 - z/2),
 #   |R| = 1: A-stable, stable at every dt (Hairer & Wanner II, IV.3)    -> None (no limit)
+# - linearly implicit Euler: on a linear system the same step as backward Euler -> None
 OMEGA = math.sqrt(0.5)
 SPRING_LIMITS = {
     "explicit-euler": 0.0,
@@ -81,6 +82,7 @@ SPRING_LIMITS = {
     "predictor-corrector": 1 / OMEGA,
     "backward-euler": None,
     "implicit-midpoint": None,
+    "linearly-implicit-euler": None,
 }
 
 

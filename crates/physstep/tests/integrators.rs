@@ -40,7 +40,7 @@ fn every_info_is_well_formed() {
             assert!(!info.split, "{}", info.name);
         }
     }
-    assert_eq!(seen.len(), 14);
+    assert_eq!(seen.len(), 15);
     assert_eq!(registry::names().collect::<Vec<_>>(), names());
     assert!(
         !is_kebab("Rk4") && !is_kebab("rk_4") && !is_kebab("-rk4") && !is_kebab("rk--4") && !is_kebab("4rk")

@@ -49,7 +49,12 @@ fn the_infos_say_what_the_names_used_to() {
         assert_eq!(info.constraints, mode, "{}", info.name);
         let local = !matches!(
             info.name,
-            "symplectic-euler-alternating" | "verlet" | "leapfrog" | "backward-euler" | "implicit-midpoint"
+            "symplectic-euler-alternating"
+                | "verlet"
+                | "leapfrog"
+                | "backward-euler"
+                | "implicit-midpoint"
+                | "linearly-implicit-euler"
         );
         assert_eq!(info.local, local, "{}", info.name);
     }

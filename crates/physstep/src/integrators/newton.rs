@@ -72,6 +72,9 @@ pub(crate) struct Newton {
     perm: Vec<usize>,
     /// What the latest solve did.
     pub stats: SolveStats,
+    /// One update from `y0` and no more (the linearly implicit step), instead of iterating to
+    /// the tolerance from the explicit guess.
+    pub linear: bool,
     blocks: Blocks,
     matrix: NewtonMatrix,
     cg_work: CgWork,
@@ -85,7 +88,9 @@ impl Newton {
         Self { params, ..Self::default() }
     }
 
-    /// Solves `z = y0 + c f(tau, z)` from the explicit guess `y0 + c f0`.
+    /// Solves `z = y0 + c f(tau, z)` from the explicit guess `y0 + c f0`; with
+    /// [`Newton::linear`], takes one Newton update from `z = y0` with the Jacobian there (the
+    /// equation linearised at the start of the step) and stops, whatever the residual.
     ///
     /// # Errors
     /// [`Error::Unsupported`] when the system is too large for the dense solver (refused
@@ -122,7 +127,7 @@ impl Newton {
         let z = scratch(&mut self.z, n);
         let fz = scratch(&mut self.fz, n);
         let g = scratch(&mut self.g, n);
-        axpy_to(z, y0, c, f0);
+        guess(z, y0, c, f0, self.linear);
         let mut residual = f64::INFINITY;
         // c |df/dz| (max row sum), from the latest Jacobian.
         let mut stiffness = 0.0f64;
@@ -135,6 +140,12 @@ impl Newton {
             flow.deriv(tau, z, fz);
             let scale;
             (residual, scale) = measure(g, z, y0, fz, c, stiffness);
+            if self.linear && iter == 1 {
+                // The one update taken; a non-finite state is the Check stage's divergence.
+                let relative = residual / scale.max(SCALE_FLOOR);
+                self.stats = SolveStats { newton: 1, cg: 0, residual: relative, sparse: false };
+                return Ok(());
+            }
             if !residual.is_finite() {
                 break;
             }
@@ -214,7 +225,7 @@ impl Newton {
         let g = scratch(&mut self.g, n);
         let rhs = scratch(&mut self.rhs, nx);
         let dv = scratch(&mut self.dv, nx);
-        axpy_to(z, y0, c, f0);
+        guess(z, y0, c, f0, self.linear);
         let mut residual = f64::INFINITY;
         let mut cg_total = 0;
         let mut previous = f64::INFINITY;
@@ -230,6 +241,12 @@ impl Newton {
             // How much the last update shrank the residual (0 before the first).
             let rate = residual / previous;
             previous = residual;
+            if self.linear && iter == 1 {
+                // The one update taken; a non-finite state is the Check stage's divergence.
+                let relative = residual / scale.max(SCALE_FLOOR);
+                self.stats = SolveStats { newton: 1, cg: cg_total, residual: relative, sparse: true };
+                return Ok(());
+            }
             if !residual.is_finite() {
                 break;
             }
@@ -299,6 +316,16 @@ impl Newton {
         }
         self.stats = SolveStats { newton: self.params.max_iter, cg: cg_total, residual, sparse: true };
         Err(Error::NotConverged { method: method.into(), iterations: self.params.max_iter, residual })
+    }
+}
+
+/// The start of the iteration: the explicit guess `y0 + c f0`, or `y0` itself for the
+/// linearly implicit step (its one update is then `(I - c J(y0))^-1 c f(y0)`).
+fn guess(z: &mut [f64], y0: &[f64], c: f64, f0: &[f64], linear: bool) {
+    if linear {
+        z.copy_from_slice(y0);
+    } else {
+        axpy_to(z, y0, c, f0);
     }
 }
 

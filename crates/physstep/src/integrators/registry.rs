@@ -72,6 +72,7 @@ registry! {$
     PredictorCorrector: |_| PredictorCorrector::default(),
     ImplicitMidpoint: ImplicitMidpoint::with_params,
     Yoshida4: |_| Yoshida4::default(),
+    LinearlyImplicitEuler: LinearlyImplicitEuler::with_params,
 }
 
 /// The registry names, in order.
