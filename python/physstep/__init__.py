@@ -280,6 +280,16 @@ class Trajectory:
     body_spin: np.ndarray | None = None
     collisions: dict[str, float] | None = None
 
+    def __getstate__(self) -> dict[str, Any]:
+        """For pickle (the lab sends reference runs to its worker processes): the columns
+        computed on first read are computed now, as plain arrays (what they defer to is the
+        engine's, which does not pickle)."""
+        state = dict(self.__dict__)
+        for name, value in state.items():
+            if isinstance(value, _Deferred):
+                state[name] = value.value()
+        return state
+
     @property
     def ns_per_step(self) -> float:
         """Wall time of the stepping loop per step (recording included), ns."""

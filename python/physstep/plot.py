@@ -309,10 +309,10 @@ def _positive(value: Any) -> float | None:
     return x if math.isfinite(x) and x > 0 else None
 
 
-def work_precision(
-    data: dict[str, Any] | Sequence[dict[str, Any]], against: str = "evals", error: str = "max_error"
-) -> Figure:
-    """Error against work, log-log, one line per method, from :func:`physstep.lab.sweep` data.
+def work_precision(data: Any, against: str = "evals", error: str = "max_error") -> Figure:
+    """Error against work, log-log, one line per method, from :func:`physstep.lab.sweep` data:
+    its :class:`~physstep.lab.SweepResult`, that result's ``to_dict()``, or a list of rows
+    (:class:`~physstep.lab.SweepRow` or their dicts).
 
     ``against`` is ``"evals"`` (force evaluations), ``"time"`` (wall time of the stepping
     loop, s) or ``"both"`` (two panels side by side); ``error`` is ``"max_error"`` (over the
@@ -326,12 +326,14 @@ def work_precision(
         raise ValueError(f"invalid error = '{error}': must be max_error or error")
     if panels is None:
         raise ValueError(f"invalid against = '{against}': must be evals, time or both")
+    if callable(getattr(data, "to_dict", None)):  # a SweepResult
+        data = data.to_dict()
     if isinstance(data, dict):
         if "rows" not in data:
             raise ValueError("invalid data: no 'rows' (give the result of physstep.lab.sweep)")
         rows, meta = list(data["rows"]), data
     else:
-        rows, meta = list(data), {}
+        rows, meta = [r.to_dict() if callable(getattr(r, "to_dict", None)) else r for r in data], {}
     if not rows:
         raise ValueError("invalid data: no rows to plot")
     for n, r in enumerate(rows):

@@ -91,7 +91,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     _check_plot(args.plot)
     methods = _methods(args.methods)
     params = _params(args)
-    res = lab.compare(args.scene, methods, args.dt, args.until, params, jobs=args.jobs)
+    res = lab.compare(args.scene, methods, args.dt, args.until, params, jobs=args.jobs).to_dict()
     until = options.requested_until(args.scene, args.until)
     steps, t_end = _span(res)
     res.setdefault("until_requested", until)
@@ -203,7 +203,7 @@ def _cmd_order(args: argparse.Namespace) -> int:
         _params(args),
         levels=args.levels,
         time_scale=args.time_scale,
-    )
+    ).to_dict()
     for r in res.get("runs", []):
         # the lab marks a run that diverged with an infinite error: say so, never print inf
         e = r.get("error")
@@ -237,6 +237,7 @@ def _cmd_order(args: argparse.Namespace) -> int:
 def _cmd_stability(args: argparse.Namespace) -> int:
     """``physstep stability``: the largest stable dt of a method on a scene."""
     res = lab.stability(args.scene, args.method, _params(args), cap=args.cap, time_scale=args.time_scale)
+    res = res.to_dict()
     output.finite(res)
     if args.format == "json":
         print(output.dump(res))
@@ -284,7 +285,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         def progress(done: int, total: int, label: str) -> None:
             bar.update(task, completed=done, description=label)
 
-        res = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress, jobs=args.jobs)
+        ran = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress, jobs=args.jobs)
+    res = ran.to_dict()
     res.setdefault("until_requested", options.requested_until(args.scene, args.until))
     for r in res["rows"]:
         # where each run ended: dt does not always divide until (the lab may say it itself)
