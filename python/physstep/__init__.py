@@ -5,10 +5,11 @@ composable forces, rigid bodies, the fixed-timestep game loop, and a lab that me
 each method behaves on your system. The engine is Rust (``physstep._core``); this package
 is the Python face.
 
->>> import physstep
->>> traj = physstep.simulate("spring", "symplectic-euler", dt=1.0, until=2.0)
->>> traj.x[:, 0].tolist()
-[20.0, 10.0, -5.0]
+Examples:
+    >>> import physstep
+    >>> traj = physstep.simulate("spring", "symplectic-euler", dt=1.0, until=2.0)
+    >>> traj.x[:, 0].tolist()
+    [20.0, 10.0, -5.0]
 """
 
 from __future__ import annotations
@@ -147,10 +148,11 @@ class Flow:
     returning it) to :func:`simulate` and to every ``physstep.lab`` function in place of a
     scene name.
 
-    >>> import physstep
-    >>> decay = physstep.Flow(lambda t, y: -y, [1.0])
-    >>> round(float(physstep.simulate(decay, "rk4", dt=0.1, until=1.0).x[-1, 0]), 5)
-    0.36788
+    Examples:
+        >>> import physstep
+        >>> decay = physstep.Flow(lambda t, y: -y, [1.0])
+        >>> round(float(physstep.simulate(decay, "rk4", dt=0.1, until=1.0).x[-1, 0]), 5)
+        0.36788
     """
 
     fn: Callable[[float, np.ndarray], Any]

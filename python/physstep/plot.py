@@ -9,11 +9,12 @@ coordinates in 3D; :func:`energy` refuses a run whose energy is unknown. Rigid b
 (``Trajectory.kind == "bodies"``) have :func:`spin`: the body-frame angular velocity, the
 energy error and the change of the angular momentum.
 
->>> import physstep
->>> from physstep import plot
->>> runs = [physstep.simulate("orbit", m, dt=0.1, until=20) for m in ("explicit-euler", "rk4")]
->>> fig = plot.orbit(runs)
->>> plot.save(fig, "orbit.png")  # doctest: +SKIP
+Examples:
+    >>> import physstep
+    >>> from physstep import plot
+    >>> runs = [physstep.simulate("orbit", m, dt=0.1, until=20) for m in ("explicit-euler", "rk4")]
+    >>> fig = plot.orbit(runs)
+    >>> plot.save(fig, "orbit.png")  # doctest: +SKIP
 """
 
 from __future__ import annotations

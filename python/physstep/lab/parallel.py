@@ -11,9 +11,11 @@ row, about :data:`POOL_START_S` seconds. So :func:`run_units`:
 - runs the first row here and estimates, from its single-run time and the work of the
   others (steps times evaluations per step), what the rest would cost serially
   (:func:`estimate`, which follows :func:`~physstep.lab.common.timed`'s repetitions);
-- starts at most one process per CPU this process may use (``os.sched_getaffinity``) and
-  per remaining row, and none at all, running the rest here, where the estimated gain
-  ``rest * (1 - 1 / workers)`` is below :data:`POOL_START_S` (the result's ``note`` says so);
+- starts at most one process per remaining row and per CPU this process may use
+  (``os.sched_getaffinity``) that the others leave idle (the load average: processes do
+  not run faster for being more than the CPUs), and none at all, running the rest here,
+  where the estimated gain ``rest * (1 - 1 / workers)`` is below :data:`POOL_START_S` (the
+  result's ``note`` says so);
 - hands each worker chunks of consecutive rows of about equal estimated cost
   (:data:`CHUNKS_PER_WORKER` per worker, so a slow chunk does not leave the others idle):
   the scene or system and the reference run travel once per chunk, not once per row, and a
@@ -120,15 +122,32 @@ class Ran:
     note: str
 
 
-def decide(jobs: int, cpus: int, costs: Sequence[float]) -> tuple[int, str]:
+def load() -> float:
+    """Runnable processes on the machine, averaged over the last minute (0 where the system
+    does not tell): this one, running the first row, among them."""
+    try:
+        return float(os.getloadavg()[0])
+    except (AttributeError, OSError):
+        return 0.0
+
+
+def decide(jobs: int, cpus: int, costs: Sequence[float], busy: float = 0.0) -> tuple[int, str]:
     """How many worker processes ``jobs`` gets for rows of estimated serial ``costs`` (s) on
-    ``cpus`` CPUs, and the note saying so where it is not ``jobs`` ("" where it is): at most
-    one per CPU and per row, and 1 (run here) where fewer than two would run or where the
-    time they would save, ``sum(costs) * (1 - 1 / workers)``, is below :data:`POOL_START_S`."""
-    workers = min(jobs, cpus, len(costs))
+    ``cpus`` CPUs with ``busy`` (the load average) runnable processes, and the note saying
+    so where it is not ``jobs`` ("" where it is): at most one per row and per CPU left idle
+    by the others (``cpus - (busy - 1)``, this process not counted), and 1 (run here) where
+    fewer than two would run or where the time they would save,
+    ``sum(costs) * (1 - 1 / workers)``, is below :data:`POOL_START_S`."""
+    idle = max(1, math.floor(cpus - max(0.0, busy - 1.0) + 1e-9))
+    workers = min(jobs, cpus, idle, len(costs))
     asked = f"jobs={jobs}"
     if workers < 2:
-        why = "no row left" if not costs else "one row left" if len(costs) == 1 else "one CPU"
+        if not costs or len(costs) == 1:
+            why = "no row left" if not costs else "one row left"
+        elif cpus < 2:
+            why = "one CPU"
+        else:
+            why = f"the CPUs are busy (load {busy:.1f} on {cpus} CPUs)"
         return 1, f"{asked} ran here, serially: {why}"
     rest = sum(costs)
     if rest * (1 - 1 / workers) < POOL_START_S:
@@ -137,7 +156,8 @@ def decide(jobs: int, cpus: int, costs: Sequence[float]) -> tuple[int, str]:
             f"starting {workers} worker processes (about {POOL_START_S:g} s each)"
         )
     if workers < jobs:
-        return workers, f"{asked} ran in {workers} processes ({cpus} CPUs, {len(costs)} rows after the first)"
+        why = f"{cpus} CPUs" + (f", load {busy:.1f}" if idle < cpus else "")
+        return workers, f"{asked} ran in {workers} processes ({why}, {len(costs)} rows after the first)"
     return workers, ""
 
 
@@ -182,7 +202,7 @@ def run_units(
     first_s = time.perf_counter() - began
     first = out[0]
     costs = estimate(first_s, first.ns_per_step * first.steps * 1e-9, work)[1:]
-    workers, note = decide(jobs, cpus(), costs)
+    workers, note = decide(jobs, cpus(), costs, load())
     if workers == 1:
         serial(1)
         return Ran(out, 1, note)
