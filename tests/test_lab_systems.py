@@ -94,7 +94,7 @@ def limits() -> dict[str, dict]:
     return {m: lab.stability(duffing, m, rtol=1e-2) for m in METHODS}
 
 
-def _growth(method: str, dt: float, res: dict) -> float:
+def _growth(method: str, dt: float, res: lab.StabilityResult) -> float:
     """max over the run of max(|x_k - x_0| / A, |v_k - v_0| / V), the lab's horizon and scales
     (inf if a step fails; a force that turns infinite is the state running away)."""
     g = res.growth
@@ -141,7 +141,7 @@ def test_most_duffing_limits_are_sharp(limits) -> None:
         m for m in finite if not any(math.isclose(a, 1.03 * limits[m].dt_max) for a in limits[m].stable_above)
     ]
     assert len(finite) >= 12 and len(sharp) >= 8, (finite, sharp)
-    assert limits["implicit-midpoint"]["dt_max"] is None  # stable up to the cap
+    assert limits["implicit-midpoint"].dt_max is None  # stable up to the cap
 
 
 def test_velocity_verlet_has_a_resonance_window() -> None:
@@ -234,7 +234,7 @@ def test_sweep_on_systems(system) -> None:
     assert res.error_against == "reference: rk4 at dt/16 = 0.000625 s"
     for m in ("rk4", "heun"):
         coarse, fine = (r for r in res.rows if r.method == m)
-        assert fine["max_error"] < coarse["max_error"]
+        assert fine.max_error < coarse.max_error
     energy = [r.energy_max_rel_error for r in res.rows]
     assert all(e is None for e in energy) if system is not duffing else all(e >= 0 for e in energy)
 

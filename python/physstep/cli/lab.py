@@ -335,7 +335,8 @@ def _add_jobs(p: argparse.ArgumentParser) -> None:
         "--jobs",
         type=options.argument("--jobs", int, low=1, high=MAX_JOBS),
         default=1,
-        help=f"run the rows in this many local processes, 1 to {MAX_JOBS} (default 1); the same results",
+        help=f"run the rows in up to this many local processes, 1 to {MAX_JOBS} (default 1), where the "
+        "work pays for starting them (the note says when not); the same results",
     )
 
 
