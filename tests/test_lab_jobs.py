@@ -46,7 +46,6 @@ def pool_pays(monkeypatch: pytest.MonkeyPatch) -> None:
     there are 4 CPUs (so that small test sweeps do run in processes)."""
     monkeypatch.setattr(parallel, "POOL_START_S", 0.0)
     monkeypatch.setattr(parallel, "cpus", lambda: 4)
-    monkeypatch.setattr(parallel, "load", lambda: 1.0)
 
 
 def test_sweep_in_processes_gives_the_serial_rows(pool_pays: None) -> None:
@@ -76,7 +75,7 @@ def test_jobs_on_small_work_runs_here_and_says_so() -> None:
     small = lab.sweep("spring", ["rk4", "heun"], [0.2, 0.1], until=2.0, jobs=2)
     assert small.workers == 1
     assert small.note.startswith("jobs=2 ran here, serially: ")
-    assert any(why in small.note for why in ("too small", "one CPU", "busy"))
+    assert "too small" in small.note or "one CPU" in small.note
     assert same(serial.rows, small.rows)
     # compare alike; the note is the result's note, beside what "all" skipped
     flow = lab.compare("lorenz", "all", dt=0.01, until=0.1, jobs=3)
@@ -96,16 +95,6 @@ def test_decide_takes_processes_only_where_they_pay() -> None:
     assert parallel.decide(8, 16, [10 * start] * 3)[0] == 3
     assert parallel.decide(4, 1, [10 * start] * 8) == (1, "jobs=4 ran here, serially: one CPU")
     assert parallel.decide(4, 4, [10 * start]) == (1, "jobs=4 ran here, serially: one row left")
-    # CPUs the other processes keep busy are not counted (this one, at load 1, is)
-    assert parallel.decide(4, 4, [10 * start] * 8, busy=1.0) == (4, "")
-    assert parallel.decide(4, 4, [10 * start] * 8, busy=3.0) == (
-        2,
-        "jobs=4 ran in 2 processes (4 CPUs, load 3.0, 8 rows after the first)",
-    )
-    assert parallel.decide(2, 2, [10 * start] * 8, busy=6.2) == (
-        1,
-        "jobs=2 ran here, serially: the CPUs are busy (load 6.2 on 2 CPUs)",
-    )
 
 
 def test_the_estimate_follows_the_timing_repetitions() -> None:

@@ -12,10 +12,9 @@ row, about :data:`POOL_START_S` seconds. So :func:`run_units`:
   others (steps times evaluations per step), what the rest would cost serially
   (:func:`estimate`, which follows :func:`~physstep.lab.common.timed`'s repetitions);
 - starts at most one process per remaining row and per CPU this process may use
-  (``os.sched_getaffinity``) that the others leave idle (the load average: processes do
-  not run faster for being more than the CPUs), and none at all, running the rest here,
-  where the estimated gain ``rest * (1 - 1 / workers)`` is below :data:`POOL_START_S` (the
-  result's ``note`` says so);
+  (``os.sched_getaffinity``: processes do not run faster for being more than the CPUs),
+  and none at all, running the rest here, where the estimated gain
+  ``rest * (1 - 1 / workers)`` is below :data:`POOL_START_S` (the result's ``note`` says so);
 - hands each worker chunks of consecutive rows of about equal estimated cost
   (:data:`CHUNKS_PER_WORKER` per worker, so a slow chunk does not leave the others idle):
   the scene or system and the reference run travel once per chunk, not once per row, and a
@@ -42,7 +41,7 @@ from physstep.lab.common import TIMING_MAX_RUNS, TIMING_MAX_S, TIMING_MIN_RUNS, 
 from physstep.lab.system import Subject
 
 #: Seconds to start a worker process and import physstep into it (spawn, numpy included),
-#: measured on a 2-CPU machine (0.5 to 0.9 s under load): what ``jobs`` must save to pay.
+#: measured at 0.4 to 0.8 s on a 2-CPU machine at load 2 (1 s: a margin): what ``jobs`` must save.
 POOL_START_S = 1.0
 #: Chunks of rows per worker process: a few, so that the workers finish together.
 CHUNKS_PER_WORKER = 4
@@ -122,32 +121,19 @@ class Ran:
     note: str
 
 
-def load() -> float:
-    """Runnable processes on the machine, averaged over the last minute (0 where the system
-    does not tell): this one, running the first row, among them."""
-    try:
-        return float(os.getloadavg()[0])
-    except (AttributeError, OSError):
-        return 0.0
-
-
-def decide(jobs: int, cpus: int, costs: Sequence[float], busy: float = 0.0) -> tuple[int, str]:
+def decide(jobs: int, cpus: int, costs: Sequence[float]) -> tuple[int, str]:
     """How many worker processes ``jobs`` gets for rows of estimated serial ``costs`` (s) on
-    ``cpus`` CPUs with ``busy`` (the load average) runnable processes, and the note saying
-    so where it is not ``jobs`` ("" where it is): at most one per row and per CPU left idle
-    by the others (``cpus - (busy - 1)``, this process not counted), and 1 (run here) where
-    fewer than two would run or where the time they would save,
-    ``sum(costs) * (1 - 1 / workers)``, is below :data:`POOL_START_S`."""
-    idle = max(1, math.floor(cpus - max(0.0, busy - 1.0) + 1e-9))
-    workers = min(jobs, cpus, idle, len(costs))
+    ``cpus`` CPUs, and the note saying so where it is not ``jobs`` ("" where it is): at most
+    one per row and per CPU, and 1 (run here) where fewer than two would run or where the
+    time they would save, ``sum(costs) * (1 - 1 / workers)``, is below :data:`POOL_START_S`.
+
+    The load of the machine is not read: its average lags a minute behind (this process's
+    own work of a moment ago counts in it), and other processes of a lower priority give way
+    to the workers anyway."""
+    workers = min(jobs, cpus, len(costs))
     asked = f"jobs={jobs}"
     if workers < 2:
-        if not costs or len(costs) == 1:
-            why = "no row left" if not costs else "one row left"
-        elif cpus < 2:
-            why = "one CPU"
-        else:
-            why = f"the CPUs are busy (load {busy:.1f} on {cpus} CPUs)"
+        why = "no row left" if not costs else "one row left" if len(costs) == 1 else "one CPU"
         return 1, f"{asked} ran here, serially: {why}"
     rest = sum(costs)
     if rest * (1 - 1 / workers) < POOL_START_S:
@@ -156,8 +142,7 @@ def decide(jobs: int, cpus: int, costs: Sequence[float], busy: float = 0.0) -> t
             f"starting {workers} worker processes (about {POOL_START_S:g} s each)"
         )
     if workers < jobs:
-        why = f"{cpus} CPUs" + (f", load {busy:.1f}" if idle < cpus else "")
-        return workers, f"{asked} ran in {workers} processes ({why}, {len(costs)} rows after the first)"
+        return workers, f"{asked} ran in {workers} processes ({cpus} CPUs, {len(costs)} rows after the first)"
     return workers, ""
 
 
@@ -202,7 +187,7 @@ def run_units(
     first_s = time.perf_counter() - began
     first = out[0]
     costs = estimate(first_s, first.ns_per_step * first.steps * 1e-9, work)[1:]
-    workers, note = decide(jobs, cpus(), costs, load())
+    workers, note = decide(jobs, cpus(), costs)
     if workers == 1:
         serial(1)
         return Ran(out, 1, note)
