@@ -77,8 +77,8 @@ class Result:
     __iter__ = None
 
 
-def _optional() -> Any:
-    return dataclasses.field(default=None, metadata={"optional": True})
+#: The metadata of a field left out of ``to_dict()`` when it is None.
+OPTIONAL = {"optional": True}
 
 
 # --------------------------------------------------------------------------------------
@@ -164,7 +164,7 @@ class CompareResult(Result):
     skipped: tuple[str, ...]
     note: str
     rows: tuple[CompareRow, ...]
-    angular_momentum_error: str | None = _optional()
+    angular_momentum_error: str | None = dataclasses.field(default=None, metadata=OPTIONAL)
     dt: float
     steps: int
     t_end: float
@@ -370,6 +370,6 @@ class StabilityResult(Result):
     time_scale: float
     grid: tuple[float, float, int]
     note: str
-    growth: GrowthTest | None = _optional()
-    stable_above: tuple[float, ...] | None = _optional()
-    spectral_radius_at_dt_max: float | None = _optional()
+    growth: GrowthTest | None = dataclasses.field(default=None, metadata=OPTIONAL)
+    stable_above: tuple[float, ...] | None = dataclasses.field(default=None, metadata=OPTIONAL)
+    spectral_radius_at_dt_max: float | None = dataclasses.field(default=None, metadata=OPTIONAL)
