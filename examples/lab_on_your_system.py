@@ -36,10 +36,10 @@ def main() -> None:
     for m in METHODS:
         o = lab.order(duffing, m, levels=4)
         s = lab.stability(duffing, m, rtol=1e-3)
-        dt_max = "no limit" if s["dt_max"] is None else f"{s['dt_max']:.4f}"
-        note = "stable again just above" if s["stable_above"] else ""
+        dt_max = "no limit" if s.dt_max is None else f"{s.dt_max:.4f}"
+        note = "stable again just above" if s.stable_above else ""
         print(f"{m:<18} {o['info_order']:>5} {o['order']:>8.3f} {dt_max:>11}  {note}")
-        assert abs(o["order"] - o["info_order"]) < 0.15
+        assert abs(o.order - o.info_order) < 0.15
     print(f"errors against the {o['error_against']}")
     print(f"stability: {s['criterion']}")
 

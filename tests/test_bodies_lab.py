@@ -22,13 +22,13 @@ def _cli(*args: str) -> subprocess.CompletedProcess[str]:
 
 def test_compare_on_the_racket_has_an_angular_momentum_column_and_skips_verlet() -> None:
     res = lab.compare("racket", "all", until=20.0)
-    rows = {r["method"]: r for r in res["rows"]}
-    assert "verlet" not in rows and res["skipped"] == ["verlet"]
-    assert "orientations" in res["note"]
-    assert rows["symplectic-euler"]["angular_momentum_max_rel_error"] < 1e-12
+    rows = {r.method: r for r in res.rows}
+    assert "verlet" not in rows and res.skipped == ("verlet",)
+    assert "orientations" in res.note
+    assert rows["symplectic-euler"].angular_momentum_max_rel_error < 1e-12
     # The free body under rk4 is accurate: its final body-frame spin is near the reference.
-    assert rows["rk4"]["final_error"] < 1e-4
-    assert rows["explicit-euler"]["final_error"] > 100 * rows["rk4"]["final_error"]
+    assert rows["rk4"].final_error < 1e-4
+    assert rows["explicit-euler"].final_error > 100 * rows["rk4"].final_error
 
 
 def test_compare_refuses_verlet_on_a_body_scene_in_one_line() -> None:
@@ -38,7 +38,7 @@ def test_compare_refuses_verlet_on_a_body_scene_in_one_line() -> None:
 
 def test_particle_scenes_have_no_angular_momentum_column() -> None:
     res = lab.compare("spring", ["rk4"], until=1.0)
-    assert res["rows"][0]["angular_momentum_max_rel_error"] is None
+    assert res.rows[0].angular_momentum_max_rel_error is None
 
 
 def test_spin_plots_the_body_frame_angular_velocity() -> None:
@@ -79,7 +79,7 @@ def test_stability_refuses_body_scenes_rather_than_call_every_dt_stable() -> Non
 
 def test_sweep_and_order_measure_bodies_against_the_reference() -> None:
     res = lab.sweep("racket", ["rk4", "symplectic-euler"], [0.02, 0.01], until=20.0)
-    err = {(r["method"], r["dt"]): r["max_error"] for r in res["rows"]}
+    err = {(r.method, r.dt): r.max_error for r in res.rows}
     # Halving dt cuts rk4's body-spin error by 16 or more (measured 32), and the splitting
     # drift's (a free body: no kicks) by 4: it is second order whatever the split method.
     assert err[("rk4", 0.02)] / err[("rk4", 0.01)] > 12.0

@@ -134,8 +134,9 @@ def test_lab_output_refuses_non_finite_fields(monkeypatch, capsys, fmt) -> None:
 
     def compare(*args, **kwargs):
         res = real(*args, **kwargs)
-        res["rows"][1]["energy_drift"] = float("nan")
-        return res
+        rows = list(res.rows)
+        rows[1] = dataclasses.replace(rows[1], energy_drift=float("nan"))
+        return dataclasses.replace(res, rows=tuple(rows))
 
     monkeypatch.setattr(lab, "compare", compare)
     args = ["compare", "spring", "--methods", "rk4,heun", "--dt", "0.5", "--until", "2", "--format", fmt]
@@ -150,8 +151,9 @@ def test_order_prints_diverged_runs_without_infinity(monkeypatch, capsys) -> Non
 
     def order(*args, **kwargs):
         res = real(*args, **kwargs)
-        res["runs"][0]["error"] = float("inf")  # how the lab marks a run that diverged
-        return res
+        runs = list(res.runs)
+        runs[0] = dataclasses.replace(runs[0], error=float("inf"))  # how the lab marks a run that diverged
+        return dataclasses.replace(res, runs=tuple(runs))
 
     monkeypatch.setattr(lab, "order", order)
     assert cli.main(["order", "spring", "--method", "rk4", "--levels", "3", "--format", "json"]) == 0

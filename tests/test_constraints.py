@@ -187,10 +187,10 @@ def test_the_lab_measures_the_rod_constraint_against_rattle(method: str, order: 
     from physstep import lab
 
     res = lab.order("pendulum", method, levels=4)
-    assert res["error_against"].startswith("reference: velocity-verlet at dt/16")
-    assert abs(res["order"] - order) < 0.15, res["order"]
+    assert res.error_against.startswith("reference: velocity-verlet at dt/16")
+    assert abs(res.order - order) < 0.15, res.order
     table = lab.compare("pendulum", [method, "rk4"], dt=0.01, until=1.0)
-    assert table["error_against"].startswith("reference: velocity-verlet")
+    assert table.error_against.startswith("reference: velocity-verlet")
 
 
 # --- issue 25, item 12: SHAKE's sweep cap is said, with the violation it left -------------

@@ -185,6 +185,42 @@ def test_no_display_is_one_line_pointing_at_headless(capsys, monkeypatch: pytest
     assert "cannot open a window" in err and "--headless" in err
 
 
+def test_without_a_display_the_demo_exits_2_in_one_line_not_unseen(capfd, monkeypatch) -> None:
+    # no display and no driver chosen: SDL would fall back to its offscreen driver and run
+    # the demo unseen (exit 0 when it ends), printing its own errors about Wayland first
+    for var in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER"):
+        monkeypatch.delenv(var, raising=False)
+    monkeypatch.setattr(sys, "platform", "linux")
+    assert main(["demo", "orbit", "--frames", "1"]) == 2
+    err = capfd.readouterr().err  # file descriptor 2: SDL's own writes too
+    assert err.splitlines() == [
+        "physstep: error: cannot open a window (no display: DISPLAY and WAYLAND_DISPLAY are unset): "
+        "run with --headless --screenshot FILE.png"
+    ]
+    # a driver that shows nothing, asked for without --headless
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    assert main(["demo", "orbit", "--frames", "1"]) == 2
+    err = capfd.readouterr().err
+    assert len(err.splitlines()) == 1 and "SDL's video driver is 'dummy', which shows nothing" in err
+
+
+def test_a_headless_run_says_when_the_frame_cap_slowed_it_below_real_time(capsys) -> None:
+    # lorenz at dt = 1 ms: 16.7 steps a frame of 1/60 s, 8 allowed
+    slow = app.run("lorenz", headless=True, frames=60, dt=0.001)
+    assert slow["t"] == pytest.approx(60 * 8 * 0.001)
+    assert slow["slowed"] == (
+        "slower than real time: the frame cap (at most 8 steps per frame, frames clamped to 0.1 s) "
+        "dropped 0.52 s; 0.48 s simulated in 1 s of frames (48 % of real time)"
+    )
+    assert main(["demo", "lorenz", "--headless", "--frames", "60", "--dt", "0.001"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 2 and lines[1] == "note: " + slow["slowed"]
+    # at its own dt the demo keeps up: nothing to say
+    assert app.run("lorenz", headless=True, frames=60)["slowed"] is None
+    assert main(["demo", "orbit", "--headless", "--frames", "30", "--format", "json"]) == 0
+    assert json.loads(capsys.readouterr().out)["slowed"] is None
+
+
 def test_a_drag_holds_the_particle_under_the_pointer_at_rest() -> None:
     seen: dict[str, object] = {}
 

@@ -29,23 +29,23 @@ METHODS = [m.name for m in physstep.methods()]
 def test_observed_order_matches_the_registry(scene: str, method: str) -> None:
     res = lab.order(scene, method, levels=4)
     info = physstep.method(method).order
-    assert res["order"] is not None, res
-    assert abs(res["order"] - info) < 0.15, (res["order"], info, res["runs"])
-    assert [r["steps"] % 2 for r in res["runs"]] == [0] * len(res["runs"])  # even step counts
-    assert res["error_against"] == "exact solution"
+    assert res.order is not None, res
+    assert abs(res.order - info) < 0.15, (res.order, info, res.runs)
+    assert [r.steps % 2 for r in res.runs] == [0] * len(res.runs)  # even step counts
+    assert res.error_against == "exact solution"
 
 
 def test_order_without_exact_solution_uses_the_reference() -> None:
     # The notes' rod force (rod = 0): rk4, the reference, keeps its order on it; on the rod
     # constraint rk4 is projected, first order, and no reference.
     res = lab.order("pendulum", "velocity-verlet", params={"rod": 0}, levels=4)
-    assert res["error_against"].startswith("reference: rk4 at dt/16")
-    assert abs(res["order"] - 2) < 0.15
+    assert res.error_against.startswith("reference: rk4 at dt/16")
+    assert abs(res.order - 2) < 0.15
 
 
 def test_order_of_a_method_exact_on_the_scene_is_none() -> None:
     res = lab.order("projectile", "velocity-verlet", levels=3)
-    assert res["order"] is None and "exact" in res["note"]
+    assert res.order is None and "exact" in res.note
 
 
 # -- stability -------------------------------------------------------------------------
@@ -90,32 +90,32 @@ SPRING_LIMITS = {
 def test_stability_limits_on_the_undamped_spring(method: str) -> None:
     res = lab.stability("spring", method)
     want = SPRING_LIMITS[method]
-    assert "spectral radius" in res["criterion"] and res["cap"] > 0
+    assert "spectral radius" in res.criterion and res.cap > 0
     if want is None:
-        assert res["dt_max"] is None
+        assert res.dt_max is None
     elif want == 0:
-        assert res["dt_max"] == 0.0
+        assert res.dt_max == 0.0
     else:
-        assert res["dt_max"] == pytest.approx(want, rel=1e-6)
+        assert res.dt_max == pytest.approx(want, rel=1e-6)
 
 
 def test_stability_of_alternating_euler_uses_its_two_step_map() -> None:
     # two steps (velocity-first, then position-first) = leapfrog with step 2 dt: 2 dt omega <= 2
     res = lab.stability("spring", "symplectic-euler-alternating")
-    assert res["dt_max"] == pytest.approx(1 / OMEGA, rel=1e-6)
+    assert res.dt_max == pytest.approx(1 / OMEGA, rel=1e-6)
 
 
 def test_stability_on_drag_and_projectile() -> None:
     # drag: eigenvalue -c/m = -0.5; explicit Euler |1 - 0.5 dt| <= 1 iff dt <= 4
-    assert lab.stability("drag", "explicit-euler")["dt_max"] == pytest.approx(4.0, rel=1e-6)
+    assert lab.stability("drag", "explicit-euler").dt_max == pytest.approx(4.0, rel=1e-6)
     # projectile: free particle plus a constant force, a Jordan block at 1: no limit
-    assert lab.stability("projectile", "verlet")["dt_max"] is None
+    assert lab.stability("projectile", "verlet").dt_max is None
 
 
 def test_stability_on_a_nonlinear_scene_is_bounded_growth() -> None:
     res = lab.stability("orbit", "symplectic-euler")
-    assert res["criterion"].startswith("bounded growth")
-    assert 0.1 < res["dt_max"] < 2.0
+    assert res.criterion.startswith("bounded growth")
+    assert 0.1 < res.dt_max < 2.0
 
 
 # -- compare and sweep -----------------------------------------------------------------
@@ -123,27 +123,27 @@ def test_stability_on_a_nonlinear_scene_is_bounded_growth() -> None:
 
 def test_compare_rows() -> None:
     res = lab.compare("orbit", ["explicit-euler", "symplectic-euler", "rk4"], 0.05, 6.0)
-    assert res["error_against"] == "exact solution"
-    rows = {r["method"]: r for r in res["rows"]}
-    assert rows["rk4"]["evals_per_step"] == 4.0 and rows["explicit-euler"]["evals_per_step"] == 1.0
-    assert rows["explicit-euler"]["energy_drift"] > 0  # gains energy
-    assert rows["rk4"]["final_error"] < rows["symplectic-euler"]["final_error"]
-    assert rows["explicit-euler"]["energy_max_rel_error"] > rows["symplectic-euler"]["energy_max_rel_error"]
+    assert res.error_against == "exact solution"
+    rows = {r.method: r for r in res.rows}
+    assert rows["rk4"].evals_per_step == 4.0 and rows["explicit-euler"].evals_per_step == 1.0
+    assert rows["explicit-euler"].energy_drift > 0  # gains energy
+    assert rows["rk4"].final_error < rows["symplectic-euler"].final_error
+    assert rows["explicit-euler"].energy_max_rel_error > rows["symplectic-euler"].energy_max_rel_error
 
 
 def test_compare_without_exact_solution_uses_a_reference() -> None:
     res = lab.compare("chain", ["symplectic-euler", "rk4"], 0.001, 0.1)
-    assert res["error_against"].startswith("reference: rk4 at dt/16")
-    assert all(r["final_error"] >= 0 for r in res["rows"])
+    assert res.error_against.startswith("reference: rk4 at dt/16")
+    assert all(r.final_error >= 0 for r in res.rows)
 
 
 def test_sweep_rows_and_errors_fall_with_dt() -> None:
     res = lab.sweep("spring", ["velocity-verlet", "rk4"], [0.2, 0.1, 0.05], 10.0)
-    assert len(res["rows"]) == 6
-    rk4 = [r for r in res["rows"] if r["method"] == "rk4"]
-    assert [r["dt"] for r in rk4] == [0.2, 0.1, 0.05]
-    assert rk4[0]["max_error"] > rk4[1]["max_error"] > rk4[2]["max_error"]
-    assert rk4[2]["evals"] == 4 * rk4[2]["steps"]
+    assert len(res.rows) == 6
+    rk4 = [r for r in res.rows if r.method == "rk4"]
+    assert [r.dt for r in rk4] == [0.2, 0.1, 0.05]
+    assert rk4[0].max_error > rk4[1].max_error > rk4[2].max_error
+    assert rk4[2].evals == 4 * rk4[2].steps
 
 
 def test_bad_input_raises_value_error() -> None:
@@ -183,9 +183,9 @@ def test_amplification_covers_the_integrator_memory() -> None:
 
 def test_a_large_cap_still_finds_the_limit() -> None:
     # the grid starts at 1e-3 natural time scales whatever the cap (it used to start at cap * 1e-6)
-    assert lab.stability("spring", "rk4", cap=1e9)["dt_max"] == pytest.approx(4.0, rel=1e-6)
-    assert lab.stability("drag", "leapfrog", cap=1e9)["dt_max"] == pytest.approx(4.0, rel=1e-6)
-    assert lab.stability("spring", "explicit-euler", cap=1e9)["dt_max"] == 0.0
+    assert lab.stability("spring", "rk4", cap=1e9).dt_max == pytest.approx(4.0, rel=1e-6)
+    assert lab.stability("drag", "leapfrog", cap=1e9).dt_max == pytest.approx(4.0, rel=1e-6)
+    assert lab.stability("spring", "explicit-euler", cap=1e9).dt_max == 0.0
 
 
 @pytest.mark.parametrize("cap", [5e-324, 1e-3, 0.0, -1.0, math.inf, math.nan, 1e300])
@@ -203,14 +203,14 @@ def test_a_bad_rtol_is_refused_not_looped_on(rtol: float) -> None:
 def test_stability_on_the_chain_uses_the_state_not_the_energy() -> None:
     # the chain's E0 is 3e-30 J (rounding): a criterion relative to E0 said "unstable at every dt"
     res = lab.stability("chain", "symplectic-euler")
-    assert res["analysis"] == "bounded growth"
-    assert "|x_k - x_0|" in res["criterion"] and "energy" not in res["criterion"]
-    assert 0.001 < res["dt_max"] < lab.time_scale("chain")
+    assert res.analysis == "bounded growth"
+    assert "|x_k - x_0|" in res.criterion and "energy" not in res.criterion
+    assert 0.001 < res.dt_max < lab.time_scale("chain")
 
 
 def test_stability_says_which_analysis() -> None:
-    assert lab.stability("spring", "rk4")["analysis"] == "amplification matrix"
-    assert lab.stability("orbit", "rk4")["analysis"] == "bounded growth"
+    assert lab.stability("spring", "rk4").analysis == "amplification matrix"
+    assert lab.stability("orbit", "rk4").analysis == "bounded growth"
 
 
 # -- review fixes: order -------------------------------------------------------------
@@ -253,10 +253,10 @@ def test_order_refuses_oversized_runs_up_front(kwargs: dict, needle: str, monkey
 def test_yoshida4_on_drag_tends_to_fourth_order() -> None:
     # pre-asymptotic, not an order loss: the local order rises towards 4 as dt falls
     res = lab.order("drag", "yoshida4", levels=8)
-    pairs = [r["order"] for r in res["runs"] if r["order"] is not None]
+    pairs = [r.order for r in res.runs if r.order is not None]
     assert pairs[1] < 3.2  # 3.06 from dt 0.15 to 0.075
     assert pairs[1:] == sorted(pairs[1:]) and 3.95 < pairs[-1] < 4.0  # ... 3.87, 3.94, 3.97
-    assert 3.9 < res["order"] < 4.0
+    assert 3.9 < res.order < 4.0
 
 
 @pytest.mark.parametrize("scene", ["spring", "orbit", "drag"])
@@ -319,9 +319,9 @@ def test_compare_of_a_diverging_run_reports_cleanly() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         res = lab.compare("spring", ["explicit-euler", "rk4"], dt=5.0, until=5000.0)
-    rows = {r["method"]: r for r in res["rows"]}
-    assert rows["explicit-euler"]["diverged"] and rows["explicit-euler"]["t_end"] < 5000.0
-    drift = rows["explicit-euler"]["energy_drift"]
+    rows = {r.method: r for r in res.rows}
+    assert rows["explicit-euler"].diverged and rows["explicit-euler"].t_end < 5000.0
+    drift = rows["explicit-euler"].energy_drift
     assert drift is None or math.isfinite(drift)
 
 
@@ -331,24 +331,24 @@ def test_compare_and_sweep_say_what_was_run(monkeypatch) -> None:
     monkeypatch.setattr(lab.common, "TIMING_MIN_S", 0.0)
     monkeypatch.setattr(lab.common, "TIMING_MAX_S", math.inf)
     res = lab.compare("orbit", ["symplectic-euler", "rk4"], 0.1, 18.85)
-    assert res["until_requested"] == 18.85 and res["steps"] == 188 and res["t_end"] == pytest.approx(18.8)
-    for r in res["rows"]:
-        assert r["steps"] == 188 and r["t_end"] == pytest.approx(18.8)
-        assert r["ns_per_step_runs"] == lab.TIMING_MIN_RUNS == 3 and r["ns_per_step"] > 0
-    assert "median" in res["timing"] and "kinetic" in res["energy_error"]
+    assert res.until_requested == 18.85 and res.steps == 188 and res.t_end == pytest.approx(18.8)
+    for r in res.rows:
+        assert r.steps == 188 and r.t_end == pytest.approx(18.8)
+        assert r.ns_per_step_runs == lab.TIMING_MIN_RUNS == 3 and r.ns_per_step > 0
+    assert "median" in res.timing and "kinetic" in res.energy_error
     sw = lab.sweep("orbit", ["rk4"], [0.3, 0.1], 1.0)
-    assert sw["until_requested"] == 1.0
-    assert [(r["steps"], round(r["t_end"], 9)) for r in sw["rows"]] == [(3, 0.9), (10, 1.0)]
-    assert all(r["ns_per_step_runs"] == 3 for r in sw["rows"])
+    assert sw.until_requested == 1.0
+    assert [(r.steps, round(r.t_end, 9)) for r in sw.rows] == [(3, 0.9), (10, 1.0)]
+    assert all(r.ns_per_step_runs == 3 for r in sw.rows)
 
 
 def test_compare_energy_errors_on_the_chain_are_meaningful() -> None:
     # E0 = 3e-30 J: relative to E0 the errors read 1e24; relative to the kinetic energy they are small
     res = lab.compare("chain", ["symplectic-euler", "rk4"], 0.001, 0.5)
-    rows = {r["method"]: r for r in res["rows"]}
-    assert rows["rk4"]["energy_max_rel_error"] < 1e-5
-    assert rows["symplectic-euler"]["energy_max_rel_error"] < 0.05
-    assert rows["rk4"]["energy_scale"] > 1.0  # J: the chain's kinetic energy, not |E0|
+    rows = {r.method: r for r in res.rows}
+    assert rows["rk4"].energy_max_rel_error < 1e-5
+    assert rows["symplectic-euler"].energy_max_rel_error < 0.05
+    assert rows["rk4"].energy_scale > 1.0  # J: the chain's kinetic energy, not |E0|
 
 
 # -- compare on rigid bodies: the |L| column ------------------------------------------
@@ -356,15 +356,15 @@ def test_compare_energy_errors_on_the_chain_are_meaningful() -> None:
 
 def test_compare_on_the_racket_has_an_angular_momentum_column() -> None:
     res = lab.compare("racket", ["rk4", "symplectic-euler"], until=30.0)
-    rows = {r["method"]: r for r in res["rows"]}
-    assert set(rows) == {"rk4", "symplectic-euler"} and res["kind"] == "bodies"
+    rows = {r.method: r for r in res.rows}
+    assert set(rows) == {"rk4", "symplectic-euler"} and res.kind == "bodies"
     # the default keeps L exact (drifts never change it, a free body has no torque) ...
-    assert rows["symplectic-euler"]["angular_momentum_max_rel_error"] < 1e-12
-    assert isinstance(rows["rk4"]["angular_momentum_max_rel_error"], float)
+    assert rows["symplectic-euler"].angular_momentum_max_rel_error < 1e-12
+    assert isinstance(rows["rk4"].angular_momentum_max_rel_error, float)
     # ... while its energy error is bounded but not zero: the column is not the energy's
-    assert 1e-8 < rows["symplectic-euler"]["energy_max_rel_error"] < 1e-5
-    assert "|L - L0| / |L0|" in res["angular_momentum_error"]
-    assert res["skipped"] == [] and res["note"] == ""
+    assert 1e-8 < rows["symplectic-euler"].energy_max_rel_error < 1e-5
+    assert "|L - L0| / |L0|" in res.angular_momentum_error
+    assert res.skipped == () and res.note == ""
 
 
 def test_the_angular_momentum_column_sees_an_angular_form_that_breaks_l() -> None:
@@ -376,17 +376,17 @@ def test_the_angular_momentum_column_sees_an_angular_form_that_breaks_l() -> Non
         return w
 
     res = lab.compare(gyroscopic, ["symplectic-euler"], dt=1 / 120, until=30.0)
-    assert res["kind"] == "bodies" and "angular_momentum_error" in res
-    assert res["rows"][0]["angular_momentum_max_rel_error"] > 1e-3
+    assert res.kind == "bodies" and res.angular_momentum_error is not None
+    assert res.rows[0].angular_momentum_max_rel_error > 1e-3
 
 
 def test_compare_all_on_a_body_scene_skips_verlet_with_a_note() -> None:
     res = lab.compare("racket", "all", until=0.5)
-    ran = [r["method"] for r in res["rows"]]
-    assert "verlet" not in ran and res["skipped"] == ["verlet"]
+    ran = [r.method for r in res.rows]
+    assert "verlet" not in ran and res.skipped == ("verlet",)
     assert ran == [m for m in METHODS if m != "verlet"]
-    assert "verlet" in res["note"] and "rigid bodies" in res["note"]
-    assert all(r["angular_momentum_max_rel_error"] is not None for r in res["rows"])
+    assert "verlet" in res.note and "rigid bodies" in res.note
+    assert all(r.angular_momentum_max_rel_error is not None for r in res.rows)
     with pytest.raises(ValueError, match=r"method 'verlet' .*orientations"):
         lab.compare("racket", ["rk4", "verlet"], until=0.5)
 
@@ -394,8 +394,8 @@ def test_compare_all_on_a_body_scene_skips_verlet_with_a_note() -> None:
 def test_particle_and_flow_tables_have_no_angular_momentum_description() -> None:
     for scene in ("spring", "lorenz"):
         res = lab.compare(scene, ["rk4"], dt=0.01, until=0.1)
-        assert "angular_momentum_error" not in res
-        assert res["rows"][0]["angular_momentum_max_rel_error"] is None
+        assert res.angular_momentum_error is None and "angular_momentum_error" not in res.to_dict()
+        assert res.rows[0].angular_momentum_max_rel_error is None
 
 
 # -- CLI -------------------------------------------------------------------------------

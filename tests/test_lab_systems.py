@@ -50,17 +50,17 @@ FLOW = physstep.Flow(_lorenz, [1.0, 1.0, 1.0], name="my-lorenz")
 @pytest.mark.parametrize("method", METHODS)
 def test_order_on_a_python_force_matches_the_registry(method: str) -> None:
     res = lab.order(duffing, method, levels=4)
-    assert res["error_against"].startswith("reference: rk4 at dt/16")
-    assert res["scene"] == "duffing" and res["params"] == {}
-    assert abs(res["order"] - physstep.method(method).order) < 0.15, (res["order"], res["runs"])
+    assert res.error_against.startswith("reference: rk4 at dt/16")
+    assert res.scene == "duffing" and res.params == {}
+    assert abs(res.order - physstep.method(method).order) < 0.15, (res.order, res.runs)
 
 
 @pytest.mark.parametrize("system", ["lorenz", FLOW], ids=["lorenz", "flow"])
 def test_rk4_is_fourth_order_on_the_lorenz_attractor(system) -> None:
     res = lab.order(system, "rk4", until=0.5)
-    assert res["kind"] == "flow" and res["error"].startswith("final state error")
-    assert res["error_against"].startswith("reference: rk4 at dt/16")
-    assert abs(res["order"] - 4) < 0.15, res["runs"]
+    assert res.kind == "flow" and res.error.startswith("final state error")
+    assert res.error_against.startswith("reference: rk4 at dt/16")
+    assert abs(res.order - 4) < 0.15, res.runs
 
 
 # -- the time scale of a system ------------------------------------------------------------
@@ -78,9 +78,9 @@ def test_a_systems_time_scale_is_estimated_from_its_initial_state() -> None:
 
 
 def test_time_scale_can_be_given() -> None:
-    assert lab.order(duffing, "rk4", levels=2, time_scale=2.0)["until"] == pytest.approx(0.6)
+    assert lab.order(duffing, "rk4", levels=2, time_scale=2.0).until == pytest.approx(0.6)
     res = lab.stability(FLOW, "rk4", time_scale=1.0, steps=100, rtol=0.1)
-    assert res["time_scale"] == 1.0 and res["grid"][0] == pytest.approx(1e-3)
+    assert res.time_scale == 1.0 and res.grid[0] == pytest.approx(1e-3)
     with pytest.raises(ValueError, match="invalid time_scale = -1"):
         lab.order(duffing, "rk4", time_scale=-1.0)
 
@@ -94,66 +94,62 @@ def limits() -> dict[str, dict]:
     return {m: lab.stability(duffing, m, rtol=1e-2) for m in METHODS}
 
 
-def _growth(method: str, dt: float, res: dict, horizons: int = 1) -> float:
+def _growth(method: str, dt: float, res: lab.StabilityResult, horizons: int = 1) -> float:
     """max over the run of max(|x_k - x_0| / A, |v_k - v_0| / V), the lab's scales over
     ``horizons`` times its horizon (inf if a step fails; a force that turns infinite is the
     state running away)."""
-    g = res["growth"]
+    g = res.growth
     try:
         with np.errstate(all="ignore"):
-            traj = physstep.simulate(duffing, method, dt, dt * g["steps"] * horizons, stop_on_diverge=True)
+            traj = physstep.simulate(duffing, method, dt, dt * g.steps * horizons, stop_on_diverge=True)
     except ValueError as e:
         assert re.search(r"force\[0\]\[0\] = \S+ is not finite", str(e)), e
         return math.inf
     if traj.diverged:
         return math.inf
-    return max(
-        np.abs(traj.x - traj.x[0]).max() / g["x_scale"], np.abs(traj.v - traj.v[0]).max() / g["v_scale"]
-    )
+    return max(np.abs(traj.x - traj.x[0]).max() / g.x_scale, np.abs(traj.v - traj.v[0]).max() / g.v_scale)
 
 
 def test_stability_scales_of_the_duffing_system(limits) -> None:
     res = limits["rk4"]
-    assert res["analysis"] == "bounded growth" and "energy" not in res["criterion"]
+    assert res.analysis == "bounded growth" and "energy" not in res.criterion
     # the swing from x = 1 to x = -1; w = 2 pi / time scale = sqrt(2), V = w A
-    g = res["growth"]
-    assert g["steps"] == lab.GROWTH_STEPS_SYSTEM and g["limit"] == lab.GROWTH_LIMIT
-    assert g["x_scale"] == pytest.approx(2.0, rel=1e-4)
-    assert g["v_scale"] == pytest.approx(math.sqrt(2) * g["x_scale"], rel=1e-12)
+    g = res.growth
+    assert g.steps == lab.GROWTH_STEPS_SYSTEM and g.limit == lab.GROWTH_LIMIT
+    assert g.x_scale == pytest.approx(2.0, rel=1e-4)
+    assert g.v_scale == pytest.approx(math.sqrt(2) * g.x_scale, rel=1e-12)
 
 
 @pytest.mark.parametrize("method", METHODS)
 def test_duffing_runs_confirm_dt_max(limits, method: str) -> None:
     res = limits[method]
-    d = res["dt_max"]
+    d = res.dt_max
     if not d:
         pytest.skip(f"{method}: dt_max = {d}")
-    limit = res["growth"]["limit"]
+    limit = res.growth.limit
     # the horizon the limit holds for: the test's, or the longer one it was checked against
-    h = res["horizon"]
-    assert h["steps"] == lab.HORIZON_STEPS * res["growth"]["steps"] and h["dt_max"] == d
+    h = res.horizon
+    assert h["steps"] == lab.HORIZON_STEPS * res.growth.steps and h["dt_max"] == d
     k = lab.HORIZON_STEPS if h["long_dt_max"] else 1
-    assert _growth(method, 0.97 * d, res, k) <= limit, (d, res["note"])
+    assert _growth(method, 0.97 * d, res, k) <= limit, (d, res.note)
     # a limit that holds for a longer run too (issue 25, item 14: explicit Euler's 0.032 s
     # blew up within two horizons at 0.97 of it)
-    assert _growth(method, 0.97 * d, res, 2 * k) <= limit, (d, res["note"])
-    assert _growth(method, res["dt_unstable"], res, k) > limit
-    assert res["dt_unstable"] <= d * (1 + 1.01e-2)
+    assert _growth(method, 0.97 * d, res, 2 * k) <= limit, (d, res.note)
+    assert _growth(method, res.dt_unstable, res, k) > limit
+    assert res.dt_unstable <= d * (1 + 1.01e-2)
     # 1.03 dt_max fails too, unless the lab found the edge blurred by a resonance window there
     # (see test_velocity_verlet_has_a_resonance_window): then it must say so, and be right.
-    window = any(math.isclose(a, 1.03 * d) for a in res["stable_above"])
-    assert (_growth(method, 1.03 * d, res, k) <= limit) == window, res["note"]
+    window = any(math.isclose(a, 1.03 * d) for a in res.stable_above)
+    assert (_growth(method, 1.03 * d, res, k) <= limit) == window, res.note
 
 
 def test_most_duffing_limits_are_sharp(limits) -> None:
-    finite = [m for m in METHODS if limits[m]["dt_max"]]
+    finite = [m for m in METHODS if limits[m].dt_max]
     sharp = [
-        m
-        for m in finite
-        if not any(math.isclose(a, 1.03 * limits[m]["dt_max"]) for a in limits[m]["stable_above"])
+        m for m in finite if not any(math.isclose(a, 1.03 * limits[m].dt_max) for a in limits[m].stable_above)
     ]
     assert len(finite) >= 9 and len(sharp) >= 4, (finite, sharp)
-    assert limits["implicit-midpoint"]["dt_max"] is None  # stable up to the cap
+    assert limits["implicit-midpoint"].dt_max is None  # stable up to the cap
 
 
 @pytest.mark.parametrize("method", ["explicit-euler", "heun", "midpoint"])
@@ -163,12 +159,12 @@ def test_a_method_unstable_at_every_dt_is_said_so_with_the_horizon_tested(limits
     # issue 25 explicit Euler got dt_max = 0.032 s, and a run at 0.97 of it blew up in 2000
     # steps.
     res = limits[method]
-    h, n = res["horizon"], res["growth"]["steps"]
-    assert res["dt_max"] == 0.0 == h["dt_max"]
+    h, n = res.horizon, res.growth.steps
+    assert res.dt_max == 0.0 == h["dt_max"]
     assert h["steps"] == lab.HORIZON_STEPS * n == 8000
     assert 0 < h["long_dt_max"] < lab.HORIZON_SHRINK * h["first_dt_max"]
-    assert res["dt_unstable"] == h["long_dt_max"]
-    assert res["note"].startswith("unstable at every dt (the horizon tested: 8000 steps)")
+    assert res.dt_unstable == h["long_dt_max"]
+    assert res.note.startswith("unstable at every dt (the horizon tested: 8000 steps)")
     # what the note says is what plain runs show: the limit over 1000 steps, which a run of
     # 0.75 of it over 8000 steps leaves, and the longer horizon's, much lower
     first, limit = h["first_dt_max"], lab.GROWTH_LIMIT
@@ -183,21 +179,21 @@ def test_velocity_verlet_has_a_resonance_window() -> None:
     # from x = 1 first fails at 0.944 s, yet is stable again at 0.972 s (and from x = 0.999
     # or 1.001 too: a resonance window, not a lucky start).
     res = lab.stability(duffing, "velocity-verlet", rtol=1e-3)
-    assert res["dt_max"] == pytest.approx(0.944, abs=1e-3)
-    assert res["stable_above"] and "resonance window" in res["note"]
-    limit = res["growth"]["limit"]
+    assert res.dt_max == pytest.approx(0.944, abs=1e-3)
+    assert res.stable_above and "resonance window" in res.note
+    limit = res.growth.limit
     assert _growth("velocity-verlet", 0.9723, res) <= limit
     assert all(_growth("velocity-verlet", dt, res) > limit for dt in (0.96, 1.01, 1.05))
 
 
 def test_stability_on_the_lorenz_attractor() -> None:
     res = lab.stability("lorenz", "rk4")
-    assert res["analysis"] == "bounded growth" and res["growth"]["steps"] == lab.GROWTH_STEPS
+    assert res.analysis == "bounded growth" and res.growth.steps == lab.GROWTH_STEPS
     # the attractor reaches z = 48 from (1, 1, 1): A is the excursion of the scale run
-    assert 40 < res["growth"]["x_scale"] < 50
-    assert 0.1 < res["dt_max"] < 0.2
+    assert 40 < res.growth.x_scale < 50
+    assert 0.1 < res.dt_max < 0.2
     mine = lab.stability(FLOW, "rk4", steps=1000)
-    assert mine["dt_max"] == pytest.approx(lab.stability("lorenz", "rk4", steps=1000)["dt_max"], rel=1e-2)
+    assert mine.dt_max == pytest.approx(lab.stability("lorenz", "rk4", steps=1000).dt_max, rel=1e-2)
 
 
 # -- compare and sweep ---------------------------------------------------------------------
@@ -206,13 +202,13 @@ def test_stability_on_the_lorenz_attractor() -> None:
 @pytest.mark.parametrize("system", ["lorenz", FLOW], ids=["lorenz", "flow"])
 def test_compare_all_on_a_flow_skips_the_split_methods(system) -> None:
     res = lab.compare(system, "all", 0.01, 1.0)
-    assert [r["method"] for r in res["rows"]] == [m for m in METHODS if m not in SPLIT]
-    assert res["skipped"] == SPLIT and "first-order flow" in res["note"]
-    assert res["error_against"].startswith("reference: rk4 at dt/16")
-    rows = {r["method"]: r for r in res["rows"]}
-    for r in res["rows"]:
-        assert r["energy_max_rel_error"] is r["energy_drift"] is r["energy_scale"] is None
-    assert rows["rk4"]["final_error"] < rows["heun"]["final_error"] < rows["explicit-euler"]["final_error"]
+    assert [r.method for r in res.rows] == [m for m in METHODS if m not in SPLIT]
+    assert list(res.skipped) == SPLIT and "first-order flow" in res.note
+    assert res.error_against.startswith("reference: rk4 at dt/16")
+    rows = {r.method: r for r in res.rows}
+    for r in res.rows:
+        assert r.energy_max_rel_error is r.energy_drift is r.energy_scale is None
+    assert rows["rk4"].final_error < rows["heun"].final_error < rows["explicit-euler"].final_error
 
 
 @pytest.mark.parametrize("call", [lab.compare, lab.sweep, lab.order, lab.stability])
@@ -232,10 +228,10 @@ def test_a_split_method_named_for_a_flow_is_refused_in_one_line(call) -> None:
 
 def test_compare_on_a_python_force_knows_its_energy_or_says_it_does_not() -> None:
     res = lab.compare(duffing, ["symplectic-euler", "rk4"], 0.05, 20.0)
-    rows = {r["method"]: r for r in res["rows"]}
-    assert res["skipped"] == [] and res["note"] == ""
-    assert rows["rk4"]["energy_max_rel_error"] < 1e-5 < rows["symplectic-euler"]["energy_max_rel_error"]
-    assert rows["rk4"]["energy_scale"] == pytest.approx(0.75)  # E0 = 1/2 + 1/4
+    rows = {r.method: r for r in res.rows}
+    assert res.skipped == () and res.note == ""
+    assert rows["rk4"].energy_max_rel_error < 1e-5 < rows["symplectic-euler"].energy_max_rel_error
+    assert rows["rk4"].energy_scale == pytest.approx(0.75)  # E0 = 1/2 + 1/4
 
     def no_potential() -> physstep.World:
         w = physstep.World(1)
@@ -244,8 +240,8 @@ def test_compare_on_a_python_force_knows_its_energy_or_says_it_does_not() -> Non
         return w
 
     res = lab.compare(no_potential, ["rk4"], 0.05, 2.0)
-    assert res["rows"][0]["energy_max_rel_error"] is None and res["rows"][0]["energy_drift"] is None
-    assert res["rows"][0]["final_error"] < 1e-5
+    assert res.rows[0].energy_max_rel_error is None and res.rows[0].energy_drift is None
+    assert res.rows[0].final_error < 1e-5
 
 
 def test_a_python_force_blowing_up_is_a_diverged_row_not_an_error() -> None:
@@ -256,19 +252,19 @@ def test_a_python_force_blowing_up_is_a_diverged_row_not_an_error() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         res = lab.compare(duffing, ["rk4", "velocity-verlet"], 2.0, 200.0)
-    rk4 = res["rows"][0]
-    assert "force '<lambda>' failed" in rk4["diverged"] and rk4["t_end"] < 200.0
-    assert rk4["steps"] == round(rk4["t_end"] / 2.0)
+    rk4 = res.rows[0]
+    assert "force '<lambda>' failed" in rk4.diverged and rk4.t_end < 200.0
+    assert rk4.steps == round(rk4.t_end / 2.0)
 
 
 @pytest.mark.parametrize("system", ["lorenz", FLOW, duffing], ids=["lorenz", "flow", "duffing"])
 def test_sweep_on_systems(system) -> None:
     res = lab.sweep(system, ["rk4", "heun"], [0.02, 0.01], 1.0)
-    assert res["error_against"] == "reference: rk4 at dt/16 = 0.000625 s"
+    assert res.error_against == "reference: rk4 at dt/16 = 0.000625 s"
     for m in ("rk4", "heun"):
-        coarse, fine = (r for r in res["rows"] if r["method"] == m)
-        assert fine["max_error"] < coarse["max_error"]
-    energy = [r["energy_max_rel_error"] for r in res["rows"]]
+        coarse, fine = (r for r in res.rows if r.method == m)
+        assert fine.max_error < coarse.max_error
+    energy = [r.energy_max_rel_error for r in res.rows]
     assert all(e is None for e in energy) if system is not duffing else all(e >= 0 for e in energy)
 
 
@@ -394,6 +390,6 @@ def test_the_readme_example_of_the_lab_on_your_system_runs() -> None:
     code = section[start : section.index("```", start)]
     scope: dict[str, object] = {}
     exec(compile(code, "README.md", "exec"), scope)  # noqa: S102 - the README's own example
-    assert abs(scope["o"]["order"] - 2) < 0.15
-    assert scope["s"]["dt_max"] == pytest.approx(1.73, abs=0.01)
-    assert scope["c"]["skipped"] == SPLIT
+    assert abs(scope["o"].order - 2) < 0.15
+    assert scope["s"].dt_max == pytest.approx(1.73, abs=0.01)
+    assert list(scope["c"].skipped) == SPLIT

@@ -94,9 +94,9 @@ def test_work_precision_plot_is_log_log(tmp_path) -> None:
     assert len(fig.axes) == 2
     for ax in fig.axes:
         assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
-    rk4 = [r for r in data["rows"] if r["method"] == "rk4"]
+    rk4 = [r for r in data.rows if r.method == "rk4"]
     line = fig.axes[0].get_lines()[1]
-    np.testing.assert_array_equal(line.get_xdata(), sorted(r["evals"] for r in rk4))
+    np.testing.assert_array_equal(line.get_xdata(), sorted(r.evals for r in rk4))
     assert _labels(fig) == ["explicit-euler", "rk4"]
     img = mpimg.imread(plot.save(fig, tmp_path / "wp.png"))
     w, h = fig.get_size_inches() * fig.dpi

@@ -97,3 +97,41 @@ def test_spin_errors_of_every_method_are_told_apart() -> None:
     for ax in fig.axes[-2:]:
         _assert_told_apart(_method_lines(ax), len(methods))
     assert np.isfinite(fig.get_size_inches()).all()
+
+
+def _contrast_on_white(colour: str) -> float:
+    """WCAG contrast ratio of ``colour`` on the white background (1 to 21)."""
+    from matplotlib.colors import to_rgb
+
+    lin = [c / 12.92 if c <= 0.03928 else ((c + 0.055) / 1.055) ** 2.4 for c in to_rgb(colour)]
+    return 1.05 / (0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2] + 0.05)
+
+
+def test_no_line_colour_is_a_pale_pastel() -> None:
+    # tab20's light halves (#aec7e8 1.7, #ffbb78 1.7, #98df8a 1.6) drew the last methods of the
+    # registry, backward Euler and predictor-corrector among them, faint on white
+    weakest = min(COLOURS, key=_contrast_on_white)
+    assert _contrast_on_white(weakest) >= 2.0, weakest
+
+
+def test_orbit_draws_the_paths_that_leave_the_pack_strong_and_its_title_lists_no_methods() -> None:
+    until = 3 * 2 * np.pi
+    runs = [physstep.simulate("orbit", m, 0.1, until, stop_on_diverge=True) for m in METHODS]
+    fig = plot.orbit(runs)
+    ax = fig.axes[0]
+    assert ax.get_title() == "path: orbit, dt = 0.1 s"  # the legend names the methods, not the title
+    lines = {ln.get_label().split(" (")[0]: ln for ln in _method_lines(ax)}
+    wide = {name for name, ln in lines.items() if ln.get_linewidth() == plot.LEAVING_WIDTH}
+    # explicit Euler spirals out, backward Euler in, predictor-corrector is flung away
+    assert wide == {"explicit-euler", "backward-euler", "predictor-corrector"}
+    for name in wide:
+        assert _contrast_on_white(to_hex(lines[name].get_color())) >= 3.0, name
+        assert lines[name].get_zorder() > lines["rk4"].get_zorder()
+    assert lines["rk4"].get_linewidth() == 1.2
+
+
+@pytest.mark.parametrize("kind", ["trajectory", "phase", "energy"])
+def test_titles_are_one_line_naming_no_method(spring_runs, kind: str) -> None:
+    fig = getattr(plot, kind)(spring_runs)
+    title = fig.axes[0].get_title()
+    assert "\n" not in title and not any(m in title for m in METHODS), title

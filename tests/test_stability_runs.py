@@ -59,7 +59,7 @@ def _orbit_growth(method: str, dt: float, steps: int = ORBIT_STEPS) -> float:
 
 
 def _finite(limits: dict[tuple[str, str], dict], case: str, method: str) -> float:
-    d = limits[case, method]["dt_max"]
+    d = limits[case, method].dt_max
     if not d:
         pytest.skip(f"{method} on {case}: dt_max = {d}")
     return d
@@ -88,14 +88,14 @@ def test_orbit_runs_confirm_dt_max(limits, method: str) -> None:
     assert below <= ORBIT_LIMIT, (method, d, below)
     # 1.03 dt_max grows, unless the lab found a resonance window there (the orbit's stable set
     # near its limit is a comb, as the Duffing oscillator's): then it must say so, and be right.
-    window = any(math.isclose(a, 1.03 * d) for a in limits["orbit", method]["stable_above"])
-    assert (above <= ORBIT_LIMIT) == window, (method, d, above, limits["orbit", method]["note"])
+    window = any(math.isclose(a, 1.03 * d) for a in limits["orbit", method].stable_above)
+    assert (above <= ORBIT_LIMIT) == window, (method, d, above, limits["orbit", method].note)
 
 
 def test_methods_with_finite_limits_are_covered(limits) -> None:
     # the runs above must not all be skipped: most methods have a finite limit on each scene
     for case in [*LINEAR_CASES, "orbit"]:
-        finite = [m for m in METHODS if limits[case, m]["dt_max"]]
+        finite = [m for m in METHODS if limits[case, m].dt_max]
         assert len(finite) >= 8, (case, finite)
 
 
@@ -104,5 +104,5 @@ def test_leapfrog_on_drag_is_limited_by_its_repeating_map() -> None:
     # is v_half' = v_half (1 - q + q^2/2), q = c dt / m: at most 1 in size iff q <= 2, i.e.
     # dt <= 2 m / c = 4 s.
     res = lab.stability("drag", "leapfrog")
-    assert res["dt_max"] == pytest.approx(4.0, rel=1e-6)
-    assert res["analysis"] == "amplification matrix" and "memory" in res["criterion"]
+    assert res.dt_max == pytest.approx(4.0, rel=1e-6)
+    assert res.analysis == "amplification matrix" and "memory" in res.criterion

@@ -5,10 +5,11 @@ composable forces, rigid bodies, the fixed-timestep game loop, and a lab that me
 each method behaves on your system. The engine is Rust (``physstep._core``); this package
 is the Python face.
 
->>> import physstep
->>> traj = physstep.simulate("spring", "symplectic-euler", dt=1.0, until=2.0)
->>> traj.x[:, 0].tolist()
-[20.0, 10.0, -5.0]
+Examples:
+    >>> import physstep
+    >>> traj = physstep.simulate("spring", "symplectic-euler", dt=1.0, until=2.0)
+    >>> traj.x[:, 0].tolist()
+    [20.0, 10.0, -5.0]
 """
 
 from __future__ import annotations
@@ -149,10 +150,11 @@ class Flow:
     returning it) to :func:`simulate` and to every ``physstep.lab`` function in place of a
     scene name.
 
-    >>> import physstep
-    >>> decay = physstep.Flow(lambda t, y: -y, [1.0])
-    >>> round(float(physstep.simulate(decay, "rk4", dt=0.1, until=1.0).x[-1, 0]), 5)
-    0.36788
+    Examples:
+        >>> import physstep
+        >>> decay = physstep.Flow(lambda t, y: -y, [1.0])
+        >>> round(float(physstep.simulate(decay, "rk4", dt=0.1, until=1.0).x[-1, 0]), 5)
+        0.36788
     """
 
     fn: Callable[[float, np.ndarray], Any]
@@ -292,6 +294,16 @@ class Trajectory:
     body_spin: np.ndarray | None = None
     collisions: dict[str, float] | None = None
     world: World | None = field(default=None, repr=False, compare=False)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """For pickle (the lab sends reference runs to its worker processes): the columns
+        computed on first read are computed now, as plain arrays (what they defer to is the
+        engine's, which does not pickle)."""
+        state = dict(self.__dict__)
+        for name, value in state.items():
+            if isinstance(value, _Deferred):
+                state[name] = value.value()
+        return state
 
     @property
     def ns_per_step(self) -> float:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 import operator
-import textwrap
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -22,11 +21,13 @@ from matplotlib.ticker import FuncFormatter, NullFormatter
 
 from physstep import Trajectory
 
-#: Distinct line colours, in order: matplotlib's tab10, then the light halves of tab20.
+#: Distinct line colours, in order: matplotlib's tab10, then ten strong colours apart from
+#: them (dark and saturated: no pastel, so that the methods late in the registry, such as
+#: backward Euler and predictor-corrector, whose orbits leave the pack, are not drawn pale).
 COLOURS = (
     "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
-    "#bcbd22", "#17becf", "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94",
-    "#f7b6d2", "#c7c7c7", "#dbdb8d", "#9edae5",
+    "#bcbd22", "#17becf", "#393b79", "#637939", "#843c39", "#e7298a", "#1b9e77", "#e6ab02",
+    "#7b4173", "#66a61e", "#a6761d", "#000080",
 )  # fmt: skip
 #: Line styles, cycled alongside the colours.
 LINESTYLES = ("-", "--", "-.", ":")
@@ -133,16 +134,11 @@ def _fmt_dt(runs: Sequence[Trajectory]) -> str:
     return ", ".join(f"{d:g}" for d in dts) + " s"
 
 
-def _title(what: str, runs: Sequence[Trajectory], width: int = 90) -> str:
-    """``what: scenes, dt = ...`` over the methods' names, wrapped at ``width`` characters (an
-    8-inch figure holds about 90) so that a title of 14 methods is not cut at the edges."""
+def _title(what: str, runs: Sequence[Trajectory]) -> str:
+    """``what: scenes, dt = ...``: what is drawn, of which scene, at which steps. The methods
+    are the legend's, not the title's (14 names made a title of five lines)."""
     scenes = sorted({r.scene for r in runs})
-    names = ", ".join(dict.fromkeys(r.method for r in runs))
-    if len(runs) + 1 > LEGEND_INSIDE:  # the legend to the right narrows the axes the title centres on
-        width = min(width, 60)
-    return f"{what}: {', '.join(scenes)}, dt = {_fmt_dt(runs)}\n" + "\n".join(
-        textwrap.wrap(names, width, break_on_hyphens=False)
-    )
+    return f"{what}: {', '.join(scenes)}, dt = {_fmt_dt(runs)}"
 
 
 def _label(run: Trajectory, runs: Sequence[Trajectory]) -> str:

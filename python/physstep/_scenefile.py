@@ -36,11 +36,12 @@ def load_scene(path: str | os.PathLike[str]) -> World:
     file that cannot be read, is not TOML, has an unknown key, a value of the wrong type or
     out of range, a constraint or spring on a missing particle, or a mesh that is not closed.
 
-    >>> import physstep, pathlib, tempfile
-    >>> d = pathlib.Path(tempfile.mkdtemp())
-    >>> _ = (d / "s.toml").write_text("dimension = 1\\ndt = 0.1\\n[[particles]]\\nposition = [2.0]\\n")
-    >>> len(physstep.load_scene(d / "s.toml"))
-    1
+    Examples:
+        >>> import physstep, pathlib, tempfile
+        >>> d = pathlib.Path(tempfile.mkdtemp())
+        >>> _ = (d / "s.toml").write_text("dimension = 1\\ndt = 0.1\\n[[particles]]\\nposition = [2.0]\\n")
+        >>> len(physstep.load_scene(d / "s.toml"))
+        1
     """
     world, _ = _core.read_scene(_path(path))
     return world

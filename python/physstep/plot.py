@@ -9,11 +9,12 @@ coordinates in 3D; :func:`energy` refuses a run whose energy is unknown. Rigid b
 (``Trajectory.kind == "bodies"``) have :func:`spin`: the body-frame angular velocity, the
 energy error and the change of the angular momentum.
 
->>> import physstep
->>> from physstep import plot
->>> runs = [physstep.simulate("orbit", m, dt=0.1, until=20) for m in ("explicit-euler", "rk4")]
->>> fig = plot.orbit(runs)
->>> plot.save(fig, "orbit.png")  # doctest: +SKIP
+Examples:
+    >>> import physstep
+    >>> from physstep import plot
+    >>> runs = [physstep.simulate("orbit", m, dt=0.1, until=20) for m in ("explicit-euler", "rk4")]
+    >>> fig = plot.orbit(runs)
+    >>> plot.save(fig, "orbit.png")  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -135,10 +136,47 @@ def phase(trajs: Trajectory | Iterable[Trajectory], coord: int = 0) -> Figure:
         ax.plot([x0], [v0], "ko", markersize=5, label="start")
     ax.set_xlabel(_axis(runs[0], coord))
     ax.set_ylabel(_axis(runs[0], coord, rate=True))
-    ax.set_title(_title("phase portrait", runs, 70))
+    ax.set_title(_title("phase portrait", runs))
     ax.grid(True, alpha=0.3)
     legend(ax, len(runs) + 2)
     return fig
+
+
+#: The line width of a path that leaves the pack (:func:`_leaving`); the others are 1.2.
+LEAVING_WIDTH = 2.2
+#: A path leaves the pack when its largest distance from the exact path is above this many
+#: times the runs' median of it, and above this fraction of the exact path's size.
+LEAVING_FACTOR = 5.0
+LEAVING_SIZE = 0.05
+
+
+def _leaving(runs: Sequence[Trajectory], particle: int) -> set[int]:
+    """The runs whose path of ``particle`` leaves the pack (explicit Euler's outward spiral,
+    backward Euler's inward one, predictor-corrector flung out on the orbit): their largest
+    distance from the exact path (as a curve: a phase error along it does not count) is
+    above :data:`LEAVING_FACTOR` times the runs' median and above :data:`LEAVING_SIZE` of
+    the path's size. Drawn wider and on top, so that a line the eye follows away from the
+    others is never a faint one. Without an exact solution: none."""
+    ex_run = _exact(runs)
+    if len(runs) < 3 or ex_run is None or ex_run.exact_x is None:
+        return set()
+    i, j = particle * ex_run.dim, particle * ex_run.dim + 1
+    curve = np.asarray(ex_run.exact_x)[:, [i, j]]
+    curve = curve[np.isfinite(curve).all(axis=1)][:: max(1, len(curve) // 2000)]
+    if not len(curve):
+        return set()
+    size = float(np.abs(curve).max())
+    dev = []
+    for r in runs:
+        pts = r.x[:, [i, j]]
+        pts = pts[np.isfinite(pts).all(axis=1)][:: max(1, len(pts) // 2000)]
+        if not len(pts):
+            dev.append(0.0)
+            continue
+        d = np.hypot(pts[:, None, 0] - curve[None, :, 0], pts[:, None, 1] - curve[None, :, 1]).min(axis=1)
+        dev.append(float(d.max()))
+    median = float(np.median(dev))
+    return {k for k, d in enumerate(dev) if d > LEAVING_FACTOR * median and d > LEAVING_SIZE * size}
 
 
 def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure:
@@ -147,6 +185,9 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
 
     Raises ValueError for no runs, a run with no rows, a 1D scene, or ``particle`` out of
     range.
+
+    The paths that leave the pack (far from the exact path where most runs stay near it:
+    explicit Euler spiralling out, backward Euler in) are drawn wider and on top.
 
     Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
     and the legend says how many; a run with no finite row at all is a ValueError.
@@ -164,10 +205,12 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
             )
     fig = _figure((9.5, 7.0))
     ax = fig.add_subplot()
+    far = _leaving(runs, particle)
     for k, r in enumerate(runs):
         i, j = particle * r.dim, particle * r.dim + 1
         (x, y), note = _finite([r.x[:, i], r.x[:, j]], r.method)
-        (line,) = ax.plot(x, y, label=_label(r, runs) + note, linewidth=1.2, **style(k))
+        width, z = (LEAVING_WIDTH, 3) if k in far else (1.2, 2)
+        (line,) = ax.plot(x, y, label=_label(r, runs) + note, linewidth=width, zorder=z, **style(k))
         if r.diverged and np.isfinite(r.x[-1, i]) and np.isfinite(r.x[-1, j]):
             ax.plot([r.x[-1, i]], [r.x[-1, j]], "x", color=line.get_color(), markersize=8)
     ex = _exact(runs)
@@ -184,7 +227,7 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(_axis(first, i))
     ax.set_ylabel(_axis(first, j))
-    ax.set_title(_title("path", runs, 80))
+    ax.set_title(_title("path", runs))
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", borderaxespad=0.0)
     return fig
@@ -227,7 +270,7 @@ def path3d(
     ax.set_xlabel(_axis(first, picked[0]))
     ax.set_ylabel(_axis(first, picked[1]))
     ax.set_zlabel(_axis(first, picked[2]))
-    ax.set_title(_title("path", runs, 80))
+    ax.set_title(_title("path", runs))
     if len(runs) + 2 > 6:
         ax.legend(loc="upper left", bbox_to_anchor=(1.05, 1.0), fontsize="small", borderaxespad=0.0)
     else:
@@ -309,10 +352,10 @@ def _positive(value: Any) -> float | None:
     return x if math.isfinite(x) and x > 0 else None
 
 
-def work_precision(
-    data: dict[str, Any] | Sequence[dict[str, Any]], against: str = "evals", error: str = "max_error"
-) -> Figure:
-    """Error against work, log-log, one line per method, from :func:`physstep.lab.sweep` data.
+def work_precision(data: Any, against: str = "evals", error: str = "max_error") -> Figure:
+    """Error against work, log-log, one line per method, from :func:`physstep.lab.sweep` data:
+    its :class:`~physstep.lab.SweepResult`, that result's ``to_dict()``, or a list of rows
+    (:class:`~physstep.lab.SweepRow` or their dicts).
 
     ``against`` is ``"evals"`` (force evaluations), ``"time"`` (wall time of the stepping
     loop, s) or ``"both"`` (two panels side by side); ``error`` is ``"max_error"`` (over the
@@ -326,12 +369,14 @@ def work_precision(
         raise ValueError(f"invalid error = '{error}': must be max_error or error")
     if panels is None:
         raise ValueError(f"invalid against = '{against}': must be evals, time or both")
+    if callable(getattr(data, "to_dict", None)):  # a SweepResult
+        data = data.to_dict()
     if isinstance(data, dict):
         if "rows" not in data:
             raise ValueError("invalid data: no 'rows' (give the result of physstep.lab.sweep)")
         rows, meta = list(data["rows"]), data
     else:
-        rows, meta = list(data), {}
+        rows, meta = [r.to_dict() if callable(getattr(r, "to_dict", None)) else r for r in data], {}
     if not rows:
         raise ValueError("invalid data: no rows to plot")
     for n, r in enumerate(rows):

@@ -68,6 +68,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
             f"{what}: {summary['frames']} frames, t = {summary['t']:.4g} s, "
             f"{', '.join(summary['methods'])} at dt = {summary['dt']:g} s{shot}"
         )
+        if summary["slowed"]:
+            print(f"note: {output.one_line(summary['slowed'])}")
     return 0
 
 

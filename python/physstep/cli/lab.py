@@ -104,7 +104,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     _check_plot(args.plot)
     methods = _methods(args.methods)
     params = _params(args)
-    res = lab.compare(args.scene, methods, args.dt, args.until, params, jobs=args.jobs)
+    res = lab.compare(args.scene, methods, args.dt, args.until, params, jobs=args.jobs).to_dict()
     until = options.requested_until(args.scene, args.until)
     steps, t_end = _span(res)
     res.setdefault("until_requested", until)
@@ -220,7 +220,7 @@ def _cmd_order(args: argparse.Namespace) -> int:
         _params(args),
         levels=args.levels,
         time_scale=args.time_scale,
-    )
+    ).to_dict()
     for r in res.get("runs", []):
         # the lab marks a run that diverged with an infinite error: say so, never print inf
         e = r.get("error")
@@ -254,6 +254,7 @@ def _cmd_order(args: argparse.Namespace) -> int:
 def _cmd_stability(args: argparse.Namespace) -> int:
     """``physstep stability``: the largest stable dt of a method on a scene."""
     res = lab.stability(args.scene, args.method, _params(args), cap=args.cap, time_scale=args.time_scale)
+    res = res.to_dict()
     output.finite(res)
     if args.format == "json":
         print(output.dump(res))
@@ -301,7 +302,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         def progress(done: int, total: int, label: str) -> None:
             bar.update(task, completed=done, description=label)
 
-        res = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress, jobs=args.jobs)
+        ran = lab.sweep(args.scene, methods, dts, args.until, params, progress=progress, jobs=args.jobs)
+    res = ran.to_dict()
     res.setdefault("until_requested", options.requested_until(args.scene, args.until))
     for r in res["rows"]:
         # where each run ended: dt does not always divide until (the lab may say it itself)
@@ -350,7 +352,8 @@ def _add_jobs(p: argparse.ArgumentParser) -> None:
         "--jobs",
         type=options.argument("--jobs", int, low=1, high=MAX_JOBS),
         default=1,
-        help=f"run the rows in this many local processes, 1 to {MAX_JOBS} (default 1); the same results",
+        help=f"run the rows in up to this many local processes, 1 to {MAX_JOBS} (default 1), where the "
+        "work pays for starting them (the note says when not); the same results",
     )
 
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 import os
+import sys
+import tomllib
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
@@ -31,6 +33,8 @@ SIDEBAR = 300
 HEADLESS_FRAME_TIME = 1.0 / 60.0
 #: Frames per second an interactive run aims at.
 FPS = 60
+#: SDL video drivers that open no window: an interactive run under one is refused.
+NO_WINDOW_DRIVERS = ("dummy", "offscreen")
 
 
 #: Every key binding, in the order the help lists them.
@@ -250,11 +254,16 @@ class Runner:
                     self.demo.record(p, self._positions(p))
                 p.steps = 0
                 continue
+            t0, (_, _, clamped, dropped) = p.world.time, p.world.clock_stats
             try:
                 p.steps = p.world.advance(frame_time)
             except physstep.StepError as e:
                 p.error, p.steps = _one_line(str(e)), 0
                 continue
+            _, _, clamped1, dropped1 = p.world.clock_stats
+            p.handed += frame_time
+            p.simulated += p.world.time - t0
+            p.lost += (clamped1 - clamped) + (dropped1 - dropped)
             p.interpolate = True
             if self.drag is not None and k == self.focus:
                 self._hold(p)
@@ -394,6 +403,43 @@ class Runner:
         return self.demo.to_screen(self.rects[panel], self._positions(self.panels[panel])[particle])
 
 
+def no_display() -> bool:
+    """On Linux and the BSDs: no X11 or Wayland display to open a window on (DISPLAY and
+    WAYLAND_DISPLAY unset) and no video driver chosen (SDL_VIDEODRIVER unset)."""
+    if not sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")):
+        return False
+    return not any(os.environ.get(v) for v in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER"))
+
+
+def slowed(runner: Runner) -> str | None:
+    """Where a panel's simulation fell behind the frame time handed to it (by more than the
+    accumulator's leftover, a step): why, as a sentence (the frame cap, or the loop variant's
+    own pace); None when every panel kept real time. The panel furthest behind is told."""
+    behind = [p for p in runner.panels if p.handed - p.simulated > p.world.dt * (1 + 1e-9) + 1e-12]
+    if not behind:
+        return None
+    p = min(behind, key=lambda q: q.simulated / q.handed)
+    parts = p.world.__reduce__()[1][0]
+    clock = tomllib.loads(parts["scene"]).get("loop", {})  # the world's scene text: its caps
+    pace = (
+        f"{p.simulated:.4g} s simulated in {p.handed:.4g} s of frames "
+        f"({100 * p.simulated / p.handed:.0f} % of real time)"
+    )
+    if p.lost > 0:
+        caps = []
+        if "max_steps_per_frame" in clock:
+            caps.append(f"at most {clock['max_steps_per_frame']} steps per frame")
+        if "max_frame_time" in clock:
+            caps.append(f"frames clamped to {clock['max_frame_time']:g} s")
+        what = f" ({', '.join(caps)})" if caps else ""
+        return f"slower than real time: the frame cap{what} dropped {p.lost:.4g} s; {pace}"
+    loop, substeps = parts.get("loop"), parts.get("substeps")
+    return (
+        f"slower than real time: the {loop} loop takes {substeps} step(s) per frame whatever the frame "
+        f"time; {pace}"
+    )
+
+
 def wrap(f: pygame.font.Font, s: str, width: int) -> list[str]:
     """``s`` broken at spaces into lines at most ``width`` px wide in font ``f``."""
     lines: list[str] = []
@@ -428,9 +474,12 @@ def run(
 
     ``headless``: the dummy video driver and a fixed frame time (deterministic), 120 frames
     unless ``frames`` says otherwise; ``screenshot`` saves the last frame as PNG, written
-    whole (temp file + rename). ``script`` maps a frame number to events posted before that
-    frame (the smoke test's key presses and drags). ValueError for a bad name, setting or
-    scene file (the loader's one line naming the file).
+    whole (temp file + rename). The summary's ``slowed`` says when a panel fell behind real
+    time (:func:`slowed`: the frame cap dropped steps, or the loop variant's own pace), else
+    None. ``script`` maps a frame number to events posted before that frame (the smoke
+    test's key presses and drags). ValueError for a bad name, setting or scene file (the
+    loader's one line naming the file), and, without ``headless``, where there is no display
+    or SDL's video driver shows nothing (pointing at ``--headless``).
     """
     if scene is not None:
         from physstep.demos.scene import SceneDemo
@@ -443,12 +492,24 @@ def run(
     if headless:
         os.environ["SDL_VIDEODRIVER"] = "dummy"
         frames = 120 if frames is None else frames
+    elif no_display():
+        # Before SDL looks for one: it would fall back to its offscreen driver (a demo running
+        # unseen, for ever) after printing its own errors about Wayland.
+        raise ValueError(
+            "cannot open a window (no display: DISPLAY and WAYLAND_DISPLAY are unset): "
+            "run with --headless --screenshot FILE.png"
+        )
     os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
     base.forget_fonts()
     try:
         try:
             pygame.display.init()
             pygame.font.init()
+            driver = pygame.display.get_driver()
+            if not headless and driver in NO_WINDOW_DRIVERS:
+                # SDL fell back to (or was told to use) a driver that shows nothing: the demo
+                # would run unseen, for ever.
+                raise pygame.error(f"no display: SDL's video driver is {driver!r}, which shows nothing")
             screen = pygame.display.set_mode(SIZE)
         except pygame.error as e:
             raise ValueError(
@@ -487,6 +548,7 @@ def run(
             "t": p.world.time,
             "errors": [q.error for q in runner.panels if q.error],
             "screenshot": screenshot,
+            "slowed": slowed(runner),
         }
     finally:
         base.forget_fonts()

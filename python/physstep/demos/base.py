@@ -77,6 +77,11 @@ class Panel:
     #: Draw between the last two states by ``alpha`` (off while paused or single-stepping).
     interpolate: bool = True
     trail: deque[tuple[float, ...]] = field(default_factory=lambda: deque(maxlen=TRAIL_POINTS))
+    #: Frame time handed to ``advance``, the simulated time it advanced, and the time the
+    #: clock clamped or dropped (its caps), s: how far the world fell behind real time.
+    handed: float = 0.0
+    simulated: float = 0.0
+    lost: float = 0.0
     drift: deque[float] = field(default_factory=lambda: deque(maxlen=600))
 
     def energy(self) -> float | None:

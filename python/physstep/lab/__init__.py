@@ -1,13 +1,21 @@
 """The integrator lab: measure how each method behaves on a scene, or on your own system.
 
-Four measurements, each returning plain data (dicts and lists, JSON-ready):
+Four measurements, each returning a typed result (a frozen dataclass whose fields are
+documented in :mod:`physstep.lab.results`; ``.to_dict()`` gives the plain, JSON-ready dict
+the command line prints with ``--format json``):
 
 - :func:`compare`: one row per method (order, force evaluations per step, energy error and
-  drift, final error, ns per step).
-- :func:`order`: the observed convergence order from successive halvings of dt.
+  drift, final error, ns per step): a :class:`CompareResult` of :class:`CompareRow`.
+- :func:`order`: the observed convergence order from successive halvings of dt: an
+  :class:`OrderResult` of :class:`OrderRun`.
 - :func:`stability`: the largest stable dt, from the amplification matrix of the repeating
-  step map on the linear/affine scenes and from a bounded-growth search on the others.
-- :func:`sweep`: work-precision data (error against force evaluations and time).
+  step map on the linear/affine scenes and from a bounded-growth search on the others: a
+  :class:`StabilityResult`.
+- :func:`sweep`: work-precision data (error against force evaluations and time): a
+  :class:`SweepResult` of :class:`SweepRow`.
+
+``compare`` and ``sweep`` take ``jobs=N`` (local processes, where the work pays for them:
+:mod:`physstep.lab.parallel`) or ``executor=``.
 
 Each takes, where it takes a scene name, a *system* as :func:`physstep.simulate` does: a
 :class:`physstep.Flow`, or a zero-argument callable returning a fresh World (your particles
@@ -20,7 +28,8 @@ refusal names the lab's own argument (``dt``, ``dts``, ``until``, ``levels``).
 
 The package: :mod:`~physstep.lab.common` (limits, checks, timing, energy statistics),
 :mod:`~physstep.lab.system` (a scene or a system, its time scale), :mod:`~physstep.lab.reference`,
-and one module per measurement.
+:mod:`~physstep.lab.results` (what the measurements return), :mod:`~physstep.lab.parallel`
+(rows in processes or on an executor), and one module per measurement.
 """
 
 from __future__ import annotations
@@ -39,7 +48,18 @@ from physstep.lab.common import (
 from physstep.lab.common import drift as _drift  # noqa: F401 (the tests use it)
 from physstep.lab.compare import compare
 from physstep.lab.order import MAX_LEVELS, MAX_ORDER_STEPS, ROUNDOFF, UNTIL_SCALES, order
+from physstep.lab.parallel import CHUNKS_PER_WORKER, POOL_START_S
 from physstep.lab.reference import reference
+from physstep.lab.results import (
+    CompareResult,
+    CompareRow,
+    GrowthTest,
+    OrderResult,
+    OrderRun,
+    StabilityResult,
+    SweepResult,
+    SweepRow,
+)
 from physstep.lab.stability import (
     ABOVE_FACTORS,
     CAP_SCALES,
@@ -74,7 +94,10 @@ from physstep.lab.system import FALLBACK_TIME_SCALE, time_scale
 __all__ = [
     "ABOVE_FACTORS",
     "CAP_SCALES",
+    "CHUNKS_PER_WORKER",
     "CLUSTER_TOL",
+    "CompareResult",
+    "CompareRow",
     "ENERGY_ERROR",
     "FALLBACK_TIME_SCALE",
     "GRID_LOW_SCALES",
@@ -83,6 +106,7 @@ __all__ = [
     "GROWTH_SCREEN_STEPS",
     "GROWTH_STEPS",
     "GROWTH_STEPS_SYSTEM",
+    "GrowthTest",
     "HORIZON_DT",
     "HORIZON_SHRINK",
     "HORIZON_STEPS",
@@ -94,6 +118,9 @@ __all__ = [
     "MAX_RECORDED",
     "MAX_STEPS",
     "NOISE_REL",
+    "OrderResult",
+    "OrderRun",
+    "POOL_START_S",
     "REFERENCE_METHOD",
     "REFERENCE_REFINE",
     "RHO_TOL",
@@ -105,6 +132,9 @@ __all__ = [
     "SCALE_RUN_STEPS",
     "SCAN_FACTORS",
     "SCAN_ROUNDS",
+    "StabilityResult",
+    "SweepResult",
+    "SweepRow",
     "TIMING_MAX_RUNS",
     "TIMING_MAX_S",
     "TIMING_MIN_RUNS",

@@ -8,9 +8,7 @@ any is made (:func:`check_run`): a refusal names the lab's own argument (``dt``,
 
 from __future__ import annotations
 
-import concurrent.futures
 import math
-import multiprocessing
 import numbers
 import pickle
 import statistics
@@ -196,46 +194,3 @@ def check_jobs(scene: Any, jobs: Any, executor: Any) -> int | None:
             "executor that pickles by value (Dask's)"
         )
     return jobs if (jobs or 1) > 1 else None
-
-
-def run_units(
-    fn: Callable[..., dict[str, Any]],
-    units: list[tuple[Any, ...]],
-    jobs: int | None,
-    executor: Any,
-    progress: Callable[[int, int, str], None] | None = None,
-    labels: list[str] | None = None,
-) -> list[dict[str, Any]]:
-    """``[fn(*u) for u in units]``, in this process, in ``jobs`` local processes or on
-    ``executor``; results in the order of ``units`` whatever order they finish in.
-    ``progress(done, total, label)`` is called in this process as results come in, in order.
-    """
-    total = len(units)
-
-    def report(done: int) -> None:
-        if progress is not None:
-            progress(done, total, labels[done - 1] if labels else "")
-
-    if jobs is None and executor is None:
-        out = []
-        for u in units:
-            out.append(fn(*u))
-            report(len(out))
-        return out
-    own = None
-    if executor is None:
-        # spawn, not fork: the parent may hold threads (rayon's, a GUI's).
-        own = concurrent.futures.ProcessPoolExecutor(
-            max_workers=jobs, mp_context=multiprocessing.get_context("spawn")
-        )
-        executor = own
-    try:
-        futures = [executor.submit(fn, *u) for u in units]
-        out = []
-        for f in futures:
-            out.append(f.result())
-            report(len(out))
-        return out
-    finally:
-        if own is not None:
-            own.shutdown(cancel_futures=True)

@@ -19,10 +19,11 @@ from physstep.lab.common import (
     energy_scale,
     max_abs,
     positive,
-    run_units,
     timed,
 )
+from physstep.lab.parallel import Rows, run_units
 from physstep.lab.reference import error_against, final_error, reference
+from physstep.lab.results import CompareResult, CompareRow
 from physstep.lab.system import Subject, table
 
 
@@ -45,7 +46,7 @@ def compare(
     *,
     jobs: int | None = None,
     executor: Any = None,
-) -> dict[str, Any]:
+) -> CompareResult:
     """One row per method on ``scene`` at ``dt`` up to ``until`` (the scene's defaults if None).
 
     ``scene`` is a built-in scene's name or a system (a :class:`physstep.Flow`, or a
@@ -54,35 +55,26 @@ def compare(
     of names or ``"all"``: every method that applies (a flow skips the split methods, and
     ``note`` says so); a split method named for a flow is refused.
 
-    Each row: ``method``, ``order`` (the registry's), ``evals_per_step`` (measured),
-    ``energy_max_rel_error`` (max |relative energy error|, finite rows), ``energy_drift``
-    (least-squares slope of the relative energy error, per second; None without two finite
-    rows), ``energy_scale`` (J: what the energy error is relative to, :data:`ENERGY_ERROR`),
-    the three None where the energy is unknown (a flow, or a force without a potential),
-    ``energy_dissipation`` (why the run loses energy by design: the scene's damping, drag or
-    inelastic contacts, or a method that damps; there the energy change is energy lost, not
-    an error; None otherwise),
-    ``final_error`` (max coordinate distance of the final position from the exact solution,
-    or from the reference: see ``error_against``; for rigid bodies, of the final body-frame
-    angular velocities, rad/s), ``angular_momentum_max_rel_error`` (rigid bodies: max
-    relative error of the total angular momentum, ``max |L - L0| / |L0|``, from
-    ``Trajectory.angular_momentum``; None otherwise), ``ns_per_step`` (median of
-    ``ns_per_step_runs`` timed runs), ``steps`` and ``t_end`` (what the run took and reached)
-    and ``diverged`` (message or None; a diverged run reports its errors up to the step
-    before).
+    Returns a :class:`~physstep.lab.results.CompareResult` (its fields documented there;
+    ``.to_dict()`` is what ``physstep compare --format json`` prints) whose ``rows`` are one
+    :class:`~physstep.lab.results.CompareRow` per method: its order, force evaluations per
+    step, energy error and drift (None where the energy is unknown: a flow, or a force
+    without a potential), why the run loses energy by design where it does (the scene's damping,
+    drag or inelastic contacts, or a method that damps: there the energy change is energy lost, not
+    an error), final error against ``error_against``, the angular-momentum error
+    on rigid bodies, ns per step and whether it diverged (a diverged run reports its errors
+    up to the step before). Every run takes until / dt steps rounded down: ``t_end`` can
+    fall short of ``until``. Verlet does not apply to rigid bodies: ``"all"`` skips it with a
+    note, naming it is refused. ValueError naming ``dt`` or ``until`` before anything runs if
+    a run would be refused (no whole step, too many steps, too large a recording).
 
-    The result also has ``until_requested`` (= ``until``), ``steps`` and ``t_end`` (the run
-    takes until / dt steps rounded down: ``t_end`` can fall short of ``until``),
-    ``energy_error``, ``timing`` (how the numbers were made), ``skipped`` and ``note``; on a
-    rigid-body scene also ``angular_momentum_error`` (what the |L| column measures). Verlet does
-    not apply to rigid bodies: ``"all"`` skips it with a note, naming it is refused.
-    ValueError naming ``dt`` or ``until`` before anything runs if a run would be refused (no
-    whole step, too many steps, too large a recording).
-
-    ``jobs=N`` runs the methods in N local processes; ``executor=`` on any
-    ``concurrent.futures.Executor`` (a Dask ``Client.get_executor()``, a Ray pool), which is
-    not shut down. The rows are the serial run's, in its order, bitwise but for the timing
-    columns. A system (not a scene name) must then pickle (a module-level function, a Flow).
+    ``jobs=N`` runs the methods in up to N local processes, in chunks (see
+    :mod:`physstep.lab.parallel`: at most one process per CPU, and here, serially,
+    when the work is too small to pay for starting them; ``note`` says so and ``workers``
+    says how many ran it); ``executor=`` on any ``concurrent.futures.Executor`` (a Dask
+    ``Client.get_executor()``, a Ray pool), which is not shut down. The rows are the serial
+    run's, in its order, bitwise but for the timing columns. A system (not a scene name)
+    must then pickle (a module-level function, a Flow).
     """
     jobs = check_jobs(scene, jobs, executor)
     subject = Subject(scene, params)
@@ -100,21 +92,33 @@ def compare(
             what="the reference run",
         )
         ref = reference(scene, dt, until, params, every=REFERENCE_REFINE)
-    units = [(scene, params, m, dt, until, ref) for m in names]
-    # Here, the subject already probed; elsewhere, each unit builds its own.
-    here = jobs is None and executor is None
-    rows = run_units((lambda *u: _row(subject, *u[2:])) if here else _unit, units, jobs, executor)
-    t_end = next((r["t_end"] for r in rows if not r["diverged"]), steps * dt)
+    units = [(m, dt, until) for m in names]
+    ran = run_units(
+        Rows(scene, params, ref, _row),
+        units,
+        jobs,
+        executor,
+        here=lambda m, d, u: _row(subject, m, d, u, ref),
+        work=[physstep.method(m).evals for m in names],  # one dt: the same steps each
+    )
+    rows = tuple(ran.results)
+    t_end = next((r.t_end for r in rows if not r.diverged), steps * dt)
     against = error_against(
         subject.has_exact,
         None if ref is None else dt / REFERENCE_REFINE,
         *([] if ref is None else [ref.method]),
     )
-    out = table(subject, until, against, skipped, rows)
-    if subject.kind == "bodies":  # the |L| column's meaning, beside energy_error's
-        out["angular_momentum_error"] = ANGULAR_MOMENTUM_ERROR
-    # compare runs one dt: the table says it, with the steps it takes and the time they reach.
-    return {**out, "dt": dt, "steps": steps, "t_end": t_end}
+    return CompareResult(
+        **table(subject, until, against, skipped, ran.note),
+        rows=rows,
+        # the |L| column's meaning, beside energy_error's
+        angular_momentum_error=ANGULAR_MOMENTUM_ERROR if subject.kind == "bodies" else None,
+        # compare runs one dt: the table says it, with the steps it takes and the time they reach.
+        dt=dt,
+        steps=steps,
+        t_end=t_end,
+        workers=ran.workers,
+    )
 
 
 def _l_error(traj: Trajectory) -> float | None:
@@ -126,29 +130,22 @@ def _l_error(traj: Trajectory) -> float | None:
     return float(np.max(np.linalg.norm(ang - ang[0], axis=1)) / (l0 if l0 > 0 else 1.0))
 
 
-def _unit(
-    scene: Any, params: dict[str, float] | None, method: str, dt: float, until: float, ref: Trajectory | None
-) -> dict[str, Any]:
-    """One row of :func:`compare` in another process (the scene or system travels pickled)."""
-    return _row(Subject(scene, params), method, dt, until, ref)
-
-
-def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:
+def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> CompareRow:
     """One row of :func:`compare`."""
     traj, ns, runs = timed(lambda: subject.run(method, dt, until, stop_on_diverge=True))
-    return {
-        "method": method,
-        "order": physstep.method(method).order,
-        "evals_per_step": traj.evals / max(traj.steps, 1),
-        "energy_max_rel_error": max_abs(traj.energy_error),
-        "energy_drift": drift(traj),
-        "energy_scale": energy_scale(traj),
-        "energy_dissipation": physstep._dissipation(traj) if traj.energy is not None else None,
-        "final_error": final_error(traj, ref) if len(traj.t) else math.nan,
-        "angular_momentum_max_rel_error": _l_error(traj),
-        "ns_per_step": ns,
-        "ns_per_step_runs": runs,
-        "steps": int(traj.steps),
-        "t_end": float(traj.t[-1]),
-        "diverged": traj.diverged,
-    }
+    return CompareRow(
+        method=method,
+        order=physstep.method(method).order,
+        evals_per_step=traj.evals / max(traj.steps, 1),
+        energy_max_rel_error=max_abs(traj.energy_error),
+        energy_drift=drift(traj),
+        energy_scale=energy_scale(traj),
+        energy_dissipation=physstep._dissipation(traj) if traj.energy is not None else None,
+        final_error=final_error(traj, ref) if len(traj.t) else math.nan,
+        angular_momentum_max_rel_error=_l_error(traj),
+        ns_per_step=ns,
+        ns_per_step_runs=runs,
+        steps=int(traj.steps),
+        t_end=float(traj.t[-1]),
+        diverged=traj.diverged,
+    )

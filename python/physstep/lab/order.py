@@ -12,6 +12,7 @@ import physstep
 from physstep import Trajectory
 from physstep.lab.common import EPS, REFERENCE_METHOD, REFERENCE_REFINE, positive, steps
 from physstep.lab.reference import error_against, final_error, reference
+from physstep.lab.results import OrderResult, OrderRun
 from physstep.lab.system import Subject
 
 #: The default run length of :func:`order`, in natural time scales (a third of a period:
@@ -71,7 +72,7 @@ def order(
     *,
     levels: int = 5,
     time_scale: float | None = None,
-) -> dict[str, Any]:
+) -> OrderResult:
     """The observed convergence order of ``method`` on ``scene`` (a scene's name or a system,
     as :func:`physstep.simulate` takes; a split method on a flow is refused).
 
@@ -92,9 +93,11 @@ def order(
     slope of log error on log dt over the three finest runs of the window (None if the method
     is exact to roundoff on this scene); ``order_all`` is the slope over every usable run.
 
-    Returns ``scene``, ``method``, ``info_order``, ``order``, ``order_all``, ``until``,
-    ``error_against``, ``runs`` (list of {``dt``, ``steps``, ``error``, ``order``: the pairwise
-    order from the previous run}) and ``note``.
+    Returns an :class:`~physstep.lab.results.OrderResult` (its fields documented there;
+    ``.to_dict()`` is what ``physstep order --format json`` prints): ``order``, ``order_all``,
+    the registry's ``info_order``, ``error_against``, ``note`` and ``runs``, one
+    :class:`~physstep.lab.results.OrderRun` per step size (``dt``, ``steps``, ``error``: inf
+    where the run diverged, ``order``: the pairwise order from the previous run).
     """
     subject = Subject(scene, params)
     subject.check_method(method)
@@ -171,7 +174,7 @@ def order(
         pair = None
         if prev is not None and prev[1] > floor(prev[0]) and e > floor(d) and math.isfinite(prev[1] * e):
             pair = math.log(prev[1] / e) / math.log(prev[0] / d)
-        out_runs.append({"dt": d, "steps": steps(d, until), "error": e, "order": pair})
+        out_runs.append(OrderRun(dt=d, steps=steps(d, until), error=e, order=pair))
         prev = (d, e)
     usable = [(d, e) for d, e in good if floor(d) < e <= ceiling]
     fit = usable[-3:]
@@ -186,17 +189,17 @@ def order(
         )
     if not note and len(usable) < len(good):
         note = f"{len(good) - len(usable)} run(s) outside the asymptotic range left out of the fit"
-    return {
-        "scene": subject.name,
-        "kind": subject.kind,
-        "method": method,
-        "info_order": physstep.method(method).order,
-        "order": observed,
-        "order_all": _slope([d for d, _ in usable], [e for _, e in usable]) if len(usable) >= 2 else None,
-        "until": until,
-        "params": subject.full_params,
-        "error_against": error_against(has_exact, ref_dt, ref_method[0]),
-        "error": f"final {'state' if subject.kind == 'flow' else 'position'} error, max over coordinates",
-        "runs": out_runs,
-        "note": note,
-    }
+    return OrderResult(
+        scene=subject.name,
+        kind=subject.kind,
+        method=method,
+        info_order=physstep.method(method).order,
+        order=observed,
+        order_all=_slope([d for d, _ in usable], [e for _, e in usable]) if len(usable) >= 2 else None,
+        until=until,
+        params=subject.full_params,
+        error_against=error_against(has_exact, ref_dt, ref_method[0]),
+        error=f"final {'state' if subject.kind == 'flow' else 'position'} error, max over coordinates",
+        runs=tuple(out_runs),
+        note=note,
+    )

@@ -12,6 +12,7 @@ import numpy as np
 
 import physstep
 from physstep.lab.common import EPS, REFERENCE_METHOD, number, positive
+from physstep.lab.results import GrowthTest, StabilityResult
 from physstep.lab.system import Subject
 
 #: The scenes whose step map is linear or affine in the state (amplification-matrix analysis).
@@ -196,9 +197,9 @@ class Growth:
             )
         return g if math.isfinite(g) else math.inf
 
-    def as_dict(self) -> dict[str, Any]:
-        """The numbers of the test (JSON-ready)."""
-        return {"steps": self.steps, "limit": GROWTH_LIMIT, "x_scale": self.x_scale, "v_scale": self.v_scale}
+    def test(self) -> GrowthTest:
+        """The numbers of the test, as the result reports them."""
+        return GrowthTest(steps=self.steps, limit=GROWTH_LIMIT, x_scale=self.x_scale, v_scale=self.v_scale)
 
 
 def _growth(subject: Subject, scale: float, steps: int, given: bool) -> Growth:
@@ -439,8 +440,11 @@ def stability(
     rtol: float | None = None,
     time_scale: float | None = None,
     steps: int | None = None,
-) -> dict[str, Any]:
+) -> StabilityResult:
     """The largest stable dt of ``method`` on ``scene``: ``dt_max``.
+
+    Returns a :class:`~physstep.lab.results.StabilityResult` (its fields documented there;
+    ``.to_dict()`` is what ``physstep stability --format json`` prints).
 
     ``scene`` is a built-in scene's name or a system (a :class:`physstep.Flow`, or a
     zero-argument callable returning a fresh World or Flow); a split method on a flow is
@@ -542,25 +546,22 @@ def stability(
                 f"; stable again at {', '.join(f'{f:g}' for f in above)} dt_max (a resonance window: "
                 "the edge is not sharp, dt_max is where instability first appears)"
             )
-    out: dict[str, Any] = {
-        "scene": subject.name,
-        "kind": subject.kind,
-        "method": method,
-        "params": subject.full_params,
-        "dt_max": dt_max,
-        "dt_unstable": hi,
-        "analysis": "amplification matrix" if linear else "bounded growth",
-        "criterion": criterion,
-        "cap": cap,
-        "rtol": rtol,
-        "time_scale": scale,
-        "grid": [grid[0], grid[-1], GRID_PER_DECADE],
-        "note": note,
-    }
-    if growth is not None:
-        out["growth"] = growth.as_dict()
-        out["stable_above"] = [f * dt_max for f in above]
-        out["horizon"] = horizon
-    if linear and dt_max:
-        out["spectral_radius_at_dt_max"] = _rho(subject, method, dt_max)
-    return out
+    return StabilityResult(
+        scene=subject.name,
+        kind=subject.kind,
+        method=method,
+        params=subject.full_params,
+        dt_max=dt_max,
+        dt_unstable=hi,
+        analysis="amplification matrix" if linear else "bounded growth",
+        criterion=criterion,
+        cap=cap,
+        rtol=rtol,
+        time_scale=scale,
+        grid=(grid[0], grid[-1], GRID_PER_DECADE),
+        note=note,
+        growth=None if growth is None else growth.test(),
+        stable_above=None if growth is None else tuple(f * dt_max for f in above),
+        horizon=None if growth is None else horizon,
+        spectral_radius_at_dt_max=_rho(subject, method, dt_max) if linear and dt_max else None,
+    )

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import physstep
 from physstep import Trajectory
 from physstep.lab.common import (
     REFERENCE_REFINE,
@@ -12,10 +13,12 @@ from physstep.lab.common import (
     check_run,
     max_abs,
     positive,
-    run_units,
+    steps,
     timed,
 )
+from physstep.lab.parallel import Rows, run_units
 from physstep.lab.reference import error_against, final_error, max_error, reference
+from physstep.lab.results import SweepResult, SweepRow
 from physstep.lab.system import Subject, table
 
 
@@ -41,7 +44,7 @@ def sweep(
     progress: Callable[[int, int, str], None] | None = None,
     jobs: int | None = None,
     executor: Any = None,
-) -> dict[str, Any]:
+) -> SweepResult:
     """Work-precision data: every method at every dt up to ``until``.
 
     ``scene`` is a built-in scene's name or a system (a :class:`physstep.Flow`, or a
@@ -49,23 +52,26 @@ def sweep(
     is a list of names or ``"all"``: every method that applies (a flow skips the split
     methods, and ``note`` says so); a split method named for a flow is refused.
 
-    One row per (method, dt): ``method``, ``dt``, ``steps`` and ``t_end`` (what the run took and
-    reached: until / dt steps rounded down), ``evals`` (force evaluations, measured),
-    ``time_s`` (the stepping loop's wall time, from the median ``ns_per_step``),
-    ``ns_per_step`` (median of ``ns_per_step_runs`` timed runs), ``error`` (final position
-    error, max over coordinates, against the exact solution or the reference at the smallest
-    dt / 16, interpolated to each run's final time), ``max_error`` (the same, maximum over the
-    whole run: free of the cancellations a single time can show), ``energy_max_rel_error``
-    (:data:`ENERGY_ERROR`; None where the energy is unknown) and ``diverged`` (rows that
-    diverged have ``error`` None). ``progress(done, total, label)`` is called after each run.
+    Returns a :class:`~physstep.lab.results.SweepResult` (its fields documented there;
+    ``.to_dict()`` is what ``physstep sweep --format json`` prints) whose ``rows`` are one
+    :class:`~physstep.lab.results.SweepRow` per (method, dt), method by method, each from the
+    largest dt down: what the run took and reached (until / dt steps rounded down), its force
+    evaluations and stepping time, its final error and its maximum error over the run (free
+    of the cancellations a single time can show) against the exact solution or the
+    reference at the smallest dt / 16, and its energy error (None where the energy is
+    unknown); rows that diverged have ``error`` None. ``progress(done, total, label)`` is
+    called after each run.
 
     Every dt must be <= ``until`` (at least one step); a run that :func:`physstep.simulate`
     would refuse is a ValueError naming ``dts`` and ``until`` before anything runs.
 
-    ``jobs=N`` runs the rows in N local processes; ``executor=`` on any
-    ``concurrent.futures.Executor`` (a Dask ``Client.get_executor()``, a Ray pool), which is
-    not shut down. The rows are the serial run's, in its order, bitwise (physstep is
-    deterministic) but for the timing columns; ``progress`` is called here as rows come in.
+    ``jobs=N`` runs the rows in up to N local processes, in chunks (see
+    :mod:`physstep.lab.parallel`: at most one process per CPU, and here, serially, when the
+    work is too small to pay for starting them; ``note`` says so and ``workers`` says how
+    many ran it); ``executor=`` on any ``concurrent.futures.Executor`` (a Dask
+    ``Client.get_executor()``, a Ray pool), which is not shut down. The rows are the serial
+    run's, in its order, bitwise (physstep is deterministic) but for the timing columns;
+    ``progress`` is called here as rows come in.
     A system (not a scene name) must then pickle (a module-level function, a Flow).
     """
     jobs = check_jobs(scene, jobs, executor)
@@ -89,39 +95,38 @@ def sweep(
             what="the reference run",
         )
         ref = reference(scene, min(values), until, params)
-    units = [(scene, params, m, d, until, ref) for m in names for d in sorted(values, reverse=True)]
-    labels = [f"{u[2]} dt={u[3]:g}" for u in units]
-    # Here, the subject already probed; elsewhere, each unit builds its own.
-    here = jobs is None and executor is None
-    rows = run_units(
-        (lambda *u: _row(subject, *u[2:])) if here else _unit, units, jobs, executor, progress, labels
+    units = [(m, d, until) for m in names for d in sorted(values, reverse=True)]
+    labels = [f"{m} dt={d:g}" for m, d, _ in units]
+    ran = run_units(
+        Rows(scene, params, ref, _row),
+        units,
+        jobs,
+        executor,
+        here=lambda m, d, u: _row(subject, m, d, u, ref),
+        work=[steps(d, u) * physstep.method(m).evals for m, d, u in units],
+        progress=progress,
+        labels=labels,
     )
-    return table(
-        subject, until, error_against(subject.has_exact, None if ref is None else ref.dt), skipped, rows
+    against = error_against(subject.has_exact, None if ref is None else ref.dt)
+    return SweepResult(
+        **table(subject, until, against, skipped, ran.note), rows=tuple(ran.results), workers=ran.workers
     )
 
 
-def _unit(
-    scene: Any, params: dict[str, float] | None, method: str, dt: float, until: float, ref: Trajectory | None
-) -> dict[str, Any]:
-    """One row of :func:`sweep` in another process (the scene or system travels pickled)."""
-    return _row(Subject(scene, params), method, dt, until, ref)
-
-
-def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> dict[str, Any]:
+def _row(subject: Subject, method: str, dt: float, until: float, ref: Trajectory | None) -> SweepRow:
     """One row of :func:`sweep`."""
     traj, ns, runs = timed(lambda: subject.run(method, dt, until, stop_on_diverge=True))
-    return {
-        "method": method,
-        "dt": dt,
-        "steps": int(traj.steps),
-        "t_end": float(traj.t[-1]),
-        "evals": int(traj.evals),
-        "time_s": float(f"{ns * traj.steps * 1e-9:.12g}"),  # 12 digits: no float noise (e.g. ...0001)
-        "ns_per_step": ns,
-        "ns_per_step_runs": runs,
-        "error": None if traj.diverged else final_error(traj, ref),
-        "max_error": None if traj.diverged else max_error(traj, ref),
-        "energy_max_rel_error": max_abs(traj.energy_error),
-        "diverged": traj.diverged,
-    }
+    return SweepRow(
+        method=method,
+        dt=dt,
+        steps=int(traj.steps),
+        t_end=float(traj.t[-1]),
+        evals=int(traj.evals),
+        time_s=float(f"{ns * traj.steps * 1e-9:.12g}"),  # 12 digits: no float noise (e.g. ...0001)
+        ns_per_step=ns,
+        ns_per_step_runs=runs,
+        error=None if traj.diverged else final_error(traj, ref),
+        max_error=None if traj.diverged else max_error(traj, ref),
+        energy_max_rel_error=max_abs(traj.energy_error),
+        diverged=traj.diverged,
+    )

@@ -279,10 +279,12 @@ def time_scale(scene: Any, params: dict[str, float] | None = None) -> float:
 
 
 def table(
-    subject: Subject, until: float, error_against: str, skipped: list[str], rows: list[dict[str, Any]]
+    subject: Subject, until: float, error_against: str, skipped: list[str], jobs_note: str = ""
 ) -> dict[str, Any]:
-    """The keys every table of runs (compare, sweep) shares: what was measured, against what,
-    how, and its rows."""
+    """The fields every table of runs (compare, sweep) shares but its rows: what was
+    measured, against what and how; ``jobs_note`` (how ``jobs`` ran, where not as asked) is
+    appended to the note."""
+    note = "; ".join(n for n in (skipped_note(subject, skipped), jobs_note) if n)
     return {
         "scene": subject.name,
         "kind": subject.kind,
@@ -292,7 +294,6 @@ def table(
         "error_against": error_against,
         "energy_error": ENERGY_ERROR,
         "timing": timing_note(),
-        "skipped": skipped,
-        "note": skipped_note(subject, skipped),
-        "rows": rows,
+        "skipped": tuple(skipped),
+        "note": note,
     }
