@@ -44,12 +44,7 @@ impl Method for BackwardEuler {
     };
 
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
-        let (t, h) = (s.t, s.h);
-        let (y, f, mut flow) = s.flow();
-        self.newton.solve(&mut flow, Self::INFO.name, t + h, h, y, f)?;
-        s.y.copy_from_slice(&self.newton.z);
-        s.f.copy_from_slice(&self.newton.fz);
-        Ok(())
+        self.newton.euler_step(s, Self::INFO.name)
     }
 
     fn solve_stats(&self) -> Option<super::SolveStats> {

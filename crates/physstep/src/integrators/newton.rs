@@ -1,7 +1,7 @@
 //! Newton iteration for the implicit methods: solves `z = y0 + c f(tau, z)`.
 
 use super::{axpy_to, scratch};
-use crate::dynamics::{Counted, System};
+use crate::dynamics::{Counted, Step, System};
 use crate::error::{Error, Result};
 use crate::linalg::{cg, Blocks, CgParams, CgWork, NewtonMatrix};
 
@@ -202,6 +202,21 @@ impl Newton {
             }
         }
         Err(Error::NotConverged { method: method.into(), iterations: self.params.max_iter, residual })
+    }
+
+    /// A step of backward Euler's equation `y[n+1] = y[n] + h f(t + h, y[n+1])` (converged,
+    /// or linearised at the start with [`Newton::linear`]): the new state and its derivative
+    /// written into the step. `method` names the method in an error.
+    ///
+    /// # Errors
+    /// As [`Newton::solve`].
+    pub fn euler_step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>, method: &str) -> Result<()> {
+        let (t, h) = (s.t, s.h);
+        let (y, f, mut flow) = s.flow();
+        self.solve(&mut flow, method, t + h, h, y, f)?;
+        s.y.copy_from_slice(&self.z);
+        s.f.copy_from_slice(&self.fz);
+        Ok(())
     }
 
     /// [`Newton::solve`] on a second-order system (`nx` positions, as many velocities) whose
