@@ -14,6 +14,11 @@ Examples:
 
 from __future__ import annotations
 
+# isort: off
+# First, before numpy: Ctrl-C while the `physstep` command loads exits 130 (physstep._startup).
+import physstep._startup  # noqa: F401
+# isort: on
+
 import copy
 import functools
 from collections.abc import Callable

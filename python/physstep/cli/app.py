@@ -69,6 +69,9 @@ def main(argv: list[str] | None = None) -> int:
 
     ``--help`` and ``--version`` print and raise SystemExit(0), as argparse does.
     """
+    from physstep import _startup
+
+    _startup.loaded()
     stdout = sys.stdout
     if stdout is not None:
         sys.stdout = output.GuardedStdout(stdout)  # type: ignore[assignment]
