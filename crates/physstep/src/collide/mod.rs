@@ -152,7 +152,7 @@ pub(crate) fn check_inside(field: &str, x: &[f64], r: f64, walls: &Walls) -> Res
 }
 
 /// The first pair of balls (slots `i < j`) among `x` (by slot, `d` per ball) that overlap,
-/// with their distance; touching is not overlapping.
+/// with their distance; touching (within a relative 1e-9, a rounding) is not overlapping.
 pub(crate) fn first_overlap(x: &[f64], d: usize, radius: &[f64]) -> Option<(usize, usize, f64)> {
     let mut grid = grid::Grid::default();
     let rmax = radius.iter().copied().fold(0.0, f64::max);
@@ -169,7 +169,8 @@ pub(crate) fn first_overlap(x: &[f64], d: usize, radius: &[f64]) -> Option<(usiz
                 let j = grid.order()[t];
                 let (i, j) = (i.min(j as usize), i.max(j as usize));
                 let dist = (0..d).map(|k| (x[j * d + k] - x[i * d + k]).powi(2)).sum::<f64>().sqrt();
-                if dist < radius[i] + radius[j] && found.is_none_or(|f| (j, i) < (f.1, f.0)) {
+                if dist < (radius[i] + radius[j]) * (1.0 - 1e-9) && found.is_none_or(|f| (j, i) < (f.1, f.0))
+                {
                     found = Some((i, j, dist));
                 }
             }
