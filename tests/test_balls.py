@@ -183,3 +183,22 @@ def test_cli_bad_balls_params_exit_2(param: str, needle: str) -> None:
     res = run_cli("run", "balls", "--param", param)
     assert res.returncode == 2
     assert res.stderr.count("\n") == 1 and needle in res.stderr, res.stderr
+
+
+def test_pile_scene_is_listed_and_comes_to_rest() -> None:
+    # Before resting contacts a pile at restitution 0.5 failed with a ConvergenceError 1.4 s
+    # into its fall; 200 balls here (the 1,000-ball check is crates/physstep/tests/collisions.rs).
+    res = run_cli("scenes")
+    assert res.returncode == 0 and "pile" in res.stdout, res.stderr
+    w = physstep.World.from_scene("pile", params={"n": 200, "restitution": 0.5})
+    peak = 0.0
+    for _ in range(1200):
+        w.step(1)
+        peak = max(peak, 0.5 * float((w.velocities**2).sum()))
+    assert 0.5 * float((w.velocities**2).sum()) < 1e-6 * peak
+    res = run_cli("run", "pile", "--until", "2", "--param", "n=100", "--format", "json")
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout)["collisions"]["count"] > 0
+    res = run_cli("run", "pile", "--param", "restitution=2")
+    assert res.returncode == 2
+    assert res.stderr.count("\n") == 1 and "invalid restitution = 2" in res.stderr, res.stderr

@@ -379,8 +379,8 @@ fn stacks_at_rest_under_gravity_stay_at_any_restitution() {
 
 #[test]
 fn a_pile_settles_under_gravity() {
-    // (A pile at rest with a low restitution, 0.3, needs more contacts per step than the
-    // stage allows after a few seconds: docs/collisions.md, not there yet.)
+    // Elastic: events only, no overlap at any step. Below 1: the resting contacts hold the
+    // pile (overlaps of a rounding's size where it rests; see the pile tests below).
     for e in [1.0, 0.9] {
         let mut w = scenes::build(
             "balls",
@@ -396,10 +396,14 @@ fn a_pile_settles_under_gravity() {
             if let Err(err) = w.step(1) {
                 panic!("e {e} step {k}: {err}");
             }
-            assert!(max_pair_overlap(&w) <= 1e-6 * 0.05, "e {e}: {}", max_pair_overlap(&w));
+            if e == 1.0 {
+                assert!(max_pair_overlap(&w) <= 1e-6 * 0.05, "e {e}: {}", max_pair_overlap(&w));
+            }
         }
+        let slack = if e == 1.0 { 1e-12 } else { 1e-3 * 0.05 };
+        assert!(max_pair_overlap(&w) <= slack, "e {e}: {}", max_pair_overlap(&w));
         let (x, hi) = (w.positions(), w.walls().unwrap().hi);
-        assert!(x.iter().enumerate().all(|(i, c)| *c >= 0.05 - 1e-12 && *c <= hi[i % 2] - 0.05 + 1e-12));
+        assert!(x.iter().enumerate().all(|(i, c)| *c >= 0.05 - slack && *c <= hi[i % 2] - 0.05 + slack));
         let e1 = w.energy().unwrap();
         eprintln!("e {e}: energy {e0} -> {e1}, {:?}", w.collisions());
         if e < 1.0 {
@@ -408,29 +412,96 @@ fn a_pile_settles_under_gravity() {
     }
 }
 
-#[test]
-fn contacts_that_do_not_end_fail_the_step_and_roll_back() {
-    // A pile settling at rest with a low restitution hands each step's fall through all its
-    // resting contacts: after a few seconds a step needs more than the stage's budget.
-    let mut w = scenes::build(
-        "balls",
-        &[("n", 300.0), ("fraction", 0.3), ("restitution", 0.3)],
-        "velocity-verlet",
-        1.0 / 120.0,
-    )
-    .unwrap()
-    .world;
-    w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
-    for _ in 0..3000 {
-        let (hash, stats, t) = (w.state_hash(), w.collisions(), w.time());
-        if let Err(e) = w.step(1) {
-            assert!(matches!(e, Error::Contacts { .. }) && e.is_step_failure(), "{e}");
-            assert!(e.to_string().contains("did not end within 20224 collisions"), "{e}");
-            assert_eq!((w.state_hash(), w.collisions(), w.time()), (hash, stats, t));
-            return;
+/// A 2D pile of `rows` rows of `cols` touching balls of radius 0.05 (hexagonal packing) at
+/// rest on the floor of a box, under gravity.
+fn packed_pile(cols: usize, rows: usize, e: f64, method: &str) -> World {
+    let r = 0.05;
+    let mut w = world(2, method, 1.0 / 120.0);
+    w.set_restitution(e).unwrap();
+    w.add_walls(&[0.0, 0.0], &[2.0 * r * cols as f64 + 2.0 * r, 10.0]).unwrap();
+    let mut x = Vec::new();
+    for j in 0..rows {
+        for i in 0..cols {
+            x.push(r + 2.0 * r * (1.0 + 1e-12) * i as f64 + if j % 2 == 1 { r } else { 0.0 });
+            x.push(r + j as f64 * r * 3f64.sqrt() * (1.0 + 1e-12));
         }
     }
-    panic!("the pile kept within the budget: pick a harder case for this test");
+    w.add_balls(&x, None, &vec![r; cols * rows], None).unwrap();
+    w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+    w
+}
+
+#[test]
+fn contacts_that_do_not_end_fail_the_step_and_roll_back() {
+    // Elastic balls packed at rest: each step's fall is handed through all their contacts as
+    // events (elastic contacts keep their exact times of impact), more than the budget.
+    let mut w = packed_pile(30, 20, 1.0, "velocity-verlet");
+    let (hash, stats, t) = (w.state_hash(), w.collisions(), w.time());
+    let e = w.step(1).expect_err("an elastic pile packed at rest exceeds the budget");
+    assert!(matches!(e, Error::Contacts { .. }) && e.is_step_failure(), "{e}");
+    assert!(e.to_string().contains("did not end within 39424 collisions"), "{e}");
+    assert_eq!((w.state_hash(), w.collisions(), w.time()), (hash, stats, t));
+}
+
+#[test]
+fn a_packed_pile_rests_below_restitution_one() {
+    // The same pile as above at restitution 0.5 (failed at its first step before resting
+    // contacts): it stays at rest, no overlap, no error. (Velocity Verlet keeps a velocity
+    // of g h / 2 into the floor at rest: docs/collisions.md.)
+    let mut w = packed_pile(30, 20, 0.5, "symplectic-euler");
+    // (The odd rows' last balls have half a ball of room beside them: they slide down into
+    // it, frictionless, and the pile settles again.)
+    w.step(1200).unwrap();
+    eprintln!("kinetic {:e}, overlap {:e}", w.kinetic(), max_pair_overlap(&w));
+    assert!(max_pair_overlap(&w) < 1e-3 * 0.05, "{}", max_pair_overlap(&w));
+    assert!(w.kinetic() < 1e-6, "{}", w.kinetic());
+}
+
+/// The `pile` scene at restitution `e` under symplectic Euler to t = 10 s: the peak and final
+/// kinetic energy and the overlap at the end.
+fn pile_run(e: f64) -> (f64, f64, World) {
+    let mut w = scenes::build("pile", &[("restitution", e)], "symplectic-euler", 1.0 / 120.0).unwrap().world;
+    let mut peak = 0.0_f64;
+    for k in 0..1200 {
+        if let Err(err) = w.step(1) {
+            panic!("e {e} step {k}: {err}");
+        }
+        peak = peak.max(w.kinetic());
+    }
+    (peak, w.kinetic(), w)
+}
+
+#[test]
+fn the_pile_comes_to_rest_at_any_restitution() {
+    // 1,000 balls dropped into a box under gravity: before resting contacts, restitution 0.5
+    // failed 1.4 s into the fall (the contact budget), and 0 and 0.9 the same way.
+    for e in [0.5, 0.0, 0.9] {
+        let (peak, end, w) = pile_run(e);
+        let overlap = max_pair_overlap(&w);
+        eprintln!("e {e}: kinetic {end:e} of peak {peak:e} ({:e}), overlap {overlap:e}", end / peak);
+        assert!(end < 1e-6 * peak, "e {e}: kinetic {end} of peak {peak}");
+        assert!(overlap < 1e-3 * 0.05, "e {e}: overlap {overlap}");
+        let (x, hi) = (w.positions(), w.walls().unwrap().hi);
+        let slack = 1e-3 * 0.05;
+        assert!(x.iter().enumerate().all(|(i, c)| *c >= 0.05 - slack && *c <= hi[i % 2] - 0.05 + slack));
+    }
+}
+
+#[test]
+fn the_pile_is_the_same_on_one_and_two_threads() {
+    // 17,000 balls: the scan runs on the pool (above 16,384); the resting contacts are serial.
+    let run = |threads: usize, n: f64, steps: u64| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut w = scenes::build("pile", &[("n", n)], "symplectic-euler", 1.0 / 120.0).unwrap().world;
+            w.step(steps).unwrap();
+            (w.state_hash(), w.collisions())
+        })
+    };
+    assert_eq!(run(1, 17000.0, 40), run(2, 17000.0, 40));
+    let (a, b) = (run(1, 1000.0, 240), run(2, 1000.0, 240));
+    assert_eq!(a, b);
+    assert!(a.1.count > 1000, "{:?}", a.1);
 }
 
 /// Positions set by hand are checked as `add_ball` checks a ball (issue 25, item 10): no

@@ -18,7 +18,7 @@ use physstep::prelude::*;
 const STEPS: u64 = 1000;
 
 /// `(scene, hash after STEPS steps)`, in registry order.
-const HASHES: [(&str, u64); 19] = [
+const HASHES: [(&str, u64); 20] = [
     ("spring", 0x283e5130c3fd2cfe),
     ("projectile", 0xfe742e718de6e989),
     ("drag", 0x5904922d8dd79415),
@@ -38,6 +38,7 @@ const HASHES: [(&str, u64); 19] = [
     ("cloth", 0x955a06a8492adc26),
     ("ragdoll", 0x1453c0f1cb06b77e),
     ("balls", 0x1679bc483ce3c327),
+    ("pile", 0x39b1d9f604d9b80d),
 ];
 
 /// The parameters a scene's hash is recorded with: its defaults, but for stiff-cloth, whose
@@ -45,6 +46,8 @@ const HASHES: [(&str, u64); 19] = [
 fn params(scene: &str) -> &'static [(&'static str, f64)] {
     if scene == "stiff-cloth" {
         &[("n", 6.0)]
+    } else if scene == "pile" {
+        &[("n", 200.0)]
     } else {
         &[]
     }

@@ -18,7 +18,7 @@ fn msg<T: std::fmt::Debug>(r: Result<T>) -> String {
 
 #[test]
 fn every_scene_builds_and_steps_under_every_method() {
-    assert_eq!(scenes::SCENES.len(), 19);
+    assert_eq!(scenes::SCENES.len(), 20);
     for spec in &scenes::SCENES {
         for info in INFOS {
             if ["racket", "top", "tumble"].contains(&spec.name) {
@@ -359,7 +359,7 @@ fn pendulum_without_gravity_is_a_circle() {
 #[test]
 fn unknown_names_list_the_valid_ones() {
     let all_scenes =
-        "spring, projectile, drag, orbit, kepler, pendulum, nbody, chain, lorenz, rossler, thomas, stiff-chain, stiff-cloth, racket, top, tumble, cloth, ragdoll, balls";
+        "spring, projectile, drag, orbit, kepler, pendulum, nbody, chain, lorenz, rossler, thomas, stiff-chain, stiff-cloth, racket, top, tumble, cloth, ragdoll, balls, pile";
     assert_eq!(
         msg(scenes::build("bouncy", &[], "rk4", 0.01)),
         format!("unknown scene 'bouncy'; valid scenes: {all_scenes}")

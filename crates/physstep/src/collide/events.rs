@@ -14,6 +14,7 @@
 
 mod narrow;
 mod overlap;
+mod rest;
 
 use super::grid::Grid;
 use super::Walls;
@@ -147,6 +148,8 @@ pub(crate) struct Scratch {
     grown: Vec<u32>,
     is_grown: Vec<bool>,
     grid: Grid,
+    /// The resting contacts of a step below restitution 1 (`rest.rs`).
+    rest: rest::Rest,
 }
 
 /// What a step's contacts came to.
@@ -322,10 +325,27 @@ impl Scratch {
         self.ver[b] = self.ver[b].wrapping_add(1);
     }
 
-    /// The slots hit in this step, in the order of their first contact.
+    /// The slots whose state the stage changed: the events' hits, then (below restitution 1)
+    /// the balls the resting contacts moved.
     #[inline]
-    pub fn hits(&self) -> &[u32] {
-        &self.hits
+    pub fn touched(&self) -> &[u32] {
+        if self.rest.on {
+            self.rest.touched()
+        } else {
+            &self.hits
+        }
+    }
+
+    /// The end of the step of a touched slot `b`, coordinate `k` (`d` per ball): position and
+    /// velocity.
+    #[inline]
+    pub fn end(&self, b: usize, k: usize, d: usize) -> (f64, f64) {
+        if self.rest.on {
+            self.rest.end(b, k, d)
+        } else {
+            let i = b * d + k;
+            (self.p[i] + (1.0 - self.tau[b]) * self.u[i], self.vel[i])
+        }
     }
 
     /// Whether slot `b` was hit in this step (so far).
@@ -374,6 +394,10 @@ impl Scratch {
 
     fn resolve_d<const D: usize>(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
         let nb = inp.radius.len();
+        self.rest.on = false;
+        if inp.e < 1.0 {
+            self.rest.begin::<D>(&self.x0, &self.v0, inp);
+        }
         // The start positions are the paths' origins: taken over (the next step refills x0).
         std::mem::swap(&mut self.p, &mut self.x0);
         self.vel.resize(nb * D, 0.0);
@@ -424,9 +448,25 @@ impl Scratch {
                 if self.ver[a] != ev.va || (ev.b < WALL && self.ver[ev.b as usize] != ev.vb) {
                     continue;
                 }
+                // Below restitution 1: a contact of balls that touched at the start is the
+                // resting contacts' business, and so is a second contact among balls already
+                // hit in the step (a cluster's inelastic contacts within a step would follow
+                // each other without end: an inelastic collapse); each event then hits a
+                // fresh ball, so a step takes at most as many events as balls and walls.
+                if self.rest.on && self.rest.skips::<D>(a, ev.b, inp) {
+                    continue;
+                }
                 out.contacts += 1;
                 if out.contacts > cap {
-                    return Err(cap);
+                    if !self.rest.on {
+                        return Err(cap);
+                    }
+                    // Below restitution 1 the contacts left (an inelastic collapse within the
+                    // step) are the resting contacts' at the next step: the balls end on their
+                    // paths as they are.
+                    out.contacts -= 1;
+                    self.heap.clear();
+                    break;
                 }
                 let mut moved = [a, a];
                 if ev.b >= WALL {
@@ -451,6 +491,9 @@ impl Scratch {
                 if moved[1] != a {
                     self.predict::<D>(moved[1], inp);
                 }
+            }
+            if self.rest.on {
+                out.contacts += self.rest_finish::<D>(inp);
             }
             return Ok(out);
         }

@@ -157,7 +157,7 @@ pub(crate) fn check_inside_by(field: &str, x: &[f64], r: f64, walls: &Walls, sla
 }
 
 /// The first pair of balls (slots `i < j`) among `x` (by slot, `d` per ball) that overlap,
-/// with their distance; touching is not overlapping.
+/// with their distance; touching (within a relative 1e-9, a rounding) is not overlapping.
 pub(crate) fn first_overlap(x: &[f64], d: usize, radius: &[f64]) -> Option<(usize, usize, f64)> {
     overlaps(x, d, radius, 0.0).0
 }
@@ -205,7 +205,9 @@ pub(crate) fn overlaps(
                 if dist < sum {
                     deepest = deepest.max(sum - dist);
                 }
-                if dist < sum - slack && found.is_none_or(|f| (j, i) < (f.1, f.0)) {
+                // Touching within a relative 1e-9 (a rounding) is not overlapping.
+                let limit = (sum - slack).min(sum * (1.0 - 1e-9));
+                if dist < limit && found.is_none_or(|f| (j, i) < (f.1, f.0)) {
                     found = Some((i, j, dist));
                 }
             }

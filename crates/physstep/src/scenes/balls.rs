@@ -101,3 +101,67 @@ pub(super) fn scene(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     build(&p, w)?;
     Ok(None)
 }
+
+/// The parameters of the `pile` scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PileParams {
+    /// Number of balls.
+    pub n: usize,
+    /// Coefficient of restitution in [0, 1].
+    pub restitution: f64,
+    /// Radius of each ball, m.
+    pub radius: f64,
+    /// Seed of the generator.
+    pub seed: u64,
+    /// Gravity, m/s^2 (along -y).
+    pub g: f64,
+}
+
+/// The `pile`'s box `[0, W] x [0, H]` and the balls' positions and velocities: `m =
+/// ceil(sqrt(n))` columns of cells of side `3 r` (so `W = 3 r m`), the balls in row order from
+/// the bottom, each at a random offset of at most `r / 2` from its cell's centre (no two
+/// overlap) and a random velocity of at most `0.5` m/s per component; `H` twice the height
+/// of the rows, room to bounce.
+#[must_use]
+pub fn pile_layout(p: &PileParams) -> ([f64; 2], Vec<f64>, Vec<f64>) {
+    let (n, r) = (p.n, p.radius);
+    let mut m = 1usize;
+    while m * m < n {
+        m += 1;
+    }
+    let rows = n.div_ceil(m);
+    let cell = 3.0 * r;
+    let jitter = 0.5 * r * (1.0 - 1e-9);
+    let mut rng = SplitMix(p.seed);
+    let (mut x, mut v) = (Vec::with_capacity(2 * n), Vec::with_capacity(2 * n));
+    for b in 0..n {
+        for c in [b % m, b / m] {
+            x.push((c as f64 + 0.5) * cell + jitter * (2.0 * rng.unit() - 1.0));
+        }
+        for _ in 0..2 {
+            v.push(0.5 * (2.0 * rng.unit() - 1.0));
+        }
+    }
+    ([cell * m as f64, 2.0 * cell * rows as f64], x, v)
+}
+
+/// The `pile` scene from its parameter values: `n` balls falling under gravity into a box,
+/// where they come to rest (2D).
+///
+/// # Errors
+/// [`Error::InvalidValue`] naming `restitution` outside [0, 1].
+pub(super) fn pile(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let p = PileParams {
+        n: v("n") as usize,
+        restitution: v("restitution"),
+        radius: v("radius"),
+        seed: v("seed") as u64,
+        g: v("g"),
+    };
+    let (side, x, vel) = pile_layout(&p);
+    w.set_restitution(p.restitution)?;
+    w.add_walls(&[0.0, 0.0], &side)?;
+    w.add_balls(&x, Some(&vel), &vec![p.radius; p.n], None)?;
+    w.add_force(crate::forces::Force::Gravity { g: [0.0, -p.g, 0.0] })?;
+    Ok(None)
+}

@@ -86,7 +86,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 
 /// Every built-in scene, in registry order: the scenes' one table (name, parameters, defaults
 /// and builder, whose file gives the exact solution where one is known).
-pub const SCENES: [SceneSpec; 19] = [
+pub const SCENES: [SceneSpec; 20] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -405,6 +405,23 @@ pub const SCENES: [SceneSpec; 19] = [
         dt: 1.0 / 120.0,
         until: 10.0,
         build: Build::Parts(balls::scene),
+    },
+    SceneSpec {
+        name: "pile",
+        doc: "N balls dropped under gravity into a box, where they come to rest (resting contacts below restitution 1)",
+        dim: 2,
+        params: &[
+            p("n", 1000.0, "number of balls", Rule::Count),
+            p("restitution", 0.5, "coefficient of restitution, 0 to 1 (1: elastic)", Rule::NonNegative),
+            p("radius", 0.05, "ball radius, m", Rule::Positive),
+            p("seed", 1.0, "random seed", Rule::NonNegative),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::BelowOne("restitution", "inelastic collisions"),
+        dt: 1.0 / 120.0,
+        until: 10.0,
+        build: Build::Parts(balls::pile),
     },
 ];
 

@@ -37,7 +37,9 @@ impl World {
         for &p in &self.balls.index {
             let (xp, rp) = (&self.state.y[p * d..(p + 1) * d], self.balls.radius[p]);
             let dist = xp.iter().zip(position).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
-            if dist < rp + radius {
+            // Touching within a rounding (a relative 1e-9, as the resting contacts count
+            // it) is touching: a pile at rest written to a scene file reads back.
+            if dist < (rp + radius) * (1.0 - 1e-9) {
                 return Err(Error::invalid(
                     "position",
                     point(position),
@@ -361,14 +363,14 @@ impl World {
         // The end of the hit balls' new paths, and their velocities, written back; their
         // velocities before the stage kept (leapfrog's memory moves by the same impulse).
         b.v1.resize(nb * d, 0.0);
-        for &slot in s.hits() {
+        for &slot in s.touched() {
             let slot = slot as usize;
             let p = run.map_or_else(|| b.index[slot], |p0| p0 + slot);
             for k in 0..d {
-                let i = slot * d + k;
-                b.v1[i] = y[nx + p * d + k];
-                y[p * d + k] = s.p[i] + (1.0 - s.tau[slot]) * s.u[i];
-                y[nx + p * d + k] = s.vel[i];
+                let (x, v) = s.end(slot, k, d);
+                b.v1[slot * d + k] = y[nx + p * d + k];
+                y[p * d + k] = x;
+                y[nx + p * d + k] = v;
             }
         }
         self.resync_memory(ctx.h);
@@ -388,7 +390,7 @@ impl World {
         let (d, nx, run) = (self.dim(), self.nx(), self.balls_run());
         let (y, f) = (&self.state.y, &mut self.state.f);
         let mut finite = true;
-        for &slot in self.balls.scratch.hits() {
+        for &slot in self.balls.scratch.touched() {
             let p = run.map_or_else(|| self.balls.index[slot as usize], |p0| p0 + slot as usize);
             let (i, im) = (p * d..(p + 1) * d, &self.model.inv_mass[p..=p]);
             let springs = local.anchors(p, p + 1);
@@ -420,7 +422,7 @@ impl World {
         }
         let (d, nx) = (self.dim(), self.nx());
         let (b, y) = (&self.balls, &self.state.y);
-        for &slot in b.scratch.hits() {
+        for &slot in b.scratch.touched() {
             let (slot, p) = (slot as usize, b.index[slot as usize]);
             let i = p * d..(p + 1) * d;
             let (x, v) = (&y[i.clone()], &y[nx + i.start..nx + i.end]);

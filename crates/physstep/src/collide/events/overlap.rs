@@ -14,10 +14,16 @@ impl Scratch {
     /// contact was found: it overlaps nothing that was not hit (the tests check all pairs
     /// independently).
     pub fn overlap(&self, inp: &Input<'_>) -> f64 {
-        match inp.d {
+        let events = match inp.d {
             1 => self.overlap_d::<1>(inp),
             2 => self.overlap_d::<2>(inp),
             _ => self.overlap_d::<3>(inp),
+        };
+        // Below restitution 1, with the contacts the resting solver held.
+        if self.rest.on {
+            events.max(self.rest.end_overlap)
+        } else {
+            events
         }
     }
 
@@ -27,7 +33,12 @@ impl Scratch {
     #[inline(always)]
     fn end_d<const D: usize>(&self, b: usize, inp: &Input<'_>) -> [f64; D] {
         let (mut e, i) = ([0.0; D], b * D);
-        if self.hit(b) {
+        if self.rest.on {
+            // Below restitution 1 the resting contacts may have moved any ball.
+            for k in 0..D {
+                e[k] = self.rest.end(b, k, D).0;
+            }
+        } else if self.hit(b) {
             for k in 0..D {
                 e[k] = self.p[i + k] + (1.0 - self.tau[b]) * self.u[i + k];
             }

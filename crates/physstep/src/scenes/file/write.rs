@@ -302,8 +302,11 @@ mod tests {
     /// spring on a mesh that chose its own rest length.
     #[test]
     fn structure_and_snapshot_continue_bitwise() {
+        // (Not the pile: balls landing on it overlap for a step, and a scene file's balls may
+        // not overlap: docs/collisions.md.)
         let mut worlds: Vec<World> = crate::scenes::SCENES
             .iter()
+            .filter(|s| s.name != "pile")
             .map(|s| {
                 let build = |method| crate::scenes::build(s.name, &[], method, s.dt);
                 build("symplectic-euler").or_else(|_| build("rk4")).unwrap().world
