@@ -122,8 +122,9 @@ def test_orbit_draws_the_paths_that_leave_the_pack_strong_and_its_title_lists_no
     assert ax.get_title() == "path: orbit, dt = 0.1 s"  # the legend names the methods, not the title
     lines = {ln.get_label().split(" (")[0]: ln for ln in _method_lines(ax)}
     wide = {name for name, ln in lines.items() if ln.get_linewidth() == plot.LEAVING_WIDTH}
-    # explicit Euler spirals out, backward Euler in, predictor-corrector is flung away
-    assert wide == {"explicit-euler", "backward-euler", "predictor-corrector"}
+    # explicit Euler spirals out, backward Euler and its linearised step in, predictor-corrector
+    # is flung away
+    assert wide == {"explicit-euler", "backward-euler", "linearly-implicit-euler", "predictor-corrector"}
     for name in wide:
         assert _contrast_on_white(to_hex(lines[name].get_color())) >= 3.0, name
         assert lines[name].get_zorder() > lines["rk4"].get_zorder()
