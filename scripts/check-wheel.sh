@@ -4,7 +4,13 @@
 # gets. Usage: bash scripts/check-wheel.sh  (after scripts/build-wheel.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-WHEEL=$(ls dist/physstep-*.whl)
+shopt -s nullglob
+WHEELS=(dist/physstep-*.whl)
+if [ ${#WHEELS[@]} -ne 1 ]; then
+    echo "check-wheel: expected one wheel in dist/, found ${#WHEELS[@]}: run bash scripts/build-wheel.sh first" >&2
+    exit 2
+fi
+WHEEL=${WHEELS[0]}
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 python3 -m venv "$TMP/venv"

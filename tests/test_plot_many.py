@@ -122,13 +122,30 @@ def test_orbit_draws_the_paths_that_leave_the_pack_strong_and_its_title_lists_no
     assert ax.get_title() == "path: orbit, dt = 0.1 s"  # the legend names the methods, not the title
     lines = {ln.get_label().split(" (")[0]: ln for ln in _method_lines(ax)}
     wide = {name for name, ln in lines.items() if ln.get_linewidth() == plot.LEAVING_WIDTH}
-    # explicit Euler spirals out, backward Euler and its linearised step in, predictor-corrector
-    # is flung away
+    # explicit Euler spirals out, backward Euler in, predictor-corrector and linearly implicit
+    # Euler are flung away
     assert wide == {"explicit-euler", "backward-euler", "linearly-implicit-euler", "predictor-corrector"}
     for name in wide:
         assert _contrast_on_white(to_hex(lines[name].get_color())) >= 3.0, name
         assert lines[name].get_zorder() > lines["rk4"].get_zorder()
     assert lines["rk4"].get_linewidth() == 1.2
+
+
+def test_a_path_flung_far_away_runs_out_of_a_view_that_frames_the_others() -> None:
+    # Linearly implicit Euler at dt = 0.1 is flung about 30 km out of the 1 m orbit: the view
+    # frames the other paths (predictor-corrector's 25 m excursion included) and the legend
+    # says which path leaves it; without it, no view is set.
+    until = 3 * 2 * np.pi
+    runs = [physstep.simulate("orbit", m, 0.1, until, stop_on_diverge=True) for m in METHODS]
+    ax = plot.orbit(runs).axes[0]
+    leaving = [ln.get_label() for ln in _method_lines(ax) if "leaves the view" in ln.get_label()]
+    assert leaving == ["linearly-implicit-euler (leaves the view)"]
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert max(abs(x0), abs(x1), abs(y0), abs(y1)) < plot.VIEW_FACTOR * 1.05
+    assert x0 < -10 and y0 < -20  # predictor-corrector's excursion stays in view
+    kept = [r for r in runs if r.method != "linearly-implicit-euler"]
+    ax = plot.orbit(kept).axes[0]
+    assert not any("leaves the view" in ln.get_label() for ln in _method_lines(ax))
 
 
 @pytest.mark.parametrize("kind", ["trajectory", "phase", "energy"])

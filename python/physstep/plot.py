@@ -179,6 +179,41 @@ def _leaving(runs: Sequence[Trajectory], particle: int) -> set[int]:
     return {k for k, d in enumerate(dev) if d > LEAVING_FACTOR * median and d > LEAVING_SIZE * size}
 
 
+#: A path that goes further than this many times the exact path's size is left to run out of
+#: the view (its legend says so), which frames the others and the exact path.
+VIEW_FACTOR = 30.0
+
+
+def _framed(runs: Sequence[Trajectory], particle: int) -> tuple[set[int], tuple[float, ...] | None]:
+    """The runs whose path of ``particle`` goes past :data:`VIEW_FACTOR` times the exact path's
+    size (linearly implicit Euler flung 30 km out of a 1 m orbit), and the view that frames
+    every other path and the exact one (x0, x1, y0, y1); none and None when no path goes that
+    far, or without an exact solution."""
+    ex = _exact(runs)
+    if ex is None or ex.exact_x is None:
+        return set(), None
+    i, j = particle * ex.dim, particle * ex.dim + 1
+    curve = np.asarray(ex.exact_x)[:, [i, j]]
+    curve = curve[np.isfinite(curve).all(axis=1)]
+    if not len(curve):
+        return set(), None
+    bound = VIEW_FACTOR * max(float(np.abs(curve).max()), 1e-300)
+    kept, out = [curve], set()
+    for k, r in enumerate(runs):
+        pts = r.x[:, [i, j]]
+        pts = pts[np.isfinite(pts).all(axis=1)]
+        if len(pts) and float(np.abs(pts).max()) > bound:
+            out.add(k)
+        elif len(pts):
+            kept.append(pts)
+    if not out:
+        return set(), None
+    box = np.concatenate(kept)
+    (x0, y0), (x1, y1) = box.min(axis=0), box.max(axis=0)
+    pad = 0.05 * max(x1 - x0, y1 - y0)
+    return out, (x0 - pad, x1 + pad, y0 - pad, y1 + pad)
+
+
 def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure:
     """The path of ``particle`` in the plane (equal axes), the exact path dashed (a flow:
     y[0] against y[1]).
@@ -187,7 +222,9 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
     range.
 
     The paths that leave the pack (far from the exact path where most runs stay near it:
-    explicit Euler spiralling out, backward Euler in) are drawn wider and on top.
+    explicit Euler spiralling out, backward Euler in) are drawn wider and on top. A path that
+    goes past :data:`VIEW_FACTOR` times the exact path's size runs out of the view, which
+    frames the others, and its legend says "leaves the view".
 
     Rows holding a non-finite value (a run blowing up) are left out, as a gap in the line,
     and the legend says how many; a run with no finite row at all is a ValueError.
@@ -206,9 +243,12 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
     fig = _figure((9.5, 7.0))
     ax = fig.add_subplot()
     far = _leaving(runs, particle)
+    out, view = _framed(runs, particle)
     for k, r in enumerate(runs):
         i, j = particle * r.dim, particle * r.dim + 1
         (x, y), note = _finite([r.x[:, i], r.x[:, j]], r.method)
+        if k in out:
+            note += " (leaves the view)"
         width, z = (LEAVING_WIDTH, 3) if k in far else (1.2, 2)
         (line,) = ax.plot(x, y, label=_label(r, runs) + note, linewidth=width, zorder=z, **style(k))
         if r.diverged and np.isfinite(r.x[-1, i]) and np.isfinite(r.x[-1, j]):
@@ -224,7 +264,13 @@ def orbit(trajs: Trajectory | Iterable[Trajectory], particle: int = 0) -> Figure
     i, j = particle * first.dim, particle * first.dim + 1
     if np.isfinite(first.x[0, i]) and np.isfinite(first.x[0, j]):
         ax.plot([first.x[0, i]], [first.x[0, j]], "ko", markersize=5, label="start")
-    ax.set_aspect("equal", adjustable="datalim")
+    if view is None:
+        ax.set_aspect("equal", adjustable="datalim")
+    else:
+        # a fixed view: the axes' box takes the equal aspect (datalim would move the view)
+        ax.set_xlim(view[0], view[1])
+        ax.set_ylim(view[2], view[3])
+        ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel(_axis(first, i))
     ax.set_ylabel(_axis(first, j))
     ax.set_title(_title("path", runs))
