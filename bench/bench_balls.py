@@ -23,7 +23,7 @@ import sys
 import time
 
 import numpy as np
-from common import in_subprocess, row
+from common import deepest_overlap, in_subprocess, row
 
 DT, R, FRACTION = 1.0 / 120.0, 0.05, 0.3
 
@@ -42,15 +42,8 @@ def kinetic(v: np.ndarray) -> float:
 
 
 def overlap(x: np.ndarray) -> float:
-    """Deepest overlap of two balls (all of radius R), m: 0 when none overlap (all pairs, in
-    blocks of rows)."""
-    worst = 0.0
-    for a in range(0, len(x), 500):
-        d = np.linalg.norm(x[a : a + 500, None, :] - x[None, :, :], axis=-1)
-        rows = np.arange(a, min(a + 500, len(x)))
-        d[rows - a, rows] = np.inf
-        worst = max(worst, float((2 * R - d).max()))
-    return worst
+    """Deepest overlap of two balls (all of radius R), m: 0 when none overlap."""
+    return deepest_overlap(x, R)
 
 
 PHYSSTEP = """

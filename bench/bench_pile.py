@@ -21,19 +21,14 @@ import time
 
 import numpy as np
 import physstep
+from common import deepest_overlap
 
 DT, R, G = 1.0 / 120.0, 0.05, 9.81
 
 
 def overlap(x: np.ndarray) -> float:
     """Deepest overlap of two balls (all of radius R), m: 0 when none overlap."""
-    worst = 0.0
-    for a in range(0, len(x), 500):
-        d = np.linalg.norm(x[a : a + 500, None, :] - x[None, :, :], axis=-1)
-        rows = np.arange(a, min(a + 500, len(x)))
-        d[rows - a, rows] = np.inf
-        worst = max(worst, float((2 * R - d).max()))
-    return max(worst, 0.0)
+    return deepest_overlap(x, R)
 
 
 def run_physstep(n: int, e: float, steps: int) -> tuple[float, float, float]:

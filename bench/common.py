@@ -14,6 +14,8 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
+
 
 def median_time(fn: Callable[[], object], repeat: int, warmup: int = 1) -> float:
     """Median wall time of `repeat` calls of `fn` after `warmup` untimed ones, s."""
@@ -54,3 +56,16 @@ def write_json(path: str | None, data: dict[str, object]) -> None:
     tmp = p.with_suffix(p.suffix + ".tmp")
     tmp.write_text(json.dumps(data, indent=2) + "\n")
     tmp.replace(p)
+
+
+def deepest_overlap(x: np.ndarray, radius: float) -> float:
+    """The deepest overlap ``2 radius - distance`` of any pair of balls of one ``radius`` at
+    positions ``x`` (n, dim), m; 0 when none overlap (all pairs, in blocks of rows)."""
+    x = np.asarray(x)
+    worst = 0.0
+    for a in range(0, len(x), 500):
+        d = np.linalg.norm(x[a : a + 500, None, :] - x[None, :, :], axis=-1)
+        rows = np.arange(a, min(a + 500, len(x)))
+        d[rows - a, rows] = np.inf
+        worst = max(worst, float((2 * radius - d).max()))
+    return worst
