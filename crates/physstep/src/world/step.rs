@@ -317,7 +317,10 @@ impl World {
                 // back to the start of the pass, or of the call where it kept only that,
                 // without a replay (it would take as long again), the work done counted. A
                 // runaway in the kernel or the split loop goes the usual way (its replay does
-                // not look); a pass that ended well keeps its steps (below).
+                // not look); a pass that ended well keeps its steps (below). (The fused kernel,
+                // whose rollback may be an earlier call's, fails only by running away: no
+                // rollback here skips steps that a replay would have to take again.)
+                debug_assert!(save || !fused, "an interrupted pass goes back to a rollback it did not keep");
                 let evals = self.state.evals;
                 self.roll_back(&back);
                 self.state.evals = evals;
