@@ -31,18 +31,24 @@ from physstep import _constraints, _core
 from physstep._core import (
     Box,
     Capsule,
+    Circle,
     ConstraintWarning,
     ConvergenceError,
     Cylinder,
     DivergedError,
     MassProperties,
     Mesh,
+    Plane,
+    Polygon,
+    Segment,
     Shape,
+    SolidShape,
     Sphere,
     StepError,
     World,
     WorldBusyError,
     angular_forms,
+    contact_solvers,
     orientation_rules,
 )
 from physstep._scenefile import SceneFile, export_scene, load_scene, scene_text
@@ -50,6 +56,7 @@ from physstep._scenefile import SceneFile, export_scene, load_scene, scene_text
 __all__ = [
     "Box",
     "Capsule",
+    "Circle",
     "ConstraintWarning",
     "ConvergenceError",
     "Cylinder",
@@ -58,14 +65,19 @@ __all__ = [
     "MassProperties",
     "Mesh",
     "MethodInfo",
+    "Plane",
+    "Polygon",
     "SceneFile",
+    "Segment",
     "Shape",
+    "SolidShape",
     "Sphere",
     "StepError",
     "Trajectory",
     "World",
     "WorldBusyError",
     "angular_forms",
+    "contact_solvers",
     "export_scene",
     "load_scene",
     "method",
@@ -268,7 +280,9 @@ class Trajectory:
     them). Where the world has rigid bodies (``kind == "bodies"``),
     ``angular_momentum`` (rows, 3) is the total about the origin and ``body_spin``
     (rows, bodies, 3) each body's angular velocity in its principal frame (ascending
-    moments), where the tennis-racket flips show. Where the world has balls, ``collisions``
+    moments), where the tennis-racket flips show. Where the world has solids, ``contacts``
+    says at the end how many solids there are, how many contact points touch, the deepest
+    penetration (m) and the fastest solid (m/s). Where the world has balls, ``collisions``
     holds the contact statistics at the end (``count``, ``max_overlap`` in m, ``pair_tests``).
     ``world`` is the World a system's run stepped (a scene file, your callable or Flow), at
     its final state; None for a built-in scene. What :func:`summarize` says of the run's
@@ -298,6 +312,7 @@ class Trajectory:
     angular_momentum: np.ndarray | None = None
     body_spin: np.ndarray | None = None
     collisions: dict[str, float] | None = None
+    contacts: dict[str, float] | None = None
     world: World | None = field(default=None, repr=False, compare=False)
 
     def __getstate__(self) -> dict[str, Any]:
@@ -511,6 +526,14 @@ def summarize(traj: Trajectory) -> dict[str, Any]:
     if traj.collisions is not None:
         c = traj.collisions
         out["collisions"] = {"count": int(c["count"]), "max_overlap": float(c["max_overlap"])}
+    if traj.contacts is not None:
+        c = traj.contacts
+        out["contacts"] = {
+            "solids": int(c["solids"]),
+            "count": int(c["count"]),
+            "max_penetration": float(c["max_penetration"]),
+            "max_speed": float(c["max_speed"]),
+        }
     if traj.diverged:
         out["diverged"] = traj.diverged
     return out

@@ -15,19 +15,25 @@ from typing_extensions import disjoint_base
 __all__ = [
     "Box",
     "Capsule",
+    "Circle",
     "ConstraintWarning",
     "ConvergenceError",
     "Cylinder",
     "DivergedError",
     "MassProperties",
     "Mesh",
+    "Plane",
+    "Polygon",
+    "Segment",
     "Shape",
+    "SolidShape",
     "Sphere",
     "StepError",
     "World",
     "WorldBusyError",
     "_world_from_scene",
     "angular_forms",
+    "contact_solvers",
     "method_info",
     "methods",
     "orientation_rules",
@@ -155,9 +161,10 @@ class Sphere(Shape):
 class Box(Shape):
     """A solid box centred on the origin, its edges along the axes."""
 
-    def __new__(cls, hx: float, hy: float, hz: float) -> Box:
+    def __new__(cls, hx: float, hy: float, hz: float | None = None) -> Box:
         """Half edge lengths ``hx``, ``hy``, ``hz`` (m); ValueError naming ``half_extents[k]``
-        unless each is in [1e-12, 1e12]."""
+        unless each is in [1e-12, 1e12]. Without ``hz``, a 2D box (a rectangle) for
+        :meth:`World.add_solid` in a 2D world (its ``hz`` reads 0; ``add_body`` refuses it)."""
 
     @property
     def half_extents(self) -> tuple[float, float, float]:
@@ -214,6 +221,50 @@ class Mesh(Shape):
     @property
     def triangles(self) -> npt.NDArray[np.int64]:
         """Triangles (m, 3), vertex indices: a copy."""
+
+@disjoint_base
+class SolidShape:
+    """A shape only solids take (sizes in m), checked when it is added to a world:
+    :class:`Circle`, :class:`Polygon`, :class:`Segment` or :class:`Plane`."""
+
+    @property
+    def kind(self) -> str:
+        """The shape's name: circle, polygon, segment or plane."""
+
+@final
+class Circle(SolidShape):
+    """A disc in a 2D world, a sphere in a 3D one."""
+
+    def __new__(cls, radius: float) -> Circle:
+        """``radius`` (m), finite and > 0 (ValueError naming ``radius``)."""
+
+@final
+class Polygon(SolidShape):
+    """A convex polygon (2D: its corners in order, either way round) or the convex hull of
+    its points (3D)."""
+
+    def __new__(cls, points: npt.ArrayLike) -> Polygon:
+        """``points``, an array of shape (n, 2) or (n, 3), m. Convexity and area are checked
+        when the polygon is added (ValueError naming ``points``)."""
+
+@final
+class Segment(SolidShape):
+    """A segment from ``a`` to ``b``, thickened by ``radius`` (0: a bare segment, static or
+    kinematic only)."""
+
+    def __new__(cls, a: npt.ArrayLike, b: npt.ArrayLike, radius: float = 0.0) -> Segment:
+        """Ends ``a`` and ``b`` (m), ``radius`` >= 0 (m)."""
+
+@final
+class Plane(SolidShape):
+    """The ground: the half-space behind a plane (a line in 2D) through the solid's position,
+    with outward ``normal``. Static or kinematic only."""
+
+    def __new__(cls, normal: npt.ArrayLike) -> Plane:
+        """``normal``, a non-zero direction (normalised when added)."""
+
+def contact_solvers() -> dict[str, str]:
+    """The contact solvers, name -> one line on what each does, in registry order."""
 
 def read_scene(path: str) -> tuple[World, float | None]:
     """Reads the scene file at ``path``: the World it describes and its ``until`` (None when
@@ -579,6 +630,10 @@ class World:
     def evals(self) -> int:
         """Force evaluations made."""
 
+    def kinetic_energy(self) -> float:
+        """Kinetic energy, J: the dynamic particles', the bodies' and the solids' (translation
+        and rotation)."""
+
     def energy(self) -> float | None:
         """Kinetic plus potential energy, J; None when a user force has no potential.
         Raises DivergedError if it is not finite."""
@@ -729,6 +784,76 @@ class World:
         m); ``rest_length`` (m) defaults to the current distance. ValueError naming the bad
         field."""
 
+    def add_solid(
+        self,
+        shape: Shape | SolidShape,
+        *,
+        position: npt.ArrayLike | None = None,
+        orientation: float | npt.ArrayLike | None = None,
+        velocity: npt.ArrayLike | None = None,
+        angular_velocity: float | npt.ArrayLike | None = None,
+        kind: str | None = None,
+        density: float | None = None,
+        friction: float | None = None,
+        restitution: float | None = None,
+    ) -> int:
+        """Adds a solid: a rigid body with a shape that collides with the other solids,
+        stepped by the contact solver (docs: Contact); returns its index among the solids.
+        ``shape``: :class:`Circle`, :class:`Box` (two half extents in 2D, three in 3D),
+        :class:`Capsule`, :class:`Polygon`, :class:`Segment`, :class:`Plane` (static),
+        :class:`Sphere` or :class:`Mesh` (static). ``position`` of the shape's origin (m,
+        default the origin); ``orientation``: the angle (rad) in 2D, a quaternion (w, x, y,
+        z) in 3D; ``velocity`` (m/s) and ``angular_velocity`` (rad/s: one number in 2D);
+        ``kind``: "dynamic" (default), "static" or "kinematic"; ``density`` (kg/m^2 in 2D,
+        kg/m^3 in 3D; default 1); ``friction`` >= 0 (default 0.6; a pair: the geometric
+        mean); ``restitution`` in [0, 1] (default 0; a pair: the larger). ValueError naming
+        the bad field; the world is then unchanged."""
+
+    @property
+    def solid_count(self) -> int:
+        """Number of solids."""
+
+    def solid_positions(self) -> npt.NDArray[np.float64]:
+        """Origins of the solids' shapes (n, dim), m."""
+
+    def solid_orientations(self) -> npt.NDArray[np.float64]:
+        """Orientations of the solids: angles (n,) in 2D, rad; quaternions (n, 4) as (w, x,
+        y, z) in 3D."""
+
+    def solid_velocities(self) -> npt.NDArray[np.float64]:
+        """Velocities of the solids' centres of mass (n, dim), m/s."""
+
+    def solid_angular_velocities(self) -> npt.NDArray[np.float64]:
+        """Angular velocities of the solids: (n,) in 2D, (n, 3) in 3D, rad/s."""
+
+    def contacts(self) -> dict[str, npt.NDArray[Any]]:
+        """The contact points of the latest step as arrays: ``pairs`` (m, 2) solid indices,
+        ``points`` and ``normals`` (m, dim), ``depths`` (m,) (negative: not yet touching),
+        ``normal_impulses`` and ``friction_impulses`` (m,), N s."""
+
+    @property
+    def max_penetration(self) -> float:
+        """The deepest penetration among the latest step's contacts, m (0 without
+        contacts)."""
+
+    @property
+    def contact_solver(self) -> str:
+        """The contact solver's name (:func:`contact_solvers` lists them)."""
+
+    @contact_solver.setter
+    def contact_solver(self, name: str) -> None: ...
+    @property
+    def substeps(self) -> int:
+        """Substeps of the contact solver a step (1 to 1000; default 8)."""
+
+    @substeps.setter
+    def substeps(self, n: int) -> None: ...
+    @property
+    def solver_iterations(self) -> int:
+        """Solve and relax passes of the contact solver a substep (1 to 1000; default 1)."""
+
+    @solver_iterations.setter
+    def solver_iterations(self, n: int) -> None: ...
     def interpolated_body_orientations(self) -> npt.NDArray[np.float64]:
         """Body orientations to draw (nb, 4), (w, x, y, z): slerped by :attr:`alpha` between
         the state before the last step of the latest :meth:`advance` and the current one."""

@@ -26,6 +26,7 @@ mod world_bodies;
 mod world_build;
 mod world_constraints;
 mod world_implicit;
+mod world_solids;
 mod world_state;
 
 use pyo3::prelude::*;
@@ -47,6 +48,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::Capsule>()?;
     m.add_class::<shapes::Mesh>()?;
     m.add_class::<shapes::MassProperties>()?;
+    m.add_class::<world_solids::SolidShape>()?;
+    m.add_class::<world_solids::Circle>()?;
+    m.add_class::<world_solids::Polygon>()?;
+    m.add_class::<world_solids::Segment>()?;
+    m.add_class::<world_solids::PlaneShape>()?;
+    m.add_function(wrap_pyfunction!(world_solids::contact_solvers, m)?)?;
     m.add_function(wrap_pyfunction!(world_bodies::orientation_rules, m)?)?;
     m.add_function(wrap_pyfunction!(world_bodies::angular_forms, m)?)?;
     m.add_function(wrap_pyfunction!(pickle::_world_from_scene, m)?)?;

@@ -186,6 +186,7 @@ pub(crate) fn fill(
     d.set_item("elapsed_ns", elapsed)?;
     d.set_item("diverged", rec.diverged.as_ref().map(ToString::to_string))?;
     d.set_item("collisions", crate::world_balls::stats(py, w)?)?;
+    d.set_item("contacts", crate::world_solids::stats(py, w)?)?;
     // A user force without a potential leaves the energy unknown: None, not a wrong number.
     let energy_known = rec.energy.len() == rec.t.len();
     let is_flow = w.flow().is_some();

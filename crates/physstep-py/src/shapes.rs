@@ -35,6 +35,11 @@ fn make<T: pyo3::PyClass<BaseType = Shape>>(shape: Engine, sub: T) -> PyResult<P
 /// The engine shape of a Python one, or a ValueError naming `field`.
 pub(crate) fn from_py(o: &Bound<'_, PyAny>, field: &str) -> PyResult<Engine> {
     match o.cast::<Shape>() {
+        Ok(s) if matches!(s.get().0, Engine::Box { half_extents: [_, _, z] } if z == 0.0) => Err(invalid(
+            field,
+            o,
+            "a 3D shape: Box(hx, hy) is a 2D box (for add_solid in a 2D world); give hz",
+        )),
         Ok(s) => Ok(s.get().0.clone()),
         Err(_) => Err(invalid(field, o, "a shape: physstep.Sphere, Box, Cylinder, Capsule or Mesh")),
     }
@@ -115,6 +120,7 @@ impl Shape {
     fn __repr__(&self) -> String {
         match &self.0 {
             Engine::Sphere { radius } => format!("Sphere(radius={radius:?})"),
+            Engine::Box { half_extents: [x, y, z] } if *z == 0.0 => format!("Box(hx={x:?}, hy={y:?})"),
             Engine::Box { half_extents: [x, y, z] } => format!("Box(hx={x:?}, hy={y:?}, hz={z:?})"),
             Engine::Cylinder { radius, height } => format!("Cylinder(radius={radius:?}, height={height:?})"),
             Engine::Capsule { radius, height } => format!("Capsule(radius={radius:?}, height={height:?})"),
@@ -134,6 +140,7 @@ impl Shape {
         let py = slf.py();
         let args = match &slf.get().0 {
             Engine::Sphere { radius } => PyTuple::new(py, [*radius])?,
+            Engine::Box { half_extents: [x, y, z] } if *z == 0.0 => PyTuple::new(py, [*x, *y])?,
             Engine::Box { half_extents } => PyTuple::new(py, *half_extents)?,
             Engine::Cylinder { radius, height } | Engine::Capsule { radius, height } => {
                 PyTuple::new(py, [*radius, *height])?
@@ -177,13 +184,20 @@ pub struct BoxShape;
 #[pymethods]
 impl BoxShape {
     #[new]
+    #[pyo3(signature = (hx, hy, hz=None))]
     fn new(
         hx: &Bound<'_, PyAny>,
         hy: &Bound<'_, PyAny>,
-        hz: &Bound<'_, PyAny>,
+        hz: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyClassInitializer<Self>> {
-        let half_extents = [float(hx, "hx")?, float(hy, "hy")?, float(hz, "hz")?];
-        make(Engine::Box { half_extents }, BoxShape)
+        let (hx, hy) = (float(hx, "hx")?, float(hy, "hy")?);
+        let Some(hz) = hz.filter(|z| !z.is_none()) else {
+            // A 2D box (for a solid in a 2D world): hz = 0 marks it.
+            physstep::contact::Shape::Box { half: vec![hx, hy] }.check(2).map_err(py_err)?;
+            let flat = Engine::Box { half_extents: [hx, hy, 0.0] };
+            return Ok(PyClassInitializer::from(Shape(flat)).add_subclass(BoxShape));
+        };
+        make(Engine::Box { half_extents: [hx, hy, float(hz, "hz")?] }, BoxShape)
     }
 
     /// Half the edge lengths along x, y and z, m.

@@ -91,6 +91,12 @@ impl World {
         Ok(self.lock()?.engine.evals())
     }
 
+    /// Kinetic energy, J: the dynamic particles', the bodies' and the solids' (translation
+    /// and rotation).
+    fn kinetic_energy(&self) -> PyResult<f64> {
+        Ok(self.lock()?.flush()?.kinetic())
+    }
+
     /// Kinetic plus potential energy, J; None when a user force has no potential.
     fn energy(&self) -> PyResult<Option<f64>> {
         let mut g = self.lock()?;

@@ -48,6 +48,8 @@ pub enum Error {
         particle: Option<usize>,
         /// The rigid body that entry belongs to.
         body: Option<usize>,
+        /// The solid (a body of the contact solver) that diverged.
+        solid: Option<usize>,
     },
     /// An implicit method's Newton iteration did not converge; the state was rolled back.
     NotConverged {
@@ -173,8 +175,14 @@ impl fmt::Display for Error {
                 write!(f, "unknown {kind} '{}'; valid {kind}s: {}", one_line(name), valid.join(", "))
             }
             Self::Unsupported { method, reason } => write!(f, "method '{method}' {reason}"),
-            Self::Diverged { method, step, t, index, particle, body } => {
+            Self::Diverged { method, step, t, index, particle, body, solid } => {
                 write!(f, "method '{method}' diverged at step {step} (t = {}): ", num(*t))?;
+                if let Some(s) = solid {
+                    return write!(
+                        f,
+                        "solid {s} became non-finite or ran away (|value| > 1e100); state rolled back"
+                    );
+                }
                 match (particle, body) {
                     (Some(p), _) => write!(
                         f,

@@ -27,6 +27,7 @@
 //! | [`forces`], [`flows`] | the built-in forces and flows, and the traits of your own ([`forces::ForceGenerator`], [`flows::FlowGenerator`]) |
 //! | [`rigid`] | shapes and their mass properties, orientation rules, the bodies' angular forms |
 //! | [`constraints`], [`collide`] | position constraints; the balls' contact statistics and walls |
+//! | [`contact`] | solids: shapes, kinds, the contact solver and its settings ([`contact::Solids`] on its own, or [`world::World::add_solid`]) |
 //! | [`clock`] | the fixed-timestep loop on its own |
 //! | [`record`] | a run recorded row by row |
 //! | [`scenes`] | the built-in scenes and scene files |
@@ -41,6 +42,7 @@
 pub mod clock;
 pub mod collide;
 pub mod constraints;
+pub mod contact;
 pub mod dynamics;
 pub mod error;
 pub mod flows;

@@ -71,6 +71,7 @@ fn huge_numbers_in_messages_are_shown_with_an_exponent() {
         index: 0,
         particle: Some(0),
         body: None,
+        solid: None,
     };
     assert!(d.to_string().starts_with("method 'rk4' diverged at step 3 (t = 1e300): "), "{d}");
     let nf = physstep::Error::NonFinite {

@@ -227,6 +227,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if "collisions" in summary:
         col = summary["collisions"]
         table.add_row("collisions", f"{col['count']} contacts, max overlap {col['max_overlap']:.3g} m")
+    if "contacts" in summary:
+        con = summary["contacts"]
+        table.add_row(
+            "contacts",
+            f"{con['count']} points touching among {con['solids']} solids at the end, max penetration "
+            f"{con['max_penetration']:.3g} m, fastest solid {con['max_speed']:.3g} m/s",
+        )
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
     runs = len(timings)

@@ -360,6 +360,7 @@ impl Integrator {
                 index: i % state.y.len(),
                 particle: None,
                 body: None,
+                solid: None,
             }),
         }
     }

@@ -8,6 +8,7 @@ mod constrained;
 pub mod file;
 mod flows;
 mod particles;
+mod solids;
 mod specs;
 mod stiff;
 

@@ -1,7 +1,7 @@
 //! The catalogue of built-in scenes: their names, parameters with their rules and defaults,
 //! default step and run length, and the resolution of a user's parameter overrides.
 
-use super::{balls, bodies, constrained, flows, particles, stiff, Build};
+use super::{balls, bodies, constrained, flows, particles, solids, stiff, Build};
 use crate::error::{Error, Result};
 
 pub use crate::limits::{PARAM_MAX, PARAM_MIN};
@@ -86,7 +86,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 
 /// Every built-in scene, in registry order: the scenes' one table (name, parameters, defaults
 /// and builder, whose file gives the exact solution where one is known).
-pub const SCENES: [SceneSpec; 20] = [
+pub const SCENES: [SceneSpec; 26] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -422,6 +422,92 @@ pub const SCENES: [SceneSpec; 20] = [
         dt: 1.0 / 120.0,
         until: 10.0,
         build: Build::Parts(balls::pile),
+    },
+    SceneSpec {
+        name: "single-box",
+        doc: "a unit box dropped onto the ground, where it comes to rest (solids: the contact solver)",
+        dim: 2,
+        params: &[
+            p("height", 1.0, "drop height of the box's bottom, m", Rule::NonNegative),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the landing and friction"),
+        dt: 1.0 / 60.0,
+        until: 3.0,
+        build: Build::Parts(solids::single_box),
+    },
+    SceneSpec {
+        name: "stack",
+        doc: "n unit boxes stacked on the ground, standing",
+        dim: 2,
+        params: &[
+            p("n", 10.0, "number of boxes", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::stack),
+    },
+    SceneSpec {
+        name: "pyramid",
+        doc: "a pyramid of unit boxes, rows (rows + 1) / 2 of them, standing on the ground",
+        dim: 2,
+        params: &[
+            p("rows", 20.0, "rows of boxes", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::pyramid),
+    },
+    SceneSpec {
+        name: "ramp",
+        doc: "a box on a plank tilted by angle: it sticks where friction > tan(angle), else slides at g (sin a - mu cos a)",
+        dim: 2,
+        params: &[
+            p("angle", 0.5, "tilt of the plank, rad", Rule::Any),
+            p("friction", 0.6, "friction coefficient of box and plank", Rule::NonNegative),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("friction"),
+        dt: 1.0 / 60.0,
+        until: 5.0,
+        build: Build::Parts(solids::ramp),
+    },
+    SceneSpec {
+        name: "dice",
+        doc: "n dice (20 cm cubes) thrown spinning onto a plane, where they come to rest (3D)",
+        dim: 3,
+        params: &[
+            p("n", 16.0, "number of dice", Rule::Count),
+            p("seed", 1.0, "random seed", Rule::NonNegative),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("bounces and friction"),
+        dt: 1.0 / 60.0,
+        until: 5.0,
+        build: Build::Parts(solids::dice),
+    },
+    SceneSpec {
+        name: "box-stack",
+        doc: "n unit cubes stacked on a plane, standing (3D)",
+        dim: 3,
+        params: &[
+            p("n", 10.0, "number of cubes", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::box_stack),
     },
 ];
 

@@ -122,6 +122,7 @@ impl World {
             || !self.constraints.is_empty()
             || !self.bodies.is_empty()
             || !self.balls.is_empty()
+            || !self.solids.is_empty()
             || !m.user.is_empty()
             || m.mass.is_empty()
             || !m.forces.local().all

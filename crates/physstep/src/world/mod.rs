@@ -26,6 +26,7 @@ mod rollback;
 mod rules;
 mod small;
 mod snapshot;
+mod solids;
 mod state;
 mod step;
 mod tiles;
@@ -35,6 +36,7 @@ pub use bodies::BodyParams;
 pub(crate) use kernel::Row;
 pub use model::Model;
 pub use rules::ParticleBatch;
+pub use solids::Contacts;
 
 /// How to build a [`World`].
 #[derive(Debug, Clone, PartialEq)]
@@ -119,6 +121,9 @@ pub struct World {
     constraints: crate::constraints::Constraints,
     /// Balls (particles with a radius), walls and the Collide stage's scratch.
     balls: crate::collide::Balls,
+    /// Solids (rigid bodies with shapes that touch), their contacts and the contact solver
+    /// (the Contact stage).
+    solids: solids::SolidSet,
 }
 
 /// What the derivative `state.f` holds against the state `state.y`: the one cache of a
@@ -175,6 +180,7 @@ impl World {
             prev_q: Vec::new(),
             constraints: crate::constraints::Constraints::default(),
             balls: crate::collide::Balls::default(),
+            solids: solids::SolidSet::for_dim(params.dim),
         })
     }
 

@@ -87,6 +87,8 @@ pub(super) struct Rollback {
     evals: u64,
     epoch: Epoch,
     stats: CollisionStats,
+    /// The solids' motion and contacts.
+    solids: super::solids::SolidSet,
     derivative: Derivative,
     /// The method the state was kept under (a fused rollback is reused by the same method only).
     method: &'static str,
@@ -103,6 +105,9 @@ impl World {
         r.keep = Some(keep);
         (r.t, r.steps, r.evals, r.epoch) = (self.state.t, self.state.steps, self.state.evals, self.epoch);
         r.stats = self.balls.stats;
+        if !self.solids.is_empty() {
+            self.solids.save(&mut r.solids);
+        }
         r.derivative = self.derivative;
         r.method = self.integrator.info().name;
     }
@@ -136,6 +141,9 @@ impl World {
         }
         (self.state.t, self.state.steps, self.state.evals, self.epoch) = (r.t, r.steps, r.evals, r.epoch);
         self.balls.stats = r.stats;
+        if !self.solids.is_empty() {
+            self.solids.restore(&r.solids);
+        }
         self.derivative = r.derivative;
     }
 }

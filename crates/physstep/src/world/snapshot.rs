@@ -64,6 +64,13 @@ impl World {
         {
             out.extend_from_slice(&v.to_le_bytes());
         }
+        // A world with solids: their block, then its length.
+        if !self.solids.is_empty() {
+            let block = self.solids.block();
+            for v in block.iter().chain([&(block.len() as f64)]) {
+                out.extend_from_slice(&v.to_le_bytes());
+            }
+        }
         // A world with constraints ends with their fingerprint: a restore checks it.
         if !self.constraints.is_empty() {
             out.extend_from_slice(&self.constraints.fingerprint().to_le_bytes());
@@ -94,6 +101,7 @@ impl World {
             return Err(corrupt("checksum mismatch: the bytes were damaged or edited"));
         }
         let body = self.constraints_checked(body)?;
+        let (body, solids) = self.solids_split(body)?;
         let word = |i: usize| -> Result<u64> {
             body.get(i * 8..i * 8 + 8)
                 .map(|b| u64::from_le_bytes(b.try_into().unwrap_or_default()))
@@ -178,7 +186,12 @@ impl World {
         }
         let mut integrator = self.integrator.clone();
         integrator.recall(memory, self.layout().sizes(ny))?;
+        let mut solid_set = self.solids.clone();
+        if let Some(block) = &solids {
+            solid_set.set_block(block).map_err(corrupt)?;
+        }
         // Everything checked: commit.
+        self.solids = solid_set;
         self.integrator = integrator;
         self.state.t = *t;
         self.epoch = epoch;
@@ -196,6 +209,22 @@ impl World {
         let r = self.refresh();
         self.state.evals = evals;
         r
+    }
+
+    /// `body` without the solids' block at its end, and the block, when the world has solids.
+    fn solids_split<'a>(&self, body: &'a [u8]) -> Result<(&'a [u8], Option<Vec<f64>>)> {
+        if self.solids.is_empty() {
+            return Ok((body, None));
+        }
+        let f = |b: &[u8]| f64::from_le_bytes(b.try_into().unwrap_or_default());
+        let split = body.len().checked_sub(8).ok_or_else(|| corrupt("truncated"))?;
+        let len = f(&body[split..]);
+        let bytes = (len >= 0.0 && len.fract() == 0.0 && len < 1e15).then(|| len as usize * 8);
+        let start = bytes.and_then(|b| split.checked_sub(b)).ok_or_else(|| {
+            corrupt("the solids' block does not fit (a snapshot of a world without solids?)")
+        })?;
+        let block = body[start..split].chunks_exact(8).map(f).collect();
+        Ok((&body[..start], Some(block)))
     }
 
     /// `body` without its trailing constraint fingerprint, which must be this world's, when
@@ -226,6 +255,7 @@ impl World {
         self.state.y.iter().for_each(|v| eat(*v));
         self.integrator.memory().iter().for_each(|v| eat(*v));
         self.balls_block().iter().for_each(|v| eat(*v));
+        self.solids.block().iter().for_each(|v| eat(*v));
         // Constraints shape every later step: a world with others is another world (none
         // leave the hash as it was before they existed).
         if !self.constraints.is_empty() {

@@ -125,7 +125,10 @@ impl World {
         if self.flow.is_some() {
             return None;
         }
-        let particles = self.model.kinetic(self.velocities()) + self.model.potential(self.positions())?;
+        let particles = self.model.kinetic(self.velocities())
+            + self.model.potential(self.positions())?
+            + self.solid_kinetic_energy()
+            + self.solid_potential_energy();
         if self.bodies.is_empty() {
             return Some(particles);
         }
@@ -145,14 +148,15 @@ impl World {
         )
     }
 
-    /// Kinetic energy, J: the dynamic particles' and the bodies' (translation and rotation).
+    /// Kinetic energy, J: the dynamic particles', the bodies' and the solids' (translation and
+    /// rotation).
     #[must_use]
     pub fn kinetic(&self) -> f64 {
         if self.flow.is_some() {
             return 0.0;
         }
         let (bx, bv) = self.body_state();
-        self.model.kinetic(self.velocities()) + self.bodies.kinetic(bx, bv)
+        self.model.kinetic(self.velocities()) + self.bodies.kinetic(bx, bv) + self.solid_kinetic_energy()
     }
 
     /// Total momentum of the dynamic particles, kg m/s (`dim` components).

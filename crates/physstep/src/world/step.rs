@@ -10,6 +10,7 @@
 //!              each step themselves: Relax and Collide have nothing to do in their worlds)
 //! Relax        position constraints projected; velocities and method memory resynced
 //! Collide      contacts of balls found by the grid and resolved at their time of impact
+//! Contact      solids advanced by the contact solver (its substeps; contacts, friction)
 //! Check        a non-finite or runaway state is a divergence: which part, which index
 //! Finish       steps += k, t = t0 + k h (`Epoch::time`); on a failure, the `Rollback`
 //! ```
@@ -205,7 +206,8 @@ impl World {
             return Integrate::Fused(method);
         }
         let split = !self.bodies.is_empty() && self.integrator.info().split;
-        if split && n >= 2 && self.replayable() && self.constraints.is_empty() && self.balls.is_empty() {
+        let alone = self.constraints.is_empty() && self.balls.is_empty() && self.solids.is_empty();
+        if split && n >= 2 && self.replayable() && alone {
             return Integrate::Split;
         }
         Integrate::Staged
@@ -403,6 +405,7 @@ impl World {
                 self.integrate(ctx, log)?;
                 self.relax(ctx)?;
                 self.collide(ctx)?;
+                self.contact(ctx)?;
                 self.check(ctx)?;
                 (1, false)
             }
@@ -495,7 +498,7 @@ impl World {
         self.integrator.check(&self.state, self.layout()).map_err(|e| match e {
             Error::Diverged { method, index, .. } => {
                 let (particle, body) = self.owner(index);
-                Error::Diverged { method, step: ctx.step, t: ctx.t, index, particle, body }
+                Error::Diverged { method, step: ctx.step, t: ctx.t, index, particle, body, solid: None }
             }
             other => other,
         })

@@ -7,6 +7,7 @@
 
 mod doc;
 mod read;
+mod solids;
 mod write;
 
 use crate::error::{Error, Result};

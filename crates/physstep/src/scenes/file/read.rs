@@ -14,7 +14,7 @@ use crate::rigid::inertia::Shape;
 use crate::world::{BodyParams, World, WorldParams};
 use toml::de::DeTable;
 
-const TOP: [&str; 15] = [
+const TOP: [&str; 17] = [
     "dimension",
     "method",
     "dt",
@@ -30,6 +30,8 @@ const TOP: [&str; 15] = [
     "body_springs",
     "constraints",
     "collisions",
+    "contact",
+    "solids",
 ];
 
 /// The whole file; `mode`, when given, in place of the file's loop variant.
@@ -139,6 +141,7 @@ pub(super) fn scene(doc: &Doc<'_>, mode: Option<LoopMode>) -> Result<SceneFile> 
         world.set_constraint_iterations(n).map_err(|e| doc.engine(at, "constraint_iterations", e))?;
     }
     collisions(doc, top, &mut world)?;
+    super::solids::read(doc, top, &mut world)?;
     Ok(SceneFile { world, until })
 }
 

@@ -11,7 +11,7 @@ use crate::world::World;
 use std::fmt::Write;
 
 /// A number as TOML reads it back bitwise (`0.1`, `1e-5`, `20.0`, `inf`).
-fn num(x: f64) -> String {
+pub(super) fn num(x: f64) -> String {
     if x.is_infinite() {
         (if x > 0.0 { "inf" } else { "-inf" }).into()
     } else {
@@ -19,7 +19,7 @@ fn num(x: f64) -> String {
     }
 }
 
-fn arr(v: &[f64]) -> String {
+pub(super) fn arr(v: &[f64]) -> String {
     format!("[{}]", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", "))
 }
 
@@ -81,9 +81,9 @@ fn write(world: &World, title: &str, until: Option<f64>, purpose: Purpose) -> Re
                 "cannot be exported: a scene file holds no user forces, body springs or body forces",
             );
         }
-        if !b.is_empty() && world.steps() > 0 {
+        if (!b.is_empty() || world.solid_count() > 0) && world.steps() > 0 {
             return refuse(
-                "cannot be exported after it stepped: a scene file holds bodies as they were added",
+                "cannot be exported after it stepped: a scene file holds bodies and solids as they were added",
             );
         }
     }
@@ -149,6 +149,7 @@ fn write(world: &World, title: &str, until: Option<f64>, purpose: Purpose) -> Re
     for c in world.constraints().list() {
         let _ = writeln!(s, "\n{}", constraint(c, d));
     }
+    super::solids::write(world, &mut s);
     if world.ball_count() > 0 || world.restitution() != 1.0 {
         let _ = writeln!(s, "\n[collisions]\nrestitution = {}", num(world.restitution()));
         if let Some(w) = world.walls() {

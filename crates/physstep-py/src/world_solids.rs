@@ -1,0 +1,321 @@
+//! Solids of a World (rigid bodies with shapes that touch, stepped by the contact solver) and
+//! the shapes only solids take: `Circle`, `Polygon`, `Segment`, `Plane`. A solid also takes
+//! the rigid-body shapes `Sphere`, `Box` (three half extents, or two in a 2D world),
+//! `Capsule` and `Mesh` (static).
+
+use crate::convert::{array, float, invalid, matrix, text};
+use crate::handle::World;
+use crate::py_err;
+use numpy::{IntoPyArray, PyArray2};
+use physstep::contact::{Kind, Shape, SolidParams, SOLVERS};
+use physstep::rigid::inertia::Shape as BodyShape;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// A shape only solids take (sizes in m), checked when it is added to a world: `Circle`,
+/// `Polygon`, `Segment` or `Plane`.
+#[pyclass(module = "physstep._core", subclass, frozen, name = "SolidShape")]
+pub struct SolidShape(pub(crate) Shape);
+
+#[pymethods]
+impl SolidShape {
+    /// The shape's name: circle, polygon, segment or plane.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.0.name()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("{:?}", self.0)
+    }
+}
+
+/// A disc in a 2D world, a sphere in a 3D one, of `radius` m.
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Circle")]
+pub struct Circle;
+
+#[pymethods]
+impl Circle {
+    #[new]
+    fn new(radius: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let radius = float(radius, "radius")?;
+        Shape::Circle { radius }.check(2).map_err(py_err)?;
+        Ok(PyClassInitializer::from(SolidShape(Shape::Circle { radius })).add_subclass(Circle))
+    }
+}
+
+/// A convex polygon (2D: its corners in order, either way round) or the convex hull of
+/// `points` (3D): an array of shape (n, dim), m.
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Polygon")]
+pub struct Polygon;
+
+#[pymethods]
+impl Polygon {
+    #[new]
+    fn new(points: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let raw = array(points, "points", None, Some(2))
+            .or_else(|_| array(points, "points", None, Some(3)))
+            .map_err(|_| invalid("points", points, "an array of real numbers of shape (n, 2) or (n, 3)"))?;
+        Ok(PyClassInitializer::from(SolidShape(Shape::Polygon { points: raw })).add_subclass(Polygon))
+    }
+}
+
+/// A segment from `a` to `b` (m), thickened by `radius` (0: a bare segment, static or
+/// kinematic only).
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Segment")]
+pub struct Segment;
+
+#[pymethods]
+impl Segment {
+    #[new]
+    #[pyo3(signature = (a, b, radius=0.0))]
+    fn new(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>, radius: f64) -> PyResult<PyClassInitializer<Self>> {
+        let a = array(a, "a", None, None)?;
+        let b = array(b, "b", None, None)?;
+        let s = Shape::Segment { a, b, radius };
+        Ok(PyClassInitializer::from(SolidShape(s)).add_subclass(Segment))
+    }
+}
+
+/// The ground: the half-space behind a plane (a line in 2D) through the solid's position,
+/// with outward `normal`. Static or kinematic only.
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Plane")]
+pub struct PlaneShape;
+
+#[pymethods]
+impl PlaneShape {
+    #[new]
+    fn new(normal: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let normal = array(normal, "normal", None, None)?;
+        Ok(PyClassInitializer::from(SolidShape(Shape::Plane { normal })).add_subclass(PlaneShape))
+    }
+}
+
+/// The contact shape of any shape object a solid takes.
+fn solid_shape(o: &Bound<'_, PyAny>) -> PyResult<Shape> {
+    if let Ok(s) = o.cast::<SolidShape>() {
+        return Ok(s.get().0.clone());
+    }
+    let expected = "a shape: physstep.Circle, Box, Capsule, Polygon, Segment, Plane, Sphere or Mesh";
+    let Ok(s) = o.cast::<crate::shapes::Shape>() else { return Err(invalid("shape", o, expected)) };
+    Ok(match &s.get().0 {
+        BodyShape::Sphere { radius } => Shape::Circle { radius: *radius },
+        BodyShape::Box { half_extents: [x, y, z] } if *z == 0.0 => Shape::Box { half: vec![*x, *y] },
+        BodyShape::Box { half_extents } => Shape::Box { half: half_extents.to_vec() },
+        BodyShape::Capsule { radius, height } => {
+            Shape::Capsule { half_height: height / 2.0, radius: *radius }
+        }
+        BodyShape::Mesh { vertices, triangles } => Shape::Mesh {
+            vertices: vertices.iter().flatten().copied().collect(),
+            triangles: triangles.iter().map(|t| t.map(|k| k as u32)).collect(),
+        },
+        BodyShape::Cylinder { .. } => {
+            return Err(invalid("shape", o, "a shape solids take (a cylinder is not: use a Polygon hull)"))
+        }
+    })
+}
+
+fn numbers(o: Option<&Bound<'_, PyAny>>, field: &str) -> PyResult<Option<Vec<f64>>> {
+    match o.filter(|o| !o.is_none()) {
+        None => Ok(None),
+        Some(o) => {
+            if let Ok(x) = o.extract::<f64>() {
+                if !o.is_instance_of::<pyo3::types::PyBool>() {
+                    return Ok(Some(vec![x]));
+                }
+            }
+            array(o, field, None, None).map(Some)
+        }
+    }
+}
+
+#[pymethods]
+impl World {
+    /// Adds a solid: a rigid body with a shape that collides with the other solids, stepped
+    /// by the contact solver (docs/contact.md); returns its index among the solids.
+    ///
+    /// `shape`: physstep.Circle, Box (two half extents in 2D, three in 3D), Capsule,
+    /// Polygon, Segment, Plane (static), Sphere or Mesh (static). `position` of the shape's
+    /// origin (m, default the origin); `orientation`: the angle (rad) in 2D, a quaternion
+    /// (w, x, y, z) in 3D; `velocity` (m/s) and `angular_velocity` (rad/s: one number in
+    /// 2D); `kind`: "dynamic" (default), "static" or "kinematic"; `density` (kg/m^2 in 2D,
+    /// kg/m^3 in 3D; default 1); `friction` >= 0 (default 0.6; a pair: the geometric mean);
+    /// `restitution` in [0, 1] (default 0; a pair: the larger). ValueError naming the bad field; the world is then unchanged.
+    #[pyo3(signature = (shape, *, position=None, orientation=None, velocity=None, angular_velocity=None, kind=None, density=None, friction=None, restitution=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_solid(
+        &self,
+        shape: &Bound<'_, PyAny>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        kind: Option<&Bound<'_, PyAny>>,
+        density: Option<&Bound<'_, PyAny>>,
+        friction: Option<&Bound<'_, PyAny>>,
+        restitution: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let shape = solid_shape(shape)?;
+        let given = |o: Option<&Bound<'_, PyAny>>, field: &str, default: f64| -> PyResult<f64> {
+            o.filter(|o| !o.is_none()).map_or(Ok(default), |o| float(o, field))
+        };
+        let kind = match kind.filter(|k| !k.is_none()) {
+            Some(k) => Kind::by_name(&text(k, "kind")?).map_err(py_err)?,
+            None => Kind::Dynamic,
+        };
+        let mut g = self.lock()?;
+        let dim = g.engine.dim();
+        let mut p = SolidParams::new(shape, &vec![0.0; dim]);
+        p.kind = kind;
+        if let Some(x) = numbers(position, "position")? {
+            p.position = x;
+        }
+        if let Some(q) = numbers(orientation, "orientation")? {
+            p.orientation = q;
+        }
+        if let Some(v) = numbers(velocity, "velocity")? {
+            p.velocity = v;
+        }
+        if let Some(w) = numbers(angular_velocity, "angular_velocity")? {
+            p.angular_velocity = w;
+        }
+        p.density = given(density, "density", p.density)?;
+        p.friction = given(friction, "friction", p.friction)?;
+        p.restitution = given(restitution, "restitution", p.restitution)?;
+        g.grow()?.add_solid(p).map_err(py_err)
+    }
+
+    /// Number of solids.
+    #[getter]
+    fn solid_count(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.solid_count())
+    }
+
+    /// Origins of the solids' shapes (n, dim), m.
+    fn solid_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let g = self.lock()?;
+        matrix(py, g.engine.solid_positions(), g.engine.dim())
+    }
+
+    /// Orientations of the solids: angles (n,) in 2D, rad; quaternions (n, 4) as (w, x, y,
+    /// z) in 3D.
+    fn solid_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let g = self.lock()?;
+        let q = g.engine.solid_orientations();
+        if g.engine.dim() == 3 {
+            Ok(matrix(py, q, 4)?.into_any())
+        } else {
+            Ok(q.into_pyarray(py).into_any())
+        }
+    }
+
+    /// Velocities of the solids' centres of mass (n, dim), m/s.
+    fn solid_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let g = self.lock()?;
+        matrix(py, g.engine.solid_velocities(), g.engine.dim())
+    }
+
+    /// Angular velocities of the solids: (n,) in 2D, (n, 3) in 3D, rad/s.
+    fn solid_angular_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let g = self.lock()?;
+        let w = g.engine.solid_angular_velocities();
+        if g.engine.dim() == 3 {
+            Ok(matrix(py, w, 3)?.into_any())
+        } else {
+            Ok(w.into_pyarray(py).into_any())
+        }
+    }
+
+    /// The contact points of the latest step as arrays: ``pairs`` (m, 2) solid indices,
+    /// ``points`` and ``normals`` (m, dim), ``depths`` (m,) (negative: not yet touching),
+    /// ``normal_impulses`` and ``friction_impulses`` (m,), N s.
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let g = self.lock()?;
+        let d = g.engine.dim();
+        let c = g.engine.contacts();
+        let out = PyDict::new(py);
+        let pairs: Vec<i64> = c.pairs.iter().flatten().map(|&i| i as i64).collect();
+        let n = c.pairs.len();
+        let pairs = numpy::ndarray::Array2::from_shape_vec((n, 2), pairs)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        out.set_item("pairs", pairs.into_pyarray(py))?;
+        out.set_item("points", matrix(py, c.points, d)?)?;
+        out.set_item("normals", matrix(py, c.normals, d)?)?;
+        out.set_item("depths", c.depths.into_pyarray(py))?;
+        out.set_item("normal_impulses", c.normal_impulses.into_pyarray(py))?;
+        out.set_item("friction_impulses", c.friction_impulses.into_pyarray(py))?;
+        Ok(out)
+    }
+
+    /// The deepest penetration among the latest step's contacts, m (0 without contacts).
+    #[getter]
+    fn max_penetration(&self) -> PyResult<f64> {
+        Ok(self.lock()?.engine.max_penetration())
+    }
+
+    /// The contact solver's name (physstep.contact_solvers() lists them).
+    #[getter]
+    fn contact_solver(&self) -> PyResult<&'static str> {
+        Ok(self.lock()?.engine.contact_settings().solver)
+    }
+
+    #[setter]
+    fn set_contact_solver(&self, name: &Bound<'_, PyAny>) -> PyResult<()> {
+        let name = text(name, "contact_solver")?;
+        self.lock()?.grow()?.set_contact_solver(&name).map_err(py_err)
+    }
+
+    /// Substeps of the contact solver a step (1 to 1000; default 8).
+    #[getter]
+    fn substeps(&self) -> PyResult<u32> {
+        Ok(self.lock()?.engine.contact_settings().substeps)
+    }
+
+    #[setter]
+    fn set_substeps(&self, n: &Bound<'_, PyAny>) -> PyResult<()> {
+        let n = crate::convert::whole(n, "substeps", 1, 1000)? as u32;
+        self.lock()?.grow()?.set_substeps(n).map_err(py_err)
+    }
+
+    /// Solve and relax passes of the contact solver a substep (1 to 1000; default 1).
+    #[getter]
+    fn solver_iterations(&self) -> PyResult<u32> {
+        Ok(self.lock()?.engine.contact_settings().iterations)
+    }
+
+    #[setter]
+    fn set_solver_iterations(&self, n: &Bound<'_, PyAny>) -> PyResult<()> {
+        let n = crate::convert::whole(n, "solver_iterations", 1, 1000)? as u32;
+        self.lock()?.grow()?.set_solver_iterations(n).map_err(py_err)
+    }
+}
+
+/// What a run reports of its solids at the end: `solids` (how many), `count` (contact
+/// points touching), `max_penetration` (m) and `max_speed` (the fastest centre of mass, m/s);
+/// None without solids.
+pub(crate) fn stats<'py>(
+    py: Python<'py>,
+    w: &physstep::world::World,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
+    if w.solid_count() == 0 {
+        return Ok(None);
+    }
+    let d = PyDict::new(py);
+    let v = w.solid_velocities();
+    let speed = v.chunks(w.dim()).map(|c| c.iter().map(|x| x * x).sum::<f64>().sqrt()).fold(0.0, f64::max);
+    d.set_item("solids", w.solid_count())?;
+    d.set_item("count", w.contacts().depths.iter().filter(|x| **x >= 0.0).count())?;
+    d.set_item("max_penetration", w.max_penetration())?;
+    d.set_item("max_speed", speed)?;
+    Ok(Some(d))
+}
+
+/// The contact solvers, name -> one line on what each does, in registry order.
+#[pyfunction]
+pub(crate) fn contact_solvers(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    for i in SOLVERS {
+        d.set_item(i.name, i.summary)?;
+    }
+    Ok(d)
+}

@@ -1,0 +1,455 @@
+//! Solids: rigid bodies with shapes that touch, land, slide, stack and rest (docs/contact.md).
+//!
+//! A solid is a rigid body in the plane or in space ([`Space`]: [`Plane`], [`Space3`]) with a
+//! collision [`Shape`], a [`Kind`] (dynamic, static, kinematic), friction and restitution.
+//! Their step is the contact solver's: contacts found (a sweep-and-prune broad phase in a
+//! fixed order, [`broad`], and parry's narrow phase, [`space`]), then the bodies advanced
+//! and their contacts solved together by the solver chosen by name ([`solver`]; the default
+//! is the soft step of Box2D v3: substeps of symplectic Euler with soft contact constraints,
+//! warm starting and a relax pass).
+//!
+//! Why the solver integrates the solids itself: an impulse changes a velocity, and a contact
+//! constraint holds only if the position update that follows uses the changed velocity; that
+//! is symplectic Euler at each substep (velocity first, then position), which is why game
+//! engines (Box2D, Rapier, Jolt) fix it. The world's method integrates everything else.
+
+pub mod broad;
+mod shape;
+pub mod solver;
+pub mod space;
+
+pub use shape::Shape;
+pub use solver::{Settings, SOLVERS};
+pub use space::{Plane, Space, Space3, Touch, Vect};
+
+use crate::error::{num, Error, Result};
+
+/// How a solid moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// Moved by gravity, forces and contacts.
+    Dynamic,
+    /// Never moves (the ground, walls).
+    Static,
+    /// Moves at the velocity it is given, pushes dynamic solids, is pushed by nothing.
+    Kinematic,
+}
+
+impl Kind {
+    /// The kind by name (`dynamic`, `static`, `kinematic`).
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] listing the three.
+    pub fn by_name(name: &str) -> Result<Kind> {
+        match name {
+            "dynamic" => Ok(Kind::Dynamic),
+            "static" => Ok(Kind::Static),
+            "kinematic" => Ok(Kind::Kinematic),
+            _ => Err(Error::UnknownName {
+                kind: "kind".into(),
+                name: name.into(),
+                valid: vec!["dynamic".into(), "static".into(), "kinematic".into()],
+            }),
+        }
+    }
+
+    /// The kind's name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Dynamic => "dynamic",
+            Kind::Static => "static",
+            Kind::Kinematic => "kinematic",
+        }
+    }
+}
+
+/// A solid as it is added: what a scene file keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolidParams {
+    /// The shape, in the solid's frame.
+    pub shape: Shape,
+    /// Dynamic, static or kinematic.
+    pub kind: Kind,
+    /// Where the shape's origin is, m.
+    pub position: Vec<f64>,
+    /// The angle (2D, rad) or the unit quaternion w, x, y, z (3D; normalised when added).
+    pub orientation: Vec<f64>,
+    /// Velocity of the centre of mass, m/s.
+    pub velocity: Vec<f64>,
+    /// Angular velocity (2D: one number, rad/s; 3D: a vector).
+    pub angular_velocity: Vec<f64>,
+    /// Density, kg/m^2 (2D) or kg/m^3 (3D).
+    pub density: f64,
+    /// Coulomb friction coefficient (>= 0); a pair uses the geometric mean of its two.
+    pub friction: f64,
+    /// Restitution in [0, 1]; a pair uses the larger of its two.
+    pub restitution: f64,
+}
+
+impl SolidParams {
+    /// A dynamic solid of `shape` at `position`, at rest, density 1, friction 0.6, no bounce.
+    #[must_use]
+    pub fn new(shape: Shape, position: &[f64]) -> Self {
+        let dim = position.len();
+        Self {
+            shape,
+            kind: Kind::Dynamic,
+            position: position.to_vec(),
+            orientation: if dim == 3 { vec![1.0, 0.0, 0.0, 0.0] } else { vec![0.0] },
+            velocity: vec![0.0; dim],
+            angular_velocity: vec![0.0; if dim == 3 { 3 } else { 1 }],
+            density: 1.0,
+            friction: 0.6,
+            restitution: 0.0,
+        }
+    }
+}
+
+/// One solid as the solver sees it: centre of mass and orientation, velocities, inverse mass
+/// and inertia.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Body<S: Space> {
+    /// Centre of mass, world, m.
+    pub c: S::V,
+    /// Orientation.
+    pub q: S::Rot,
+    /// Velocity of the centre of mass.
+    pub v: S::V,
+    /// Angular velocity.
+    pub w: S::W,
+    /// Inverse mass (0: static or kinematic).
+    pub inv_mass: f64,
+    /// Inverse inertia in the body's frame.
+    pub inv_i_local: S::InvI,
+    /// Centre of mass in the shape's frame.
+    pub com: S::V,
+    /// Dynamic, static or kinematic.
+    pub kind: Kind,
+}
+
+impl<S: Space> Body<S> {
+    /// Where the shape's origin is.
+    pub fn origin(&self) -> S::V {
+        self.c - S::rotate(self.q, self.com)
+    }
+}
+
+/// One contact point of the latest step, as [`Solids::contacts`] reports it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactReport<V> {
+    /// The two solids (by index), `a < b`.
+    pub pair: (usize, usize),
+    /// The point (midway between the two surfaces), m.
+    pub point: V,
+    /// Unit normal from `a` to `b`.
+    pub normal: V,
+    /// Penetration depth, m (negative: apart, a speculative contact).
+    pub depth: f64,
+    /// Normal impulse of the step, N s.
+    pub normal_impulse: f64,
+    /// Size of the friction impulse of the step, N s.
+    pub friction_impulse: f64,
+}
+
+/// The solids of a world, their contacts and the solver that steps them.
+#[derive(Debug, Clone)]
+pub struct Solids<S: Space> {
+    pub(crate) bodies: Vec<Body<S>>,
+    pub(crate) shapes: Vec<S::Shape>,
+    pub(crate) params: Vec<SolidParams>,
+    /// The solver and its settings.
+    pub settings: Settings,
+    pub(crate) solver: solver::State<S>,
+}
+
+impl<S: Space> Default for Solids<S> {
+    fn default() -> Self {
+        Self {
+            bodies: Vec::new(),
+            shapes: Vec::new(),
+            params: Vec::new(),
+            settings: Settings::default(),
+            solver: solver::State::default(),
+        }
+    }
+}
+
+fn finite(field: &str, v: &[f64]) -> Result<()> {
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(i) => Err(Error::invalid(format!("{field}[{i}]"), num(v[i]), "finite")),
+        None => Ok(()),
+    }
+}
+
+fn len(field: &str, v: &[f64], n: usize) -> Result<()> {
+    if v.len() == n {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!("len({field})"), v.len(), format!("{n}")))
+    }
+}
+
+impl<S: Space> Solids<S> {
+    /// No solids, the default solver.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of solids.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// Whether there are none.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.bodies.is_empty()
+    }
+
+    /// Each solid as it was added.
+    #[must_use]
+    pub fn params(&self) -> &[SolidParams] {
+        &self.params
+    }
+
+    /// Checks a solid without adding it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field (`position`, `density`, `friction`,
+    /// `restitution`, `kind`, a size of the shape) and the value.
+    pub fn check(p: &SolidParams) -> Result<()> {
+        let (d, r) = (S::DIM, S::ROT);
+        let a = if d == 3 { 3 } else { 1 };
+        len("position", &p.position, d)?;
+        finite("position", &p.position)?;
+        len("orientation", &p.orientation, r)?;
+        finite("orientation", &p.orientation)?;
+        if r == 4 && p.orientation.iter().map(|x| x * x).sum::<f64>() == 0.0 {
+            return Err(Error::invalid("orientation", "[0, 0, 0, 0]", "a non-zero quaternion"));
+        }
+        len("velocity", &p.velocity, d)?;
+        finite("velocity", &p.velocity)?;
+        len("angular_velocity", &p.angular_velocity, a)?;
+        finite("angular_velocity", &p.angular_velocity)?;
+        if !(p.density.is_finite() && p.density > 0.0) {
+            return Err(Error::invalid("density", num(p.density), "finite and > 0"));
+        }
+        if !(p.friction.is_finite() && p.friction >= 0.0) {
+            return Err(Error::invalid("friction", num(p.friction), "finite and >= 0"));
+        }
+        if !(0.0..=1.0).contains(&p.restitution) {
+            return Err(Error::invalid("restitution", num(p.restitution), "in [0, 1]"));
+        }
+        if p.kind == Kind::Dynamic && p.shape.is_massless() {
+            return Err(Error::invalid(
+                "kind",
+                "dynamic",
+                format!("static or kinematic for a {} (it encloses no volume)", p.shape.name()),
+            ));
+        }
+        if p.kind == Kind::Static
+            && (p.velocity.iter().any(|x| *x != 0.0) || p.angular_velocity.iter().any(|x| *x != 0.0))
+        {
+            return Err(Error::invalid(
+                "velocity",
+                "non-zero",
+                "zero for a static solid (make it kinematic to move it)",
+            ));
+        }
+        p.shape.check(d)
+    }
+
+    /// Adds a solid; returns its index.
+    ///
+    /// # Errors
+    /// As [`Solids::check`]; the solids are unchanged.
+    pub fn add(&mut self, p: SolidParams) -> Result<usize> {
+        Self::check(&p)?;
+        let shape = S::build(&p.shape)?;
+        let (mass, com, inv_i) = S::mass_properties(&shape, p.density);
+        let dynamic = p.kind == Kind::Dynamic;
+        if dynamic && !(mass.is_finite() && mass > 0.0) {
+            return Err(Error::invalid(
+                "density",
+                num(p.density),
+                "a density giving the shape a finite mass",
+            ));
+        }
+        let q = S::read_rot(&p.orientation);
+        let origin = S::V::read(&p.position);
+        let body = Body::<S> {
+            c: origin + S::rotate(q, com),
+            q,
+            v: S::V::read(&p.velocity),
+            w: S::W::read(&p.angular_velocity),
+            inv_mass: if dynamic { 1.0 / mass } else { 0.0 },
+            inv_i_local: if dynamic { inv_i } else { S::no_inertia() },
+            com,
+            kind: p.kind,
+        };
+        self.bodies.push(body);
+        self.shapes.push(shape);
+        self.params.push(p);
+        Ok(self.bodies.len() - 1)
+    }
+
+    /// Origins of the shapes, flat (`DIM` a solid).
+    #[must_use]
+    pub fn positions(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.len() * S::DIM);
+        for b in &self.bodies {
+            b.origin().write(&mut out);
+        }
+        out
+    }
+
+    /// Orientations, flat (the angle in 2D; w, x, y, z in 3D).
+    #[must_use]
+    pub fn orientations(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.len() * S::ROT);
+        for b in &self.bodies {
+            S::write_rot(b.q, &mut out);
+        }
+        out
+    }
+
+    /// Velocities of the centres of mass, flat.
+    #[must_use]
+    pub fn velocities(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.len() * S::DIM);
+        for b in &self.bodies {
+            b.v.write(&mut out);
+        }
+        out
+    }
+
+    /// Angular velocities, flat (one a solid in 2D, three in 3D).
+    #[must_use]
+    pub fn angular_velocities(&self) -> Vec<f64> {
+        let mut out = Vec::new();
+        for b in &self.bodies {
+            b.w.write(&mut out);
+        }
+        out
+    }
+
+    /// Kinetic energy of the dynamic solids, J.
+    #[must_use]
+    pub fn kinetic_energy(&self) -> f64 {
+        self.bodies
+            .iter()
+            .filter(|b| b.kind == Kind::Dynamic)
+            .map(|b| {
+                let i = S::world_inverse_inertia(b.q, b.inv_i_local);
+                0.5 * b.v.dot(b.v) / b.inv_mass + 0.5 * S::spin_energy(i, b.w)
+            })
+            .sum()
+    }
+
+    /// The contact points of the latest step.
+    #[must_use]
+    pub fn contacts(&self) -> Vec<ContactReport<S::V>> {
+        self.solver.report()
+    }
+
+    /// The deepest penetration among the latest step's contacts, m (0 without contacts).
+    #[must_use]
+    pub fn max_penetration(&self) -> f64 {
+        self.solver.report().iter().map(|c| c.depth).fold(0.0, f64::max)
+    }
+
+    /// Advances the solids by `dt` under `gravity` (dynamic solids only).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] for a bad `dt`; [`Error::Diverged`] (naming the solid) when
+    /// a value became non-finite or ran away, the solids then as before the step.
+    pub fn step(&mut self, dt: f64, gravity: S::V) -> Result<()> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::invalid("dt", num(dt), "finite and > 0"));
+        }
+        let before = (self.bodies.clone(), self.solver.clone());
+        solver::step(self, dt, gravity);
+        if let Some(b) = self.runaway() {
+            (self.bodies, self.solver) = before;
+            return Err(Error::Diverged {
+                method: self.settings.solver.to_string(),
+                step: 0,
+                t: 0.0,
+                index: b,
+                particle: None,
+                body: None,
+                solid: Some(b),
+            });
+        }
+        Ok(())
+    }
+
+    /// Copies into `into` what a step changes (motion, contacts, warm starts), reusing its
+    /// buffers; the solids must be the same ones (a rollback of this world).
+    pub(crate) fn save(&self, into: &mut Solids<S>) {
+        if into.len() != self.len() {
+            into.clone_from(self);
+            return;
+        }
+        into.bodies.clone_from(&self.bodies);
+        self.solver.save(&mut into.solver);
+        into.settings.clone_from(&self.settings);
+    }
+
+    /// What a snapshot keeps of the solids: each one's centre of mass, orientation,
+    /// velocity and angular velocity, then the warm starts (what the next step depends on).
+    pub(crate) fn block(&self) -> Vec<f64> {
+        let mut out = vec![self.len() as f64];
+        for b in &self.bodies {
+            b.c.write(&mut out);
+            S::write_rot(b.q, &mut out);
+            b.v.write(&mut out);
+            b.w.write(&mut out);
+        }
+        self.solver.write_warm(&mut out);
+        out
+    }
+
+    /// Puts back a [`Solids::block`], checked whole first.
+    ///
+    /// # Errors
+    /// A message saying what does not fit (the count of solids, a length, a non-finite value).
+    pub(crate) fn set_block(&mut self, data: &[f64]) -> std::result::Result<(), String> {
+        let (d, r, a) = (S::DIM, S::ROT, if S::DIM == 3 { 3 } else { 1 });
+        let per = 2 * d + r + a;
+        let n = data.first().copied().unwrap_or(-1.0);
+        if n != self.len() as f64 {
+            return Err(format!("the snapshot has {n} solids, this world {}", self.len()));
+        }
+        let bodies = data.get(1..1 + self.len() * per).ok_or("truncated solids")?;
+        if let Some(i) = bodies.iter().position(|x| !x.is_finite()) {
+            return Err(format!("solid state entry {i} is not finite"));
+        }
+        let warm = self.solver.read_warm(&data[1 + self.len() * per..], self.len())?;
+        for (b, c) in self.bodies.iter_mut().zip(bodies.chunks_exact(per)) {
+            b.c = S::V::read(&c[..d]);
+            b.q = S::read_rot_exact(&c[d..d + r]);
+            b.v = S::V::read(&c[d + r..2 * d + r]);
+            b.w = S::W::read(&c[2 * d + r..]);
+        }
+        self.solver.set_warm(warm);
+        Ok(())
+    }
+
+    /// The first solid whose state is non-finite or beyond 1e100.
+    #[must_use]
+    pub fn runaway(&self) -> Option<usize> {
+        let mut buf = Vec::with_capacity(16);
+        self.bodies.iter().position(|b| {
+            buf.clear();
+            b.c.write(&mut buf);
+            b.v.write(&mut buf);
+            b.w.write(&mut buf);
+            S::write_rot(b.q, &mut buf);
+            buf.iter().any(|x| !x.is_finite() || x.abs() > 1e100)
+        })
+    }
+}

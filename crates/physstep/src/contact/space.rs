@@ -1,0 +1,418 @@
+//! The two spaces solids live in, as one trait: the plane (2D: an angle, a scalar inertia)
+//! and space (3D: a quaternion, an inertia tensor). The solver, the broad phase and the
+//! bodies are written once over [`Space`]; what differs (how a rotation turns a vector, how
+//! an angular velocity crosses an arm, how a shape meets another) lives here, and the
+//! narrow phase is parry's (parry2d-f64 / parry3d-f64, on the glam types physstep uses).
+
+use glam::{DMat3, DQuat, DVec2, DVec3};
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
+
+/// A vector of a space (a position, a velocity) or an angular quantity (a scalar in the
+/// plane, a vector in space).
+pub trait Vect:
+    Copy
+    + Default
+    + Debug
+    + PartialEq
+    + Send
+    + Sync
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<f64, Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+{
+    /// The dot product.
+    fn dot(self, other: Self) -> f64;
+    /// The components, in order.
+    fn write(self, out: &mut Vec<f64>);
+    /// Built from components (`c.len()` is the dimension).
+    fn read(c: &[f64]) -> Self;
+}
+
+impl Vect for f64 {
+    fn dot(self, other: Self) -> f64 {
+        self * other
+    }
+    fn write(self, out: &mut Vec<f64>) {
+        out.push(self);
+    }
+    fn read(c: &[f64]) -> Self {
+        c[0]
+    }
+}
+
+impl Vect for DVec2 {
+    fn dot(self, other: Self) -> f64 {
+        DVec2::dot(self, other)
+    }
+    fn write(self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&[self.x, self.y]);
+    }
+    fn read(c: &[f64]) -> Self {
+        DVec2::new(c[0], c[1])
+    }
+}
+
+impl Vect for DVec3 {
+    fn dot(self, other: Self) -> f64 {
+        DVec3::dot(self, other)
+    }
+    fn write(self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&[self.x, self.y, self.z]);
+    }
+    fn read(c: &[f64]) -> Self {
+        DVec3::new(c[0], c[1], c[2])
+    }
+}
+
+/// One contact point a narrow phase found, in world coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Touch<V> {
+    /// The point on the first shape.
+    pub on_a: V,
+    /// The point on the second shape.
+    pub on_b: V,
+    /// Unit normal from the first shape to the second.
+    pub normal: V,
+    /// Signed distance along the normal, m (negative: penetration).
+    pub separation: f64,
+    /// The two features that touch (for warm starting a point from step to step).
+    pub id: u64,
+}
+
+/// The plane or space solids move in.
+pub trait Space: Copy + Debug + Send + Sync + 'static {
+    /// Number of coordinates of a point.
+    const DIM: usize;
+    /// Number of coordinates of an orientation as exported (an angle; a quaternion).
+    const ROT: usize;
+    /// A point or a linear velocity.
+    type V: Vect;
+    /// An angular velocity (a scalar in the plane).
+    type W: Vect;
+    /// An absolute orientation: the angle in the plane (exact), a unit quaternion in space.
+    type Rot: Copy + Debug + PartialEq + Send + Sync;
+    /// A rotation since the step began: the unit complex number (cos, sin) in the plane.
+    type Delta: Copy + Debug + Send + Sync;
+    /// An inverse inertia: a scalar in the plane, a matrix in space.
+    type InvI: Copy + Debug + Send + Sync;
+    /// The inverse inertia of a solid that does not turn (static, kinematic): zero (not
+    /// glam's `Default`, which for a matrix is the identity).
+    fn no_inertia() -> Self::InvI;
+    /// The collision shape (parry's).
+    type Shape: Clone + Send + Sync;
+
+    /// The orientation that turns nothing.
+    fn identity() -> Self::Rot;
+    /// The rotation of nothing.
+    fn no_delta() -> Self::Delta;
+    /// `w x r`: the velocity of an arm `r` under angular velocity `w`.
+    fn cross_wv(w: Self::W, r: Self::V) -> Self::V;
+    /// `r x v`: the moment of `v` about the arm's origin.
+    fn cross_vv(r: Self::V, v: Self::V) -> Self::W;
+    /// The inverse inertia applied to an angular quantity.
+    fn apply(i: Self::InvI, w: Self::W) -> Self::W;
+    /// `v` turned by `q`.
+    fn rotate(q: Self::Rot, v: Self::V) -> Self::V;
+    /// `v` turned back by `q` (into the frame `q` turns).
+    fn unrotate(q: Self::Rot, v: Self::V) -> Self::V;
+    /// `v` turned by a rotation since the step began.
+    fn rotate_delta(q: Self::Delta, v: Self::V) -> Self::V;
+    /// The orientation after turning at `w` for `h` seconds (exact for a constant `w`: the
+    /// angle moves by `h w` in the plane; the quaternion by the exponential map in space),
+    /// and the rotation since the step began moved the same way.
+    fn turn(q: Self::Rot, d: Self::Delta, w: Self::W, h: f64) -> (Self::Rot, Self::Delta);
+    /// The world inverse inertia of a body at `q` whose inverse inertia in its own frame is
+    /// `local`.
+    fn world_inverse_inertia(q: Self::Rot, local: Self::InvI) -> Self::InvI;
+    /// Unit tangents completing `n` to an orthonormal frame (one in the plane).
+    fn tangents(n: Self::V) -> [Self::V; 2];
+    /// Number of tangents (1 in the plane, 2 in space).
+    const TANGENTS: usize;
+    /// The orientation's exported numbers (the angle; the quaternion w, x, y, z, as bodies').
+    fn write_rot(q: Self::Rot, out: &mut Vec<f64>);
+    /// Reads an orientation (an angle; a quaternion, normalised).
+    fn read_rot(c: &[f64]) -> Self::Rot;
+    /// Reads an orientation as [`Space::write_rot`] wrote it, bitwise (not normalised).
+    fn read_rot_exact(c: &[f64]) -> Self::Rot;
+
+    /// The narrow phase's shape of a user's shape.
+    ///
+    /// # Errors
+    /// As [`crate::contact::Shape::check`].
+    fn build(shape: &crate::contact::Shape) -> crate::error::Result<Self::Shape>;
+    /// Twice the kinetic energy of spin, `w . I w`, from the inverse inertia (0 where it is 0).
+    fn spin_energy(inv_i: Self::InvI, w: Self::W) -> f64;
+    /// Mass, centre of mass in the shape's frame and inverse inertia about it in the shape's
+    /// frame, at `density`.
+    fn mass_properties(shape: &Self::Shape, density: f64) -> (f64, Self::V, Self::InvI);
+    /// The axis-aligned box around the shape placed at `(p, q)`, widened by `margin`.
+    fn aabb(shape: &Self::Shape, p: Self::V, q: Self::Rot, margin: f64) -> ([f64; 3], [f64; 3]);
+    /// The contact points of two shapes placed at their poses that are closer than
+    /// `prediction`, appended to `out`.
+    fn touches(
+        a: (&Self::Shape, Self::V, Self::Rot),
+        b: (&Self::Shape, Self::V, Self::Rot),
+        prediction: f64,
+        out: &mut Vec<Touch<Self::V>>,
+    );
+}
+
+/// The plane: an angle, a scalar inertia.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Plane;
+
+/// Space: a quaternion, an inertia tensor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Space3;
+
+fn pack(a: u32, b: u32, sub_a: u32, sub_b: u32) -> u64 {
+    // Feature ids of parry are packed u32s; the subshape indices (triangles of a mesh) keep
+    // points of different triangles apart. Mixing the two into 64 bits is only a key for
+    // matching a point with last step's: a collision costs a warm start, never a result.
+    let f = (u64::from(a) << 32) | u64::from(b);
+    f ^ (u64::from(sub_a).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+        ^ (u64::from(sub_b).wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
+}
+
+impl Space for Plane {
+    const DIM: usize = 2;
+    const ROT: usize = 1;
+    const TANGENTS: usize = 1;
+    type V = DVec2;
+    type W = f64;
+    type Rot = f64;
+    type Delta = DVec2;
+    type InvI = f64;
+    type Shape = parry2d_f64::shape::SharedShape;
+
+    fn identity() -> f64 {
+        0.0
+    }
+    fn no_delta() -> DVec2 {
+        DVec2::X
+    }
+    fn no_inertia() -> f64 {
+        0.0
+    }
+    fn cross_wv(w: f64, r: DVec2) -> DVec2 {
+        DVec2::new(-w * r.y, w * r.x)
+    }
+    fn cross_vv(r: DVec2, v: DVec2) -> f64 {
+        r.perp_dot(v)
+    }
+    fn apply(i: f64, w: f64) -> f64 {
+        i * w
+    }
+    fn rotate(q: f64, v: DVec2) -> DVec2 {
+        let (s, c) = q.sin_cos();
+        DVec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+    }
+    fn unrotate(q: f64, v: DVec2) -> DVec2 {
+        Self::rotate(-q, v)
+    }
+    fn rotate_delta(q: DVec2, v: DVec2) -> DVec2 {
+        q.rotate(v)
+    }
+    fn turn(q: f64, d: DVec2, w: f64, h: f64) -> (f64, DVec2) {
+        let (s, c) = (h * w).sin_cos();
+        (q + h * w, DVec2::new(c, s).rotate(d))
+    }
+    fn world_inverse_inertia(_q: f64, local: f64) -> f64 {
+        local
+    }
+    fn tangents(n: DVec2) -> [DVec2; 2] {
+        [n.perp(), DVec2::ZERO]
+    }
+    fn write_rot(q: f64, out: &mut Vec<f64>) {
+        out.push(q);
+    }
+    fn read_rot(c: &[f64]) -> f64 {
+        c[0]
+    }
+    fn read_rot_exact(c: &[f64]) -> f64 {
+        c[0]
+    }
+
+    fn build(shape: &crate::contact::Shape) -> crate::error::Result<Self::Shape> {
+        shape.plane()
+    }
+    fn spin_energy(inv_i: f64, w: f64) -> f64 {
+        if inv_i > 0.0 {
+            w * w / inv_i
+        } else {
+            0.0
+        }
+    }
+    fn mass_properties(shape: &Self::Shape, density: f64) -> (f64, DVec2, f64) {
+        let m = shape.mass_properties(density);
+        let mass = if m.inv_mass > 0.0 { 1.0 / m.inv_mass } else { 0.0 };
+        (mass, m.local_com, m.inv_principal_inertia)
+    }
+
+    fn aabb(shape: &Self::Shape, p: DVec2, q: f64, margin: f64) -> ([f64; 3], [f64; 3]) {
+        let b = shape.compute_aabb(&parry2d_f64::math::Pose::new(p, q));
+        ([b.mins.x - margin, b.mins.y - margin, 0.0], [b.maxs.x + margin, b.maxs.y + margin, 0.0])
+    }
+
+    fn touches(
+        a: (&Self::Shape, DVec2, f64),
+        b: (&Self::Shape, DVec2, f64),
+        prediction: f64,
+        out: &mut Vec<Touch<DVec2>>,
+    ) {
+        use parry2d_f64::math::Pose;
+        use parry2d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+        let (pa, pb) = (Pose::new(a.1, a.2), Pose::new(b.1, b.2));
+        let pos12 = pa.inv_mul(&pb);
+        let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+        // Every pair of the shapes physstep builds has a manifold generator in parry.
+        if DefaultQueryDispatcher
+            .contact_manifolds(&pos12, a.0.as_ref(), b.0.as_ref(), prediction, &mut manifolds, &mut None)
+            .is_err()
+        {
+            return;
+        }
+        for m in &manifolds {
+            // A composite shape (a polyline) gives points in its subshape's frame.
+            let (sa, sb) = match &m.subshape_poses {
+                Some(s) => (s.pos1.map_or(pa, |p| pa * p), s.pos2.map_or(pb, |p| pb * p)),
+                None => (pa, pb),
+            };
+            let normal = sa.rotation * m.local_n1;
+            for c in &m.points {
+                out.push(Touch {
+                    on_a: sa * c.local_p1,
+                    on_b: sb * c.local_p2,
+                    normal,
+                    separation: c.dist,
+                    id: pack(c.fid1.0, c.fid2.0, m.subshape1, m.subshape2),
+                });
+            }
+        }
+    }
+}
+
+impl Space for Space3 {
+    const DIM: usize = 3;
+    const ROT: usize = 4;
+    const TANGENTS: usize = 2;
+    type V = DVec3;
+    type W = DVec3;
+    type Rot = DQuat;
+    type Delta = DQuat;
+    type InvI = DMat3;
+    type Shape = parry3d_f64::shape::SharedShape;
+
+    fn identity() -> DQuat {
+        DQuat::IDENTITY
+    }
+    fn no_delta() -> DQuat {
+        DQuat::IDENTITY
+    }
+    fn no_inertia() -> DMat3 {
+        DMat3::ZERO
+    }
+    fn cross_wv(w: DVec3, r: DVec3) -> DVec3 {
+        w.cross(r)
+    }
+    fn cross_vv(r: DVec3, v: DVec3) -> DVec3 {
+        r.cross(v)
+    }
+    fn apply(i: DMat3, w: DVec3) -> DVec3 {
+        i * w
+    }
+    fn rotate(q: DQuat, v: DVec3) -> DVec3 {
+        q * v
+    }
+    fn unrotate(q: DQuat, v: DVec3) -> DVec3 {
+        q.conjugate() * v
+    }
+    fn rotate_delta(q: DQuat, v: DVec3) -> DVec3 {
+        q * v
+    }
+    fn turn(q: DQuat, d: DQuat, w: DVec3, h: f64) -> (DQuat, DQuat) {
+        let r = DQuat::from_scaled_axis(w * h);
+        ((r * q).normalize(), (r * d).normalize())
+    }
+    fn world_inverse_inertia(q: DQuat, local: DMat3) -> DMat3 {
+        let r = DMat3::from_quat(q);
+        r * local * r.transpose()
+    }
+    fn tangents(n: DVec3) -> [DVec3; 2] {
+        let (a, b) = n.any_orthonormal_pair();
+        [a, b]
+    }
+    fn write_rot(q: DQuat, out: &mut Vec<f64>) {
+        out.extend_from_slice(&[q.w, q.x, q.y, q.z]);
+    }
+    fn read_rot(c: &[f64]) -> DQuat {
+        Self::read_rot_exact(c).normalize()
+    }
+    fn read_rot_exact(c: &[f64]) -> DQuat {
+        DQuat::from_xyzw(c[1], c[2], c[3], c[0])
+    }
+
+    fn build(shape: &crate::contact::Shape) -> crate::error::Result<Self::Shape> {
+        shape.space()
+    }
+    fn spin_energy(inv_i: DMat3, w: DVec3) -> f64 {
+        if inv_i.determinant() > 0.0 {
+            w.dot(inv_i.inverse() * w)
+        } else {
+            0.0
+        }
+    }
+    fn mass_properties(shape: &Self::Shape, density: f64) -> (f64, DVec3, DMat3) {
+        let m = shape.mass_properties(density);
+        let mass = if m.inv_mass > 0.0 { 1.0 / m.inv_mass } else { 0.0 };
+        let r = DMat3::from_quat(m.principal_inertia_local_frame);
+        (mass, m.local_com, r * DMat3::from_diagonal(m.inv_principal_inertia) * r.transpose())
+    }
+
+    fn aabb(shape: &Self::Shape, p: DVec3, q: DQuat, margin: f64) -> ([f64; 3], [f64; 3]) {
+        let b = shape.compute_aabb(&parry3d_f64::math::Pose::from_parts(p, q));
+        (
+            [b.mins.x - margin, b.mins.y - margin, b.mins.z - margin],
+            [b.maxs.x + margin, b.maxs.y + margin, b.maxs.z + margin],
+        )
+    }
+
+    fn touches(
+        a: (&Self::Shape, DVec3, DQuat),
+        b: (&Self::Shape, DVec3, DQuat),
+        prediction: f64,
+        out: &mut Vec<Touch<DVec3>>,
+    ) {
+        use parry3d_f64::math::Pose;
+        use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+        let (pa, pb) = (Pose::from_parts(a.1, a.2), Pose::from_parts(b.1, b.2));
+        let pos12 = pa.inv_mul(&pb);
+        let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+        if DefaultQueryDispatcher
+            .contact_manifolds(&pos12, a.0.as_ref(), b.0.as_ref(), prediction, &mut manifolds, &mut None)
+            .is_err()
+        {
+            return;
+        }
+        for m in &manifolds {
+            let (sa, sb) = match &m.subshape_poses {
+                Some(s) => (s.pos1.map_or(pa, |p| pa * p), s.pos2.map_or(pb, |p| pb * p)),
+                None => (pa, pb),
+            };
+            let normal = sa.rotation * m.local_n1;
+            for c in &m.points {
+                out.push(Touch {
+                    on_a: sa * c.local_p1,
+                    on_b: sb * c.local_p2,
+                    normal,
+                    separation: c.dist,
+                    id: pack(c.fid1.0, c.fid2.0, m.subshape1, m.subshape2),
+                });
+            }
+        }
+    }
+}

@@ -1,0 +1,181 @@
+//! Solids in scene files: `[contact]` (the contact solver and its substeps and iterations)
+//! and `[[solids]]` (each solid as it was added: shape, kind, pose, velocities, density,
+//! friction, restitution).
+
+use super::doc::{Doc, Table};
+use crate::contact::{Kind, Settings, Shape, SolidParams};
+use crate::error::Result;
+use crate::world::World;
+use std::fmt::Write;
+
+fn num(x: f64) -> String {
+    super::write::num(x)
+}
+
+fn arr(v: &[f64]) -> String {
+    super::write::arr(v)
+}
+
+fn rows(flat: &[f64], per: usize) -> String {
+    let r: Vec<String> = flat.chunks(per).map(arr).collect();
+    format!("[{}]", r.join(", "))
+}
+
+/// The `shape = { ... }` of a solid.
+fn shape(s: &Shape, dim: usize) -> String {
+    match s {
+        Shape::Circle { radius } => format!("kind = \"circle\", radius = {}", num(*radius)),
+        Shape::Box { half } => format!("kind = \"box\", half = {}", arr(half)),
+        Shape::Capsule { half_height, radius } => {
+            format!("kind = \"capsule\", half_height = {}, radius = {}", num(*half_height), num(*radius))
+        }
+        Shape::Polygon { points } => format!("kind = \"polygon\", points = {}", rows(points, dim)),
+        Shape::Segment { a, b, radius } => {
+            format!("kind = \"segment\", a = {}, b = {}, radius = {}", arr(a), arr(b), num(*radius))
+        }
+        Shape::Plane { normal } => format!("kind = \"plane\", normal = {}", arr(normal)),
+        Shape::Mesh { vertices, triangles } => {
+            let t: Vec<String> =
+                triangles.iter().map(|t| format!("[{}, {}, {}]", t[0], t[1], t[2])).collect();
+            format!("kind = \"mesh\", vertices = {}, triangles = [{}]", rows(vertices, 3), t.join(", "))
+        }
+    }
+}
+
+/// Appends `[contact]` and the `[[solids]]` of `world` (as they were added).
+pub(super) fn write(world: &World, s: &mut String) {
+    let set = world.contact_settings();
+    if world.solid_count() == 0 && set == Settings::default() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "\n[contact]\nsolver = \"{}\"\nsubsteps = {}\niterations = {}",
+        set.solver, set.substeps, set.iterations
+    );
+    for p in world.solid_params() {
+        let _ = writeln!(
+            s,
+            "\n[[solids]]\nshape = {{ {} }}\nkind = \"{}\"\nposition = {}\norientation = {}\nvelocity = {}\nangular_velocity = {}\ndensity = {}\nfriction = {}\nrestitution = {}",
+            shape(&p.shape, world.dim()),
+            p.kind.name(),
+            arr(&p.position),
+            arr(&p.orientation),
+            arr(&p.velocity),
+            arr(&p.angular_velocity),
+            num(p.density),
+            num(p.friction),
+            num(p.restitution)
+        );
+    }
+}
+
+/// A solid's `shape` table.
+fn read_shape(doc: &Doc<'_>, t: Table<'_, '_>, dim: usize) -> Result<Shape> {
+    let kind = doc.str(t, "kind")?.unwrap_or("");
+    let flat = |key: &str, per: usize| -> Result<Vec<f64>> {
+        Ok(doc
+            .rows(t, key, per)?
+            .ok_or_else(|| doc.err(t.at, &format!("{}.{key}", t.path), "is missing"))?
+            .concat())
+    };
+    let (s, keys): (Shape, &[&str]) = match kind {
+        "circle" => (Shape::Circle { radius: doc.f64_req(t, "radius")? }, &["kind", "radius"]),
+        "box" => (Shape::Box { half: doc.vec_req(t, "half", dim)? }, &["kind", "half"]),
+        "capsule" => (
+            Shape::Capsule { half_height: doc.f64_req(t, "half_height")?, radius: doc.f64_req(t, "radius")? },
+            &["kind", "half_height", "radius"],
+        ),
+        "polygon" => (Shape::Polygon { points: flat("points", dim)? }, &["kind", "points"]),
+        "segment" => (
+            Shape::Segment {
+                a: doc.vec_req(t, "a", dim)?,
+                b: doc.vec_req(t, "b", dim)?,
+                radius: doc.f64(t, "radius")?.unwrap_or(0.0),
+            },
+            &["kind", "a", "b", "radius"],
+        ),
+        "plane" => (Shape::Plane { normal: doc.vec_req(t, "normal", dim)? }, &["kind", "normal"]),
+        "mesh" => {
+            let tri = flat("triangles", 3)?;
+            if let Some(k) = tri.iter().position(|x| !(x.fract() == 0.0 && *x >= 0.0 && *x < 4e9)) {
+                return Err(doc.err(
+                    t.at,
+                    &format!("{}.triangles[{}][{}]", t.path, k / 3, k % 3),
+                    "must be a vertex index",
+                ));
+            }
+            let triangles = tri.chunks(3).map(|c| [c[0] as u32, c[1] as u32, c[2] as u32]).collect();
+            (Shape::Mesh { vertices: flat("vertices", 3)?, triangles }, &["kind", "vertices", "triangles"])
+        }
+        other => {
+            return Err(doc.err(
+                t.at,
+                &format!("{}.kind", t.path),
+                format!("= '{other}': must be circle, box, capsule, polygon, segment, plane or mesh"),
+            ))
+        }
+    };
+    doc.keys(t, keys)?;
+    Ok(s)
+}
+
+/// `[contact]` and `[[solids]]` into `w`.
+pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
+    if let Some((t, at)) = doc.table(top, "contact")? {
+        let t = Table { table: t, at, path: "contact" };
+        doc.keys(t, &["solver", "substeps", "iterations"])?;
+        if let Some(name) = doc.str(t, "solver")? {
+            w.set_contact_solver(name).map_err(|e| doc.engine(at, "contact.solver", e))?;
+        }
+        if let Some(n) = doc.index(t, "substeps")? {
+            let n = u32::try_from(n).unwrap_or(u32::MAX);
+            w.set_substeps(n).map_err(|e| doc.engine(at, "contact.substeps", e))?;
+        }
+        if let Some(n) = doc.index(t, "iterations")? {
+            let n = u32::try_from(n).unwrap_or(u32::MAX);
+            w.set_solver_iterations(n).map_err(|e| doc.engine(at, "contact.iterations", e))?;
+        }
+    }
+    let dim = w.dim();
+    for (k, (table, at)) in doc.tables(top, "solids")?.into_iter().enumerate() {
+        let path = format!("solids[{k}]");
+        let t = Table { table, at, path: &path };
+        doc.keys(
+            t,
+            &[
+                "shape",
+                "kind",
+                "position",
+                "orientation",
+                "velocity",
+                "angular_velocity",
+                "density",
+                "friction",
+                "restitution",
+            ],
+        )?;
+        let spath = format!("{path}.shape");
+        let (st, sat) =
+            doc.table(t, "shape")?.ok_or_else(|| doc.err(at, &spath, "is missing: must be a table"))?;
+        let s = read_shape(doc, Table { table: st, at: sat, path: &spath }, dim)?;
+        let mut p = SolidParams::new(s, &doc.vec_req(t, "position", dim)?);
+        if let Some(kind) = doc.str(t, "kind")? {
+            p.kind = Kind::by_name(kind).map_err(|e| doc.engine(at, &format!("{path}.kind"), e))?;
+        }
+        if let Some(q) = doc.vec(t, "orientation", None)? {
+            p.orientation = q;
+        }
+        if let Some(v) = doc.vec(t, "velocity", None)? {
+            p.velocity = v;
+        }
+        if let Some(v) = doc.vec(t, "angular_velocity", None)? {
+            p.angular_velocity = v;
+        }
+        p.density = doc.f64(t, "density")?.unwrap_or(p.density);
+        p.friction = doc.f64(t, "friction")?.unwrap_or(p.friction);
+        p.restitution = doc.f64(t, "restitution")?.unwrap_or(p.restitution);
+        w.add_solid(p).map_err(|e| doc.engine(at, &path, e))?;
+    }
+    Ok(())
+}

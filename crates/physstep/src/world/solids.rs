@@ -1,0 +1,273 @@
+//! Solids of a [`World`]: rigid bodies with shapes that touch (see [`crate::contact`] and
+//! docs/contact.md). A 2D world's solids live in the plane, a 3D world's in space; the
+//! world's gravity pulls them; the Contact stage of the step advances them by the contact
+//! solver (its own substeps of symplectic Euler) and checks them.
+
+use super::step::StepContext;
+use super::World;
+use crate::contact::{ContactReport, Plane, Settings, SolidParams, Solids, Space, Space3, Vect};
+use crate::error::{Error, Result};
+use crate::forces::Force;
+
+/// The solids of a world of either dimension.
+#[derive(Debug, Clone, Default)]
+pub(crate) enum SolidSet {
+    /// A 1D world's (none can be added).
+    #[default]
+    Empty,
+    /// A 2D world's.
+    Plane(Solids<Plane>),
+    /// A 3D world's.
+    Space(Solids<Space3>),
+}
+
+/// `$body` with `$s` the solids of whichever space, or `$none` without solids.
+macro_rules! each {
+    ($set:expr, $s:ident => $body:expr, $none:expr) => {
+        match $set {
+            SolidSet::Empty => $none,
+            SolidSet::Plane($s) => $body,
+            SolidSet::Space($s) => $body,
+        }
+    };
+}
+
+impl SolidSet {
+    /// The empty set of a world of `dim` dimensions (none in 1D).
+    pub(crate) fn for_dim(dim: usize) -> Self {
+        match dim {
+            2 => SolidSet::Plane(Solids::new()),
+            3 => SolidSet::Space(Solids::new()),
+            _ => SolidSet::Empty,
+        }
+    }
+
+    pub(crate) fn is_empty(&self) -> bool {
+        each!(self, s => s.is_empty(), true)
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        each!(self, s => s.len(), 0)
+    }
+
+    /// What a snapshot keeps of the solids (empty without solids).
+    pub(crate) fn block(&self) -> Vec<f64> {
+        if self.is_empty() {
+            return Vec::new();
+        }
+        each!(self, s => s.block(), Vec::new())
+    }
+
+    /// Puts back a [`SolidSet::block`].
+    ///
+    /// # Errors
+    /// What does not fit, in words.
+    pub(crate) fn set_block(&mut self, data: &[f64]) -> std::result::Result<(), String> {
+        each!(self, s => s.set_block(data), Err("this world has no solids".into()))
+    }
+
+    /// Keeps in `into` what a step changes (the solids' motion, their contacts and the warm
+    /// starts), for a rollback.
+    pub(crate) fn save(&self, into: &mut SolidSet) {
+        match (self, &mut *into) {
+            (SolidSet::Plane(a), SolidSet::Plane(b)) => a.save(b),
+            (SolidSet::Space(a), SolidSet::Space(b)) => a.save(b),
+            _ => into.clone_from(self),
+        }
+    }
+
+    /// Puts back what [`SolidSet::save`] kept.
+    pub(crate) fn restore(&mut self, from: &SolidSet) {
+        match (&mut *self, from) {
+            (SolidSet::Plane(a), SolidSet::Plane(b)) => b.save(a),
+            (SolidSet::Space(a), SolidSet::Space(b)) => b.save(a),
+            _ => self.clone_from(from),
+        }
+    }
+}
+
+/// A solid's contact points as flat arrays (what [`World::contacts`] returns).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Contacts {
+    /// The two solids of each point, `a < b`.
+    pub pairs: Vec<[usize; 2]>,
+    /// The points, flat (`dim` a point), m.
+    pub points: Vec<f64>,
+    /// Unit normals from `a` to `b`, flat.
+    pub normals: Vec<f64>,
+    /// Penetration depths, m (negative: a speculative contact, not yet touching).
+    pub depths: Vec<f64>,
+    /// Normal impulses of the latest step, N s.
+    pub normal_impulses: Vec<f64>,
+    /// Sizes of the friction impulses of the latest step, N s.
+    pub friction_impulses: Vec<f64>,
+}
+
+fn flatten<V: Vect>(reports: &[ContactReport<V>]) -> Contacts {
+    let mut c = Contacts::default();
+    for r in reports {
+        c.pairs.push([r.pair.0, r.pair.1]);
+        r.point.write(&mut c.points);
+        r.normal.write(&mut c.normals);
+        c.depths.push(r.depth);
+        c.normal_impulses.push(r.normal_impulse);
+        c.friction_impulses.push(r.friction_impulse);
+    }
+    c
+}
+
+fn gravity_of<S: Space>(m: &super::Model) -> S::V {
+    let mut g = [0.0; 3];
+    for f in m.forces().iter() {
+        if let Force::Gravity { g: a } = f {
+            for (gk, ak) in g.iter_mut().zip(a) {
+                *gk += ak;
+            }
+        }
+    }
+    S::V::read(&g[..S::DIM])
+}
+
+/// Solids: adding, reading, the contact solver's settings, and the Contact stage.
+impl World {
+    /// Adds a solid (a rigid body with a shape that collides with the other solids); returns
+    /// its index among the solids. A 2D world's solids move in the plane (an angle, a scalar
+    /// inertia), a 3D world's in space.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field (`position`, `orientation`, `density`,
+    /// `friction`, `restitution`, `kind`, a size of the shape) and the value, or `dim` for a
+    /// 1D world or a world that is a flow; the world is unchanged.
+    pub fn add_solid(&mut self, params: SolidParams) -> Result<usize> {
+        if self.flow.is_some() || self.dim() == 1 {
+            return Err(Error::invalid("dim", self.dim(), "2 or 3 (solids move in the plane or in space)"));
+        }
+        let i = each!(&mut self.solids, s => s.add(params), Err(Error::invalid("dim", 1, "2 or 3")))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(i)
+    }
+
+    /// Number of solids.
+    #[must_use]
+    pub fn solid_count(&self) -> usize {
+        self.solids.len()
+    }
+
+    /// Each solid as it was added.
+    #[must_use]
+    pub fn solid_params(&self) -> &[SolidParams] {
+        each!(&self.solids, s => s.params(), &[])
+    }
+
+    /// Origins of the solids' shapes, flat (`dim` a solid), m.
+    #[must_use]
+    pub fn solid_positions(&self) -> Vec<f64> {
+        each!(&self.solids, s => s.positions(), Vec::new())
+    }
+
+    /// Orientations, flat: the angle (2D, rad) or the quaternion w, x, y, z (3D).
+    #[must_use]
+    pub fn solid_orientations(&self) -> Vec<f64> {
+        each!(&self.solids, s => s.orientations(), Vec::new())
+    }
+
+    /// Velocities of the solids' centres of mass, flat, m/s.
+    #[must_use]
+    pub fn solid_velocities(&self) -> Vec<f64> {
+        each!(&self.solids, s => s.velocities(), Vec::new())
+    }
+
+    /// Angular velocities, flat: one a solid in 2D, three in 3D, rad/s.
+    #[must_use]
+    pub fn solid_angular_velocities(&self) -> Vec<f64> {
+        each!(&self.solids, s => s.angular_velocities(), Vec::new())
+    }
+
+    /// Kinetic energy of the dynamic solids, J.
+    #[must_use]
+    pub fn solid_kinetic_energy(&self) -> f64 {
+        each!(&self.solids, s => s.kinetic_energy(), 0.0)
+    }
+
+    /// Potential energy of the dynamic solids in the world's gravity, J.
+    pub(super) fn solid_potential_energy(&self) -> f64 {
+        fn u<S: Space>(m: &super::Model, s: &Solids<S>) -> f64 {
+            let g = gravity_of::<S>(m);
+            s.bodies.iter().filter(|b| b.inv_mass > 0.0).map(|b| -g.dot(b.c) / b.inv_mass).sum()
+        }
+        each!(&self.solids, s => u(&self.model, s), 0.0)
+    }
+
+    /// The contact points of the latest step.
+    #[must_use]
+    pub fn contacts(&self) -> Contacts {
+        each!(&self.solids, s => flatten(&s.contacts()), Contacts::default())
+    }
+
+    /// The deepest penetration among the latest step's contacts, m.
+    #[must_use]
+    pub fn max_penetration(&self) -> f64 {
+        each!(&self.solids, s => s.max_penetration(), 0.0)
+    }
+
+    /// The contact solver's settings (its name, substeps, iterations, stiffness).
+    #[must_use]
+    pub fn contact_settings(&self) -> Settings {
+        each!(&self.solids, s => s.settings.clone(), Settings::default())
+    }
+
+    /// The settings of a world that can hold solids.
+    fn solids_settings_mut(&mut self) -> Result<&mut Settings> {
+        let dim = self.dim();
+        each!(&mut self.solids, s => Ok(&mut s.settings), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
+    }
+
+    /// Chooses the contact solver by name ([`crate::contact::SOLVERS`]).
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] listing the solvers.
+    pub fn set_contact_solver(&mut self, name: &str) -> Result<()> {
+        self.solids_settings_mut()?.set_solver(name)
+    }
+
+    /// Sets the contact solver's substeps a step (1 to 1000).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `substeps`.
+    pub fn set_substeps(&mut self, n: u32) -> Result<()> {
+        self.solids_settings_mut()?.set_substeps(n)
+    }
+
+    /// Sets the contact solver's passes a substep (1 to 1000).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solver_iterations`.
+    pub fn set_solver_iterations(&mut self, n: u32) -> Result<()> {
+        self.solids_settings_mut()?.set_iterations(n)
+    }
+
+    /// Contact: the solids advanced by the contact solver over the step, then checked.
+    pub(super) fn contact(&mut self, ctx: &StepContext) -> Result<()> {
+        fn run<S: Space>(g: S::V, s: &mut Solids<S>, ctx: &StepContext, method: &str) -> Result<()> {
+            crate::contact::solver::step(s, ctx.h, g);
+            match s.runaway() {
+                Some(b) => Err(Error::Diverged {
+                    method: format!("{} (contact solver {})", method, s.settings.solver),
+                    step: ctx.step,
+                    t: ctx.t,
+                    index: b,
+                    particle: None,
+                    body: None,
+                    solid: Some(b),
+                }),
+                None => Ok(()),
+            }
+        }
+        let method = self.integrator.info().name;
+        match &mut self.solids {
+            SolidSet::Plane(s) if !s.is_empty() => run(gravity_of::<Plane>(&self.model), s, ctx, method),
+            SolidSet::Space(s) if !s.is_empty() => run(gravity_of::<Space3>(&self.model), s, ctx, method),
+            _ => Ok(()),
+        }
+    }
+}

@@ -1,0 +1,213 @@
+"""Solids: rigid bodies with shapes that land, slide, stack and rest (docs/contact.md)."""
+
+import math
+import pickle
+
+import numpy as np
+import physstep
+import pytest
+
+G = 9.81
+
+
+def ground_2d(w: physstep.World) -> int:
+    return w.add_solid(physstep.Box(50.0, 1.0), position=[0.0, -1.0], kind="static")
+
+
+def box_world() -> physstep.World:
+    w = physstep.World(dim=2, dt=1 / 60)
+    w.add_gravity([0.0, -G])
+    ground_2d(w)
+    w.add_solid(physstep.Box(0.5, 0.5), position=[0.0, 2.0])
+    return w
+
+
+def test_a_box_lands_and_rests_on_the_ground_with_its_energy_gone():
+    w = box_world()
+    peak = 0.0
+    for _ in range(600):
+        w.step(1)
+        peak = max(peak, w.kinetic_energy())
+    assert w.kinetic_energy() < 1e-8 * peak
+    assert w.max_penetration < 0.005
+    assert w.solid_positions()[1] == pytest.approx([0.0, 0.5], abs=5e-3)
+    c = w.contacts()
+    assert set(c) == {"pairs", "points", "normals", "depths", "normal_impulses", "friction_impulses"}
+    assert c["pairs"].tolist() == [[0, 1], [0, 1]]
+    assert np.allclose(c["normals"], [[0.0, 1.0], [0.0, 1.0]])
+    # The two points carry the box's weight over the step: m g dt (m = 1 kg/m^2 x 1 m^2).
+    assert c["normal_impulses"].sum() == pytest.approx(1.0 * G / 60, rel=1e-3)
+
+
+def test_the_energy_of_a_falling_box_is_kinetic_plus_potential_until_it_lands():
+    w = box_world()
+    e0 = w.energy()
+    w.step(20)  # still falling: 1.5 m to go
+    assert w.contacts()["pairs"].shape == (0, 2)
+    # Symplectic Euler under constant gravity loses energy at O(dt) per step, exactly known:
+    # after n substeps of h, E - E0 = -m g^2 h^2 n / 2.
+    n, h = 20 * 8, 1 / 60 / 8
+    assert w.energy() - e0 == pytest.approx(-(G**2) * h * h * n / 2, rel=1e-6)
+
+
+def test_a_box_on_a_ramp_sticks_above_the_friction_angle_and_slides_below_it():
+    def ramp(mu: float, seconds: float) -> tuple[float, float]:
+        a = 0.5
+        w = physstep.World(dim=2, dt=1 / 60)
+        w.add_gravity([0.0, -G])
+        w.add_solid(physstep.Box(100.0, 0.5), orientation=a, kind="static", friction=mu)
+        up = 0.75
+        at = [-math.sin(a) * up, math.cos(a) * up]
+        w.add_solid(physstep.Box(0.25, 0.25), position=at, orientation=a, friction=mu)
+        along = np.array([math.cos(a), math.sin(a)])
+        x0 = w.solid_positions()[1] @ along
+        w.step(round(seconds * 60))
+        return w.solid_positions()[1] @ along - x0, w.solid_velocities()[1] @ along
+
+    moved, _ = ramp(0.6, 5.0)
+    assert abs(moved) < 1e-3
+    _, v = ramp(0.3, 2.0)
+    exact = -G * (math.sin(0.5) - 0.3 * math.cos(0.5))
+    assert v / 2.0 == pytest.approx(exact, rel=0.01)
+
+
+def test_a_cube_thrown_on_a_plane_in_3d_comes_to_rest_on_a_face():
+    w = physstep.World(dim=3, dt=1 / 60)
+    w.add_gravity([0.0, -G, 0.0])
+    w.add_solid(physstep.Plane([0.0, 1.0, 0.0]), kind="static")
+    w.add_solid(
+        physstep.Box(0.5, 0.5, 0.5),
+        position=[0.0, 2.0, 0.0],
+        orientation=[1.0, 0.1, 0.2, 0.05],
+        velocity=[1.0, 0.0, 0.5],
+        angular_velocity=[0.0, 3.0, 1.0],
+    )
+    w.step(600)
+    assert w.solid_positions()[1][1] == pytest.approx(0.5, abs=5e-3)
+    assert np.abs(w.solid_velocities()[1]).max() < 1e-6
+    q = w.solid_orientations()[1]
+    assert np.linalg.norm(q) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_a_stack_of_ten_boxes_stands():
+    w = physstep.World(dim=2, dt=1 / 60)
+    w.add_gravity([0.0, -G])
+    ground_2d(w)
+    for i in range(10):
+        w.add_solid(physstep.Box(0.5, 0.5), position=[0.0, 0.5 + i])
+    top0 = w.solid_positions()[10].copy()
+    w.step(600)
+    assert np.linalg.norm(w.solid_positions()[10] - top0) < 0.01
+    assert w.max_penetration < 0.01
+
+
+def test_the_same_inputs_give_the_same_bits():
+    runs = []
+    for _ in range(2):
+        w = physstep.World(dim=2, dt=1 / 60)
+        w.add_gravity([0.0, -G])
+        ground_2d(w)
+        for i in range(6):
+            w.add_solid(physstep.Circle(0.3), position=[0.1 * i, 1.0 + 0.7 * i], restitution=0.3)
+        w.step(200)
+        runs.append((w.solid_positions().tobytes(), w.solid_velocities().tobytes()))
+    assert runs[0] == runs[1]
+
+
+def test_a_solid_that_runs_away_is_rolled_back_and_named():
+    def fast() -> physstep.World:
+        w = physstep.World(dim=2, dt=1.0)
+        w.add_solid(physstep.Circle(0.5), velocity=[4e99, 0.0])
+        w.add_solid(physstep.Circle(0.5), position=[5.0, 0.0])
+        return w
+
+    w = fast()
+    # 4e99, 8e99, then 1.2e100: past the runaway limit of 1e100 in the third step.
+    ran_away = "diverged at step 2 .* solid 0 became non-finite or ran away"
+    with pytest.raises(physstep.DivergedError, match=ran_away):
+        w.step(5)
+    assert w.steps == 2
+    # Rolled back to the end of the second step, bitwise.
+    two = fast()
+    two.step(2)
+    assert w.solid_positions().tobytes() == two.solid_positions().tobytes()
+    assert w.solid_velocities().tobytes() == two.solid_velocities().tobytes()
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"shape": physstep.Box(1.0, 1.0), "friction": -0.1}, "invalid friction = -0.1"),
+        ({"shape": physstep.Box(1.0, 1.0), "restitution": 1.5}, "invalid restitution = 1.5"),
+        ({"shape": physstep.Box(1.0, 1.0), "density": 0.0}, "invalid density = 0"),
+        ({"shape": physstep.Box(1.0, 1.0), "position": [0.0, math.nan]}, r"invalid position\[1\] = NaN"),
+        ({"shape": physstep.Box(1.0, 1.0), "kind": "floating"}, "kind"),
+        ({"shape": physstep.Plane([0.0, 1.0])}, "invalid kind = dynamic"),
+        ({"shape": physstep.Polygon([[0, 0], [2, 0], [1, 0.2], [2, 2], [0, 2]])}, "invalid points"),
+        ({"shape": physstep.Polygon([[0, 0], [1, 0], [2, 0]])}, "invalid points"),
+        ({"shape": physstep.Box(1.0, 1.0, 1.0)}, r"invalid len\(half\) = 3"),
+        ({"shape": physstep.Cylinder(1.0, 1.0)}, "invalid shape"),
+        ({"shape": physstep.Box(1.0, 1.0), "kind": "static", "velocity": [1.0, 0.0]}, "invalid velocity"),
+    ],
+)
+def test_bad_solids_are_refused_in_one_line_naming_the_field(kwargs, field):
+    w = physstep.World(dim=2)
+    with pytest.raises(ValueError, match=field) as e:
+        w.add_solid(**kwargs)
+    assert "\n" not in str(e.value)
+    assert w.solid_count == 0
+
+
+def test_bad_sizes_and_settings_are_refused():
+    with pytest.raises(ValueError, match="invalid radius = 0"):
+        physstep.Circle(0.0)
+    with pytest.raises(ValueError, match=r"invalid half\[1\] = -1"):
+        physstep.Box(1.0, -1.0)
+    w = physstep.World(dim=2)
+    with pytest.raises(ValueError, match="invalid substeps = 0"):
+        w.substeps = 0
+    with pytest.raises(ValueError, match="invalid solver_iterations = 1001"):
+        w.solver_iterations = 1001
+    with pytest.raises(ValueError, match="soft-step"):
+        w.contact_solver = "bogus"
+    assert (w.substeps, w.solver_iterations, w.contact_solver) == (8, 1, "soft-step")
+    with pytest.raises(ValueError, match="invalid dim = 1"):
+        physstep.World(dim=1).add_solid(physstep.Circle(1.0))
+    with pytest.raises(ValueError, match=r"Box\(hx, hy\) is a 2D box"):
+        physstep.World(dim=3).add_body(physstep.Box(1.0, 1.0))
+
+
+def test_a_2d_box_pickles_and_prints_as_a_2d_box():
+    b = physstep.Box(0.5, 0.25)
+    assert repr(b) == "Box(hx=0.5, hy=0.25)"
+    assert pickle.loads(pickle.dumps(b)) == b
+    assert list(physstep.contact_solvers()) == ["soft-step"]
+    assert "Box2D v3's soft step" in physstep.contact_solvers()["soft-step"]
+
+
+def test_more_substeps_make_a_stiffer_contact():
+    # A soft contact holds its load at a depth of g / omega^2 (omega = 2 pi hertz): the
+    # substep rate caps the stiffness, so 2 substeps sink deeper than 8.
+    depths = []
+    for n in (2, 8):
+        w = box_world()
+        w.substeps = n
+        w.step(300)
+        depths.append(w.max_penetration)
+    assert depths[0] > 2 * depths[1] > 0
+
+
+def test_a_world_of_solids_pickles_mid_run_and_continues_bitwise():
+    w = box_world()
+    w.add_solid(physstep.Circle(0.25), position=[0.3, 3.0], restitution=0.5)
+    w.step(45)  # landed: contacts and warm starts carry over
+    copy = pickle.loads(pickle.dumps(w))
+    assert copy.state_hash() == w.state_hash()
+    w.step(30)
+    copy.step(30)
+    assert copy.solid_positions().tobytes() == w.solid_positions().tobytes()
+    assert copy.solid_velocities().tobytes() == w.solid_velocities().tobytes()
+    # The hash sees the solids: a step moves it.
+    h = w.state_hash()
+    w.step(1)
+    assert w.state_hash() != h
