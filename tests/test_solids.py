@@ -211,3 +211,26 @@ def test_a_world_of_solids_pickles_mid_run_and_continues_bitwise():
     h = w.state_hash()
     w.step(1)
     assert w.state_hash() != h
+
+
+def _first_block(text: str, after: str) -> str:
+    start = text.index("```python\n", text.index(after)) + len("```python\n")
+    return text[start : text.index("```", start)]
+
+
+def test_the_readme_and_the_contact_page_examples_run_and_say_true():
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    scope: dict[str, object] = {"physstep": physstep}
+    exec(_first_block((root / "README.md").read_text(), "### Solids: contact"), scope)  # noqa: S102
+    w = scope["w"]
+    assert isinstance(w, physstep.World)
+    assert w.solid_positions()[10][1] == pytest.approx(9.5, abs=0.01)  # the stack stands
+    assert w.max_penetration == pytest.approx(1.6e-3, rel=0.1)  # "the deepest contact 1.6 mm"
+    page: dict[str, object] = {"print": lambda *a: None}
+    exec(_first_block((root / "docs" / "contact.md").read_text(), "# Contact"), page)  # noqa: S102
+    w = page["w"]
+    assert isinstance(w, physstep.World)
+    assert w.solid_positions()[1] == pytest.approx([0.0, 0.5], abs=1e-3)
+    assert w.max_penetration == pytest.approx(2.2e-5, rel=0.1)  # "0.02 mm in it"
