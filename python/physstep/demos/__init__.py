@@ -80,6 +80,12 @@ DEMOS: tuple[DemoEntry, ...] = (
     DemoEntry(
         "ragdoll", "ragdoll", "RagdollDemo", "a ragdoll falling onto the ground; drag a joint, k: kick it up"
     ),
+    DemoEntry(
+        "boxes",
+        "boxes",
+        "BoxesDemo",
+        "a pyramid of solid boxes on the ground; b: drop a box, x: shoot one, n: substeps",
+    ),
 )
 
 

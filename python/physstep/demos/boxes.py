@@ -1,0 +1,111 @@
+"""Boxes: a pyramid of solids standing on the ground; drop a box on it or shoot one at it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pygame
+
+import physstep
+from physstep.demos import base
+from physstep.demos.base import Demo, Key, Panel
+
+#: Rows of the pyramid, and the half extent of a box, m.
+ROWS, HALF = 8, 0.25
+#: The substeps the ``n`` key cycles.
+SUBSTEPS = (8, 16, 2, 4)
+BOX, EDGE, GROUND = (205, 150, 80), (240, 200, 140), (34, 38, 50)
+
+
+class BoxesDemo(Demo):
+    """A pyramid of 36 boxes (0.5 m, friction 0.6) on the ground, stepped by the contact
+    solver (the soft step: its own substeps of symplectic Euler; the world's method moves
+    nothing here). ``b`` drops a box from above, ``x`` shoots one at the pyramid from the
+    left, ``n`` changes the substeps: at 2 the contacts are soft and the pyramid sags and
+    may topple, at 8 (the default) it stands."""
+
+    name = "boxes"
+    dt = 1.0 / 60.0
+    dt_range = (1.0 / 480.0, 1.0 / 15.0)
+    view = (0.0, 2.4, 3.0)
+    keys = (
+        Key("drop", (pygame.K_b,), "b", "drop a box from above"),
+        Key("shoot", (pygame.K_x,), "x", "shoot a box at the pyramid from the left"),
+        Key("substeps", (pygame.K_n,), "n", "next substeps of the contact solver (8, 16, 2, 4)"),
+    )
+
+    def __init__(self) -> None:
+        self.substeps = SUBSTEPS[0]
+        self.thrown = 0
+
+    def world(self, method: str, dt: float) -> physstep.World:
+        w = physstep.World(2, method, dt)
+        w.add_gravity([0.0, -9.81])
+        w.add_solid(physstep.Box(20.0, 1.0), position=[0.0, -1.0], kind="static")
+        for row in range(ROWS):
+            k = ROWS - row
+            for i in range(k):
+                x = (i - (k - 1) / 2) * (2 * HALF + 0.01)
+                w.add_solid(physstep.Box(HALF, HALF), position=[x, HALF + 2 * HALF * row])
+        w.substeps = self.substeps
+        self.thrown = 0
+        return w
+
+    def act(self, panels: list[Panel], action: str) -> None:
+        if action == "substeps":
+            k = SUBSTEPS.index(self.substeps) if self.substeps in SUBSTEPS else -1
+            self.substeps = SUBSTEPS[(k + 1) % len(SUBSTEPS)]
+        for p in panels:
+            if p.error:
+                continue
+            w = p.world
+            if action == "substeps":
+                w.substeps = self.substeps
+            elif action == "drop":
+                # Above the pyramid's top, a little to one side each time, turned a little.
+                x = 0.15 * ((self.thrown % 5) - 2)
+                w.add_solid(physstep.Box(HALF, HALF), position=[x, 2 * HALF * ROWS + 0.45], orientation=0.3)
+                self.thrown += 1
+            elif action == "shoot":
+                w.add_solid(
+                    physstep.Box(HALF, HALF),
+                    position=[-2.4, 1.0],
+                    velocity=[9.0, 2.0],
+                    angular_velocity=-3.0,
+                    density=4.0,
+                )
+                self.thrown += 1
+            else:
+                super().act(panels, action)
+            p.restart_drift()
+
+    def hud(self, panel: Panel) -> list[tuple[str, str, tuple[int, int, int]]]:
+        w = panel.world
+        c = w.contacts()
+        touching = int(np.count_nonzero(c["depths"] >= 0.0))
+        return [
+            ("solids", f"{w.solid_count}", base.TEXT),
+            ("substeps", f"{w.substeps} (n)", base.TEXT),
+            ("contacts", f"{touching}", base.TEXT),
+            ("penetration", f"{w.max_penetration * 1000:.2f} mm", base.TEXT),
+        ]
+
+    def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
+        w = panel.world
+        ground = self.to_screen(rect, [0.0, 0.0])[1]
+        pygame.draw.rect(surf, GROUND, (rect.x, ground, rect.width, rect.bottom - ground))
+        pygame.draw.line(surf, base.DIM, (rect.x, ground), (rect.right, ground), 2)
+        corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]) * HALF
+        for p, a in zip(w.solid_positions()[1:], w.solid_orientations()[1:], strict=True):
+            c, s = math.cos(a), math.sin(a)
+            pts = [self.to_screen(rect, p + [c * u - s * v, s * u + c * v]) for u, v in corners]
+            pygame.draw.polygon(surf, BOX, pts)
+            pygame.draw.polygon(surf, EDGE, pts, 2)
+        base.text(
+            surf,
+            base.font(18),
+            "b: drop a box, x: shoot one, n: substeps (2 sag and topple, 8 stand)",
+            (rect.x + 10, rect.y + 8),
+            base.DIM,
+        )
