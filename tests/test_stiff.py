@@ -31,6 +31,8 @@ def test_solve_stats_say_which_solve_ran() -> None:
         ({"cg_tol": float("nan")}, "cg_tol"),
         ({"cg_max_iter": 0}, "cg_max_iter"),
         ({"dense_up_to": -3}, "dense_up_to"),
+        ({"preconditioner": "ilu"}, "preconditioner"),
+        ({"preconditioner": 1}, "preconditioner"),
     ],
 )
 def test_bad_solver_settings_name_the_field(kwargs: dict, field: str) -> None:
@@ -39,6 +41,22 @@ def test_bad_solver_settings_name_the_field(kwargs: dict, field: str) -> None:
         w.set_implicit(**kwargs)
     w.step(1)  # the world still steps with its old settings
     assert w.solve_stats["sparse"]
+
+
+def test_the_preconditioner_is_chosen_by_name_and_incomplete_cholesky_is_the_default() -> None:
+    # On a chain the incomplete Cholesky factor is exact: one CG iteration a Newton update,
+    # where block Jacobi takes dozens; both converge to the same step.
+    def run(**kwargs: str) -> tuple[dict, np.ndarray]:
+        w = physstep.World.from_scene("stiff-chain", "backward-euler")
+        w.set_implicit(tol=1e-13, **kwargs)
+        w.step(5)
+        return w.solve_stats, w.positions
+
+    (ic, x_ic), (default, x_default) = run(preconditioner="incomplete-cholesky"), run()
+    jacobi, x_jacobi = run(preconditioner="block-jacobi")
+    assert ic == default and np.array_equal(x_ic, x_default)
+    assert ic["cg"] <= 2 * ic["newton"] and jacobi["cg"] >= 10 * jacobi["newton"], (ic, jacobi)
+    assert np.abs(x_ic - x_jacobi).max() <= 1e-10
 
 
 def test_symplectic_euler_diverges_on_the_stiff_chain_and_is_reported() -> None:

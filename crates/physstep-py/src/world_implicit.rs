@@ -1,6 +1,6 @@
 //! `World`'s implicit-solver settings and what the latest implicit step's solve did.
 
-use crate::convert::{count, float, whole};
+use crate::convert::{count, float, invalid, text, whole};
 use crate::handle::World;
 use crate::py_err;
 use pyo3::prelude::*;
@@ -10,13 +10,17 @@ use pyo3::types::PyDict;
 impl World {
     /// Sets the implicit methods' solver: Newton's relative tolerance `tol` and iteration
     /// cap `max_iter`, the conjugate-gradient tolerance `cg_tol` and cap `cg_max_iter` of
-    /// the sparse solve, and `dense_up_to` (systems of at most this many unknowns are solved
-    /// densely; 0 always sparse). Arguments left out keep their values; the defaults are
-    /// `tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000, dense_up_to=64`.
+    /// the sparse solve and its `preconditioner` (`"incomplete-cholesky"`: block IC(0) on the
+    /// springs, exact on a chain; `"block-jacobi"`: the particles' diagonal blocks), and
+    /// `dense_up_to` (systems of at most this many unknowns are solved densely; 0 always
+    /// sparse). Arguments left out keep their values; the defaults are `tol=1e-11,
+    /// max_iter=500, cg_tol=1e-10, cg_max_iter=1000, preconditioner="incomplete-cholesky",
+    /// dense_up_to=64`.
     /// `tol` is relative to the terms Newton balances, stiffness included: on a stiff scene
     /// the default leaves a step's velocities about 1e-7 (relative) from the converged step's
     /// (docs/stiff.md); `tol=1e-13` gives the converged step.
-    #[pyo3(signature = (*, tol=None, max_iter=None, cg_tol=None, cg_max_iter=None, dense_up_to=None))]
+    #[pyo3(signature = (*, tol=None, max_iter=None, cg_tol=None, cg_max_iter=None, dense_up_to=None, preconditioner=None))]
+    #[allow(clippy::too_many_arguments)]
     fn set_implicit(
         &self,
         tol: Option<&Bound<'_, PyAny>>,
@@ -24,6 +28,7 @@ impl World {
         cg_tol: Option<&Bound<'_, PyAny>>,
         cg_max_iter: Option<&Bound<'_, PyAny>>,
         dense_up_to: Option<&Bound<'_, PyAny>>,
+        preconditioner: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let mut g = self.lock()?;
         let mut p = g.engine.implicit();
@@ -44,6 +49,12 @@ impl World {
         }
         if let Some(o) = dense_up_to {
             p.dense_up_to = usize::try_from(count(o, "dense_up_to")?).unwrap_or(usize::MAX);
+        }
+        if let Some(o) = preconditioner {
+            let names = physstep::linalg::Preconditioner::NAMES;
+            let expected = format!("one of '{}'", names.join("', '"));
+            p.cg.preconditioner = physstep::linalg::Preconditioner::named(&text(o, "preconditioner")?)
+                .ok_or_else(|| invalid("preconditioner", o, &expected))?;
         }
         g.engine.set_implicit(p).map_err(py_err)
     }

@@ -3,7 +3,7 @@
 //! step where explicit methods explode, and memory that grows with the particles.
 
 use physstep::integrators::ImplicitParams;
-use physstep::linalg::{Blocks, CgParams};
+use physstep::linalg::{Blocks, CgParams, Preconditioner};
 use physstep::prelude::*;
 use physstep::scenes;
 
@@ -25,7 +25,7 @@ fn newton_with_conjugate_gradients_agrees_with_the_dense_solve() {
         // Both solved well below the agreement asked for.
         let tight = ImplicitParams {
             tol: 1e-15,
-            cg: CgParams { tol: 1e-13, max_iter: 1000 },
+            cg: CgParams { tol: 1e-13, max_iter: 1000, ..CgParams::default() },
             ..ImplicitParams::default()
         };
         let mut sparse = chain_with(12, method, ImplicitParams { dense_up_to: 0, ..tight });
@@ -231,4 +231,65 @@ fn linearly_implicit_euler_holds_the_folding_stiff_cloth() {
         assert!(far < reach, "step {step}: a particle {far} m out, past {reach} m");
     }
     assert!(w.energy().unwrap() < e0 - 1.0, "{} J against {e0} J", w.energy().unwrap());
+}
+
+/// `stiff-chain` of `n` links under backward Euler with the default settings but for the
+/// preconditioner: `(Newton updates, CG iterations)` over `steps` steps, each step asserted
+/// to converge with the energy not rising.
+fn chain_counts(n: usize, steps: u64, preconditioner: Preconditioner) -> (u64, u64) {
+    let cg = CgParams { preconditioner, ..CgParams::default() };
+    let mut w = chain_with(n, "backward-euler", ImplicitParams { cg, ..ImplicitParams::default() });
+    let (mut newton, mut iterations) = (0, 0);
+    let mut e = w.energy().unwrap();
+    for step in 0..steps {
+        w.step(1).unwrap_or_else(|err| panic!("n = {n}, step {step}: {err}"));
+        let s = w.integrator().solve_stats().unwrap();
+        assert!(s.sparse && s.residual <= ImplicitParams::default().tol, "n = {n}, step {step}: {s:?}");
+        newton += u64::from(s.newton);
+        iterations += u64::from(s.cg);
+        let next = w.energy().unwrap();
+        assert!(next <= e + 1e-9 * e.abs(), "n = {n}, step {step}: energy rose from {e} to {next}");
+        e = next;
+    }
+    (newton, iterations)
+}
+
+#[test]
+fn backward_euler_converges_at_every_step_of_a_thousand_and_a_two_thousand_link_chain() {
+    // Block Jacobi's conjugate gradients hit their cap of 1,000 iterations within the first
+    // 30 steps at n = 1000 (the iterations grow with the chain's length); the incomplete
+    // Cholesky factor of a chain is exact, and the solve takes one iteration an update.
+    for n in [1000, 2000] {
+        let (newton, cg) = chain_counts(n, 120, Preconditioner::default());
+        assert!(cg <= 2 * newton, "n = {n}: {cg} CG iterations in {newton} Newton updates");
+    }
+}
+
+#[test]
+fn cg_iterations_per_newton_update_grow_at_most_like_the_square_root_of_the_chain() {
+    // From n = 100 to 1000 the iterations an update may grow by sqrt(10) at most. Block
+    // Jacobi's grew 4.7x here (69 to 323 an update, measured with a larger cap).
+    let per_update = |n: usize| {
+        let (newton, cg) = chain_counts(n, 60, Preconditioner::default());
+        cg as f64 / newton as f64
+    };
+    let (short, long) = (per_update(100), per_update(1000));
+    assert!(long <= 10f64.sqrt() * short, "{short} CG iterations an update at n = 100, {long} at n = 1000");
+}
+
+#[test]
+fn block_jacobi_without_the_line_search_keeps_the_earlier_trajectories_bitwise() {
+    // The recorded hashes of stiff-chain and stiff-cloth (n = 6) before the incomplete
+    // Cholesky preconditioner and the line search became the default (tests/determinism.rs,
+    // 1,000 steps): block Jacobi with whole updates still gives those bits.
+    for (scene, params, want) in [
+        ("stiff-chain", [("n", 100.0)], 0xc243_32ff_08e0_15c0_u64),
+        ("stiff-cloth", [("n", 6.0)], 0xdc5a_56c5_afc9_ca06),
+    ] {
+        let mut w = scenes::build(scene, &params, "backward-euler", 1.0 / 60.0).unwrap().world;
+        let cg = CgParams { preconditioner: Preconditioner::BlockJacobi, ..CgParams::default() };
+        w.set_implicit(ImplicitParams { cg, line_search: false, ..ImplicitParams::default() }).unwrap();
+        w.step(1000).unwrap();
+        assert_eq!(w.state_hash(), want, "{scene}: {:#018x}", w.state_hash());
+    }
 }

@@ -9,11 +9,49 @@ pub struct CgParams {
     pub tol: f64,
     /// Iterations before the solve gives up (the Newton update then fails).
     pub max_iter: u32,
+    /// The preconditioner (default [`Preconditioner::IncompleteCholesky`]).
+    pub preconditioner: Preconditioner,
 }
 
 impl Default for CgParams {
     fn default() -> Self {
-        Self { tol: 1e-10, max_iter: 1000 }
+        Self { tol: 1e-10, max_iter: 1000, preconditioner: Preconditioner::default() }
+    }
+}
+
+/// The preconditioner of the conjugate-gradient solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Preconditioner {
+    /// The inverse of each particle's diagonal block: cheap, blind along the springs (the
+    /// iterations grow with a chain's length).
+    BlockJacobi,
+    /// Block incomplete Cholesky, IC(0), on the springs' pattern: exact on a chain, and where
+    /// it breaks down (a pivot not positive definite) block Jacobi for that matrix.
+    #[default]
+    IncompleteCholesky,
+}
+
+impl Preconditioner {
+    /// The names [`Preconditioner::named`] takes.
+    pub const NAMES: [&'static str; 2] = ["incomplete-cholesky", "block-jacobi"];
+
+    /// The preconditioner named `name` (one of [`Preconditioner::NAMES`]).
+    #[must_use]
+    pub fn named(name: &str) -> Option<Self> {
+        match name {
+            "incomplete-cholesky" => Some(Self::IncompleteCholesky),
+            "block-jacobi" => Some(Self::BlockJacobi),
+            _ => None,
+        }
+    }
+
+    /// Its name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::IncompleteCholesky => "incomplete-cholesky",
+            Self::BlockJacobi => "block-jacobi",
+        }
     }
 }
 
@@ -41,8 +79,8 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Solves `A x = b` from `x = 0` by conjugate gradients with `A`'s block-Jacobi
-/// preconditioner; `x` holds the solution (or the last iterate when it did not converge).
+/// Solves `A x = b` from `x = 0` by conjugate gradients with the preconditioner `A` was built
+/// with; `x` holds the solution (or the last iterate when it did not converge).
 /// A direction of non-positive curvature (`A` not positive definite) ends the solve as not
 /// converged.
 pub fn cg(a: &NewtonMatrix, b: &[f64], x: &mut [f64], params: CgParams, w: &mut CgWork) -> CgResult {

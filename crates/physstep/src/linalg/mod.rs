@@ -34,9 +34,10 @@
 #![allow(clippy::needless_range_loop)]
 
 mod cg;
+mod ic;
 pub mod vector;
 
-pub use cg::{cg, CgParams, CgResult, CgWork};
+pub use cg::{cg, CgParams, CgResult, CgWork, Preconditioner};
 
 /// A 3 x 3 block, row-major (`dim < 3` uses its leading `dim x dim` part).
 pub type Block = [[f64; 3]; 3];
@@ -111,12 +112,18 @@ pub struct NewtonMatrix {
     inv: Vec<Block>,
     /// `-(c D_s + c^2 K_s)` per pair, with its particles.
     pairs: Vec<(usize, usize, Block)>,
+    /// The incomplete Cholesky factor, when it is the preconditioner.
+    ic: ic::IncompleteCholesky,
+    /// The preconditioner [`NewtonMatrix::precondition`] applies.
+    used: Preconditioner,
 }
 
 impl NewtonMatrix {
-    /// `A` of `b` at `c`; `false` when a diagonal block cannot be inverted (a mass or a
-    /// Jacobian that is not finite, or a block that is singular).
-    pub fn build(&mut self, b: &Blocks, c: f64) -> bool {
+    /// `A` of `b` at `c`, preconditioned by `pre` (block Jacobi where the incomplete
+    /// Cholesky factorisation breaks down: [`NewtonMatrix::preconditioner`] says which);
+    /// `false` when a diagonal block cannot be inverted (a mass or a Jacobian that is not
+    /// finite, or a block that is singular).
+    pub fn build(&mut self, b: &Blocks, c: f64, pre: Preconditioner) -> bool {
         let (n, c2) = (b.mass.len(), c * c);
         self.dim = b.dim;
         self.free.clear();
@@ -152,39 +159,72 @@ impl NewtonMatrix {
                 None => return false,
             }
         }
+        self.used = Preconditioner::BlockJacobi;
+        if pre == Preconditioner::IncompleteCholesky
+            && self.ic.factor(&self.diag, &self.pairs, &self.free, self.dim)
+        {
+            self.used = Preconditioner::IncompleteCholesky;
+        }
         true
+    }
+
+    /// The preconditioner of the latest [`NewtonMatrix::build`].
+    #[must_use]
+    pub fn preconditioner(&self) -> Preconditioner {
+        self.used
     }
 
     /// `y = A x` (rows of static particles: `y = x`).
     pub fn apply(&self, x: &[f64], y: &mut [f64]) {
-        let d = self.dim;
-        for (p, (yp, xp)) in y.chunks_exact_mut(d).zip(x.chunks_exact(d)).enumerate() {
+        match self.dim {
+            1 => self.apply_d::<1>(x, y),
+            2 => self.apply_d::<2>(x, y),
+            _ => self.apply_d::<3>(x, y),
+        }
+    }
+
+    fn apply_d<const D: usize>(&self, x: &[f64], y: &mut [f64]) {
+        for (p, (yp, xp)) in y.chunks_exact_mut(D).zip(x.chunks_exact(D)).enumerate() {
             let m = if self.free[p] { &self.diag[p] } else { &IDENTITY };
-            mul_into(m, xp, yp, d);
+            for r in 0..D {
+                let mut t = 0.0;
+                for k in 0..D {
+                    t += m[r][k] * xp[k];
+                }
+                // As `mul_into` (0 + 1 t: the sign of a zero as before).
+                yp[r] = 0.0;
+                yp[r] += 1.0 * t;
+            }
         }
         for &(i, j, ref m) in &self.pairs {
             // Rows i and j get -B (x_j) and -B (x_i): the off-diagonal blocks.
-            let mut xi = [0.0; 3];
-            let mut xj = [0.0; 3];
-            xi[..d].copy_from_slice(&x[i * d..i * d + d]);
-            xj[..d].copy_from_slice(&x[j * d..j * d + d]);
             if self.free[i] && self.free[j] {
-                for r in 0..d {
+                let xi: [f64; D] = x[i * D..i * D + D].try_into().unwrap_or([0.0; D]);
+                let xj: [f64; D] = x[j * D..j * D + D].try_into().unwrap_or([0.0; D]);
+                for r in 0..D {
                     let (mut si, mut sj) = (0.0, 0.0);
-                    for k in 0..d {
+                    for k in 0..D {
                         si += m[r][k] * xj[k];
                         sj += m[r][k] * xi[k];
                     }
-                    y[i * d + r] -= si;
-                    y[j * d + r] -= sj;
+                    y[i * D + r] -= si;
+                    y[j * D + r] -= sj;
                 }
             }
         }
     }
 
-    /// `z = P^-1 r` with the block-Jacobi preconditioner.
+    /// `z = P^-1 r` with the preconditioner built ([`NewtonMatrix::preconditioner`]).
     pub fn precondition(&self, r: &[f64], z: &mut [f64]) {
         let d = self.dim;
+        if self.used == Preconditioner::IncompleteCholesky {
+            match d {
+                1 => self.ic.solve::<1>(r, z),
+                2 => self.ic.solve::<2>(r, z),
+                _ => self.ic.solve::<3>(r, z),
+            }
+            return;
+        }
         for (p, (zp, rp)) in z.chunks_exact_mut(d).zip(r.chunks_exact(d)).enumerate() {
             mul_into(&self.inv[p], rp, zp, d);
         }
