@@ -19,11 +19,76 @@ pub(crate) struct Solver {
     pub moved: Vec<f64>,
     /// Per particle: the inverse mass, 0 for a pinned particle.
     w: Vec<f64>,
-    /// XPBD multipliers of this step, one per constraint.
+    /// XPBD multipliers of this step, one per constraint (the packed links keep theirs).
     lambda: Vec<f64>,
-    /// The largest relative correction of the last sweep of [`Solver::positions`] (above
-    /// [`TOLERANCE`] when the sweeps ended at their cap with a constraint still off).
-    pub last_worst: f64,
+    /// Whether the last sweep of [`Solver::positions`] found a constraint off by more than
+    /// [`TOLERANCE`] (relative): true when the sweeps ended at their cap with one still off.
+    pub last_off: bool,
+    /// The sweep's program: the constraints in order, runs of rigid links packed.
+    plan: Plan,
+}
+
+/// A rigid distance between two particles under projection, packed for the sweeps: the
+/// hot loop of a cloth (no enum to match, no anchor to test, the dimension fixed).
+#[derive(Debug, Clone, Copy)]
+struct Link {
+    i: usize,
+    j: usize,
+    length: f64,
+    /// Its compliance, 0 (or -0: the sign of XPBD's `alpha lambda` term is kept).
+    zero: f64,
+    /// Its XPBD multiplier this step. With `alpha = 0` it only ever sets the sign of a zero
+    /// correction; kept so that the update is XPBD's to the bit.
+    lambda: f64,
+}
+
+/// One item of a sweep: a run of packed links, or a constraint taken the general way.
+#[derive(Debug, Clone, Copy)]
+enum Item {
+    /// `links[from..to]`.
+    Links { from: usize, to: usize },
+    /// `list[k]`.
+    General(usize),
+}
+
+/// The sweep's program for a list of constraints, rebuilt when the list grows (constraints
+/// are only ever appended) or the solver changes between projection and SHAKE.
+#[derive(Debug, Clone, Default)]
+struct Plan {
+    /// The list's length and whether it was planned for SHAKE (`None`: not planned).
+    key: Option<(usize, bool)>,
+    items: Vec<Item>,
+    links: Vec<Link>,
+}
+
+impl Plan {
+    /// Plans `list` for `mode`: pins dropped (a sweep does nothing with them), consecutive
+    /// rigid particle-particle distances under projection packed into runs of [`Link`]s.
+    fn update(&mut self, list: &[Constraint], mode: Mode) {
+        let key = (list.len(), mode == Mode::Rattle);
+        if self.key == Some(key) {
+            return;
+        }
+        self.items.clear();
+        self.links.clear();
+        for (k, c) in list.iter().enumerate() {
+            match *c {
+                Constraint::Distance { i, j: Endpoint::Particle(j), length, compliance }
+                    if compliance == 0.0 && mode != Mode::Rattle =>
+                {
+                    let at = self.links.len();
+                    self.links.push(Link { i, j, length, zero: compliance, lambda: 0.0 });
+                    match self.items.last_mut() {
+                        Some(Item::Links { to, .. }) if *to == at => *to = at + 1,
+                        _ => self.items.push(Item::Links { from: at, to: at + 1 }),
+                    }
+                }
+                Constraint::Pin { .. } => {}
+                _ => self.items.push(Item::General(k)),
+            }
+        }
+        self.key = Some(key);
+    }
 }
 
 /// The other end's position component `k` (a particle's or the anchor's).
@@ -54,6 +119,46 @@ fn rigid(compliance: f64, mode: Mode) -> bool {
 #[inline]
 fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// One Gauss-Seidel pass over a run of rigid links in `D` dimensions: for each, XPBD's
+/// update with `alpha = 0` exactly as [`Solver::xpbd`] takes it (`dl = (-C - 0 lambda) / w`,
+/// `x_i += w_i (dl / r) d`, `x_j -= w_j (dl / r) d`), inlined. `off` says whether a
+/// constraint of this sweep was already found off by more than [`TOLERANCE`]; the relative
+/// correction `|dl w| / L` (a division) is measured only until one is. Returns the new `off`.
+#[inline(always)]
+fn links_sweep<const D: usize>(links: &mut [Link], x: &mut [f64], w: &[f64], mut off: bool) -> bool {
+    for l in links {
+        let (i, j) = (l.i, l.j);
+        let (wi, wj) = (w[i], w[j]);
+        let wsum = wi + wj;
+        let xi: [f64; D] = x[i * D..i * D + D].try_into().expect("D coordinates");
+        let xj: [f64; D] = x[j * D..j * D + D].try_into().expect("D coordinates");
+        let mut d = [0.0; D];
+        let mut dd = 0.0;
+        for k in 0..D {
+            d[k] = xi[k] - xj[k];
+            dd += d[k] * d[k];
+        }
+        let r = dd.sqrt();
+        if wsum == 0.0 || r == 0.0 {
+            continue;
+        }
+        let c = r - l.length;
+        let dl = (-c - l.zero * l.lambda) / wsum;
+        l.lambda += dl;
+        let s = dl / r;
+        for k in 0..D {
+            x[i * D + k] = xi[k] + wi * s * d[k];
+        }
+        for k in 0..D {
+            x[j * D + k] -= wj * s * d[k];
+        }
+        if !off {
+            off = (dl * wsum).abs() / l.length > TOLERANCE;
+        }
+    }
+    off
 }
 
 impl Solver {
@@ -97,6 +202,10 @@ impl Solver {
     /// set, then up to `iterations` sweeps, stopping early once a sweep finds no constraint
     /// off by more than [`TOLERANCE`] (relative). The positions before the sweeps are kept
     /// in `moved`. Returns the sweeps taken.
+    ///
+    /// Each sweep follows the [`Plan`]: runs of rigid links go through [`links_sweep`]
+    /// (the same arithmetic as [`Solver::xpbd`] with `alpha = 0`, so the same bits), the
+    /// rest through [`Solver::general`].
     #[allow(clippy::too_many_arguments)]
     pub fn positions(
         &mut self,
@@ -120,39 +229,64 @@ impl Solver {
         }
         self.lambda.clear();
         self.lambda.resize(list.len(), 0.0);
+        let mut plan = std::mem::take(&mut self.plan);
+        plan.update(list, mode);
+        plan.links.iter_mut().for_each(|l| l.lambda = 0.0);
         let inv_h2 = 1.0 / (h * h);
+        let mut taken = iterations;
         for sweep in 0..iterations {
-            let mut worst: f64 = 0.0;
-            for (k, c) in list.iter().enumerate() {
-                let r = match *c {
-                    Constraint::Distance { i, j, length, compliance } if rigid(compliance, mode) => {
-                        self.shake(x, dim, i, j, length)
+            let mut off = false;
+            for item in &plan.items {
+                match *item {
+                    Item::Links { from, to } => {
+                        let links = &mut plan.links[from..to];
+                        off = match dim {
+                            3 => links_sweep::<3>(links, x, &self.w, off),
+                            2 => links_sweep::<2>(links, x, &self.w, off),
+                            _ => links_sweep::<1>(links, x, &self.w, off),
+                        };
                     }
-                    Constraint::Distance { i, j, length, compliance } => {
-                        self.xpbd(x, dim, i, j, length, compliance * inv_h2, k)
+                    Item::General(k) => {
+                        let r = self.general(&list[k], k, mode, dim, x, inv_h2);
+                        // `r > TOLERANCE` is false for a NaN, as `max` skipped it before.
+                        off |= r > TOLERANCE;
                     }
-                    Constraint::Limit { i, j, min, max } => {
-                        let r = sep(x, dim, i, j);
-                        let len = dot(&r, &r).sqrt();
-                        if len > max {
-                            self.xpbd(x, dim, i, j, max, 0.0, k)
-                        } else if len < min && len > 0.0 {
-                            self.xpbd(x, dim, i, j, min, 0.0, k)
-                        } else {
-                            0.0
-                        }
-                    }
-                    Constraint::Pin { .. } => 0.0,
-                    Constraint::Plane { normal, offset } => self.plane(x, dim, &normal, offset),
-                };
-                worst = worst.max(r);
+                }
             }
-            self.last_worst = worst;
-            if worst <= TOLERANCE {
-                return sweep + 1;
+            self.last_off = off;
+            if !off {
+                taken = sweep + 1;
+                break;
             }
         }
-        iterations
+        self.plan = plan;
+        taken
+    }
+
+    /// One update of constraint `list[k]` the general way (anything but a packed link);
+    /// returns its relative correction or error.
+    fn general(&mut self, c: &Constraint, k: usize, mode: Mode, dim: usize, x: &mut [f64], inv_h2: f64) -> f64 {
+        match *c {
+            Constraint::Distance { i, j, length, compliance } if rigid(compliance, mode) => {
+                self.shake(x, dim, i, j, length)
+            }
+            Constraint::Distance { i, j, length, compliance } => {
+                self.xpbd(x, dim, i, j, length, compliance * inv_h2, k)
+            }
+            Constraint::Limit { i, j, min, max } => {
+                let r = sep(x, dim, i, j);
+                let len = dot(&r, &r).sqrt();
+                if len > max {
+                    self.xpbd(x, dim, i, j, max, 0.0, k)
+                } else if len < min && len > 0.0 {
+                    self.xpbd(x, dim, i, j, min, 0.0, k)
+                } else {
+                    0.0
+                }
+            }
+            Constraint::Pin { .. } => 0.0,
+            Constraint::Plane { normal, offset } => self.plane(x, dim, &normal, offset),
+        }
     }
 
     /// One XPBD update of `|x_i - x_j| = length` with `alpha = compliance / h^2` (0: rigid,
