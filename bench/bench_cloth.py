@@ -100,7 +100,7 @@ def main() -> None:
     ap.add_argument("--sweeps", type=int, default=16, help="constraint_iterations (default 16)")
     ap.add_argument("--json", help="write the numbers to this file")
     a = ap.parse_args()
-    steps, repeat = (60, 3) if a.quick else (240, 9)
+    steps, repeat = (30, 5) if a.quick else (30, 41)
 
     ours_w = world(a.size, a.sweeps)
     li, lj, rest, inv, pin_i, pin_p = peer_inputs(a.size)

@@ -49,6 +49,8 @@ enum Item {
     Links { from: usize, to: usize },
     /// `list[k]`.
     General(usize),
+    /// `list[k]`, a pin: set before the sweeps, which pass it by.
+    Pin(usize),
 }
 
 /// The sweep's program for a list of constraints, rebuilt when the list grows (constraints
@@ -62,8 +64,8 @@ struct Plan {
 }
 
 impl Plan {
-    /// Plans `list` for `mode`: pins dropped (a sweep does nothing with them), consecutive
-    /// rigid particle-particle distances under projection packed into runs of [`Link`]s.
+    /// Plans `list` for `mode`: consecutive rigid particle-particle distances under
+    /// projection packed into runs of [`Link`]s, pins marked (a sweep passes them by).
     fn update(&mut self, list: &[Constraint], mode: Mode) {
         let key = (list.len(), mode == Mode::Rattle);
         if self.key == Some(key) {
@@ -83,7 +85,7 @@ impl Plan {
                         _ => self.items.push(Item::Links { from: at, to: at + 1 }),
                     }
                 }
-                Constraint::Pin { .. } => {}
+                Constraint::Pin { .. } => self.items.push(Item::Pin(k)),
                 _ => self.items.push(Item::General(k)),
             }
         }
@@ -126,39 +128,58 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 /// `x_i += w_i (dl / r) d`, `x_j -= w_j (dl / r) d`), inlined. `off` says whether a
 /// constraint of this sweep was already found off by more than [`TOLERANCE`]; the relative
 /// correction `|dl w| / L` (a division) is measured only until one is. Returns the new `off`.
-#[inline(always)]
+///
+/// Every link waits on the one before it (a cloth's links share particles), so what counts
+/// is the chain of dependent operations: the first end of the last link is kept in
+/// registers (a cloth's next link often starts there; reading it back from memory would
+/// wait on the store), and `-C / w` is taken as `C / -w` (the same number: rounding is
+/// symmetric in sign), which keeps a negation off the chain.
+#[inline(never)]
 fn links_sweep<const D: usize>(links: &mut [Link], x: &mut [f64], w: &[f64], mut off: bool) -> bool {
+    // The last link's first particle and where it left it (`usize::MAX`: none yet).
+    let (mut last, mut at) = (usize::MAX, [0.0; D]);
     for l in links {
         let (i, j) = (l.i, l.j);
         let (wi, wj) = (w[i], w[j]);
         let wsum = wi + wj;
-        let xi: [f64; D] = x[i * D..i * D + D].try_into().expect("D coordinates");
-        let xj: [f64; D] = x[j * D..j * D + D].try_into().expect("D coordinates");
-        let mut d = [0.0; D];
-        let mut dd = 0.0;
-        for k in 0..D {
-            d[k] = xi[k] - xj[k];
-            dd += d[k] * d[k];
+        let xi: [f64; D] = if i == last { at } else { std::array::from_fn(|k| x[i * D + k]) };
+        let xj: [f64; D] = std::array::from_fn(|k| x[j * D + k]);
+        let d: [f64; D] = std::array::from_fn(|k| xi[k] - xj[k]);
+        // `dot` sums left to right from the first square (no `0 +` ahead of it: that add
+        // would sit on the chain).
+        let mut dd = d[0] * d[0];
+        for dk in &d[1..] {
+            dd += dk * dk;
         }
         let r = dd.sqrt();
         if wsum == 0.0 || r == 0.0 {
             continue;
         }
         let c = r - l.length;
-        let dl = (-c - l.zero * l.lambda) / wsum;
+        // `-c - alpha lambda` is `-c` but for the sign of a zero: taken only where c is 0.
+        let dl = if c == 0.0 { zero_update(c, l.zero * l.lambda, wsum) } else { c / -wsum };
         l.lambda += dl;
         let s = dl / r;
+        let (si, sj) = (wi * s, wj * s);
+        at = std::array::from_fn(|k| xi[k] + si * d[k]);
+        last = i;
+        x[i * D..i * D + D].copy_from_slice(&at);
         for k in 0..D {
-            x[i * D + k] = xi[k] + wi * s * d[k];
-        }
-        for k in 0..D {
-            x[j * D + k] -= wj * s * d[k];
+            x[j * D + k] = xj[k] - sj * d[k];
         }
         if !off {
             off = (dl * wsum).abs() / l.length > TOLERANCE;
         }
     }
     off
+}
+
+/// `(-c - alpha_lambda) / wsum` where `c` is 0: the signed zero XPBD's update gives, off
+/// the links' hot path.
+#[cold]
+#[inline(never)]
+fn zero_update(c: f64, alpha_lambda: f64, wsum: f64) -> f64 {
+    (-c - alpha_lambda) / wsum
 }
 
 impl Solver {
@@ -188,12 +209,14 @@ impl Solver {
 
     /// The weights of this step: inverse masses, 0 for pinned particles (held where their
     /// pin is; a static particle is not moved by its pin).
-    fn weigh(&mut self, list: &[Constraint], inv_mass: &[f64]) {
+    fn weigh(&mut self, list: &[Constraint], plan: &Plan, inv_mass: &[f64]) {
         self.w.clear();
         self.w.extend_from_slice(inv_mass);
-        for c in list {
-            if let Constraint::Pin { i, .. } = *c {
-                self.w[i] = 0.0;
+        for item in &plan.items {
+            if let Item::Pin(k) = *item {
+                if let Constraint::Pin { i, .. } = list[k] {
+                    self.w[i] = 0.0;
+                }
             }
         }
     }
@@ -219,18 +242,20 @@ impl Solver {
     ) -> u32 {
         self.moved.clear();
         self.moved.extend_from_slice(x);
-        self.weigh(list, inv_mass);
-        for c in list {
-            if let Constraint::Pin { i, point } = *c {
-                if inv_mass[i] > 0.0 {
-                    x[i * dim..(i + 1) * dim].copy_from_slice(&point[..dim]);
+        let mut plan = std::mem::take(&mut self.plan);
+        plan.update(list, mode);
+        self.weigh(list, &plan, inv_mass);
+        for item in &plan.items {
+            if let Item::Pin(k) = *item {
+                if let Constraint::Pin { i, point } = list[k] {
+                    if inv_mass[i] > 0.0 {
+                        x[i * dim..(i + 1) * dim].copy_from_slice(&point[..dim]);
+                    }
                 }
             }
         }
         self.lambda.clear();
         self.lambda.resize(list.len(), 0.0);
-        let mut plan = std::mem::take(&mut self.plan);
-        plan.update(list, mode);
         plan.links.iter_mut().for_each(|l| l.lambda = 0.0);
         let inv_h2 = 1.0 / (h * h);
         let mut taken = iterations;
@@ -246,6 +271,7 @@ impl Solver {
                             _ => links_sweep::<1>(links, x, &self.w, off),
                         };
                     }
+                    Item::Pin(_) => {}
                     Item::General(k) => {
                         let r = self.general(&list[k], k, mode, dim, x, inv_h2);
                         // `r > TOLERANCE` is false for a NaN, as `max` skipped it before.
@@ -263,9 +289,50 @@ impl Solver {
         taken
     }
 
+    /// The largest violation (m) of the constraints at positions `x`, exactly as
+    /// [`super::Constraints::violation`] gives it (the same values folded by `max` in the
+    /// same order), the packed links measured in a tight loop: what a step whose sweeps
+    /// were capped left. Reads the plan of the last [`Solver::positions`] over `list`.
+    pub fn left(&self, list: &[Constraint], dim: usize, x: &[f64], inv_mass: &[f64]) -> f64 {
+        let movable = |p: usize| inv_mass[p] > 0.0;
+        if self.plan.key.map(|(n, _)| n) != Some(list.len()) {
+            return list.iter().map(|c| c.violation(dim, x, &movable)).fold(0.0, f64::max);
+        }
+        let mut worst: f64 = 0.0;
+        for item in &self.plan.items {
+            match *item {
+                Item::Links { from, to } => {
+                    for l in &self.plan.links[from..to] {
+                        let v = if inv_mass[l.i] > 0.0 || inv_mass[l.j] > 0.0 {
+                            let (a, b) = (&x[l.i * dim..(l.i + 1) * dim], &x[l.j * dim..(l.j + 1) * dim]);
+                            let mut dd = (a[0] - b[0]) * (a[0] - b[0]);
+                            for k in 1..dim {
+                                dd += (a[k] - b[k]) * (a[k] - b[k]);
+                            }
+                            (dd.sqrt() - l.length).abs()
+                        } else {
+                            0.0
+                        };
+                        worst = worst.max(v);
+                    }
+                }
+                Item::General(k) | Item::Pin(k) => worst = worst.max(list[k].violation(dim, x, &movable)),
+            }
+        }
+        worst
+    }
+
     /// One update of constraint `list[k]` the general way (anything but a packed link);
     /// returns its relative correction or error.
-    fn general(&mut self, c: &Constraint, k: usize, mode: Mode, dim: usize, x: &mut [f64], inv_h2: f64) -> f64 {
+    fn general(
+        &mut self,
+        c: &Constraint,
+        k: usize,
+        mode: Mode,
+        dim: usize,
+        x: &mut [f64],
+        inv_h2: f64,
+    ) -> f64 {
         match *c {
             Constraint::Distance { i, j, length, compliance } if rigid(compliance, mode) => {
                 self.shake(x, dim, i, j, length)
