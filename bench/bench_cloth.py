@@ -18,6 +18,7 @@ physstep / numba of the bests (target: at most 1.0). Nothing is asserted.
 from __future__ import annotations
 
 import argparse
+import statistics
 import time
 
 import numpy as np
@@ -126,13 +127,14 @@ def main() -> None:
 
     ours, peer = min(ours_t) * 1e6, min(peer_t) * 1e6
     print(
-        f"cloth {a.size} x {a.size}: {len(li)} rigid links, {a.sweeps} sweeps (last step took {sweeps_taken}), "
-        f"Verlet dt = 1/120, {steps} steps x {repeat} interleaved repeats, best of each"
+        f"cloth {a.size} x {a.size}: {len(li)} rigid links, {a.sweeps} sweeps (the last step took "
+        f"{sweeps_taken}), Verlet dt = 1/120, {steps} steps x {repeat} interleaved repeats, best of each"
     )
     row("numba Jakobsen loop", peer, "us/step")
     row("physstep World.step (verlet, projection)", ours, "us/step", peer, "numba (target <= 1.0)")
-    ratios = " ".join(f"{o / p:.2f}" for o, p in zip(ours_t, peer_t, strict=True))
-    print(f"{'':<44} each repeat's ratio: {ratios}")
+    each = [o / p for o, p in zip(ours_t, peer_t, strict=True)]
+    spread = f"median {statistics.median(each):.2f}, {min(each):.2f} to {max(each):.2f}"
+    print(f"{'':<44} each repeat's ratio: {spread}")
     print(f"{'':<44} after {steps * repeat} steps: |dx| {dx:.3g} m, |dv| {dv:.3g} m/s, bitwise {bitwise}")
     write_json(
         a.json,
@@ -142,7 +144,7 @@ def main() -> None:
             "physstep_us": ours,
             "numba_us": peer,
             "ratio": ours / peer,
-            "ratios": [o / p for o, p in zip(ours_t, peer_t, strict=True)],
+            "ratios": each,
             "bitwise": bitwise,
         },
     )

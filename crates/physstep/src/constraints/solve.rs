@@ -61,6 +61,9 @@ struct Plan {
     key: Option<(usize, bool)>,
     items: Vec<Item>,
     links: Vec<Link>,
+    /// Tests only: take every constraint the general way (the reference the packed links
+    /// are checked against, bit for bit).
+    general_only: bool,
 }
 
 impl Plan {
@@ -76,7 +79,7 @@ impl Plan {
         for (k, c) in list.iter().enumerate() {
             match *c {
                 Constraint::Distance { i, j: Endpoint::Particle(j), length, compliance }
-                    if compliance == 0.0 && mode != Mode::Rattle =>
+                    if compliance == 0.0 && mode != Mode::Rattle && !self.general_only =>
                 {
                     let at = self.links.len();
                     self.links.push(Link { i, j, length, zero: compliance, lambda: 0.0 });
@@ -476,6 +479,116 @@ impl Solver {
             if worst <= TOLERANCE {
                 break;
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (xorshift64*), uniform in [0, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next() * n as f64) as usize % n
+        }
+    }
+
+    /// A world-sized problem: positions, inverse masses and a constraint list mixing runs of
+    /// rigid links with anchored, soft, limit, pin and plane constraints, coincident ends,
+    /// links at exactly their length and -0.0 coordinates (where only the sign of XPBD's
+    /// zero correction tells the two paths apart).
+    fn problem(rng: &mut Rng, dim: usize) -> (Vec<f64>, Vec<f64>, Vec<Constraint>) {
+        let n = 12;
+        let mut x: Vec<f64> = (0..n * dim).map(|_| rng.next() - 0.5).collect();
+        for v in x.iter_mut().step_by(3) {
+            if rng.next() < 0.2 {
+                *v = -0.0;
+            }
+        }
+        x.copy_within(..dim, dim); // particles 0 and 1 coincide
+        let inv: Vec<f64> = (0..n).map(|p| if p % 5 == 4 { 0.0 } else { 0.5 + rng.next() }).collect();
+        let mut list = Vec::new();
+        for _ in 0..40 {
+            let i = rng.below(n);
+            let j = (i + 1 + rng.below(n - 1)) % n;
+            let r = crate::constraints::distance(dim, &x, i, Endpoint::Particle(j));
+            let length = match rng.below(3) {
+                0 if r > 0.0 => r, // met exactly: C = 0
+                _ => 0.05 + rng.next(),
+            };
+            let mut anchor = [0.0; 3];
+            anchor[..dim].iter_mut().for_each(|a| *a = rng.next());
+            list.push(match rng.below(12) {
+                0 => Constraint::Distance { i, j: Endpoint::Anchor(anchor), length, compliance: 0.0 },
+                1 => Constraint::Distance { i, j: Endpoint::Particle(j), length, compliance: 1e-3 },
+                2 => Constraint::Limit { i, j: Endpoint::Particle(j), min: 0.1, max: 0.3 },
+                3 => Constraint::Pin { i, point: anchor },
+                4 => {
+                    let mut normal = [0.0; 3];
+                    normal[dim - 1] = 1.0;
+                    Constraint::Plane { normal, offset: -0.4 }
+                }
+                5 => Constraint::Distance { i, j: Endpoint::Particle(j), length, compliance: -0.0 },
+                _ => Constraint::Distance { i, j: Endpoint::Particle(j), length, compliance: 0.0 },
+            });
+        }
+        list.push(Constraint::Distance { i: 0, j: Endpoint::Particle(1), length: 0.1, compliance: 0.0 });
+        (x, inv, list)
+    }
+
+    #[test]
+    fn packed_links_give_the_general_updates_bits() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut runs = 0;
+        for case in 0..600 {
+            let dim = 1 + case % 3;
+            let mode = if case % 2 == 0 { Mode::Project } else { Mode::Jakobsen };
+            let (x0, inv, list) = problem(&mut rng, dim);
+            let sweeps = 1 + (case % 7) as u32;
+            let (mut packed, mut general) = (Solver::default(), Solver::default());
+            general.plan.general_only = true;
+            let (mut xa, mut xb) = (x0.clone(), x0.clone());
+            for step in 0..3 {
+                let ta = packed.positions(&list, sweeps, mode, dim, &mut xa, &inv, 0.01);
+                let tb = general.positions(&list, sweeps, mode, dim, &mut xb, &inv, 0.01);
+                assert_eq!(ta, tb, "case {case} step {step}: sweeps taken");
+                assert_eq!(packed.last_off, general.last_off, "case {case} step {step}");
+                let bits = |v: &[f64]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&xa), bits(&xb), "case {case} step {step}: positions");
+                let want = list.iter().map(|c| c.violation(dim, &xa, &|p| inv[p] > 0.0)).fold(0.0, f64::max);
+                assert_eq!(packed.left(&list, dim, &xa, &inv).to_bits(), want.to_bits(), "case {case}");
+            }
+            runs += packed.plan.items.iter().filter(|i| matches!(i, Item::Links { .. })).count();
+        }
+        assert!(runs > 1000, "the cases exercise the packed runs ({runs})");
+    }
+
+    #[test]
+    fn a_zero_correction_keeps_xpbds_sign_of_zero() {
+        // A link from a static particle at (0, -0) to one at (start, -0): the first sweep
+        // meets it exactly (C = 0 on the second) and leaves its multiplier negative (or
+        // positive); the second sweep's correction is then XPBD's signed zero, which moves
+        // the -0.0 coordinate to +0.0 (or not). The packed update does the same.
+        for start in [2.0, 0.5] {
+            let list =
+                [Constraint::Distance { i: 1, j: Endpoint::Particle(0), length: 1.0, compliance: 0.0 }];
+            let x0 = [0.0, -0.0, start, -0.0];
+            let (mut packed, mut general) = (Solver::default(), Solver::default());
+            general.plan.general_only = true;
+            let (mut xa, mut xb) = (x0.to_vec(), x0.to_vec());
+            let ta = packed.positions(&list, 4, Mode::Jakobsen, 2, &mut xa, &[0.0, 1.0], 0.01);
+            let tb = general.positions(&list, 4, Mode::Jakobsen, 2, &mut xb, &[0.0, 1.0], 0.01);
+            assert_eq!((ta, tb), (2, 2), "met on the first sweep, seen met on the second");
+            let bits = |v: &[f64]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&xa), bits(&xb), "start {start}");
         }
     }
 }
