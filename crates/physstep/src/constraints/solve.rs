@@ -177,6 +177,19 @@ fn links_sweep<const D: usize>(links: &mut [Link], x: &mut [f64], w: &[f64], mut
     off
 }
 
+/// Whether `|fl(sqrt(dd)) - length|` is certainly at most `worst`, from `dd` alone: `dd`
+/// inside `[(length - worst)^2, (length + worst)^2]` narrowed by 1e-15 (relative, about 5
+/// ulps) at each end for the roundings, so a link it passes could not have raised the max.
+/// (`fl(sqrt)` and `fl(r - L)` are monotone and `worst` is a double: a root within
+/// `[L - worst, L + worst]` gives a difference within `worst`.) False for a NaN `dd`.
+#[inline]
+fn within(dd: f64, length: f64, worst: f64) -> bool {
+    let lo = (length - worst) * (1.0 + 1e-15);
+    let hi = (length + worst) * (1.0 - 1e-15);
+    let above = lo <= 0.0 || dd >= lo * lo * (1.0 + 1e-15);
+    worst > 0.0 && above && dd <= hi * hi * (1.0 - 1e-15)
+}
+
 /// `(-c - alpha_lambda) / wsum` where `c` is 0: the signed zero XPBD's update gives, off
 /// the links' hot path.
 #[cold]
@@ -306,17 +319,18 @@ impl Solver {
             match *item {
                 Item::Links { from, to } => {
                     for l in &self.plan.links[from..to] {
-                        let v = if inv_mass[l.i] > 0.0 || inv_mass[l.j] > 0.0 {
-                            let (a, b) = (&x[l.i * dim..(l.i + 1) * dim], &x[l.j * dim..(l.j + 1) * dim]);
-                            let mut dd = (a[0] - b[0]) * (a[0] - b[0]);
-                            for k in 1..dim {
-                                dd += (a[k] - b[k]) * (a[k] - b[k]);
-                            }
-                            (dd.sqrt() - l.length).abs()
-                        } else {
-                            0.0
-                        };
-                        worst = worst.max(v);
+                        if !(inv_mass[l.i] > 0.0 || inv_mass[l.j] > 0.0) {
+                            continue; // its violation is 0, which `max` keeps out
+                        }
+                        let (a, b) = (&x[l.i * dim..(l.i + 1) * dim], &x[l.j * dim..(l.j + 1) * dim]);
+                        let mut dd = (a[0] - b[0]) * (a[0] - b[0]);
+                        for k in 1..dim {
+                            dd += (a[k] - b[k]) * (a[k] - b[k]);
+                        }
+                        if within(dd, l.length, worst) {
+                            continue; // `|sqrt(dd) - L| <= worst`: the root is not needed
+                        }
+                        worst = worst.max((dd.sqrt() - l.length).abs());
                     }
                 }
                 Item::General(k) | Item::Pin(k) => worst = worst.max(list[k].violation(dim, x, &movable)),
