@@ -330,3 +330,73 @@ def test_run_reports_constraints_that_cannot_all_be_met(tmp_path) -> None:
     )
     data = json.loads(run_cli("run", str(scene), "--format", "json").stdout)
     assert any("coincide" in c for c in data["constraints"]["conflicts"])
+
+
+def _jakobsen(w: int, h: int, steps: int, sweeps: int) -> tuple[list[list[float]], list[list[float]]]:
+    """The cloth scene (spacing 0.1 m, 0.01 kg, top corners pinned, g along -y) stepped by
+    the plain Jakobsen loop a game programmer writes, in Python floats: Verlet from (x, v),
+    `sweeps` Gauss-Seidel projections of the links in the scene's order, then the velocity
+    given the projection's motion. Returns the positions and velocities."""
+    s, dt = 0.1, 1.0 / 120.0
+    links = []
+    for r in range(h):
+        for c in range(w):
+            at = r * w + c
+            if c + 1 < w:
+                links.append((at, at + 1, s))
+            if r + 1 < h:
+                links.append((at, at + w, s))
+            if c + 1 < w and r + 1 < h:
+                links.append((at, at + w + 1, s * math.sqrt(2.0)))
+                links.append((at + 1, at + w, s * math.sqrt(2.0)))
+    x = [[c * s, -(r * s), 0.0] for r in range(h) for c in range(w)]
+    v = [[0.0, 0.0, 0.0] for _ in x]
+    inv = [1.0 / 0.01] * len(x)
+    pins = {0: [0.0, 0.0, 0.0], w - 1: [(w - 1) * s, 0.0, 0.0]}
+    for p in pins:
+        inv[p] = 0.0
+    g = [0.0, -9.81, 0.0]
+    for _ in range(steps):
+        for xp, vp in zip(x, v, strict=True):
+            for k in range(3):
+                nxt = 2.0 * xp[k] - (xp[k] - vp[k] * dt) + g[k] * (dt * dt)
+                vp[k] = (nxt - xp[k]) * (1.0 / dt)
+                xp[k] = nxt
+        moved = [list(p) for p in x]
+        for p, point in pins.items():
+            x[p] = list(point)
+        for _ in range(sweeps):
+            for i, j, length in links:
+                d = [x[i][k] - x[j][k] for k in range(3)]
+                r = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+                wsum = inv[i] + inv[j]
+                if wsum == 0.0 or r == 0.0:
+                    continue
+                f = (-(r - length) / wsum) / r
+                for k in range(3):
+                    x[i][k] += inv[i] * f * d[k]
+                    x[j][k] -= inv[j] * f * d[k]
+        for p in range(len(x)):
+            for k in range(3):
+                v[p][k] += (x[p][k] - moved[p][k]) * (1.0 / dt)
+    return x, v
+
+
+def test_the_verlet_cloth_is_the_jakobsen_loop_bit_for_bit() -> None:
+    # What bench/bench_cloth.py times physstep against: the plain loop, the same bits.
+    world = physstep.World.from_scene("cloth", "verlet", params={"w": 6, "h": 5})
+    world.step(40)
+    x, v = _jakobsen(6, 5, 40, 16)
+    assert world.constraint_stats["last_sweeps"] == 16
+    np.testing.assert_array_equal(world.positions, np.array(x))
+    np.testing.assert_array_equal(world.velocities, np.array(v))
+
+
+@pytest.mark.parametrize("method", ["verlet", "symplectic-euler"])
+def test_a_capped_cloth_step_reports_exactly_the_violation_it_left(method: str) -> None:
+    world = physstep.World.from_scene("cloth", method, params={"w": 8, "h": 8})
+    world.constraint_iterations = 2
+    world.step(1)
+    stats = world.constraint_stats
+    assert stats["capped_steps"] == 1 and stats["last_sweeps"] == 2
+    assert stats["capped_violation"] == world.constraint_violation() > 0.0

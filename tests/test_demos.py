@@ -295,6 +295,41 @@ def test_cloth_sweeps_and_wind_keys_keep_the_state() -> None:
     assert r.panels[0].world.constraint_iterations == 8
 
 
+def test_cloth_model_key_switches_between_the_three_cloths_and_back() -> None:
+    r = _runner("cloth")
+    r.act("iterations_down")  # the position-based cloth's sweeps and dt come back with it
+    r.change_dt(0.5)
+    pbd_dt = r.dt
+    r.update(1 / 60)
+    assert r.panels[0].step_cost() is not None
+    r.act("model")
+    p = r.panels[0]
+    w = p.world
+    assert w.method == p.info.name == "linearly-implicit-euler" and r.panel_methods == [w.method]
+    assert w.dt == r.dt == 1 / 60 and w.time == 0.0 and len(w) == 144 and w.constraint_count == 0
+    assert p.step_cost() is None  # a new cloth: its own cost
+    r.update(1 / 60)
+    assert p.steps == 1 and p.step_cost() > 0 and w.solve_stats["newton"] == 1
+    rows = {label: value for label, value, _ in r.demo.hud(p)}
+    assert rows["cloth"] == "linearly implicit (c)" and rows["cost"].endswith("ms a step")
+    assert rows["solve"].startswith("1 Newton")
+    # The spring cloth is drawn turned (hanging from the bar as the other does): a particle
+    # dragged there is drawn under the pointer.
+    rect, pos = r.rects[0], (600, 300)
+    assert r.demo.hold(w, 5, rect, pos)
+    assert np.allclose(r.demo.to_screen(rect, w.positions[5]), pos, atol=1)
+    r.reset()  # r restarts the cloth shown
+    assert r.panels[0].world.method == "linearly-implicit-euler" and r.panels[0].world.constraint_count == 0
+    r.act("model")
+    assert r.panels[0].world.method == "backward-euler" and r.dt == 1 / 60
+    r.update(1 / 60)
+    assert r.panels[0].world.solve_stats["newton"] >= 1
+    r.act("model")
+    w = r.panels[0].world
+    assert (w.method, w.dt, r.dt, w.constraint_iterations) == ("symplectic-euler", pbd_dt, pbd_dt, 8)
+    assert len(w) == 144 and w.constraint_count > 0 and w.time == 0.0
+
+
 def test_ragdoll_kick_sends_it_up() -> None:
     r = _runner("ragdoll")
     for _ in range(90):  # 1.5 s: it lands

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import os
 import sys
+import time
 import tomllib
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
@@ -165,7 +166,9 @@ class Runner:
             if p.error:
                 continue
             try:
+                wall = time.perf_counter()
                 p.world.step(1)
+                p.cost.append(time.perf_counter() - wall)
                 p.steps = 1
             except physstep.StepError as e:
                 p.error = _one_line(str(e))
@@ -222,6 +225,13 @@ class Runner:
             self.running = False
         elif action in (k.action for k in self.demo.keys):
             self.demo.act(self.panels, action)
+            # A demo's key may give a panel a world of another method or dt (the cloth's
+            # model key): the settings a reset and the HUD use follow the panels.
+            for k, p in enumerate(self.panels):
+                if not p.error:
+                    self.panel_methods[k] = p.world.method
+            if not self.panels[self.focus].error:
+                self.dt = self.panels[self.focus].world.dt
         else:
             raise ValueError(f"invalid action '{action}': not one of {', '.join(k.action for k in KEYS)}")
 
@@ -255,11 +265,14 @@ class Runner:
                 p.steps = 0
                 continue
             t0, (_, _, clamped, dropped) = p.world.time, p.world.clock_stats
+            wall = time.perf_counter()
             try:
                 p.steps = p.world.advance(frame_time)
             except physstep.StepError as e:
                 p.error, p.steps = _one_line(str(e)), 0
                 continue
+            if p.steps:
+                p.cost.append((time.perf_counter() - wall) / p.steps)
             _, _, clamped1, dropped1 = p.world.clock_stats
             p.handed += frame_time
             p.simulated += p.world.time - t0

@@ -83,6 +83,15 @@ class Panel:
     simulated: float = 0.0
     lost: float = 0.0
     drift: deque[float] = field(default_factory=lambda: deque(maxlen=600))
+    #: Wall time per step of the latest frames that stepped, s (what the simulation costs).
+    cost: deque[float] = field(default_factory=lambda: deque(maxlen=30))
+
+    def step_cost(self) -> float | None:
+        """Wall time a step took, s: the median over the latest frames that stepped (None
+        before one has)."""
+        if not self.cost:
+            return None
+        return sorted(self.cost)[len(self.cost) // 2]
 
     def energy(self) -> float | None:
         """The world's energy, J, or None (a flow has none; a diverged world tells no more)."""

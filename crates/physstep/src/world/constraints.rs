@@ -200,9 +200,8 @@ impl World {
         let (xs, vs) = self.state.y.split_at_mut(nx);
         let (x, v) = (&mut xs[..n], &mut vs[..n]);
         stats.last_sweeps = solver.positions(list, *iterations, mode, dim, x, &self.model.inv_mass, ctx.h);
-        if stats.last_sweeps == *iterations && solver.last_worst > crate::constraints::TOLERANCE {
-            let movable = |p: usize| self.model.inv_mass[p] > 0.0;
-            let left = list.iter().map(|c| c.violation(dim, x, &movable)).fold(0.0, f64::max);
+        if stats.last_sweeps == *iterations && solver.last_off {
+            let left = solver.left(list, dim, x, &self.model.inv_mass);
             stats.capped_steps += 1;
             stats.capped_violation = stats.capped_violation.max(left);
         }
