@@ -18,7 +18,7 @@ use physstep::prelude::*;
 const STEPS: u64 = 1000;
 
 /// `(scene, hash after STEPS steps)`, in registry order.
-const HASHES: [(&str, u64); 20] = [
+const HASHES: [(&str, u64); 26] = [
     ("spring", 0x283e5130c3fd2cfe),
     ("projectile", 0xfe742e718de6e989),
     ("drag", 0x5904922d8dd79415),
@@ -44,15 +44,26 @@ const HASHES: [(&str, u64); 20] = [
     ("ragdoll", 0x1453c0f1cb06b77e),
     ("balls", 0x1679bc483ce3c327),
     ("pile", 0x39b1d9f604d9b80d),
+    // The solids: their state (centres, orientations, velocities) and the contact solver's
+    // warm starts (impulses and friction anchors) are in the hash.
+    ("single-box", 0x7434a003af25819b),
+    ("stack", 0x2104be3682e52717),
+    ("pyramid", 0xb8f8fbb5a96c4ce9),
+    ("ramp", 0xf36466dc6ac98179),
+    ("dice", 0x2f4d8d2fd0930ff6),
+    ("box-stack", 0x23fdd53fbff5ff8d),
 ];
 
 /// The parameters a scene's hash is recorded with: its defaults, but for stiff-cloth, whose
-/// 12 x 12 default takes 12 s for 1,000 backward-Euler steps in the test profile (6 x 6: 1 s).
+/// 12 x 12 default takes 12 s for 1,000 backward-Euler steps in the test profile (6 x 6: 1 s),
+/// pile (200 balls) and pyramid (10 rows, 55 boxes).
 fn params(scene: &str) -> &'static [(&'static str, f64)] {
     if scene == "stiff-cloth" {
         &[("n", 6.0)]
     } else if scene == "pile" {
         &[("n", 200.0)]
+    } else if scene == "pyramid" {
+        &[("rows", 10.0)]
     } else {
         &[]
     }

@@ -178,6 +178,40 @@ fn pack(a: u32, b: u32, sub_a: u32, sub_b: u32) -> u64 {
         ^ (u64::from(sub_b).wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
 }
 
+/// The contact points of two shapes placed at poses `pa` and `pb`, from parry's contact
+/// manifolds (one text for both of parry's crates: their types differ, their calls do not).
+macro_rules! manifold_touches {
+    ($parry:ident, $ga:expr, $gb:expr, $pa:expr, $pb:expr, $prediction:expr, $out:expr) => {{
+        use $parry::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+        let (pa, pb) = ($pa, $pb);
+        let pos12 = pa.inv_mul(&pb);
+        let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+        // Every pair of the shapes physstep builds has a manifold generator in parry.
+        if DefaultQueryDispatcher
+            .contact_manifolds(&pos12, $ga.as_ref(), $gb.as_ref(), $prediction, &mut manifolds, &mut None)
+            .is_ok()
+        {
+            for m in &manifolds {
+                // A composite shape (a mesh, a polyline) gives points in its subshape's frame.
+                let (sa, sb) = match &m.subshape_poses {
+                    Some(s) => (s.pos1.map_or(pa, |p| pa * p), s.pos2.map_or(pb, |p| pb * p)),
+                    None => (pa, pb),
+                };
+                let normal = sa.rotation * m.local_n1;
+                for c in &m.points {
+                    $out.push(Touch {
+                        on_a: sa * c.local_p1,
+                        on_b: sb * c.local_p2,
+                        normal,
+                        separation: c.dist,
+                        id: pack(c.fid1.0, c.fid2.0, m.subshape1, m.subshape2),
+                    });
+                }
+            }
+        }
+    }};
+}
+
 impl Space for Plane {
     const DIM: usize = 2;
     const ROT: usize = 1;
@@ -265,34 +299,7 @@ impl Space for Plane {
         out: &mut Vec<Touch<DVec2>>,
     ) {
         use parry2d_f64::math::Pose;
-        use parry2d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
-        let (pa, pb) = (Pose::new(a.1, a.2), Pose::new(b.1, b.2));
-        let pos12 = pa.inv_mul(&pb);
-        let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
-        // Every pair of the shapes physstep builds has a manifold generator in parry.
-        if DefaultQueryDispatcher
-            .contact_manifolds(&pos12, a.0.as_ref(), b.0.as_ref(), prediction, &mut manifolds, &mut None)
-            .is_err()
-        {
-            return;
-        }
-        for m in &manifolds {
-            // A composite shape (a polyline) gives points in its subshape's frame.
-            let (sa, sb) = match &m.subshape_poses {
-                Some(s) => (s.pos1.map_or(pa, |p| pa * p), s.pos2.map_or(pb, |p| pb * p)),
-                None => (pa, pb),
-            };
-            let normal = sa.rotation * m.local_n1;
-            for c in &m.points {
-                out.push(Touch {
-                    on_a: sa * c.local_p1,
-                    on_b: sb * c.local_p2,
-                    normal,
-                    separation: c.dist,
-                    id: pack(c.fid1.0, c.fid2.0, m.subshape1, m.subshape2),
-                });
-            }
-        }
+        manifold_touches!(parry2d_f64, a.0, b.0, Pose::new(a.1, a.2), Pose::new(b.1, b.2), prediction, out);
     }
 }
 
@@ -388,31 +395,14 @@ impl Space for Space3 {
         out: &mut Vec<Touch<DVec3>>,
     ) {
         use parry3d_f64::math::Pose;
-        use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
-        let (pa, pb) = (Pose::from_parts(a.1, a.2), Pose::from_parts(b.1, b.2));
-        let pos12 = pa.inv_mul(&pb);
-        let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
-        if DefaultQueryDispatcher
-            .contact_manifolds(&pos12, a.0.as_ref(), b.0.as_ref(), prediction, &mut manifolds, &mut None)
-            .is_err()
-        {
-            return;
-        }
-        for m in &manifolds {
-            let (sa, sb) = match &m.subshape_poses {
-                Some(s) => (s.pos1.map_or(pa, |p| pa * p), s.pos2.map_or(pb, |p| pb * p)),
-                None => (pa, pb),
-            };
-            let normal = sa.rotation * m.local_n1;
-            for c in &m.points {
-                out.push(Touch {
-                    on_a: sa * c.local_p1,
-                    on_b: sb * c.local_p2,
-                    normal,
-                    separation: c.dist,
-                    id: pack(c.fid1.0, c.fid2.0, m.subshape1, m.subshape2),
-                });
-            }
-        }
+        manifold_touches!(
+            parry3d_f64,
+            a.0,
+            b.0,
+            Pose::from_parts(a.1, a.2),
+            Pose::from_parts(b.1, b.2),
+            prediction,
+            out
+        );
     }
 }

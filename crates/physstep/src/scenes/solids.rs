@@ -53,7 +53,8 @@ pub(super) fn single_box(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> 
     Ok(None)
 }
 
-/// `stack`: `n` unit boxes, one on another, resting.
+/// `stack` (2D) and `box-stack` (3D): `n` unit boxes, one on another, resting on the
+/// ground (a static box in 2D, a plane in 3D).
 ///
 /// # Errors
 /// As [`World::add_solid`]; `n` above [`MAX_SOLIDS`].
@@ -62,7 +63,9 @@ pub(super) fn stack(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     gravity(w, v("g"))?;
     ground(w, 0.6)?;
     for i in 0..n {
-        unit_box(w, &[0.0, 0.5 + i as f64], 0.5)?;
+        let mut at = vec![0.0; w.dim()];
+        at[1] = 0.5 + i as f64;
+        unit_box(w, &at, 0.5)?;
     }
     Ok(None)
 }
@@ -109,19 +112,6 @@ pub(super) fn ramp(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     Ok(None)
 }
 
-/// A deterministic generator for the scenes' scatter (SplitMix64).
-struct Mix(u64);
-
-impl Mix {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// `dice` (3D): `n` cubes thrown spinning onto a plane from a grid above it.
 ///
 /// # Errors
@@ -131,7 +121,7 @@ pub(super) fn dice(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     gravity(w, v("g"))?;
     ground(w, 0.6)?;
     let side = (n as f64).sqrt().ceil() as usize;
-    let mut rng = Mix(v("seed") as u64);
+    let mut rng = super::SplitMix(v("seed") as u64);
     for i in 0..n {
         let (gx, gz) = ((i % side) as f64, (i / side) as f64);
         let mut d = SolidParams::new(
@@ -150,20 +140,6 @@ pub(super) fn dice(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
         d.density = 1000.0;
         d.restitution = 0.2;
         w.add_solid(d)?;
-    }
-    Ok(None)
-}
-
-/// `box-stack` (3D): `n` unit cubes, one on another, on a plane.
-///
-/// # Errors
-/// As [`World::add_solid`]; `n` above [`MAX_SOLIDS`].
-pub(super) fn box_stack(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
-    let n = count(v, "n", 1)?;
-    gravity(w, v("g"))?;
-    ground(w, 0.6)?;
-    for i in 0..n {
-        unit_box(w, &[0.0, 0.5 + i as f64, 0.0], 0.5)?;
     }
     Ok(None)
 }

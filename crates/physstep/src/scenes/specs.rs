@@ -507,7 +507,7 @@ pub const SCENES: [SceneSpec; 26] = [
         loss: Loss::Always("contacts settling"),
         dt: 1.0 / 60.0,
         until: 10.0,
-        build: Build::Parts(solids::box_stack),
+        build: Build::Parts(solids::stack),
     },
 ];
 
