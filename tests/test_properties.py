@@ -217,6 +217,16 @@ def _size(scene: str, params: list[str]) -> float:
         return 300.0
     if scene == "pile":  # n balls, their resting contacts swept 64 times a step
         return given["n"] * 64
+    # solids: 8 substeps of contacts, each point solved twice; a stack's boxes share one x,
+    # which the broad phase's sweep on x pays for pair by pair
+    if scene == "pyramid":
+        return given["rows"] * (given["rows"] + 1) / 2 * 200
+    if scene in ("stack", "box-stack"):
+        return given["n"] * 200 + given["n"] ** 2
+    if scene == "dice":
+        return given["n"] * 200
+    if scene in ("single-box", "ramp"):
+        return 400.0
     n = given.get("n", 1.0)
     return n * n if scene == "nbody" else max(n, 1.0)
 
@@ -332,6 +342,8 @@ def cli_args(draw: Any) -> tuple[list[str], str]:
     ):
         # stability searches dt itself: only the size of the system bounds its cost
         forced = ["--param", f"n={draw(st.integers(1, 4))}"]  # last: it wins
+    if (cmd == "stability" or _cost(cmd, scene, opts, params) > BUDGET) and scene == "pyramid":
+        forced = ["--param", f"rows={draw(st.integers(1, 3))}"]  # a small pyramid
     if (cmd == "stability" or _cost(cmd, scene, opts, params) > BUDGET) and scene == "cloth":
         side = draw(st.integers(1, 3))  # a small cloth: its cost is w x h particles
         forced = ["--param", f"w={side}", "--param", f"h={side}"]
@@ -826,7 +838,7 @@ def test_world_api(data: Any) -> None:
         name = data.draw(st.sampled_from(sorted(SCENES)), label="scene")
         method = data.draw(st.sampled_from(METHODS), label="method")
         # (the pile's default is 1,000 balls: a small one keeps the ops cheap and the world small)
-        params = {"n": 50.0} if name == "pile" else None
+        params = {"n": 50.0} if name == "pile" else {"rows": 3.0} if name == "pyramid" else None
         w = attempt(
             f"World.from_scene({name!r}, {method!r}, params={params!r})",
             lambda: physstep.World.from_scene(name, method, params=params),
