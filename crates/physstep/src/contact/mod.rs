@@ -14,12 +14,13 @@
 //! engines (Box2D, Rapier, Jolt) fix it. The world's method integrates everything else.
 
 pub mod broad;
+mod settings;
 mod shape;
 pub mod solver;
 pub mod space;
 
+pub use settings::{Info, Settings, SOLVERS};
 pub use shape::Shape;
-pub use solver::{Settings, SOLVERS};
 pub use space::{Plane, Space, Space3, Touch, Vect};
 
 use crate::error::{num, Error, Result};

@@ -1,0 +1,128 @@
+//! The contact solvers by name ([`SOLVERS`], one [`Info`] each, as the integrators have) and
+//! the settings a world gives them (substeps, passes, a contact's stiffness): what the World,
+//! scene files and the bindings set, apart from how a solver steps (`solver.rs`).
+
+use crate::error::{num, Error, Result};
+
+/// What a solver is, as the lab lists it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Info {
+    /// The registry name.
+    pub name: &'static str,
+    /// One line on what it does.
+    pub summary: &'static str,
+}
+
+/// Every contact solver, in registry order.
+pub const SOLVERS: &[Info] = &[Info {
+    name: "soft-step",
+    summary:
+        "Box2D v3's soft step: substeps of symplectic Euler, soft contacts, warm starting, relax, restitution",
+}];
+
+/// The solver and its settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// The solver's registry name.
+    pub solver: &'static str,
+    /// Substeps a step (>= 1).
+    pub substeps: u32,
+    /// Solve and relax passes a substep (>= 1).
+    pub iterations: u32,
+    /// Stiffness of a contact, Hz (capped at an eighth of the substep rate; twice this against a
+    /// static or kinematic solid).
+    pub contact_hertz: f64,
+    /// Damping ratio of a contact.
+    pub damping_ratio: f64,
+    /// The fastest a contact pushes overlapping solids apart, m/s.
+    pub push_speed: f64,
+    /// Normal speeds below this do not bounce, m/s.
+    pub restitution_threshold: f64,
+    /// How far apart two solids may be and still get a (speculative) contact, m.
+    pub speculative_distance: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            solver: SOLVERS[0].name,
+            substeps: 8,
+            iterations: 1,
+            contact_hertz: 60.0,
+            damping_ratio: 10.0,
+            push_speed: 3.0,
+            restitution_threshold: 1.0,
+            speculative_distance: 0.02,
+        }
+    }
+}
+
+impl Settings {
+    /// Chooses the solver by name.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] listing the solvers.
+    pub fn set_solver(&mut self, name: &str) -> Result<()> {
+        match SOLVERS.iter().find(|i| i.name == name) {
+            Some(i) => {
+                self.solver = i.name;
+                Ok(())
+            }
+            None => Err(Error::UnknownName {
+                kind: "contact solver".into(),
+                name: name.into(),
+                valid: SOLVERS.iter().map(|i| i.name.to_string()).collect(),
+            }),
+        }
+    }
+
+    /// Sets the substeps a step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `substeps` unless it is 1 to 1000.
+    pub fn set_substeps(&mut self, n: u32) -> Result<()> {
+        if (1..=1000).contains(&n) {
+            self.substeps = n;
+            Ok(())
+        } else {
+            Err(Error::invalid("substeps", n, "1 to 1000"))
+        }
+    }
+
+    /// Sets the solve and relax passes a substep.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solver_iterations` unless it is 1 to 1000.
+    pub fn set_iterations(&mut self, n: u32) -> Result<()> {
+        if (1..=1000).contains(&n) {
+            self.iterations = n;
+            Ok(())
+        } else {
+            Err(Error::invalid("solver_iterations", n, "1 to 1000"))
+        }
+    }
+
+    /// Checks the contact's tuning numbers.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the first that is not finite and positive (the
+    /// restitution threshold and the speculative distance may be 0).
+    pub fn check(&self) -> Result<()> {
+        for (f, v, zero) in [
+            ("contact_hertz", self.contact_hertz, false),
+            ("damping_ratio", self.damping_ratio, false),
+            ("push_speed", self.push_speed, false),
+            ("restitution_threshold", self.restitution_threshold, true),
+            ("speculative_distance", self.speculative_distance, true),
+        ] {
+            if !(v.is_finite() && (v > 0.0 || (zero && v == 0.0))) {
+                return Err(Error::invalid(
+                    f,
+                    num(v),
+                    if zero { "finite and >= 0" } else { "finite and > 0" },
+                ));
+            }
+        }
+        Ok(())
+    }
+}
