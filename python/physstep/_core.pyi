@@ -858,6 +858,65 @@ class World:
 
     @solver_iterations.setter
     def solver_iterations(self, n: int) -> None: ...
+    def add_joint(
+        self,
+        kind: str,
+        a: int,
+        b: int | None = None,
+        *,
+        anchor: npt.ArrayLike,
+        anchor_b: npt.ArrayLike | None = None,
+        axis: npt.ArrayLike | None = None,
+        length: float | None = None,
+        min_length: float | None = None,
+        max_length: float | None = None,
+        hertz: float | None = None,
+        damping_ratio: float | None = None,
+        lower: float | None = None,
+        upper: float | None = None,
+        motor_speed: float | None = None,
+        max_motor: float | None = None,
+        collide: bool = False,
+    ) -> int:
+        """Adds a joint between solids ``a`` and ``b`` (indices from :meth:`add_solid`;
+        ``b`` None: the world, fixed), solved with the contacts; returns its index among the
+        joints. ``kind``: "ball" (a shared point), "revolute" (a hinge: the point, turning
+        only about ``axis`` in 3D; limits ``lower``/``upper`` in rad, a motor ``motor_speed``
+        rad/s of at most ``max_motor`` N m), "distance" (the anchors ``length`` apart,
+        default as made: rigid with ``hertz`` 0, else a spring of ``hertz`` and
+        ``damping_ratio``, between ``min_length`` and ``max_length``), "weld" (glued; soft
+        with ``hertz`` > 0) or "prismatic" (a slider along ``axis``: limits of travel
+        ``lower``/``upper`` in m, a motor of at most ``max_motor`` N). ``anchor``: the
+        shared point in world coordinates now (the end on ``a`` for a distance joint;
+        ``anchor_b`` the end on ``b``). Angles and travel count from the pose now; for a
+        joint to the world they are the solid's own. ``collide``: whether the two still
+        collide (default no). ValueError naming the bad field; the world is then
+        unchanged."""
+
+    @property
+    def joint_count(self) -> int:
+        """Number of joints."""
+
+    def joint_errors(self) -> npt.NDArray[np.float64]:
+        """Each joint's position error now (m,): how far apart its anchors are (ball,
+        revolute, weld), off its axis (prismatic), or outside its lengths (distance)."""
+
+    @property
+    def joint_hertz(self) -> float:
+        """Stiffness of the joints, Hz (default 120, capped at a quarter of the substep
+        rate)."""
+
+    @joint_hertz.setter
+    def joint_hertz(self, v: float) -> None: ...
+    @property
+    def joint_projection(self) -> int:
+        """Passes after each step that move jointed solids back together (0 to 1000;
+        default 0). Tightens free-swinging linkages (a whipping chain's joints 30x closer);
+        under a steady load it fights the soft joints and keeps a structure from coming
+        fully to rest."""
+
+    @joint_projection.setter
+    def joint_projection(self, n: int) -> None: ...
     def interpolated_body_orientations(self) -> npt.NDArray[np.float64]:
         """Body orientations to draw (nb, 4), (w, x, y, z): slerped by :attr:`alpha` between
         the state before the last step of the latest :meth:`advance` and the current one."""

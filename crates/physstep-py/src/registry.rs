@@ -36,7 +36,7 @@ fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 #[pyfunction]
 fn scenes(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let list = PyList::empty(py);
-    for s in &SCENES {
+    for s in SCENES {
         let d = PyDict::new(py);
         d.set_item("name", s.name)?;
         d.set_item("doc", s.doc)?;

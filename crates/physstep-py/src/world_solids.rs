@@ -7,7 +7,7 @@ use crate::convert::{array, float, invalid, matrix, text};
 use crate::handle::World;
 use crate::py_err;
 use numpy::{IntoPyArray, PyArray2};
-use physstep::contact::{Kind, Shape, SolidParams, SOLVERS};
+use physstep::contact::{JointKind, JointParams, Kind, Shape, SolidParams, SOLVERS};
 use physstep::rigid::inertia::Shape as BodyShape;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -183,6 +183,112 @@ impl World {
         p.friction = given(friction, "friction", p.friction)?;
         p.restitution = given(restitution, "restitution", p.restitution)?;
         g.grow()?.add_solid(p).map_err(py_err)
+    }
+
+    /// Adds a joint between solids `a` and `b` (indices from add_solid; `b` None: the world,
+    /// fixed), solved with the contacts; returns its index among the joints.
+    ///
+    /// `kind`: "ball" (a shared point), "revolute" (a hinge: the point, turning only about
+    /// `axis` in 3D; limits `lower`/`upper` in rad, a motor `motor_speed` rad/s of at most
+    /// `max_motor` N m), "distance" (the anchors `length` apart, default as made: rigid with
+    /// `hertz` 0, else a spring of `hertz` and `damping_ratio`, between `min_length` and
+    /// `max_length`), "weld" (glued; soft with `hertz` > 0) or "prismatic" (a slider along
+    /// `axis`: limits of travel `lower`/`upper` in m, a motor of at most `max_motor` N).
+    /// `anchor`: the shared point in world coordinates now (the end on `a` for a distance
+    /// joint; `anchor_b` the end on `b`). Angles and travel count from the pose now; for a
+    /// joint to the world they are the solid's own. `collide`: whether the two still collide
+    /// (default no). ValueError naming the bad field; the world is then unchanged.
+    #[pyo3(signature = (kind, a, b=None, *, anchor, anchor_b=None, axis=None, length=None, min_length=None, max_length=None, hertz=None, damping_ratio=None, lower=None, upper=None, motor_speed=None, max_motor=None, collide=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_joint(
+        &self,
+        kind: &Bound<'_, PyAny>,
+        a: &Bound<'_, PyAny>,
+        b: Option<&Bound<'_, PyAny>>,
+        anchor: &Bound<'_, PyAny>,
+        anchor_b: Option<&Bound<'_, PyAny>>,
+        axis: Option<&Bound<'_, PyAny>>,
+        length: Option<&Bound<'_, PyAny>>,
+        min_length: Option<&Bound<'_, PyAny>>,
+        max_length: Option<&Bound<'_, PyAny>>,
+        hertz: Option<&Bound<'_, PyAny>>,
+        damping_ratio: Option<&Bound<'_, PyAny>>,
+        lower: Option<&Bound<'_, PyAny>>,
+        upper: Option<&Bound<'_, PyAny>>,
+        motor_speed: Option<&Bound<'_, PyAny>>,
+        max_motor: Option<&Bound<'_, PyAny>>,
+        collide: bool,
+    ) -> PyResult<usize> {
+        let kind = JointKind::by_name(&text(kind, "kind")?).map_err(py_err)?;
+        let index = |o: &Bound<'_, PyAny>, field: &str| -> PyResult<usize> {
+            crate::convert::whole(o, field, 0, u32::MAX as i64).map(|i| i as usize)
+        };
+        let a = index(a, "a")?;
+        let b = match b.filter(|o| !o.is_none()) {
+            Some(o) => Some(index(o, "b")?),
+            None => None,
+        };
+        let maybe = |o: Option<&Bound<'_, PyAny>>, field: &str| -> PyResult<Option<f64>> {
+            o.filter(|o| !o.is_none()).map(|o| float(o, field)).transpose()
+        };
+        let mut p = JointParams::new(kind, a, b, &array(anchor, "anchor", None, None)?);
+        p.anchor_b = numbers(anchor_b, "anchor_b")?;
+        p.axis = numbers(axis, "axis")?;
+        p.length = maybe(length, "length")?;
+        p.min_length = maybe(min_length, "min_length")?;
+        p.max_length = maybe(max_length, "max_length")?;
+        p.hertz = maybe(hertz, "hertz")?.unwrap_or(p.hertz);
+        p.damping_ratio = maybe(damping_ratio, "damping_ratio")?.unwrap_or(p.damping_ratio);
+        p.lower = maybe(lower, "lower")?;
+        p.upper = maybe(upper, "upper")?;
+        p.motor_speed = maybe(motor_speed, "motor_speed")?.unwrap_or(p.motor_speed);
+        p.max_motor = maybe(max_motor, "max_motor")?.unwrap_or(p.max_motor);
+        p.collide = collide;
+        self.lock()?.grow()?.add_joint(p).map_err(py_err)
+    }
+
+    /// Number of joints.
+    #[getter]
+    fn joint_count(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.joint_count())
+    }
+
+    /// Each joint's position error now (m,): how far apart its anchors are (ball, revolute,
+    /// weld), off its axis (prismatic), or outside its lengths (distance).
+    fn joint_errors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        Ok(self.lock()?.engine.joint_errors().into_pyarray(py))
+    }
+
+    /// Stiffness of the joints, Hz (default 120, capped at a quarter of the substep rate).
+    #[getter]
+    fn joint_hertz(&self) -> PyResult<f64> {
+        Ok(self.lock()?.engine.contact_settings().joint_hertz)
+    }
+
+    #[setter]
+    fn set_joint_hertz(&self, v: &Bound<'_, PyAny>) -> PyResult<()> {
+        let v = float(v, "joint_hertz")?;
+        let mut g = self.lock()?;
+        let mut s = g.engine.contact_settings();
+        s.joint_hertz = v;
+        g.grow()?.set_contact_settings(s).map_err(py_err)
+    }
+
+    /// Passes after each step that move jointed solids back together (0 to 1000; default 0).
+    /// Tightens free-swinging linkages (a whipping chain's joints 30x closer); under a steady
+    /// load it fights the soft joints and keeps a structure from coming fully to rest.
+    #[getter]
+    fn joint_projection(&self) -> PyResult<u32> {
+        Ok(self.lock()?.engine.contact_settings().joint_projection)
+    }
+
+    #[setter]
+    fn set_joint_projection(&self, n: &Bound<'_, PyAny>) -> PyResult<()> {
+        let n = crate::convert::whole(n, "joint_projection", 0, 1000)? as u32;
+        let mut g = self.lock()?;
+        let mut s = g.engine.contact_settings();
+        s.joint_projection = n;
+        g.grow()?.set_contact_settings(s).map_err(py_err)
     }
 
     /// Number of solids.

@@ -83,7 +83,7 @@ fn memory_is_what_the_methods_say() {
 
 #[test]
 fn every_scene_line_builds_its_own_scene() {
-    for spec in &scenes::SCENES {
+    for spec in scenes::SCENES {
         assert_eq!(scenes::spec(spec.name).unwrap(), spec);
         let scene = scenes::build(spec.name, &[], "rk4", spec.dt).unwrap();
         assert_eq!(scene.spec, spec, "{}", spec.name);

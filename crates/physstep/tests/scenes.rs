@@ -18,8 +18,8 @@ fn msg<T: std::fmt::Debug>(r: Result<T>) -> String {
 
 #[test]
 fn every_scene_builds_and_steps_under_every_method() {
-    assert_eq!(scenes::SCENES.len(), 26);
-    for spec in &scenes::SCENES {
+    assert_eq!(scenes::SCENES.len(), 29);
+    for spec in scenes::SCENES {
         for info in INFOS {
             if ["racket", "top", "tumble"].contains(&spec.name) {
                 // Bodies: Verlet (arithmetic on positions) refuses when the world is

@@ -14,11 +14,13 @@
 //! engines (Box2D, Rapier, Jolt) fix it. The world's method integrates everything else.
 
 pub mod broad;
+pub mod joint;
 mod settings;
 mod shape;
 pub mod solver;
 pub mod space;
 
+pub use joint::{JointKind, JointParams, JOINT_KINDS};
 pub use settings::{Info, Settings, SOLVERS};
 pub use shape::Shape;
 pub use space::{Plane, Space, Space3, Touch, Vect};
@@ -162,6 +164,10 @@ pub struct Solids<S: Space> {
     /// The solver and its settings.
     pub settings: Settings,
     pub(crate) solver: solver::State<S>,
+    pub(crate) joints: Vec<joint::Joint<S>>,
+    pub(crate) joint_params: Vec<JointParams>,
+    /// Pairs of solids a joint keeps from colliding, `(low, high)`, sorted.
+    pub(crate) no_collide: Vec<(u32, u32)>,
 }
 
 impl<S: Space> Default for Solids<S> {
@@ -172,6 +178,9 @@ impl<S: Space> Default for Solids<S> {
             params: Vec::new(),
             settings: Settings::default(),
             solver: solver::State::default(),
+            joints: Vec::new(),
+            joint_params: Vec::new(),
+            no_collide: Vec::new(),
         }
     }
 }
@@ -297,6 +306,43 @@ impl<S: Space> Solids<S> {
         Ok(self.bodies.len() - 1)
     }
 
+    /// Adds a joint between two solids (or a solid and the world); returns its index among
+    /// the joints.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field (`a`, `b`, `anchor`, `axis`, a length, a
+    /// limit, `hertz`, `max_motor`) and the value; the solids are unchanged.
+    pub fn add_joint(&mut self, p: JointParams) -> Result<usize> {
+        let j = joint::Joint::new(&p, &self.bodies)?;
+        if let Some(pair) = j.no_collide(&p) {
+            if let Err(k) = self.no_collide.binary_search(&pair) {
+                self.no_collide.insert(k, pair);
+            }
+        }
+        self.joints.push(j);
+        self.joint_params.push(p);
+        Ok(self.joints.len() - 1)
+    }
+
+    /// Number of joints.
+    #[must_use]
+    pub fn joint_count(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// Each joint as it was made.
+    #[must_use]
+    pub fn joint_params(&self) -> &[JointParams] {
+        &self.joint_params
+    }
+
+    /// Each joint's position error now, m: how far apart its anchors are (ball, revolute,
+    /// weld), off the axis (prismatic), or outside its lengths (distance).
+    #[must_use]
+    pub fn joint_errors(&self) -> Vec<f64> {
+        self.joints.iter().map(|j| j.error(&self.bodies)).collect()
+    }
+
     /// Origins of the shapes, flat (`DIM` a solid).
     #[must_use]
     pub fn positions(&self) -> Vec<f64> {
@@ -371,10 +417,10 @@ impl<S: Space> Solids<S> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(Error::invalid("dt", num(dt), "finite and > 0"));
         }
-        let before = (self.bodies.clone(), self.solver.clone());
+        let before = (self.bodies.clone(), self.solver.clone(), self.joints.clone());
         solver::step(self, dt, gravity);
         if let Some(b) = self.runaway() {
-            (self.bodies, self.solver) = before;
+            (self.bodies, self.solver, self.joints) = before;
             return Err(Error::Diverged {
                 method: self.settings.solver.to_string(),
                 step: 0,
@@ -396,6 +442,7 @@ impl<S: Space> Solids<S> {
             return;
         }
         into.bodies.clone_from(&self.bodies);
+        into.joints.clone_from(&self.joints);
         self.solver.save(&mut into.solver);
         into.settings.clone_from(&self.settings);
     }
@@ -411,6 +458,9 @@ impl<S: Space> Solids<S> {
             b.w.write(&mut out);
         }
         self.solver.write_warm(&mut out);
+        if !self.joints.is_empty() {
+            joint::write(&self.joints, &mut out);
+        }
         out
     }
 
@@ -429,7 +479,23 @@ impl<S: Space> Solids<S> {
         if let Some(i) = bodies.iter().position(|x| !x.is_finite()) {
             return Err(format!("solid state entry {i} is not finite"));
         }
-        let warm = self.solver.read_warm(&data[1 + self.len() * per..], self.len())?;
+        let rest = &data[1 + self.len() * per..];
+        // The warm starts' length is in their first number; the joints' impulses follow.
+        let warm_len = rest.first().map_or(0, |&c| {
+            let w = 6 + 2 * d;
+            if c >= 0.0 && c.fract() == 0.0 {
+                (1 + c as usize * w).min(rest.len())
+            } else {
+                rest.len()
+            }
+        });
+        let (rest, joints) = rest.split_at(warm_len);
+        let impulses = if self.joints.is_empty() && joints.is_empty() {
+            Vec::new()
+        } else {
+            joint::read(&self.joints, joints)?
+        };
+        let warm = self.solver.read_warm(rest, self.len())?;
         for (b, c) in self.bodies.iter_mut().zip(bodies.chunks_exact(per)) {
             b.c = S::V::read(&c[..d]);
             b.q = S::read_rot_exact(&c[d..d + r]);
@@ -437,6 +503,9 @@ impl<S: Space> Solids<S> {
             b.w = S::W::read(&c[2 * d + r..]);
         }
         self.solver.set_warm(warm);
+        for (j, i) in self.joints.iter_mut().zip(impulses) {
+            j.impulses = i;
+        }
         Ok(())
     }
 

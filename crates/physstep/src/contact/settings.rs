@@ -40,6 +40,12 @@ pub struct Settings {
     pub restitution_threshold: f64,
     /// How far apart two solids may be and still get a (speculative) contact, m.
     pub speculative_distance: f64,
+    /// Stiffness of a joint, Hz (capped at a quarter of the substep rate).
+    pub joint_hertz: f64,
+    /// Damping ratio of a joint.
+    pub joint_damping_ratio: f64,
+    /// Passes that move jointed solids' positions back together after a step (0: none).
+    pub joint_projection: u32,
 }
 
 impl Default for Settings {
@@ -53,6 +59,9 @@ impl Default for Settings {
             push_speed: 3.0,
             restitution_threshold: 1.0,
             speculative_distance: 0.02,
+            joint_hertz: 120.0,
+            joint_damping_ratio: 2.0,
+            joint_projection: 0,
         }
     }
 }
@@ -108,12 +117,17 @@ impl Settings {
     /// [`Error::InvalidValue`] naming the first that is not finite and positive (the
     /// restitution threshold and the speculative distance may be 0).
     pub fn check(&self) -> Result<()> {
+        if self.joint_projection > 1000 {
+            return Err(Error::invalid("joint_projection", self.joint_projection, "0 to 1000"));
+        }
         for (f, v, zero) in [
             ("contact_hertz", self.contact_hertz, false),
             ("damping_ratio", self.damping_ratio, false),
             ("push_speed", self.push_speed, false),
             ("restitution_threshold", self.restitution_threshold, true),
             ("speculative_distance", self.speculative_distance, true),
+            ("joint_hertz", self.joint_hertz, false),
+            ("joint_damping_ratio", self.joint_damping_ratio, false),
         ] {
             if !(v.is_finite() && (v > 0.0 || (zero && v == 0.0))) {
                 return Err(Error::invalid(

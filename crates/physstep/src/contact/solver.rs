@@ -22,18 +22,18 @@
 //! more, so nothing tunnels at game speeds.
 
 use super::space::{Space, Touch, Vect};
-use super::{broad, ContactReport, Kind, Solids};
+use super::{broad, joint, ContactReport, Kind, Solids};
 
 /// A soft constraint's coefficients for a substep `h` (Catto's `b2MakeSoft`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Soft {
-    bias_rate: f64,
-    mass_scale: f64,
-    impulse_scale: f64,
+pub(crate) struct Soft {
+    pub(crate) bias_rate: f64,
+    pub(crate) mass_scale: f64,
+    pub(crate) impulse_scale: f64,
 }
 
 impl Soft {
-    fn new(hertz: f64, zeta: f64, h: f64) -> Self {
+    pub(crate) fn new(hertz: f64, zeta: f64, h: f64) -> Self {
         let omega = 2.0 * std::f64::consts::PI * hertz;
         let a1 = 2.0 * zeta + h * omega;
         let a2 = h * omega * a1;
@@ -80,13 +80,13 @@ struct Point<S: Space> {
 
 /// What a body is during a step: velocities, and the motion since the step began.
 #[derive(Debug, Clone, Copy)]
-struct Motion<S: Space> {
-    v: S::V,
-    w: S::W,
-    dp: S::V,
-    dq: S::Delta,
-    inv_mass: f64,
-    inv_i: S::InvI,
+pub(crate) struct Motion<S: Space> {
+    pub(crate) v: S::V,
+    pub(crate) w: S::W,
+    pub(crate) dp: S::V,
+    pub(crate) dq: S::Delta,
+    pub(crate) inv_mass: f64,
+    pub(crate) inv_i: S::InvI,
 }
 
 /// What a point carries to the next step.
@@ -215,7 +215,7 @@ impl<S: Space> State<S> {
     }
 }
 
-fn effective_mass<S: Space>(ma: &Motion<S>, mb: &Motion<S>, ra: S::V, rb: S::V, d: S::V) -> f64 {
+pub(crate) fn effective_mass<S: Space>(ma: &Motion<S>, mb: &Motion<S>, ra: S::V, rb: S::V, d: S::V) -> f64 {
     let (ca, cb) = (S::cross_vv(ra, d), S::cross_vv(rb, d));
     let k = ma.inv_mass + mb.inv_mass + ca.dot(S::apply(ma.inv_i, ca)) + cb.dot(S::apply(mb.inv_i, cb));
     if k > 0.0 {
@@ -225,11 +225,11 @@ fn effective_mass<S: Space>(ma: &Motion<S>, mb: &Motion<S>, ra: S::V, rb: S::V, 
     }
 }
 
-fn relative_velocity<S: Space>(ma: &Motion<S>, mb: &Motion<S>, ra: S::V, rb: S::V) -> S::V {
+pub(crate) fn relative_velocity<S: Space>(ma: &Motion<S>, mb: &Motion<S>, ra: S::V, rb: S::V) -> S::V {
     mb.v + S::cross_wv(mb.w, rb) - ma.v - S::cross_wv(ma.w, ra)
 }
 
-fn push<S: Space>(ma: &mut Motion<S>, mb: &mut Motion<S>, ra: S::V, rb: S::V, p: S::V) {
+pub(crate) fn push<S: Space>(ma: &mut Motion<S>, mb: &mut Motion<S>, ra: S::V, rb: S::V, p: S::V) {
     ma.v -= p * ma.inv_mass;
     ma.w -= S::apply(ma.inv_i, S::cross_vv(ra, p));
     mb.v += p * mb.inv_mass;
@@ -237,7 +237,7 @@ fn push<S: Space>(ma: &mut Motion<S>, mb: &mut Motion<S>, ra: S::V, rb: S::V, p:
 }
 
 /// Two distinct motions, mutably.
-fn two<S: Space>(m: &mut [Motion<S>], a: u32, b: u32) -> (&mut Motion<S>, &mut Motion<S>) {
+pub(crate) fn two<S: Space>(m: &mut [Motion<S>], a: u32, b: u32) -> (&mut Motion<S>, &mut Motion<S>) {
     let (a, b) = (a as usize, b as usize);
     if a < b {
         let (x, y) = m.split_at_mut(b);
@@ -262,6 +262,10 @@ fn collide<S: Space>(solids: &mut Solids<S>) {
         st.moves.push(b.kind == Kind::Dynamic);
     }
     broad::pairs(&st.lo, &st.hi, &st.moves, &mut st.order, &mut st.pairs);
+    if !solids.no_collide.is_empty() {
+        // Solids joined by a joint do not collide (unless the joint says they do).
+        st.pairs.retain(|p| solids.no_collide.binary_search(p).is_err());
+    }
     st.points.clear();
     st.ranges.clear();
     for &(a, b) in &st.pairs {
@@ -335,6 +339,9 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     let hertz = set.contact_hertz.min(0.125 / h);
     let (soft, rigid) =
         (Soft::new(hertz, set.damping_ratio, h), Soft::new(2.0 * hertz, set.damping_ratio, h));
+    let joint_soft = Soft::new(set.joint_hertz.min(0.25 / h), set.joint_damping_ratio, h);
+    joint::prepare(&mut solids.joints, &solids.bodies, h);
+    let joints = &mut solids.joints;
 
     let st = &mut solids.solver;
     st.motion.clear();
@@ -346,6 +353,17 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             dq: S::no_delta(),
             inv_mass: b.inv_mass,
             inv_i: S::world_inverse_inertia(b.q, b.inv_i_local),
+        });
+    }
+    if !joints.is_empty() {
+        // The world, for joints to it: the last motion, which never moves.
+        st.motion.push(Motion {
+            v: S::V::default(),
+            w: S::W::default(),
+            dp: S::V::default(),
+            dq: S::no_delta(),
+            inv_mass: 0.0,
+            inv_i: S::no_inertia(),
         });
     }
     for p in &mut st.points {
@@ -365,8 +383,14 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
                 m.v += gravity * h;
             }
         }
+        if !joints.is_empty() {
+            joint::warm_start(joints, &mut st.motion);
+        }
         warm_start(st);
         for _ in 0..set.iterations {
+            if !joints.is_empty() {
+                joint::solve(joints, &mut st.motion, h, Some(joint_soft));
+            }
             solve(st, inv_h, Some((soft, rigid, set.push_speed)));
         }
         // Integrate positions.
@@ -379,6 +403,9 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             (b.q, m.dq) = S::turn(b.q, m.dq, m.w, h);
         }
         for _ in 0..set.iterations {
+            if !joints.is_empty() {
+                joint::solve(joints, &mut st.motion, h, None);
+            }
             solve(st, inv_h, None);
         }
         // The impulse a point applies in a substep is its accumulated impulse (the warm
@@ -390,6 +417,9 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         }
     }
     restitution(st, set.restitution_threshold);
+    if !joints.is_empty() && set.joint_projection > 0 {
+        joint::project(joints, &mut bodies, set.joint_projection);
+    }
     for (b, m) in bodies.iter_mut().zip(&st.motion) {
         b.v = m.v;
         b.w = m.w;

@@ -139,6 +139,28 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     /// Reads an orientation as [`Space::write_rot`] wrote it, bitwise (not normalised).
     fn read_rot_exact(c: &[f64]) -> Self::Rot;
 
+    /// The orientation of `b` seen from `a` (what a joint keeps as its reference).
+    fn relative(a: Self::Rot, b: Self::Rot) -> Self::Rot;
+    /// A joint's rotation error when a step begins: how far `b` is turned from `a` turned by
+    /// the reference `rel` (the angle in the plane; the rotation `qb (qa rel)^-1` in space).
+    fn offset(a: Self::Rot, b: Self::Rot, rel: Self::Rot) -> Self::Rot;
+    /// The rotation error now, after the two bodies turned by `da` and `db` since the step
+    /// began: the angle in the plane (unbounded), the rotation vector in space (world frame;
+    /// its rate is `w_b - w_a`).
+    fn rotation_error(offset: Self::Rot, da: Self::Delta, db: Self::Delta) -> Self::W;
+    /// A direction fixed in a body (a hinge axis, in its frame) seen in the world; in the
+    /// plane every angular direction is the plane's normal, `1`.
+    fn turn_axis(q: Self::Rot, axis: Self::W) -> Self::W;
+    /// Number of angular directions a hinge locks besides its axis (0 in the plane, 2 in space).
+    const SWINGS: usize;
+    /// The directions a hinge about `axis` locks (the first [`Space::SWINGS`] are used).
+    fn swing_axes(axis: Self::W) -> [Self::W; 2];
+    /// Solves `K x = rhs` for the point constraint between arms `ra` of `a` and `rb` of `b`
+    /// (`K` the velocity change at the point per unit impulse); zero where `K` is singular.
+    fn point_solve(a: (f64, Self::InvI, Self::V), b: (f64, Self::InvI, Self::V), rhs: Self::V) -> Self::V;
+    /// Solves `(Ia^-1 + Ib^-1) x = rhs` for an angular constraint; zero where singular.
+    fn angular_solve(ia: Self::InvI, ib: Self::InvI, rhs: Self::W) -> Self::W;
+
     /// The narrow phase's shape of a user's shape.
     ///
     /// # Errors
@@ -271,6 +293,46 @@ impl Space for Plane {
         c[0]
     }
 
+    fn relative(a: f64, b: f64) -> f64 {
+        b - a
+    }
+    fn offset(a: f64, b: f64, rel: f64) -> f64 {
+        b - a - rel
+    }
+    fn rotation_error(offset: f64, da: DVec2, db: DVec2) -> f64 {
+        offset + da.perp_dot(db).atan2(da.dot(db))
+    }
+    fn turn_axis(_q: f64, axis: f64) -> f64 {
+        axis
+    }
+    const SWINGS: usize = 0;
+    fn swing_axes(_axis: f64) -> [f64; 2] {
+        [0.0; 2]
+    }
+    fn point_solve(a: (f64, f64, DVec2), b: (f64, f64, DVec2), rhs: DVec2) -> DVec2 {
+        let ((ma, ia, ra), (mb, ib, rb)) = (a, b);
+        let m = ma + mb;
+        let xy = -ra.y * ra.x * ia - rb.y * rb.x * ib;
+        let k = glam::DMat2::from_cols(
+            DVec2::new(m + ra.y * ra.y * ia + rb.y * rb.y * ib, xy),
+            DVec2::new(xy, m + ra.x * ra.x * ia + rb.x * rb.x * ib),
+        );
+        let det = k.determinant();
+        if det.abs() > 0.0 {
+            k.inverse() * rhs
+        } else {
+            DVec2::ZERO
+        }
+    }
+    fn angular_solve(ia: f64, ib: f64, rhs: f64) -> f64 {
+        let k = ia + ib;
+        if k > 0.0 {
+            rhs / k
+        } else {
+            0.0
+        }
+    }
+
     fn build(shape: &crate::contact::Shape) -> crate::error::Result<Self::Shape> {
         shape.plane()
     }
@@ -361,6 +423,59 @@ impl Space for Space3 {
     }
     fn read_rot_exact(c: &[f64]) -> DQuat {
         DQuat::from_xyzw(c[1], c[2], c[3], c[0])
+    }
+
+    fn relative(a: DQuat, b: DQuat) -> DQuat {
+        a.conjugate() * b
+    }
+    fn offset(a: DQuat, b: DQuat, rel: DQuat) -> DQuat {
+        b * (a * rel).conjugate()
+    }
+    fn rotation_error(offset: DQuat, da: DQuat, db: DQuat) -> DVec3 {
+        let e = db * offset * da.conjugate();
+        let e = if e.w < 0.0 { -e } else { e };
+        let v = e.xyz();
+        let s = v.length();
+        if s < 1e-9 {
+            v * 2.0
+        } else {
+            v * (2.0 * s.atan2(e.w) / s)
+        }
+    }
+    fn turn_axis(q: DQuat, axis: DVec3) -> DVec3 {
+        q * axis
+    }
+    const SWINGS: usize = 2;
+    fn swing_axes(axis: DVec3) -> [DVec3; 2] {
+        Self::tangents(axis)
+    }
+    fn point_solve(a: (f64, DMat3, DVec3), b: (f64, DMat3, DVec3), rhs: DVec3) -> DVec3 {
+        // K = (ma + mb) 1 - [ra]x Ia^-1 [ra]x - [rb]x Ib^-1 [rb]x, [r]x v = r x v.
+        let skew = |r: DVec3| {
+            DMat3::from_cols(
+                DVec3::new(0.0, r.z, -r.y),
+                DVec3::new(-r.z, 0.0, r.x),
+                DVec3::new(r.y, -r.x, 0.0),
+            )
+        };
+        let ((ma, ia, ra), (mb, ib, rb)) = (a, b);
+        let (sa, sb) = (skew(ra), skew(rb));
+        let k = DMat3::from_diagonal(DVec3::splat(ma + mb)) - sa * ia * sa - sb * ib * sb;
+        let det = k.determinant();
+        if det.abs() > 0.0 {
+            k.inverse() * rhs
+        } else {
+            DVec3::ZERO
+        }
+    }
+    fn angular_solve(ia: DMat3, ib: DMat3, rhs: DVec3) -> DVec3 {
+        let k = ia + ib;
+        let det = k.determinant();
+        if det.abs() > 0.0 {
+            k.inverse() * rhs
+        } else {
+            DVec3::ZERO
+        }
     }
 
     fn build(shape: &crate::contact::Shape) -> crate::error::Result<Self::Shape> {

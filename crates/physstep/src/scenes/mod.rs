@@ -7,6 +7,7 @@ mod bodies;
 mod constrained;
 pub mod file;
 mod flows;
+mod jointed;
 mod particles;
 mod solids;
 mod specs;

@@ -12,7 +12,7 @@ use crate::world::World;
 /// this bounds a step's time and memory the way `MAX_PARTICLES` does for particles).
 pub const MAX_SOLIDS: usize = 100_000;
 
-fn count(v: &Param<'_>, name: &str, per: usize) -> Result<usize> {
+pub(super) fn count(v: &Param<'_>, name: &str, per: usize) -> Result<usize> {
     let n = v(name) as usize;
     if n.saturating_mul(per) > MAX_SOLIDS {
         return Err(Error::invalid(name, n, format!("at most {MAX_SOLIDS} solids ({per} a unit)")));
@@ -20,13 +20,13 @@ fn count(v: &Param<'_>, name: &str, per: usize) -> Result<usize> {
     Ok(n)
 }
 
-fn gravity(w: &mut World, g: f64) -> Result<()> {
+pub(super) fn gravity(w: &mut World, g: f64) -> Result<()> {
     let mut a = [0.0; 3];
     a[1] = -g;
     w.add_force(Force::Gravity { g: a })
 }
 
-fn ground(w: &mut World, friction: f64) -> Result<usize> {
+pub(super) fn ground(w: &mut World, friction: f64) -> Result<usize> {
     let mut p = if w.dim() == 2 {
         SolidParams::new(Shape::Box { half: vec![100.0, 1.0] }, &[0.0, -1.0])
     } else {

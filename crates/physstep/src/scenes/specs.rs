@@ -1,7 +1,7 @@
 //! The catalogue of built-in scenes: their names, parameters with their rules and defaults,
 //! default step and run length, and the resolution of a user's parameter overrides.
 
-use super::{balls, bodies, constrained, flows, particles, solids, stiff, Build};
+use super::{balls, bodies, constrained, flows, jointed, particles, solids, stiff, Build};
 use crate::error::{Error, Result};
 
 pub use crate::limits::{PARAM_MAX, PARAM_MIN};
@@ -86,7 +86,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 
 /// Every built-in scene, in registry order: the scenes' one table (name, parameters, defaults
 /// and builder, whose file gives the exact solution where one is known).
-pub const SCENES: [SceneSpec; 26] = [
+pub const SCENES: &[SceneSpec] = &[
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -422,6 +422,52 @@ pub const SCENES: [SceneSpec; 26] = [
         dt: 1.0 / 120.0,
         until: 10.0,
         build: Build::Parts(balls::pile),
+    },
+    SceneSpec {
+        name: "bridge",
+        doc: "n planks 1 m long hinged end to end between two fixed points span n apart, sagging into a catenary (joints)",
+        dim: 2,
+        params: &[
+            p("n", 40.0, "number of planks", Rule::Count),
+            p("span", 0.75, "distance between the fixed ends over the planks' length (0 to 1)", Rule::Fraction),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the joints' softness"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(jointed::bridge),
+    },
+    SceneSpec {
+        name: "ball-chain",
+        doc: "a chain of n hinged capsules with a heavy ball on its end, falling from level and swinging (joints)",
+        dim: 2,
+        params: &[
+            p("n", 30.0, "number of links, 1 m each", Rule::Count),
+            p("radius", 2.0, "radius of the ball, m", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the joints' softness and the ground"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(jointed::ball_chain),
+    },
+    SceneSpec {
+        name: "ragdoll-bodies",
+        doc: "a ragdoll of 12 solids joined by hinges with angle limits and joint friction, pushed over: it falls and rests",
+        dim: 2,
+        params: &[
+            p("height", 0.0, "height of its feet above the ground, m", Rule::NonNegative),
+            p("push", 1.0, "horizontal speed given to the torso, m/s", Rule::Any),
+            p("spin", 1.0, "angular velocity given to the torso, rad/s", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the landing, friction and joint friction"),
+        dt: 1.0 / 60.0,
+        until: 5.0,
+        build: Build::Parts(jointed::ragdoll_bodies),
     },
     SceneSpec {
         name: "single-box",

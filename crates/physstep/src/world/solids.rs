@@ -5,7 +5,7 @@
 
 use super::step::StepContext;
 use super::World;
-use crate::contact::{ContactReport, Plane, Settings, SolidParams, Solids, Space, Space3, Vect};
+use crate::contact::{ContactReport, JointParams, Plane, Settings, SolidParams, Solids, Space, Space3, Vect};
 use crate::error::{Error, Result};
 use crate::forces::Force;
 
@@ -147,6 +147,39 @@ impl World {
         Ok(i)
     }
 
+    /// Adds a joint between two solids, or between a solid and the world (`b` = `None`);
+    /// returns its index among the joints. Solved with the contacts, in the contact solver's
+    /// substeps.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field (`a`, `b`, `anchor`, `axis`, a length, a
+    /// limit, `hertz`, `max_motor`) and the value, or `dim` for a world without solids; the
+    /// world is unchanged.
+    pub fn add_joint(&mut self, params: JointParams) -> Result<usize> {
+        let dim = self.dim();
+        let i = each!(&mut self.solids, s => s.add_joint(params), Err(Error::invalid("dim", dim, "2 or 3 (joints join solids)")))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(i)
+    }
+
+    /// Number of joints.
+    #[must_use]
+    pub fn joint_count(&self) -> usize {
+        each!(&self.solids, s => s.joint_count(), 0)
+    }
+
+    /// Each joint as it was made.
+    #[must_use]
+    pub fn joint_params(&self) -> &[JointParams] {
+        each!(&self.solids, s => s.joint_params(), &[])
+    }
+
+    /// Each joint's position error now, m (see [`Solids::joint_errors`]).
+    #[must_use]
+    pub fn joint_errors(&self) -> Vec<f64> {
+        each!(&self.solids, s => s.joint_errors(), Vec::new())
+    }
+
     /// Number of solids.
     #[must_use]
     pub fn solid_count(&self) -> usize {
@@ -220,6 +253,22 @@ impl World {
     fn solids_settings_mut(&mut self) -> Result<&mut Settings> {
         let dim = self.dim();
         each!(&mut self.solids, s => Ok(&mut s.settings), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
+    }
+
+    /// Sets every setting of the contact solver at once (its name, substeps, passes, the
+    /// contacts' and joints' stiffness), checked whole first.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the first bad setting, [`Error::UnknownName`] for a
+    /// solver that does not exist; the world is unchanged.
+    pub fn set_contact_settings(&mut self, settings: Settings) -> Result<()> {
+        let mut checked = Settings::default();
+        checked.set_solver(settings.solver)?;
+        checked.set_substeps(settings.substeps)?;
+        checked.set_iterations(settings.iterations)?;
+        settings.check()?;
+        *self.solids_settings_mut()? = settings;
+        Ok(())
     }
 
     /// Chooses the contact solver by name ([`crate::contact::SOLVERS`]).

@@ -14,7 +14,7 @@ use crate::rigid::inertia::Shape;
 use crate::world::{BodyParams, World, WorldParams};
 use toml::de::DeTable;
 
-const TOP: [&str; 17] = [
+const TOP: [&str; 18] = [
     "dimension",
     "method",
     "dt",
@@ -32,6 +32,7 @@ const TOP: [&str; 17] = [
     "collisions",
     "contact",
     "solids",
+    "joints",
 ];
 
 /// The whole file; `mode`, when given, in place of the file's loop variant.

@@ -1,9 +1,11 @@
-//! Solids in scene files: `[contact]` (the contact solver and its substeps and iterations)
-//! and `[[solids]]` (each solid as it was added: shape, kind, pose, velocities, density,
-//! friction, restitution).
+//! Solids in scene files: `[contact]` (the contact solver, its substeps and iterations, and
+//! the contacts' and joints' tuning where it is not the default), `[[solids]]` (each solid as
+//! it was added: shape, kind, pose, velocities, density, friction, restitution) and
+//! `[[joints]]` (each joint as it was made: kind, the two solids, anchors, axis, lengths,
+//! limits, motor).
 
 use super::doc::{Doc, Table};
-use crate::contact::{Kind, Settings, Shape, SolidParams};
+use crate::contact::{JointKind, JointParams, Kind, Settings, Shape, SolidParams};
 use crate::error::Result;
 use crate::world::World;
 use std::fmt::Write;
@@ -53,6 +55,12 @@ pub(super) fn write(world: &World, s: &mut String) {
         "\n[contact]\nsolver = \"{}\"\nsubsteps = {}\niterations = {}",
         set.solver, set.substeps, set.iterations
     );
+    let default = Settings::default();
+    for ((key, v), (_, d)) in tuning(&set).into_iter().zip(tuning(&default)) {
+        if v != d {
+            let _ = writeln!(s, "{key} = {}", num(v));
+        }
+    }
     for p in world.solid_params() {
         let _ = writeln!(
             s,
@@ -68,6 +76,115 @@ pub(super) fn write(world: &World, s: &mut String) {
             num(p.restitution)
         );
     }
+    write_joints(world, s);
+}
+
+/// The contact solver's tuning numbers by their `[contact]` keys (written where they are
+/// not the default).
+fn tuning(s: &Settings) -> [(&'static str, f64); 8] {
+    [
+        ("contact_hertz", s.contact_hertz),
+        ("damping_ratio", s.damping_ratio),
+        ("push_speed", s.push_speed),
+        ("restitution_threshold", s.restitution_threshold),
+        ("speculative_distance", s.speculative_distance),
+        ("joint_hertz", s.joint_hertz),
+        ("joint_damping_ratio", s.joint_damping_ratio),
+        ("joint_projection", f64::from(s.joint_projection)),
+    ]
+}
+
+/// Appends the `[[joints]]` of `world` (as they were made; optional keys where set).
+fn write_joints(world: &World, s: &mut String) {
+    for j in world.joint_params() {
+        let _ = write!(s, "\n[[joints]]\nkind = \"{}\"\na = {}\n", j.kind.name(), j.a);
+        if let Some(b) = j.b {
+            let _ = writeln!(s, "b = {b}");
+        }
+        let _ = writeln!(s, "anchor = {}", arr(&j.anchor));
+        for (key, v) in [("anchor_b", &j.anchor_b), ("axis", &j.axis)] {
+            if let Some(v) = v {
+                let _ = writeln!(s, "{key} = {}", arr(v));
+            }
+        }
+        for (key, v) in [
+            ("length", j.length),
+            ("min_length", j.min_length),
+            ("max_length", j.max_length),
+            ("lower", j.lower),
+            ("upper", j.upper),
+        ] {
+            if let Some(v) = v {
+                let _ = writeln!(s, "{key} = {}", num(v));
+            }
+        }
+        let fresh = JointParams::new(j.kind, j.a, j.b, &j.anchor);
+        for (key, v, d) in [
+            ("hertz", j.hertz, fresh.hertz),
+            ("damping_ratio", j.damping_ratio, fresh.damping_ratio),
+            ("motor_speed", j.motor_speed, fresh.motor_speed),
+            ("max_motor", j.max_motor, fresh.max_motor),
+        ] {
+            if v != d {
+                let _ = writeln!(s, "{key} = {}", num(v));
+            }
+        }
+        if j.collide {
+            let _ = writeln!(s, "collide = true");
+        }
+    }
+}
+
+/// `[[joints]]` into `w` (after its solids).
+fn read_joints(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
+    let dim = w.dim();
+    for (k, (table, at)) in doc.tables(top, "joints")?.into_iter().enumerate() {
+        let path = format!("joints[{k}]");
+        let t = Table { table, at, path: &path };
+        doc.keys(
+            t,
+            &[
+                "kind",
+                "a",
+                "b",
+                "anchor",
+                "anchor_b",
+                "axis",
+                "length",
+                "min_length",
+                "max_length",
+                "hertz",
+                "damping_ratio",
+                "lower",
+                "upper",
+                "motor_speed",
+                "max_motor",
+                "collide",
+            ],
+        )?;
+        let kind = doc.str(t, "kind")?.ok_or_else(|| doc.err(at, &format!("{path}.kind"), "is missing"))?;
+        let kind = JointKind::by_name(kind).map_err(|e| doc.engine(at, &format!("{path}.kind"), e))?;
+        let mut p = JointParams::new(
+            kind,
+            doc.index_req(t, "a")?,
+            doc.index(t, "b")?,
+            &doc.vec_req(t, "anchor", dim)?,
+        );
+        p.anchor_b = doc.vec(t, "anchor_b", Some(dim))?;
+        p.axis = doc.vec(t, "axis", Some(dim))?;
+        p.length = doc.f64(t, "length")?;
+        p.min_length = doc.f64(t, "min_length")?;
+        p.max_length = doc.f64(t, "max_length")?;
+        p.lower = doc.f64(t, "lower")?;
+        p.upper = doc.f64(t, "upper")?;
+        p.hertz = doc.f64(t, "hertz")?.unwrap_or(p.hertz);
+        p.damping_ratio = doc.f64(t, "damping_ratio")?.unwrap_or(p.damping_ratio);
+        p.motor_speed = doc.f64(t, "motor_speed")?.unwrap_or(p.motor_speed);
+        p.max_motor = doc.f64(t, "max_motor")?.unwrap_or(p.max_motor);
+        p.collide = doc.bool(t, "collide")?.unwrap_or(false);
+        w.add_joint(p).map_err(|e| doc.engine(at, &path, e))?;
+    }
+    Ok(())
 }
 
 /// A solid's `shape` table.
@@ -124,7 +241,9 @@ fn read_shape(doc: &Doc<'_>, t: Table<'_, '_>, dim: usize) -> Result<Shape> {
 pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
     if let Some((t, at)) = doc.table(top, "contact")? {
         let t = Table { table: t, at, path: "contact" };
-        doc.keys(t, &["solver", "substeps", "iterations"])?;
+        let mut known = vec!["solver", "substeps", "iterations"];
+        known.extend(tuning(&Settings::default()).iter().map(|(k, _)| *k));
+        doc.keys(t, &known)?;
         if let Some(name) = doc.str(t, "solver")? {
             w.set_contact_solver(name).map_err(|e| doc.engine(at, "contact.solver", e))?;
         }
@@ -136,6 +255,27 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
             let n = u32::try_from(n).unwrap_or(u32::MAX);
             w.set_solver_iterations(n).map_err(|e| doc.engine(at, "contact.iterations", e))?;
         }
+        let mut set = w.contact_settings();
+        for (key, _) in tuning(&Settings::default()) {
+            let Some(v) = doc.f64(t, key)? else { continue };
+            let field = format!("contact.{key}");
+            match key {
+                "contact_hertz" => set.contact_hertz = v,
+                "damping_ratio" => set.damping_ratio = v,
+                "push_speed" => set.push_speed = v,
+                "restitution_threshold" => set.restitution_threshold = v,
+                "speculative_distance" => set.speculative_distance = v,
+                "joint_hertz" => set.joint_hertz = v,
+                "joint_damping_ratio" => set.joint_damping_ratio = v,
+                _ => {
+                    if !(v.fract() == 0.0 && (0.0..=1000.0).contains(&v)) {
+                        return Err(doc.err(at, &field, format!("= {v}: must be a whole number 0 to 1000")));
+                    }
+                    set.joint_projection = v as u32;
+                }
+            }
+        }
+        w.set_contact_settings(set).map_err(|e| doc.engine(at, "contact", e))?;
     }
     let dim = w.dim();
     for (k, (table, at)) in doc.tables(top, "solids")?.into_iter().enumerate() {
@@ -177,5 +317,5 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
         p.restitution = doc.f64(t, "restitution")?.unwrap_or(p.restitution);
         w.add_solid(p).map_err(|e| doc.engine(at, &path, e))?;
     }
-    Ok(())
+    read_joints(doc, top, w)
 }
