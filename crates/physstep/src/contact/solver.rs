@@ -87,6 +87,8 @@ struct Motion<S: Space> {
     dq: S::Delta,
     inv_mass: f64,
     inv_i: S::InvI,
+    /// Dynamic: impulses move it.
+    moves: bool,
 }
 
 /// What a point carries to the next step.
@@ -229,11 +231,21 @@ fn relative_velocity<S: Space>(ma: &Motion<S>, mb: &Motion<S>, ra: S::V, rb: S::
     mb.v + S::cross_wv(mb.w, rb) - ma.v - S::cross_wv(ma.w, ra)
 }
 
+/// Applies the impulse `p` at the arms: `-p` to `a`, `p` to `b`. A solid the solver does not
+/// move (static, kinematic: no inverse mass) is left alone rather than given `p` times zero:
+/// that sum changed no bit of its velocity (but a minus zero's sign, or a NaN from a runaway
+/// `p`, which the dynamic solid carries as well), and without it the points on the ground
+/// are independent of each other (no store and reload of the ground's velocities between
+/// them), so the processor overlaps their solves.
 fn push<S: Space>(ma: &mut Motion<S>, mb: &mut Motion<S>, ra: S::V, rb: S::V, p: S::V) {
-    ma.v -= p * ma.inv_mass;
-    ma.w -= S::apply(ma.inv_i, S::cross_vv(ra, p));
-    mb.v += p * mb.inv_mass;
-    mb.w += S::apply(mb.inv_i, S::cross_vv(rb, p));
+    if ma.moves {
+        ma.v -= p * ma.inv_mass;
+        ma.w -= S::apply(ma.inv_i, S::cross_vv(ra, p));
+    }
+    if mb.moves {
+        mb.v += p * mb.inv_mass;
+        mb.w += S::apply(mb.inv_i, S::cross_vv(rb, p));
+    }
 }
 
 /// Two distinct motions, mutably.
@@ -346,6 +358,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             dq: S::no_delta(),
             inv_mass: b.inv_mass,
             inv_i: S::world_inverse_inertia(b.q, b.inv_i_local),
+            moves: b.kind == Kind::Dynamic,
         });
     }
     for p in &mut st.points {
@@ -385,8 +398,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         // start and the increments): the step's is their sum.
         for p in &mut st.points {
             p.total_normal += p.normal_impulse;
-            let t = p.tangent_impulse;
-            p.total_friction += (t[0] * t[0] + t[1] * t[1]).sqrt();
+            p.total_friction += S::friction_size(p.tangent_impulse);
         }
     }
     restitution(st, set.restitution_threshold);
@@ -398,7 +410,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     st.warm.clear();
     for p in &st.points {
         let t = p.tangent_impulse;
-        let sliding = (t[0] * t[0] + t[1] * t[1]).sqrt() >= 0.999 * p.friction * p.normal_impulse;
+        let sliding = S::friction_size(t) >= 0.999 * p.friction * p.normal_impulse;
         let (anchor_a, anchor_b) = if sliding || p.normal_impulse == 0.0 {
             // Sliding (or not pressed): static friction lets go, and takes hold again where
             // the point is now.
@@ -486,7 +498,7 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
                     None => p.tangent_impulse[k] - p.tangent_mass[k] * vt,
                 };
             }
-            let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
+            let size = S::friction_size(new);
             if size > limit {
                 let f = if size > 0.0 { limit / size } else { 0.0 };
                 new[0] *= f;
