@@ -30,8 +30,9 @@ fn main() {
     }
     let took = start.elapsed().as_secs_f64();
     println!(
-        "{scene}: {} solids, {steps} steps, {:.4} ms a step, max penetration {:.3e} m, hash {:#018x}",
+        "{scene}: {} solids, {} contact points, {steps} steps, {:.4} ms a step, max penetration {:.3e} m, hash {:#018x}",
         s.world.solid_count(),
+        s.world.contacts().depths.len(),
         1e3 * took / steps as f64,
         s.world.max_penetration(),
         s.world.state_hash()

@@ -116,6 +116,9 @@ pub(crate) struct State<S: Space> {
     pairs: Vec<(u32, u32)>,
     touches: Vec<Touch<S::V>>,
     motion: Vec<Motion<S>>,
+    /// A pair's arms turned by each body's rotation since the step began, found by the
+    /// normal solve and used again by friction (no solid turns between the two).
+    turned: Vec<(S::V, S::V)>,
 }
 
 impl<S: Space> Default for State<S> {
@@ -131,6 +134,7 @@ impl<S: Space> Default for State<S> {
             pairs: Vec::new(),
             touches: Vec::new(),
             motion: Vec::new(),
+            turned: Vec::new(),
         }
     }
 }
@@ -428,7 +432,10 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             anchor_b,
         });
     }
-    st.warm.sort_unstable_by_key(|w| w.key);
+    // The points come in pair order, so the keys usually are in order already.
+    if !st.warm.is_sorted_by_key(|w| w.key) {
+        st.warm.sort_unstable_by_key(|w| w.key);
+    }
     st.warm.dedup_by(|x, y| x.key == y.key);
 }
 
@@ -449,9 +456,12 @@ fn warm_start<S: Space>(st: &mut State<S>) {
 /// friction in the relax pass (without the bias).
 fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)>) {
     for &(s, e) in &st.ranges {
+        st.turned.clear();
         for p in &mut st.points[s..e] {
             let (ma, mb) = two(&mut st.motion, p.a, p.b);
-            let d = mb.dp + S::rotate_delta(mb.dq, p.rb) - ma.dp - S::rotate_delta(ma.dq, p.ra);
+            let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
+            st.turned.push((ta, tb));
+            let d = mb.dp + tb - ma.dp - ta;
             let sep = d.dot(p.normal) + p.adjusted;
             let (mut vbias, mut mass_scale, mut impulse_scale) = (0.0, 1.0, 0.0);
             if sep > 0.0 {
@@ -471,7 +481,7 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
             p.max_normal = p.max_normal.max(imp);
             push(ma, mb, p.ra, p.rb, p.normal * imp);
         }
-        for p in &mut st.points[s..e] {
+        for (p, &(ta, tb)) in st.points[s..e].iter_mut().zip(&st.turned) {
             let (ma, mb) = two(&mut st.motion, p.a, p.b);
             let limit = p.friction * p.normal_impulse;
             let dv = relative_velocity(ma, mb, p.ra, p.rb);
@@ -479,11 +489,7 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
             // With the bias, static friction pulls the anchors back together as softly as a
             // contact pushes (so a box on a ramp steeper than it can slide on does not
             // creep); without it, friction stops the sliding velocity.
-            let moved = if bias.is_some() {
-                mb.dp + S::rotate_delta(mb.dq, p.rb) - p.rb - ma.dp - S::rotate_delta(ma.dq, p.ra) + p.ra
-            } else {
-                S::V::default()
-            };
+            let moved = if bias.is_some() { mb.dp + tb - p.rb - ma.dp - ta + p.ra } else { S::V::default() };
             for k in 0..S::TANGENTS {
                 let vt = dv.dot(p.tangents[k]);
                 new[k] = match bias {

@@ -270,11 +270,17 @@ impl Space for Plane {
     /// square root of a correctly rounded square is the number's size, while the square is
     /// a normal number), without a square root on the solver's critical path.
     fn friction_size(t: [f64; 2]) -> f64 {
+        /// Out of line, so that the compiler does not take the square root anyway and select.
+        #[cold]
+        #[inline(never)]
+        fn root(t: [f64; 2]) -> f64 {
+            (t[0] * t[0] + t[1] * t[1]).sqrt()
+        }
         let a = t[0].abs();
         if t[1] == 0.0 && a > 1e-150 && a < 1e150 {
             a
         } else {
-            (t[0] * t[0] + t[1] * t[1]).sqrt()
+            root(t)
         }
     }
     fn write_rot(q: f64, out: &mut Vec<f64>) {
