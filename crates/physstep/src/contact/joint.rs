@@ -721,9 +721,11 @@ pub(crate) fn project<S: Space>(joints: &[Joint<S>], bodies: &mut [Body<S>], pas
         dq: S::no_delta(),
         inv_mass: 0.0,
         inv_i: S::no_inertia(),
+        moves: false,
     };
     let motion = |bodies: &[Body<S>], i: Option<usize>| match i {
         Some(i) => Motion {
+            moves: bodies[i].inv_mass > 0.0,
             inv_mass: bodies[i].inv_mass,
             inv_i: S::world_inverse_inertia(bodies[i].q, bodies[i].inv_i_local),
             ..still

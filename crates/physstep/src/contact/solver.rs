@@ -87,6 +87,8 @@ pub(crate) struct Motion<S: Space> {
     pub(crate) dq: S::Delta,
     pub(crate) inv_mass: f64,
     pub(crate) inv_i: S::InvI,
+    /// Dynamic: impulses move it.
+    pub(crate) moves: bool,
 }
 
 /// What a point carries to the next step.
@@ -114,6 +116,9 @@ pub(crate) struct State<S: Space> {
     pairs: Vec<(u32, u32)>,
     touches: Vec<Touch<S::V>>,
     motion: Vec<Motion<S>>,
+    /// A pair's arms turned by each body's rotation since the step began, found by the
+    /// normal solve and used again by friction (no solid turns between the two).
+    turned: Vec<(S::V, S::V)>,
 }
 
 impl<S: Space> Default for State<S> {
@@ -129,6 +134,7 @@ impl<S: Space> Default for State<S> {
             pairs: Vec::new(),
             touches: Vec::new(),
             motion: Vec::new(),
+            turned: Vec::new(),
         }
     }
 }
@@ -229,11 +235,21 @@ pub(crate) fn relative_velocity<S: Space>(ma: &Motion<S>, mb: &Motion<S>, ra: S:
     mb.v + S::cross_wv(mb.w, rb) - ma.v - S::cross_wv(ma.w, ra)
 }
 
+/// Applies the impulse `p` at the arms: `-p` to `a`, `p` to `b`. A solid the solver does not
+/// move (static, kinematic: no inverse mass) is left alone rather than given `p` times zero:
+/// that sum changed no bit of its velocity (but a minus zero's sign, or a NaN from a runaway
+/// `p`, which the dynamic solid carries as well), and without it the points on the ground
+/// are independent of each other (no store and reload of the ground's velocities between
+/// them), so the processor overlaps their solves.
 pub(crate) fn push<S: Space>(ma: &mut Motion<S>, mb: &mut Motion<S>, ra: S::V, rb: S::V, p: S::V) {
-    ma.v -= p * ma.inv_mass;
-    ma.w -= S::apply(ma.inv_i, S::cross_vv(ra, p));
-    mb.v += p * mb.inv_mass;
-    mb.w += S::apply(mb.inv_i, S::cross_vv(rb, p));
+    if ma.moves {
+        ma.v -= p * ma.inv_mass;
+        ma.w -= S::apply(ma.inv_i, S::cross_vv(ra, p));
+    }
+    if mb.moves {
+        mb.v += p * mb.inv_mass;
+        mb.w += S::apply(mb.inv_i, S::cross_vv(rb, p));
+    }
 }
 
 /// Two distinct motions, mutably.
@@ -353,6 +369,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             dq: S::no_delta(),
             inv_mass: b.inv_mass,
             inv_i: S::world_inverse_inertia(b.q, b.inv_i_local),
+            moves: b.kind == Kind::Dynamic,
         });
     }
     if !joints.is_empty() {
@@ -364,6 +381,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             dq: S::no_delta(),
             inv_mass: 0.0,
             inv_i: S::no_inertia(),
+            moves: false,
         });
     }
     for p in &mut st.points {
@@ -412,8 +430,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         // start and the increments): the step's is their sum.
         for p in &mut st.points {
             p.total_normal += p.normal_impulse;
-            let t = p.tangent_impulse;
-            p.total_friction += (t[0] * t[0] + t[1] * t[1]).sqrt();
+            p.total_friction += S::friction_size(p.tangent_impulse);
         }
     }
     restitution(st, set.restitution_threshold);
@@ -428,7 +445,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     st.warm.clear();
     for p in &st.points {
         let t = p.tangent_impulse;
-        let sliding = (t[0] * t[0] + t[1] * t[1]).sqrt() >= 0.999 * p.friction * p.normal_impulse;
+        let sliding = S::friction_size(t) >= 0.999 * p.friction * p.normal_impulse;
         let (anchor_a, anchor_b) = if sliding || p.normal_impulse == 0.0 {
             // Sliding (or not pressed): static friction lets go, and takes hold again where
             // the point is now.
@@ -446,7 +463,10 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             anchor_b,
         });
     }
-    st.warm.sort_unstable_by_key(|w| w.key);
+    // The points come in pair order, so the keys usually are in order already.
+    if !st.warm.is_sorted_by_key(|w| w.key) {
+        st.warm.sort_unstable_by_key(|w| w.key);
+    }
     st.warm.dedup_by(|x, y| x.key == y.key);
 }
 
@@ -467,9 +487,12 @@ fn warm_start<S: Space>(st: &mut State<S>) {
 /// friction in the relax pass (without the bias).
 fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)>) {
     for &(s, e) in &st.ranges {
+        st.turned.clear();
         for p in &mut st.points[s..e] {
             let (ma, mb) = two(&mut st.motion, p.a, p.b);
-            let d = mb.dp + S::rotate_delta(mb.dq, p.rb) - ma.dp - S::rotate_delta(ma.dq, p.ra);
+            let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
+            st.turned.push((ta, tb));
+            let d = mb.dp + tb - ma.dp - ta;
             let sep = d.dot(p.normal) + p.adjusted;
             let (mut vbias, mut mass_scale, mut impulse_scale) = (0.0, 1.0, 0.0);
             if sep > 0.0 {
@@ -489,7 +512,7 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
             p.max_normal = p.max_normal.max(imp);
             push(ma, mb, p.ra, p.rb, p.normal * imp);
         }
-        for p in &mut st.points[s..e] {
+        for (p, &(ta, tb)) in st.points[s..e].iter_mut().zip(&st.turned) {
             let (ma, mb) = two(&mut st.motion, p.a, p.b);
             let limit = p.friction * p.normal_impulse;
             let dv = relative_velocity(ma, mb, p.ra, p.rb);
@@ -497,11 +520,7 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
             // With the bias, static friction pulls the anchors back together as softly as a
             // contact pushes (so a box on a ramp steeper than it can slide on does not
             // creep); without it, friction stops the sliding velocity.
-            let moved = if bias.is_some() {
-                mb.dp + S::rotate_delta(mb.dq, p.rb) - p.rb - ma.dp - S::rotate_delta(ma.dq, p.ra) + p.ra
-            } else {
-                S::V::default()
-            };
+            let moved = if bias.is_some() { mb.dp + tb - p.rb - ma.dp - ta + p.ra } else { S::V::default() };
             for k in 0..S::TANGENTS {
                 let vt = dv.dot(p.tangents[k]);
                 new[k] = match bias {
@@ -516,7 +535,7 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
                     None => p.tangent_impulse[k] - p.tangent_mass[k] * vt,
                 };
             }
-            let size = (new[0] * new[0] + new[1] * new[1]).sqrt();
+            let size = S::friction_size(new);
             if size > limit {
                 let f = if size > 0.0 { limit / size } else { 0.0 };
                 new[0] *= f;

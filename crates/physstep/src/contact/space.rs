@@ -132,6 +132,11 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     fn tangents(n: Self::V) -> [Self::V; 2];
     /// Number of tangents (1 in the plane, 2 in space).
     const TANGENTS: usize;
+    /// The size of a friction impulse `t` (its components along the tangents),
+    /// `sqrt(t0^2 + t1^2)`, to the bit.
+    fn friction_size(t: [f64; 2]) -> f64 {
+        (t[0] * t[0] + t[1] * t[1]).sqrt()
+    }
     /// The orientation's exported numbers (the angle; the quaternion w, x, y, z, as bodies').
     fn write_rot(q: Self::Rot, out: &mut Vec<f64>);
     /// Reads an orientation (an angle; a quaternion, normalised).
@@ -282,6 +287,23 @@ impl Space for Plane {
     }
     fn tangents(n: DVec2) -> [DVec2; 2] {
         [n.perp(), DVec2::ZERO]
+    }
+    /// One tangent: `|t0|`, which is `sqrt(t0^2)` to the bit (in binary floating point the
+    /// square root of a correctly rounded square is the number's size, while the square is
+    /// a normal number), without a square root on the solver's critical path.
+    fn friction_size(t: [f64; 2]) -> f64 {
+        /// Out of line, so that the compiler does not take the square root anyway and select.
+        #[cold]
+        #[inline(never)]
+        fn root(t: [f64; 2]) -> f64 {
+            (t[0] * t[0] + t[1] * t[1]).sqrt()
+        }
+        let a = t[0].abs();
+        if t[1] == 0.0 && a > 1e-150 && a < 1e150 {
+            a
+        } else {
+            root(t)
+        }
     }
     fn write_rot(q: f64, out: &mut Vec<f64>) {
         out.push(q);
@@ -519,5 +541,41 @@ impl Space for Space3 {
             prediction,
             out
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_planes_friction_size_is_the_square_roots_to_the_bit() {
+        let sqrt = |x: f64| (x * x + 0.0 * 0.0).sqrt();
+        let mut x = 0x2545_f491_4f6c_dd1d_u64;
+        let mut checked = 0;
+        for _ in 0..200_000 {
+            // Random bit patterns (xorshift), every exponent, both signs.
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let v = f64::from_bits(x);
+            if !v.is_finite() {
+                continue;
+            }
+            for t in [v, v * 1e-300, v * 1e300, -v, 1.0 + v.fract() * 1e-16] {
+                if t.is_finite() {
+                    assert_eq!(Plane::friction_size([t, 0.0]).to_bits(), sqrt(t).to_bits(), "{t:e}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 500_000);
+        for t in [0.0, -0.0, 1e-150, 1e150, f64::MIN_POSITIVE, 5e-324, f64::MAX, f64::NAN, f64::INFINITY] {
+            assert_eq!(Plane::friction_size([t, 0.0]).to_bits(), sqrt(t).to_bits(), "{t:e}");
+            assert_eq!(Plane::friction_size([t, -0.0]).to_bits(), sqrt(t).to_bits(), "{t:e}");
+        }
+        // A second component (never set in the plane) is not dropped.
+        assert_eq!(Plane::friction_size([3.0, 4.0]), 5.0);
+        assert_eq!(Space3::friction_size([3.0, 4.0]), 5.0);
     }
 }
