@@ -18,7 +18,7 @@ use physstep::prelude::*;
 const STEPS: u64 = 1000;
 
 /// `(scene, hash after STEPS steps)`, in registry order.
-const HASHES: [(&str, u64); 26] = [
+const HASHES: [(&str, u64); 33] = [
     ("spring", 0x283e5130c3fd2cfe),
     ("projectile", 0xfe742e718de6e989),
     ("drag", 0x5904922d8dd79415),
@@ -52,11 +52,20 @@ const HASHES: [(&str, u64); 26] = [
     ("ramp", 0xf36466dc6ac98179),
     ("dice", 0x2f4d8d2fd0930ff6),
     ("box-stack", 0x23fdd53fbff5ff8d),
+    // The rest of Solver2D's contact scenes, and the top on the floor.
+    ("card-house", 0xcc71da5258508cad),
+    ("mass-ratio", 0x4e08a0c07fc13013),
+    ("arch", 0xa734c3429a2ba7e8),
+    ("domino", 0x0cf04112d3d344af),
+    ("confined", 0x3c90b23d6e53b116),
+    ("overlap-recovery", 0x125bedddd2c5ecc7),
+    ("top-on-floor", 0x4b68088eed394caa),
 ];
 
 /// The parameters a scene's hash is recorded with: its defaults, but for stiff-cloth, whose
 /// 12 x 12 default takes 12 s for 1,000 backward-Euler steps in the test profile (6 x 6: 1 s),
-/// pile (200 balls) and pyramid (10 rows, 55 boxes).
+/// pile (200 balls), pyramid (10 rows, 55 boxes) and confined (12 x 12 circles: 25 x 25 take
+/// 4 s).
 fn params(scene: &str) -> &'static [(&'static str, f64)] {
     if scene == "stiff-cloth" {
         &[("n", 6.0)]
@@ -64,6 +73,8 @@ fn params(scene: &str) -> &'static [(&'static str, f64)] {
         &[("n", 200.0)]
     } else if scene == "pyramid" {
         &[("rows", 10.0)]
+    } else if scene == "confined" {
+        &[("n", 12.0)]
     } else {
         &[]
     }

@@ -86,7 +86,7 @@ const fn p(name: &'static str, default: f64, doc: &'static str, rule: Rule) -> P
 
 /// Every built-in scene, in registry order: the scenes' one table (name, parameters, defaults
 /// and builder, whose file gives the exact solution where one is known).
-pub const SCENES: [SceneSpec; 26] = [
+pub const SCENES: [SceneSpec; 33] = [
     SceneSpec {
         name: "spring",
         doc: "1D mass on a spring to the origin, F = -k x - c v (the notes' m = 10, k = 5, x0 = 20)",
@@ -508,6 +508,105 @@ pub const SCENES: [SceneSpec; 26] = [
         dt: 1.0 / 60.0,
         until: 10.0,
         build: Build::Parts(solids::stack),
+    },
+    // The rest of Solver2D's contact scenes (scenes/solids.rs), and the top on the floor.
+    SceneSpec {
+        name: "card-house",
+        doc: "Box2D's card house: rows of 40 cm cards leaning in pairs, flat cards across them, standing",
+        dim: 2,
+        params: &[
+            p("levels", 5.0, "rows of card pairs (at most 100)", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::card_house),
+    },
+    SceneSpec {
+        name: "mass-ratio",
+        doc: "a 20 m box resting on two unit boxes, ratio times as heavy as each, standing",
+        dim: 2,
+        params: &[
+            p("ratio", 100.0, "mass of the big box over a small one's, 0.001 to 10000", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::mass_ratio),
+    },
+    SceneSpec {
+        name: "arch",
+        doc: "Solver2D's arch of 17 convex stones with 4 boxes on its keystone, standing by friction",
+        dim: 2,
+        params: &[
+            p("friction", 0.6, "friction coefficient of the stones, boxes and ground", Rule::NonNegative),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::arch),
+    },
+    SceneSpec {
+        name: "domino",
+        doc: "n dominos 1 m apart, the first pushed at its top: each knocks over the next",
+        dim: 2,
+        params: &[
+            p("n", 15.0, "number of dominos", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("impacts and friction"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::domino),
+    },
+    SceneSpec {
+        name: "confined",
+        doc: "n x n circles started overlapping in a closed box, no gravity: they push apart and jam",
+        dim: 2,
+        params: &[p("n", 25.0, "circles a row and a column (at most 30)", Rule::Count)],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts pushing apart"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::confined),
+    },
+    SceneSpec {
+        name: "overlap-recovery",
+        doc: "a pyramid of unit boxes started overlapping: pushed apart at most at the push speed, they rest",
+        dim: 2,
+        params: &[
+            p("base", 4.0, "boxes in the bottom row", Rule::Count),
+            p("overlap", 0.25, "overlap of neighbours, a fraction of a side, 0 to 0.5", Rule::Fraction),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts pushing apart"),
+        dt: 1.0 / 60.0,
+        until: 5.0,
+        build: Build::Parts(solids::overlap_recovery),
+    },
+    SceneSpec {
+        name: "top-on-floor",
+        doc: "a spinning top (a convex hull) on its flat foot on a plane, spun until friction stops it (3D)",
+        dim: 3,
+        params: &[
+            p("spin", 60.0, "spin about its axis, rad/s", Rule::Any),
+            p("foot", 0.02, "half side of its square foot, m, 0 (a tip) to 0.05", Rule::NonNegative),
+            p("tilt", 0.0, "tilt of its axis from the vertical, rad, 0 to 1.2", Rule::NonNegative),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("friction"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(solids::top_on_floor),
     },
 ];
 
