@@ -111,8 +111,8 @@ class DiceDemo(Demo):
         quad = [np.array([sx * span, 0.0, sz * span]) for sx, sz in quad_signs()]
         pygame.draw.polygon(surf, FLOOR, [project(q) for q in quad])
         for t in np.arange(-span, span + 1e-9, 0.5):
-            for a, b in (([t, 0, -span], [t, 0, span]), ([-span, 0, t], [span, 0, t])):
-                pygame.draw.line(surf, FLOOR_LINE, project(np.array(a)), project(np.array(b)))
+            for p0, p1 in (([t, 0, -span], [t, 0, span]), ([-span, 0, t], [span, 0, t])):
+                pygame.draw.line(surf, FLOOR_LINE, project(np.array(p0)), project(np.array(p1)))
         pos, quats = w.solid_positions()[1:], w.solid_orientations()[1:]
         # Shadows under the dice, then the dice far to near.
         for p in pos:
