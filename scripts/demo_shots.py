@@ -26,9 +26,13 @@ FRAMES = {
     "balls": 600,  # 10 s of contacts at restitution 1: the drift at rounding
     "cloth": 150,  # 2.5 s after the wind is turned on: blown out along +z, swinging
     "ragdoll": 30,  # 0.5 s: falling, a foot about to touch the ground
+    "boxes": 120,  # 2 s: the pyramid standing
+    "ramp": 150,  # 2.5 s at mu 0.3: sliding, the measured acceleration on the closed form
+    "dice": 40,  # 0.67 s: tumbling on the plane
+    "pile": 240,  # 2 s: the pile settling
 }
 #: Keys pressed on the first frame of a picture (a demo's own keys).
-KEYS = {"cloth": ("wind",)}
+KEYS = {"cloth": ("wind",), "ramp": ("smoother",) * 6}
 OUT = Path(__file__).parent.parent / "docs" / "figures"
 
 

@@ -225,8 +225,18 @@ def _size(scene: str, params: list[str]) -> float:
         return given["n"] * 200 + given["n"] ** 2
     if scene == "dice":
         return given["n"] * 200
-    if scene in ("single-box", "ramp"):
+    if scene in ("single-box", "ramp", "mass-ratio", "top-on-floor"):
         return 400.0
+    if scene == "card-house":  # 3 L (L + 1) / 2 - L cards, at 16 substeps of two passes
+        return (1.5 * given["levels"] * (given["levels"] + 1) - given["levels"]) * 800
+    if scene == "arch":
+        return 22 * 200.0
+    if scene == "domino":
+        return given["n"] * 200
+    if scene == "confined":  # n^2 circles, about 4 contacts each
+        return given["n"] ** 2 * 400
+    if scene == "overlap-recovery":
+        return given["base"] * (given["base"] + 1) / 2 * 200
     n = given.get("n", 1.0)
     return n * n if scene == "nbody" else max(n, 1.0)
 

@@ -56,11 +56,20 @@ const HASHES: &[(&str, u64)] = &[
     ("ramp", 0xf36466dc6ac98179),
     ("dice", 0x2f4d8d2fd0930ff6),
     ("box-stack", 0x23fdd53fbff5ff8d),
+    // The rest of Solver2D's contact scenes, and the top on the floor.
+    ("card-house", 0xcc71da5258508cad),
+    ("mass-ratio", 0x4e08a0c07fc13013),
+    ("arch", 0xa734c3429a2ba7e8),
+    ("domino", 0x0cf04112d3d344af),
+    ("confined", 0x3c90b23d6e53b116),
+    ("overlap-recovery", 0x125bedddd2c5ecc7),
+    ("top-on-floor", 0x4b68088eed394caa),
 ];
 
 /// The parameters a scene's hash is recorded with: its defaults, but for stiff-cloth, whose
 /// 12 x 12 default takes 12 s for 1,000 backward-Euler steps in the test profile (6 x 6: 1 s),
-/// pile (200 balls) and pyramid (10 rows, 55 boxes).
+/// pile (200 balls), pyramid (10 rows, 55 boxes) and confined (12 x 12 circles: 25 x 25 take
+/// 4 s).
 fn params(scene: &str) -> &'static [(&'static str, f64)] {
     if scene == "stiff-cloth" {
         &[("n", 6.0)]
@@ -68,6 +77,8 @@ fn params(scene: &str) -> &'static [(&'static str, f64)] {
         &[("n", 200.0)]
     } else if scene == "pyramid" {
         &[("rows", 10.0)]
+    } else if scene == "confined" {
+        &[("n", 12.0)]
     } else {
         &[]
     }

@@ -84,7 +84,22 @@ DEMOS: tuple[DemoEntry, ...] = (
         "boxes",
         "boxes",
         "BoxesDemo",
-        "a pyramid of solid boxes on the ground; b: drop a box, x: shoot one, n: substeps",
+        "a pyramid of solid boxes on the ground; b: drop a box, x: shoot one, n: substeps, c: solver",
+    ),
+    DemoEntry(
+        "ramp",
+        "ramp",
+        "RampDemo",
+        "a box on a tilted plank, sticking or sliding; a, f: angle, friction; the closed form in the HUD",
+    ),
+    DemoEntry(
+        "dice", "dice", "DiceDemo", "dice thrown spinning onto a plane in 3D; t: throw again, c: solver"
+    ),
+    DemoEntry(
+        "pile",
+        "pile",
+        "PileDemo",
+        "balls piling up in a box under gravity; hold the mouse to pour, b: drop a row, k: shake",
     ),
 )
 

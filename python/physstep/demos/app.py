@@ -152,11 +152,18 @@ class Runner:
                 p.world.dt = self.dt
 
     def next_loop(self) -> None:
-        """The next loop variant for every panel, the state carried over."""
+        """The next loop variant for every panel, the state carried over. A world that does
+        not rebuild from its pickle (a settled pile's balls a rounding into each other, which
+        the scene-file loader refuses) stops with the loader's reason; ``r`` restarts it."""
         self.loop = (self.loop + 1) % len(LOOPS)
         name, substeps = LOOPS[self.loop]
         for p in self.panels:
-            p.world = base.relooped(p.world, name, substeps)
+            if p.error:
+                continue
+            try:
+                p.world = base.relooped(p.world, name, substeps)
+            except ValueError as e:
+                p.error = _one_line(f"cannot change the loop variant: {e}")
 
     def single_step(self) -> None:
         """Pauses and takes one fixed step in every panel."""

@@ -233,6 +233,23 @@ def sweep_rows(world: physstep.World) -> list[tuple[str, str, tuple[int, int, in
     ]
 
 
+def contact_solver_names() -> list[str]:
+    """The contact solvers' names, in registry order (:func:`physstep.contact_solvers`)."""
+    return list(physstep.contact_solvers())
+
+
+def next_contact_solver(current: str, panels: list[Panel]) -> str:
+    """The contact solver after ``current`` in the registry (the first after the last; the
+    same one while there is one), set on every panel that still runs; returns its name."""
+    names = contact_solver_names()
+    k = names.index(current) if current in names else -1
+    name = names[(k + 1) % len(names)]
+    for p in panels:
+        if not p.error:
+            p.world.contact_solver = name
+    return name
+
+
 def font(size: int) -> pygame.font.Font:
     """pygame's default font at ``size`` px, loaded once per run (:func:`forget_fonts`)."""
     if size not in _FONTS:

@@ -33,10 +33,12 @@ class BoxesDemo(Demo):
         Key("drop", (pygame.K_b,), "b", "drop a box from above"),
         Key("shoot", (pygame.K_x,), "x", "shoot a box at the pyramid from the left"),
         Key("substeps", (pygame.K_n,), "n", "next substeps of the contact solver (8, 16, 2, 4)"),
+        Key("solver", (pygame.K_c,), "c", "next contact solver (physstep.contact_solvers())"),
     )
 
     def __init__(self) -> None:
         self.substeps = SUBSTEPS[0]
+        self.solver = base.contact_solver_names()[0]
         self.thrown = 0
 
     def world(self, method: str, dt: float) -> physstep.World:
@@ -49,6 +51,7 @@ class BoxesDemo(Demo):
                 x = (i - (k - 1) / 2) * (2 * HALF + 0.01)
                 w.add_solid(physstep.Box(HALF, HALF), position=[x, HALF + 2 * HALF * row])
         w.substeps = self.substeps
+        w.contact_solver = self.solver
         self.thrown = 0
         return w
 
@@ -56,6 +59,9 @@ class BoxesDemo(Demo):
         if action == "substeps":
             k = SUBSTEPS.index(self.substeps) if self.substeps in SUBSTEPS else -1
             self.substeps = SUBSTEPS[(k + 1) % len(SUBSTEPS)]
+        if action == "solver":
+            self.solver = base.next_contact_solver(self.solver, panels)
+            return
         for p in panels:
             if p.error:
                 continue
@@ -86,6 +92,7 @@ class BoxesDemo(Demo):
         touching = int(np.count_nonzero(c["depths"] >= 0.0))
         return [
             ("solids", f"{w.solid_count}", base.TEXT),
+            ("solver", f"{w.contact_solver} (c)", base.TEXT),
             ("substeps", f"{w.substeps} (n)", base.TEXT),
             ("contacts", f"{touching}", base.TEXT),
             ("penetration", f"{w.max_penetration * 1000:.2f} mm", base.TEXT),
@@ -105,7 +112,7 @@ class BoxesDemo(Demo):
         base.text(
             surf,
             base.font(18),
-            "b: drop a box, x: shoot one, n: substeps (2 sag and topple, 8 stand)",
+            "b: drop a box, x: shoot one, n: substeps (2 sag and topple, 8 stand), c: solver",
             (rect.x + 10, rect.y + 8),
             base.DIM,
         )

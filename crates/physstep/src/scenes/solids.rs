@@ -143,3 +143,288 @@ pub(super) fn dice(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     }
     Ok(None)
 }
+
+// The rest of Solver2D's contact scenes (Catto, Solver2D, 2024, and Box2D v3's samples, where
+// the scene is named after one), at their parameters unless a scene's doc says otherwise.
+
+/// `card-house`: Box2D v3's card house (from PEEL): `levels` (5) rows of cards 40 cm tall
+/// and 2 mm thick, leaning in pairs at 25 degrees with a card laid flat across each pair's
+/// top, friction 0.7, on a static ground box; stepped at 16 substeps of two passes.
+///
+/// # Errors
+/// As [`World::add_solid`]; `levels` above 100.
+pub(super) fn card_house(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let levels = count(v, "levels", 1)?;
+    if levels > 100 {
+        return Err(Error::invalid("levels", levels, "at most 100"));
+    }
+    gravity(w, v("g"))?;
+    // Cards 2 mm thick, started (as Box2D places them) up to 2 mm into the ground and into
+    // each other: at the default 8 substeps and one pass their contacts let the house creep
+    // and fall at about 3 s; at 16 substeps and two passes it stands.
+    w.set_substeps(16)?;
+    w.set_solver_iterations(2)?;
+    let mut ground =
+        SolidParams::new(Shape::Box { half: vec![40.0 + 0.35 * levels as f64, 2.0] }, &[0.0, -2.0]);
+    ground.kind = Kind::Static;
+    ground.friction = 0.7;
+    w.add_solid(ground)?;
+    let (height, thickness) = (0.2, 0.001);
+    let lean = 25.0_f64.to_radians();
+    let card = |w: &mut World, x: f64, y: f64, angle: f64| {
+        let mut c = SolidParams::new(Shape::Box { half: vec![thickness, height] }, &[x, y]);
+        c.orientation = vec![angle];
+        c.friction = 0.7;
+        w.add_solid(c)
+    };
+    let (mut x0, mut y) = (0.0, height - 0.02);
+    for row in 0..levels {
+        let n = levels - row;
+        let mut x = x0;
+        for i in 0..n {
+            if i + 1 != n {
+                card(w, x + 0.25, y + height - 0.015, std::f64::consts::FRAC_PI_2)?;
+            }
+            card(w, x, y, -lean)?;
+            x += 0.175;
+            card(w, x, y, lean)?;
+            x += 0.175;
+        }
+        y += 2.0 * height - 0.03;
+        x0 += 0.175;
+    }
+    Ok(None)
+}
+
+/// `mass-ratio`: Solver2D's "high mass ratio 2": a 20 m box resting on two unit boxes 18 m
+/// apart, `ratio` (100) times as heavy as each (Solver2D's is 400, dropped from 15 m: here
+/// it starts resting on them, 1 cm above, so the scene asks whether the light boxes hold it).
+///
+/// # Errors
+/// As [`World::add_solid`]; `ratio` outside [0.001, 10000].
+pub(super) fn mass_ratio(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let ratio = v("ratio");
+    if !(1e-3..=1e4).contains(&ratio) {
+        return Err(Error::invalid("ratio", crate::error::num(ratio), "from 0.001 to 10000"));
+    }
+    gravity(w, v("g"))?;
+    ground(w, 0.6)?;
+    for x in [-9.0, 9.0] {
+        unit_box(w, &[x, 0.5], 0.5)?;
+    }
+    let mut big = SolidParams::new(Shape::Box { half: vec![10.0, 10.0] }, &[0.0, 1.01 + 10.0]);
+    big.density = ratio / 400.0;
+    w.add_solid(big)?;
+    Ok(None)
+}
+
+/// Solver2D's arch: the inner and outer curves of its stones (before its scale of 0.25).
+const ARCH_INNER: [[f64; 2]; 9] = [
+    [16.0, 0.0],
+    [14.93803712795643, 5.133601056842984],
+    [13.79871746027416, 10.24928069555078],
+    [12.56252963284711, 15.34107019122473],
+    [11.20040987372525, 20.39856541571217],
+    [9.66521217819836, 25.40369899225096],
+    [7.87179930638133, 30.3179337000085],
+    [5.635199558196225, 35.03820717801641],
+    [2.405937953536585, 39.09554102558315],
+];
+const ARCH_OUTER: [[f64; 2]; 9] = [
+    [24.0, 0.0],
+    [22.33619528222415, 6.02299846205841],
+    [20.54936888969905, 12.00964361211476],
+    [18.60854610798073, 17.9470321677465],
+    [16.46769273811807, 23.81367936585418],
+    [14.05325025774858, 29.57079353071012],
+    [11.23551045834022, 35.13775818285372],
+    [7.752568160730571, 40.30450679009583],
+    [3.016931552701656, 44.28891593799322],
+];
+
+/// `arch`: Solver2D's arch: 17 stones (convex quadrilaterals, each side's 8 and the keystone)
+/// between two curves, 4 boxes (4 m x 1 m) stacked on the keystone, all of `friction` (0.6)
+/// on a static ground box. It stands by friction alone (at 0 it collapses).
+///
+/// # Errors
+/// As [`World::add_solid`].
+pub(super) fn arch(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let mu = v("friction");
+    gravity(w, v("g"))?;
+    ground(w, mu)?;
+    let s = 0.25;
+    let (p1, p2) = (ARCH_INNER.map(|p| [s * p[0], s * p[1]]), ARCH_OUTER.map(|p| [s * p[0], s * p[1]]));
+    let stone = |w: &mut World, corners: [[f64; 2]; 4]| {
+        let mut st = SolidParams::new(Shape::Polygon { points: corners.concat() }, &[0.0, 0.0]);
+        st.friction = mu;
+        w.add_solid(st)
+    };
+    let m = |p: [f64; 2]| [-p[0], p[1]];
+    for i in 0..8 {
+        stone(w, [p1[i], p2[i], p2[i + 1], p1[i + 1]])?;
+    }
+    for i in 0..8 {
+        stone(w, [m(p2[i]), m(p1[i]), m(p1[i + 1]), m(p2[i + 1])])?;
+    }
+    stone(w, [p1[8], p2[8], m(p2[8]), m(p1[8])])?;
+    for i in 0..4 {
+        let mut b = SolidParams::new(Shape::Box { half: vec![2.0, 0.5] }, &[0.0, 0.5 + p2[8][1] + i as f64]);
+        b.friction = mu;
+        w.add_solid(b)?;
+    }
+    Ok(None)
+}
+
+/// `domino`: Solver2D's "double domino": `n` (15) dominos 25 cm x 1 m, 1 m apart, friction
+/// 0.6; the first is pushed at its top (Solver2D's impulse of 0.2 N s along x, given as the
+/// velocity and spin it makes) and each knocks over the next.
+///
+/// # Errors
+/// As [`World::add_solid`]; `n` above [`MAX_SOLIDS`].
+pub(super) fn domino(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let n = count(v, "n", 1)?;
+    gravity(w, v("g"))?;
+    let reach = 0.5 * n as f64 + 10.0;
+    let mut floor = SolidParams::new(Shape::Box { half: vec![reach.max(100.0), 1.0] }, &[0.0, -1.0]);
+    floor.kind = Kind::Static;
+    floor.friction = 0.6;
+    w.add_solid(floor)?;
+    let (hx, hy, density) = (0.125, 0.5, 1.0);
+    let mass = density * 4.0 * hx * hy;
+    let inertia = mass * (4.0 * hx * hx + 4.0 * hy * hy) / 12.0;
+    // The impulse J = (0.2, 0) at the top, r = (0, hy) from the centre: dv = J / m,
+    // dw = (r x J) / I = -hy J / I.
+    let j = 0.2;
+    let mut x = -0.5 * n as f64;
+    for i in 0..n {
+        let mut d = SolidParams::new(Shape::Box { half: vec![hx, hy] }, &[x, hy]);
+        d.friction = 0.6;
+        d.density = density;
+        if i == 0 {
+            d.velocity = vec![j / mass, 0.0];
+            d.angular_velocity = vec![-hy * j / inertia];
+        }
+        w.add_solid(d)?;
+        x += 1.0;
+    }
+    Ok(None)
+}
+
+/// `confined`: Box2D v3's and Solver2D's confined circles: `n` x `n` (25 x 25) circles of
+/// radius 0.5 m on a grid 18/n m apart (overlapping: more circles than the box holds) in a
+/// closed 20 m box of capsule walls, without gravity. They push each other apart at most at
+/// the push speed and jam; nothing explodes.
+///
+/// # Errors
+/// As [`World::add_solid`]; `n` above 30 (the circles' area 1.8 times the box's).
+pub(super) fn confined(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let n = count(v, "n", 1)?;
+    if n > 30 {
+        return Err(Error::invalid("n", n, "at most 30 (900 circles of 0.5 m in a 20 m box)"));
+    }
+    for (a, b) in [
+        ([-10.5, 0.0], [10.5, 0.0]),
+        ([-10.5, 0.0], [-10.5, 20.5]),
+        ([10.5, 0.0], [10.5, 20.5]),
+        ([-10.5, 20.5], [10.5, 20.5]),
+    ] {
+        let mut wall =
+            SolidParams::new(Shape::Segment { a: a.to_vec(), b: b.to_vec(), radius: 0.5 }, &[0.0, 0.0]);
+        wall.kind = Kind::Static;
+        w.add_solid(wall)?;
+    }
+    let step = 18.0 / n as f64;
+    for col in 0..n {
+        for row in 0..n {
+            let at = [-8.75 + col as f64 * step, 1.5 + row as f64 * step];
+            w.add_solid(SolidParams::new(Shape::Circle { radius: 0.5 }, &at))?;
+        }
+    }
+    Ok(None)
+}
+
+/// `overlap-recovery`: Solver2D's: a pyramid of `base` (4) rows of unit boxes started
+/// overlapping their neighbours by `overlap` (0.25) of a side, on the ground; the contacts
+/// push them apart (at most at the push speed, 3 m/s) and they come to rest.
+///
+/// # Errors
+/// As [`World::add_solid`]; `overlap` above 0.5, too many boxes.
+pub(super) fn overlap_recovery(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let base = count(v, "base", 1)?;
+    if base.saturating_mul(base + 1) / 2 > MAX_SOLIDS {
+        return Err(Error::invalid("base", base, format!("at most {MAX_SOLIDS} boxes in all")));
+    }
+    let overlap = v("overlap");
+    if overlap > 0.5 {
+        return Err(Error::invalid("overlap", crate::error::num(overlap), "from 0 to 0.5 of a side"));
+    }
+    gravity(w, v("g"))?;
+    ground(w, 0.6)?;
+    let (extent, fraction) = (0.5, 1.0 - overlap);
+    let mut y = extent;
+    for i in 0..base {
+        let mut x = fraction * extent * (i as f64 - base as f64);
+        for _ in i..base {
+            unit_box(w, &[x, y], extent)?;
+            x += 2.0 * fraction * extent;
+        }
+        y += 2.0 * fraction * extent;
+    }
+    Ok(None)
+}
+
+/// The spinning top of `top-on-floor`, in its own frame (y its axis, the middle of its foot
+/// at the origin): the convex hull of a square foot of half side `foot` (a point, the tip,
+/// at 0), a rim of `TOP_SIDES` points of radius 10 cm 5 cm up and a crown of radius 6 cm
+/// 8 cm up.
+const TOP_SIDES: usize = 16;
+
+fn top_points(foot: f64) -> Vec<f64> {
+    let mut p = if foot > 0.0 {
+        vec![-foot, 0.0, -foot, foot, 0.0, -foot, foot, 0.0, foot, -foot, 0.0, foot]
+    } else {
+        vec![0.0, 0.0, 0.0]
+    };
+    for (r, y) in [(0.1, 0.05), (0.06, 0.08)] {
+        for k in 0..TOP_SIDES {
+            let a = std::f64::consts::TAU * k as f64 / TOP_SIDES as f64;
+            p.extend([r * a.cos(), y, r * a.sin()]);
+        }
+    }
+    p
+}
+
+/// `top-on-floor` (3D): a spinning top (a convex hull: a cone from a square foot of half
+/// side `foot` to a 20 cm rim, and a crown) standing on its foot on a plane, tilted by
+/// `tilt` and spun at `spin` about its axis, friction 0.3; friction at the foot's corners
+/// slows it down until it stops.
+///
+/// # Errors
+/// As [`World::add_solid`]; `foot` above 5 cm, `tilt` above 1.2 rad or `spin` above 1000
+/// rad/s either way.
+pub(super) fn top_on_floor(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
+    let (foot, tilt, spin) = (v("foot"), v("tilt"), v("spin"));
+    if foot > 0.05 {
+        return Err(Error::invalid("foot", crate::error::num(foot), "from 0 to 0.05 m"));
+    }
+    if tilt > 1.2 {
+        return Err(Error::invalid("tilt", crate::error::num(tilt), "from 0 to 1.2 rad"));
+    }
+    if spin.abs() > 1000.0 {
+        return Err(Error::invalid("spin", crate::error::num(spin), "at most 1000 rad/s either way"));
+    }
+    gravity(w, v("g"))?;
+    ground(w, 0.3)?;
+    let q = glam::DQuat::from_rotation_z(tilt);
+    let axis = q * glam::DVec3::Y;
+    // Tilted about the foot's edge at -x, which stays on the plane.
+    let pivot = glam::DVec3::new(-foot, 0.0, 0.0);
+    let at = pivot - q * pivot;
+    let mut top = SolidParams::new(Shape::Polygon { points: top_points(foot) }, &at.to_array());
+    top.orientation = vec![q.w, q.x, q.y, q.z];
+    top.angular_velocity = (axis * spin).to_array().to_vec();
+    top.friction = 0.3;
+    top.density = 1000.0;
+    w.add_solid(top)?;
+    Ok(None)
+}
