@@ -395,10 +395,11 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
 
     let mut bodies = std::mem::take(&mut solids.bodies);
     for _ in 0..n {
-        // Integrate velocities.
+        // Integrate velocities: gravity, and in space the gyroscopic term (implicit).
         for (b, m) in bodies.iter().zip(st.motion.iter_mut()) {
             if b.kind == Kind::Dynamic {
                 m.v += gravity * h;
+                m.w = S::gyroscopic(b.q, b.inv_i_local, m.w, h);
             }
         }
         if !joints.is_empty() {

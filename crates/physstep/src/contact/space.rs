@@ -166,6 +166,10 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     /// Solves `(Ia^-1 + Ib^-1) x = rhs` for an angular constraint; zero where singular.
     fn angular_solve(ia: Self::InvI, ib: Self::InvI, rhs: Self::W) -> Self::W;
 
+    /// The angular velocity after `h` of torque-free spin (`I w' = -w x I w`, the gyroscopic
+    /// term), by [`crate::rigid::orientation::implicit_gyroscopic_rate`] (stable at any
+    /// spin). Nothing in the plane (there `w x I w` is zero).
+    fn gyroscopic(q: Self::Rot, inv_i_local: Self::InvI, w: Self::W, h: f64) -> Self::W;
     /// The narrow phase's shape of a user's shape.
     ///
     /// # Errors
@@ -315,6 +319,9 @@ impl Space for Plane {
         c[0]
     }
 
+    fn gyroscopic(_q: f64, _inv_i_local: f64, w: f64, _h: f64) -> f64 {
+        w
+    }
     fn relative(a: f64, b: f64) -> f64 {
         b - a
     }
@@ -447,6 +454,13 @@ impl Space for Space3 {
         DQuat::from_xyzw(c[1], c[2], c[3], c[0])
     }
 
+    fn gyroscopic(q: DQuat, inv_i_local: DMat3, w: DVec3, h: f64) -> DVec3 {
+        if w == DVec3::ZERO || inv_i_local.determinant() <= 0.0 {
+            return w;
+        }
+        let wb = q.conjugate() * w;
+        q * (wb + crate::rigid::orientation::implicit_gyroscopic_rate(inv_i_local.inverse(), wb, h) * h)
+    }
     fn relative(a: DQuat, b: DQuat) -> DQuat {
         a.conjugate() * b
     }

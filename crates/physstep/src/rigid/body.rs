@@ -315,19 +315,8 @@ impl Bodies {
     /// frame, `d w = -h J^-1 (w1 x I w1)` with `J = I + h (skew(w1) I - skew(I w1))`,
     /// divided by `h`, the world's step (before the first step `h = 0`: the explicit term).
     fn implicit_gyroscopic(&self, b: usize, q: DQuat, spin: DVec3) -> DVec3 {
-        let (inertia, h) = (self.inertia[b], self.h);
-        let w = q.conjugate() * spin;
-        let iw = inertia * w;
-        let skew = |v: DVec3| {
-            glam::DMat3::from_cols(
-                DVec3::new(0.0, v.z, -v.y),
-                DVec3::new(-v.z, 0.0, v.x),
-                DVec3::new(v.y, -v.x, 0.0),
-            )
-        };
-        let i = glam::DMat3::from_diagonal(inertia);
-        let j = i + (skew(w) * i - skew(iw)) * h;
-        q * -(j.inverse() * w.cross(iw))
+        let i = glam::DMat3::from_diagonal(self.inertia[b]);
+        q * orientation::implicit_gyroscopic_rate(i, q.conjugate() * spin, self.h)
     }
 
     /// Drift: reference points by `P / m h`, orientations by the rule with the angular
