@@ -118,6 +118,22 @@ class Panel:
         return (e - self.e0) / (abs(self.e0) if abs(self.e0) >= 1e-12 else 1.0)
 
 
+def start_afresh(
+    panels: list[Panel],
+    build: Any,
+    method: str | None = None,
+    dt: float | None = None,
+) -> None:
+    """Each panel started afresh on the world ``build(method, dt)`` makes, under the panel's
+    game-loop variant; ``method`` and ``dt`` are each panel's own unless given."""
+    for k, p in enumerate(panels):
+        m, h = method or p.world.method, dt or p.world.dt
+        parts = p.world.__reduce__()[1][0]
+        w = relooped(build(m, h), parts["loop"], parts["substeps"])
+        panels[k] = Panel(w, physstep.method(m), None, colour=p.colour)
+        panels[k].e0 = panels[k].energy()
+
+
 class Demo:
     """A demo's description; subclasses set the attributes and fill :meth:`world` and :meth:`draw`."""
 

@@ -153,11 +153,7 @@ class ClothDemo(Demo):
         self.model = (self.model + 1) % len(MODELS)
         m = MODELS[self.model]
         method, dt = (m.method, m.dt) if m.method else (self.pbd or (self.methods[0], m.dt))
-        for k, p in enumerate(panels):
-            parts = p.world.__reduce__()[1][0]
-            w = base.relooped(self.world(method, dt), parts["loop"], parts["substeps"])
-            panels[k] = Panel(w, physstep.method(method), None, colour=p.colour)
-            panels[k].e0 = panels[k].energy()
+        base.start_afresh(panels, self.world, method, dt)
 
     def hud(self, panel: Panel) -> list[tuple[str, str, tuple[int, int, int]]]:
         m = MODELS[self.model]

@@ -77,12 +77,7 @@ class DiceDemo(Demo):
             self.solver = base.next_contact_solver(self.solver, panels)
         elif action == "throw":
             self.seed += 1
-            for k, p in enumerate(panels):
-                method, dt = p.world.method, p.world.dt
-                parts = p.world.__reduce__()[1][0]
-                w = base.relooped(self.world(method, dt), parts["loop"], parts["substeps"])
-                panels[k] = Panel(w, physstep.method(method), None, colour=p.colour)
-                panels[k].e0 = panels[k].energy()
+            base.start_afresh(panels, self.world)
         else:
             super().act(panels, action)
 

@@ -77,12 +77,7 @@ class RampDemo(Demo):
             return
         # A static plank does not turn: the scene is built afresh at the new angle and
         # friction, under each panel's method, dt and loop variant.
-        for k, p in enumerate(panels):
-            method, dt = p.world.method, p.world.dt
-            parts = p.world.__reduce__()[1][0]
-            w = base.relooped(self.world(method, dt), parts["loop"], parts["substeps"])
-            panels[k] = Panel(w, physstep.method(method), None, colour=p.colour)
-            panels[k].e0 = panels[k].energy()
+        base.start_afresh(panels, self.world)
 
     def down(self) -> np.ndarray:
         """Unit vector down the plank."""

@@ -538,6 +538,34 @@ fn limit_row(c: f64, cdot: f64, mass: f64, old: f64, inv_h: f64, soft: Option<So
     (new, new - old)
 }
 
+/// A value `x` along `dir` (at arms `arm` of `a` and `rb` of `b`) kept within `lo..hi`
+/// (either infinite: no limit): the two inequality rows of a slider's travel or a distance
+/// joint's lengths.
+#[allow(clippy::too_many_arguments)]
+fn limits<S: Space>(
+    ma: &mut Motion<S>,
+    mb: &mut Motion<S>,
+    (arm, rb, dir): (S::V, S::V, S::V),
+    x: f64,
+    (lo, hi): (f64, f64),
+    mass: f64,
+    imp: &mut Impulses<S>,
+    inv_h: f64,
+    soft: Option<Soft>,
+) {
+    let speed = |ma: &Motion<S>, mb: &Motion<S>| relative_velocity(ma, mb, arm, rb).dot(dir);
+    if lo > f64::NEG_INFINITY {
+        let (new, inc) = limit_row(x - lo, speed(ma, mb), mass, imp.lower, inv_h, soft);
+        imp.lower = new;
+        push(ma, mb, arm, rb, dir * inc);
+    }
+    if hi < f64::INFINITY {
+        let (new, inc) = limit_row(hi - x, -speed(ma, mb), mass, imp.upper, inv_h, soft);
+        imp.upper = new;
+        push(ma, mb, arm, rb, dir * -inc);
+    }
+}
+
 /// One pass over the joints: with `soft` (the joint stiffness; the solve pass) the errors
 /// are pulled toward zero, without (the relax pass) only the velocities are constrained.
 /// Springs act in both passes.
@@ -624,18 +652,8 @@ pub(crate) fn solve<S: Space>(joints: &mut [Joint<S>], motion: &mut [Motion<S>],
                         imp.axial += inc;
                         push(ma, mb, ra, rb, n * inc);
                     }
-                    if j.min_length > 0.0 {
-                        let (new, inc) =
-                            limit_row(len - j.min_length, vn(ma, mb), mass, imp.lower, inv_h, soft);
-                        imp.lower = new;
-                        push(ma, mb, ra, rb, n * inc);
-                    }
-                    if j.max_length < f64::INFINITY {
-                        let (new, inc) =
-                            limit_row(j.max_length - len, -vn(ma, mb), mass, imp.upper, inv_h, soft);
-                        imp.upper = new;
-                        push(ma, mb, ra, rb, n * -inc);
-                    }
+                    let lo = if j.min_length > 0.0 { j.min_length } else { f64::NEG_INFINITY };
+                    limits(ma, mb, (ra, rb, n), len, (lo, j.max_length), mass, imp, inv_h, soft);
                 } else {
                     let inc = -ms * mass * (vn(ma, mb) + rate * (len - j.length)) - is * imp.axial;
                     imp.axial += inc;
@@ -654,17 +672,7 @@ pub(crate) fn solve<S: Space>(joints: &mut [Joint<S>], motion: &mut [Motion<S>],
                     push(ma, mb, arm, rb, axis * (new - imp.motor));
                     imp.motor = new;
                 }
-                if j.lower > f64::NEG_INFINITY {
-                    let (new, inc) = limit_row(travel - j.lower, along(ma, mb), mass, imp.lower, inv_h, soft);
-                    imp.lower = new;
-                    push(ma, mb, arm, rb, axis * inc);
-                }
-                if j.upper < f64::INFINITY {
-                    let (new, inc) =
-                        limit_row(j.upper - travel, -along(ma, mb), mass, imp.upper, inv_h, soft);
-                    imp.upper = new;
-                    push(ma, mb, arm, rb, axis * -inc);
-                }
+                limits(ma, mb, (arm, rb, axis), travel, (j.lower, j.upper), mass, imp, inv_h, soft);
                 // Across the axis: the rows along the axis' normals, their impulses kept as
                 // one vector (so a turning frame of normals loses nothing).
                 let across = S::tangents(axis);
@@ -714,15 +722,7 @@ pub(crate) fn read<S: Space>(
 /// projection moves positions and orientations, not velocities, each in proportion to its
 /// inverse mass and inertia.
 pub(crate) fn project<S: Space>(joints: &[Joint<S>], bodies: &mut [Body<S>], passes: u32) {
-    let still = Motion::<S> {
-        v: S::V::default(),
-        w: S::W::default(),
-        dp: S::V::default(),
-        dq: S::no_delta(),
-        inv_mass: 0.0,
-        inv_i: S::no_inertia(),
-        moves: false,
-    };
+    let still = Motion::<S>::fixed();
     let motion = |bodies: &[Body<S>], i: Option<usize>| match i {
         Some(i) => Motion {
             moves: bodies[i].inv_mass > 0.0,

@@ -91,6 +91,21 @@ pub(crate) struct Motion<S: Space> {
     pub(crate) moves: bool,
 }
 
+impl<S: Space> Motion<S> {
+    /// What never moves (the world's end of a joint).
+    pub(crate) fn fixed() -> Self {
+        Self {
+            v: S::V::default(),
+            w: S::W::default(),
+            dp: S::V::default(),
+            dq: S::no_delta(),
+            inv_mass: 0.0,
+            inv_i: S::no_inertia(),
+            moves: false,
+        }
+    }
+}
+
 /// What a point carries to the next step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Warm<S: Space> {
@@ -374,15 +389,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     }
     if !joints.is_empty() {
         // The world, for joints to it: the last motion, which never moves.
-        st.motion.push(Motion {
-            v: S::V::default(),
-            w: S::W::default(),
-            dp: S::V::default(),
-            dq: S::no_delta(),
-            inv_mass: 0.0,
-            inv_i: S::no_inertia(),
-            moves: false,
-        });
+        st.motion.push(Motion::fixed());
     }
     for p in &mut st.points {
         let (ma, mb) = (&st.motion[p.a as usize], &st.motion[p.b as usize]);
