@@ -61,7 +61,8 @@ struct Point<S: Space> {
     total_normal: f64,
     total_friction: f64,
     max_normal: f64,
-    /// Normal speed when the step began (negative: closing).
+    /// The fastest closing normal speed of the step before the contact acted (negative:
+    /// closing): at the step's start, or in a substep's solve.
     approach: f64,
     friction: f64,
     restitution: f64,
@@ -513,6 +514,12 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
                 impulse_scale = k.impulse_scale;
             }
             let vn = relative_velocity(ma, mb, p.ra, p.rb).dot(p.normal);
+            if bias.is_some() && p.restitution > 0.0 {
+                // The speed a bouncing point arrives at: gravity keeps adding to it over the
+                // step's substeps until the contact stops it (the step's start undercounts
+                // it by up to g dt, a few % of a bounce's height).
+                p.approach = p.approach.min(vn);
+            }
             let imp = -p.normal_mass * (mass_scale * vn + vbias) - impulse_scale * p.normal_impulse;
             let new = (p.normal_impulse + imp).max(0.0);
             let imp = new - p.normal_impulse;
