@@ -30,14 +30,14 @@ FRAMES = {
     "ramp": 150,  # 2.5 s at mu 0.3: sliding, the measured acceleration on the closed form
     "dice": 40,  # 0.67 s: tumbling on the plane
     "pile": 240,  # 2 s: the pile settling
-    "bridge": 480,  # 8 s: the heavy box (dropped at 5 s) landed, the bridge sagging under it
+    "bridge": 480,  # 8 s: a box, a ball, the ragdoll (at 3.3 s) and the heavy box (5 s) on it
 }
 #: Keys pressed on the first frame of a picture (a demo's own keys).
 KEYS = {"cloth": ("wind",), "ramp": ("smoother",) * 6}
 #: Later in a picture: (frame, a demo's own key action, or a click at (x, y) as fractions of
 #: the panel).
 LATER: dict[str, tuple[tuple[int, str | tuple[float, float]], ...]] = {
-    "bridge": ((60, (0.3, 0.2)), (90, "shape"), (100, (0.7, 0.2)), (300, "heavy")),
+    "bridge": ((60, (0.3, 0.2)), (90, "shape"), (100, (0.7, 0.2)), (200, "ragdoll"), (300, "heavy")),
 }
 OUT = Path(__file__).parent.parent / "docs" / "figures"
 

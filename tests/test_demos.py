@@ -572,7 +572,7 @@ def test_bridge_sags_under_a_heavy_box_and_its_joints_hold() -> None:
     middle = hinges(w)[PLANKS // 2].copy()
     assert w.kinetic_energy() < 1e-2
     r.act("heavy")
-    assert w.solid_count == PLANKS + 2 and r.demo.dropped == [("heavy", 0.6)]
+    assert w.solid_count == PLANKS + 2 and r.demo.dropped == [("heavy", (0.6,))]
     worst, heights = 0.0, []
     for frame in range(600):  # 10 s: landed on the middle, the bridge swinging down under it
         r.update(1 / 60)
@@ -601,14 +601,37 @@ def test_bridge_click_drops_a_box_or_a_ball_at_the_pointer() -> None:
     w = r.panels[0].world
     n = w.solid_count
     np.testing.assert_allclose(w.solid_positions()[-1], want)
-    assert r.demo.dropped == [("box", 0.45)]
+    assert r.demo.dropped == [("box", (0.45,))]
     r.act("shape")
     r.handle(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=at))
     r.update(0.0)
     r.handle(pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=at))
-    assert w.solid_count == n + 1 and r.demo.dropped[-1] == ("ball", 0.4)
+    assert w.solid_count == n + 1 and r.demo.dropped[-1] == ("ball", (0.4,))
     r.handle(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=(rect.x - 5, rect.y + 5)))
     r.update(0.0)  # outside the panel: nothing
     assert w.solid_count == n + 1
     r.reset()  # a reset starts the bridge bare
     assert r.panels[0].world.solid_count == n - 1 and r.demo.dropped == []
+
+
+def test_bridge_ragdoll_lands_on_it_in_one_piece() -> None:
+    from physstep.demos.bridge import PLANKS, hinges
+
+    r = _runner("bridge")
+    for _ in range(600):  # 10 s: settled
+        r.update(1 / 60)
+    w = r.panels[0].world
+    solids, joints = w.solid_count, w.joint_count
+    r.act("ragdoll")  # the ragdoll-bodies scene's, its feet 2 m above the middle
+    assert (w.solid_count - solids, w.joint_count - joints) == (12, 11)
+    assert [k for k, _ in r.demo.dropped].count("capsule") == 11
+    worst = 0.0
+    for _ in range(360):  # 6 s: fallen onto the bridge, tumbled into its middle
+        r.update(1 / 60)
+        worst = max(worst, float(w.joint_errors()[joints:].max()))
+    assert worst < 0.02, worst  # its hinges held (5 mm at the landing)
+    h = hinges(w)
+    parts = w.solid_positions()[solids:]
+    under = np.interp(parts[:, 0], h[:, 0], h[:, 1])  # the planks' middle line below each part
+    assert np.all(parts[:, 1] > under), parts[:, 1] - under  # on the bridge, none through it
+    assert np.all(np.abs(parts[:, 0] - h[PLANKS // 2, 0]) < 4.0)

@@ -105,7 +105,7 @@ DEMOS: tuple[DemoEntry, ...] = (
         "bridge",
         "bridge",
         "BridgeDemo",
-        "planks hinged end to end; click: drop a box or ball (o), b: a heavy box, c: solver",
+        "planks hinged end to end; click: drop a box or ball (o), b: heavy box, d: ragdoll, c: solver",
     ),
 )
 
