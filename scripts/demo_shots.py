@@ -30,9 +30,15 @@ FRAMES = {
     "ramp": 150,  # 2.5 s at mu 0.3: sliding, the measured acceleration on the closed form
     "dice": 40,  # 0.67 s: tumbling on the plane
     "pile": 240,  # 2 s: the pile settling
+    "bridge": 480,  # 8 s: a box, a ball, the ragdoll (at 3.3 s) and the heavy box (5 s) on it
 }
 #: Keys pressed on the first frame of a picture (a demo's own keys).
 KEYS = {"cloth": ("wind",), "ramp": ("smoother",) * 6}
+#: Later in a picture: (frame, a demo's own key action, or a click at (x, y) as fractions of
+#: the panel).
+LATER: dict[str, tuple[tuple[int, str | tuple[float, float]], ...]] = {
+    "bridge": ((60, (0.3, 0.2)), (90, "shape"), (100, (0.7, 0.2)), (200, "ragdoll"), (300, "heavy")),
+}
 OUT = Path(__file__).parent.parent / "docs" / "figures"
 
 
@@ -43,11 +49,35 @@ def _press(key: app.Key) -> object:
     return pygame.event.Event(pygame.KEYDOWN, key=key.keys[0], mod=mod, unicode="", scancode=0)
 
 
+def _click(x: float, y: float) -> list[object]:
+    """A click at (x, y), fractions of the first panel: the button down, then up a frame on."""
+    import pygame
+
+    def at(r: app.Runner) -> tuple[int, int]:
+        rect = r.rects[0]
+        return (rect.x + round(x * rect.width), rect.y + round(y * rect.height))
+
+    def down(r: app.Runner) -> object:
+        return pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=at(r))
+
+    def up(r: app.Runner) -> object:
+        return pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=at(r))
+
+    return [down, up]
+
+
 def main(names: list[str]) -> None:
     for name in names or demos.names():
         path = OUT / f"demo-{name}.png"
         keys = demos.load(name).keys
         script = {1: [_press(next(k for k in keys if k.action == a)) for a in KEYS.get(name, ())]}
+        for frame, what in LATER.get(name, ()):
+            if isinstance(what, str):
+                script.setdefault(frame, []).append(_press(next(k for k in keys if k.action == what)))
+            else:
+                down, up = _click(*what)
+                script.setdefault(frame, []).append(down)
+                script.setdefault(frame + 1, []).append(up)
         summary = app.run(
             name, headless=True, frames=FRAMES.get(name, 600), screenshot=str(path), script=script
         )

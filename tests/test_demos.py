@@ -508,7 +508,7 @@ def test_pile_pours_drops_and_shakes_balls() -> None:
     assert r.panels[0].world.restitution == 0.2 and len(r.panels[0].world) == n
 
 
-@pytest.mark.parametrize("name", ["boxes", "ramp", "dice"])
+@pytest.mark.parametrize("name", ["boxes", "ramp", "dice", "bridge"])
 def test_the_solver_key_cycles_the_contact_solvers(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
     import physstep
     from physstep.demos import base
@@ -530,18 +530,108 @@ def test_the_solver_key_cycles_the_contact_solvers(name: str, monkeypatch: pytes
     assert panels[0].world.contact_solver == "a"
 
 
-def test_a_loop_change_a_world_cannot_take_stops_its_panel_in_one_line() -> None:
-    # A settled pile's balls rest a rounding into each other, which the scene-file loader
-    # behind a pickle refuses: the l key then stops that panel with the reason (r restarts
-    # it), where it raised out of the demo.
+def test_a_loop_change_carries_a_settled_pile_over_bitwise() -> None:
+    # A settled pile's balls rest a rounding into each other: the rebuild behind the loop
+    # change (the pickle's) takes them as they are, where it stopped the panel.
     r = _runner("pile")
     for _ in range(180):
         r.update(1 / 60)
+    before = r.panels[0].world.state_hash()
     r.next_loop()
     p = r.panels[0]
-    if p.error is not None:
-        assert p.error.startswith("cannot change the loop variant: ") and "\n" not in p.error
-        r.reset()
-        assert r.panels[0].error is None and r.panels[0].world.__reduce__()[1][0]["loop"] == app.LOOPS[1][0]
-    else:
-        assert p.world.__reduce__()[1][0]["loop"] == app.LOOPS[1][0]
+    assert p.error is None
+    assert p.world.__reduce__()[1][0]["loop"] == app.LOOPS[1][0] and p.world.state_hash() == before
+
+
+def test_a_loop_change_a_world_cannot_take_stops_its_panel_in_one_line(monkeypatch) -> None:
+    from physstep.demos import base
+
+    def refuse(*_: object) -> None:
+        raise ValueError("this World cannot be rebuilt\n(a second line)")
+
+    r = _runner("pile")
+    monkeypatch.setattr(base, "relooped", refuse)
+    r.next_loop()  # the l key: that panel stops with the reason (r restarts it), not a raise
+    p = r.panels[0]
+    assert p.error is not None and p.error.startswith("cannot change the loop variant: this World")
+    assert "\n" not in p.error
+    monkeypatch.undo()
+    r.reset()
+    assert r.panels[0].error is None and r.panels[0].world.__reduce__()[1][0]["loop"] == app.LOOPS[1][0]
+
+
+def test_bridge_sags_under_a_heavy_box_and_its_joints_hold() -> None:
+    from physstep.demos.bridge import PLANKS, hinges
+
+    r = _runner("bridge")
+    w = r.panels[0].world
+    assert w.solid_count == PLANKS + 1 and w.joint_count == PLANKS + 1  # the planks, the ground
+    for _ in range(600):  # 10 s: swung down from its arc into the catenary, settled
+        r.update(1 / 60)
+    w = r.panels[0].world
+    middle = hinges(w)[PLANKS // 2].copy()
+    assert w.kinetic_energy() < 1e-2
+    r.act("heavy")
+    assert w.solid_count == PLANKS + 2 and r.demo.dropped == [("heavy", (0.6,))]
+    worst, heights = 0.0, []
+    for frame in range(600):  # 10 s: landed on the middle, the bridge swinging down under it
+        r.update(1 / 60)
+        worst = max(worst, float(w.joint_errors().max()))
+        if frame >= 300:
+            heights.append(hinges(w)[PLANKS // 2][1])
+    box = w.solid_positions()[-1]
+    sag = middle[1] - float(np.mean(heights))  # over its last 5 s of swinging
+    assert sag > 0.4, sag  # the middle lower by its load (0.6 m)
+    assert abs(box[0] - middle[0]) < 1.0 and box[1] > hinges(w)[PLANKS // 2][1]  # on it, above
+    assert worst < 0.02, worst  # the hinges held (soft: 6 mm apart as the box lands)
+    rows = {label: value for label, value, _ in r.demo.hud(r.panels[0])}
+    assert rows["worst joint"] == f"{float(w.joint_errors().max()) * 1000:.2f} mm"
+    assert rows["step"].endswith(" ms")
+
+
+def test_bridge_click_drops_a_box_or_a_ball_at_the_pointer() -> None:
+    r = _runner("bridge")
+    rect = r.rects[0]
+    at = (rect.centerx + 40, rect.y + 60)
+    want = r.demo.to_world(rect, at, 2)
+    r.handle(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=at))
+    r.update(0.0)  # the frame after the click drops one solid, at rest where it was clicked
+    r.update(0.0)  # held down: no second one
+    r.handle(pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=at))
+    w = r.panels[0].world
+    n = w.solid_count
+    np.testing.assert_allclose(w.solid_positions()[-1], want)
+    assert r.demo.dropped == [("box", (0.45,))]
+    r.act("shape")
+    r.handle(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=at))
+    r.update(0.0)
+    r.handle(pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=at))
+    assert w.solid_count == n + 1 and r.demo.dropped[-1] == ("ball", (0.4,))
+    r.handle(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=(rect.x - 5, rect.y + 5)))
+    r.update(0.0)  # outside the panel: nothing
+    assert w.solid_count == n + 1
+    r.reset()  # a reset starts the bridge bare
+    assert r.panels[0].world.solid_count == n - 1 and r.demo.dropped == []
+
+
+def test_bridge_ragdoll_lands_on_it_in_one_piece() -> None:
+    from physstep.demos.bridge import PLANKS, hinges
+
+    r = _runner("bridge")
+    for _ in range(600):  # 10 s: settled
+        r.update(1 / 60)
+    w = r.panels[0].world
+    solids, joints = w.solid_count, w.joint_count
+    r.act("ragdoll")  # the ragdoll-bodies scene's, its feet 2 m above the middle
+    assert (w.solid_count - solids, w.joint_count - joints) == (12, 11)
+    assert [k for k, _ in r.demo.dropped].count("capsule") == 11
+    worst = 0.0
+    for _ in range(360):  # 6 s: fallen onto the bridge, tumbled into its middle
+        r.update(1 / 60)
+        worst = max(worst, float(w.joint_errors()[joints:].max()))
+    assert worst < 0.02, worst  # its hinges held (5 mm at the landing)
+    h = hinges(w)
+    parts = w.solid_positions()[solids:]
+    under = np.interp(parts[:, 0], h[:, 0], h[:, 1])  # the planks' middle line below each part
+    assert np.all(parts[:, 1] > under), parts[:, 1] - under  # on the bridge, none through it
+    assert np.all(np.abs(parts[:, 0] - h[PLANKS // 2, 0]) < 4.0)

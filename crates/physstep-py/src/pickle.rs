@@ -88,7 +88,7 @@ pub(crate) fn _world_from_scene(
     let mode =
         LoopMode::from_name(&text(&get("loop")?, "loop")?, get("substeps")?.extract()?).map_err(py_err)?;
     let mut engine =
-        physstep::scenes::file::parse_with_loop(&scene, "a pickled World", mode).map_err(py_err)?.world;
+        physstep::scenes::file::parse_structure(&scene, "a pickled World", mode).map_err(py_err)?.world;
     let slot = Slot::default();
     let flow = get("flow")?;
     let flow_spec = if flow.is_none() {

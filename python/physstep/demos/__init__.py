@@ -101,6 +101,12 @@ DEMOS: tuple[DemoEntry, ...] = (
         "PileDemo",
         "balls piling up in a box under gravity; hold the mouse to pour, b: drop a row, k: shake",
     ),
+    DemoEntry(
+        "bridge",
+        "bridge",
+        "BridgeDemo",
+        "planks hinged end to end; click: drop a box or ball (o), b: heavy box, d: ragdoll, c: solver",
+    ),
 )
 
 

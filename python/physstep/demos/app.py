@@ -152,9 +152,9 @@ class Runner:
                 p.world.dt = self.dt
 
     def next_loop(self) -> None:
-        """The next loop variant for every panel, the state carried over. A world that does
-        not rebuild from its pickle (a settled pile's balls a rounding into each other, which
-        the scene-file loader refuses) stops with the loader's reason; ``r`` restarts it."""
+        """The next loop variant for every panel, the state carried over (rebuilt from its
+        parts and snapshot, as a pickle is). A world that cannot be rebuilt so stops with the
+        reason in one line; ``r`` restarts it."""
         self.loop = (self.loop + 1) % len(LOOPS)
         name, substeps = LOOPS[self.loop]
         for p in self.panels:
@@ -196,7 +196,7 @@ class Runner:
                     break
         elif event.type == pygame.MOUSEBUTTONDOWN and event.button == 1 and self.demo.draggable:
             p, rect = self.panels[self.focus], self.rects[self.focus]
-            if not p.error and len(p.world):
+            if not p.error:  # a demo of solids (no particles) may pick too: bridge drops one
                 self.drag = self.demo.pick(rect, self._positions(p), event.pos)
                 self.drag_to = event.pos
         elif event.type == pygame.MOUSEMOTION and self.drag is not None:
@@ -299,13 +299,14 @@ class Runner:
             pygame.draw.rect(surf, base.PANEL, rect, border_radius=6)
             clip = surf.get_clip()
             surf.set_clip(rect)
-            self.demo.draw(surf, rect, p, self._positions(p))
+            x = self._positions(p)
+            self.demo.draw(surf, rect, p, x)
             if many:
                 self._caption(surf, rect, p)
             if p.error:
                 self._error(surf, rect, p.error)
-            if k == self.focus and self.drag is not None and self.drag_to is not None:
-                at = self.demo.to_screen(rect, self._positions(p)[self.drag])
+            if k == self.focus and self.drag is not None and self.drag_to is not None and self.drag < len(x):
+                at = self.demo.to_screen(rect, x[self.drag])
                 pygame.draw.line(surf, base.ACCENT, at, self.drag_to, 1)
                 pygame.draw.circle(surf, base.ACCENT, self.drag_to, 5, 1)
             surf.set_clip(clip)

@@ -21,15 +21,7 @@ impl World {
     /// as [`World::add_particle`], `position` when the ball would overlap another (touching
     /// is allowed) or stick out of the walls; the world is unchanged.
     pub fn add_ball(&mut self, position: &[f64], velocity: &[f64], radius: f64, mass: f64) -> Result<usize> {
-        collide::check_radius("radius", radius)?;
-        self.check_particles(position, Some(velocity), Some(&[mass]))?;
-        if position.len() != self.dim() {
-            return Err(Error::invalid(
-                "len(position)",
-                position.len(),
-                format!("{}, the dimension", self.dim()),
-            ));
-        }
+        self.check_ball(position, velocity, radius, mass)?;
         if let Some(w) = &self.balls.walls {
             collide::check_inside("position", position, radius, w)?;
         }
@@ -53,6 +45,40 @@ impl World {
                 ));
             }
         }
+        let i = self.add_particle(position, velocity, mass, false)?;
+        self.mark_ball(i, radius);
+        Ok(i)
+    }
+
+    /// The checks of [`World::add_ball`] that do not depend on the other balls or walls.
+    fn check_ball(&self, position: &[f64], velocity: &[f64], radius: f64, mass: f64) -> Result<()> {
+        collide::check_radius("radius", radius)?;
+        self.check_particles(position, Some(velocity), Some(&[mass]))?;
+        if position.len() != self.dim() {
+            return Err(Error::invalid(
+                "len(position)",
+                position.len(),
+                format!("{}, the dimension", self.dim()),
+            ));
+        }
+        Ok(())
+    }
+
+    /// [`World::add_ball`] taking the ball where it is: neither its overlap with the other
+    /// balls nor the walls are checked. For a world rebuilt from its own structure, the
+    /// snapshot then restored onto it (`scenes::file::parse_structure`): a run leaves
+    /// touching balls a rounding closer than their radii, which `add_ball` refuses.
+    ///
+    /// # Errors
+    /// As [`World::add_ball`] for `radius`, `position`, `velocity` and `mass` themselves.
+    pub(crate) fn add_ball_as_found(
+        &mut self,
+        position: &[f64],
+        velocity: &[f64],
+        radius: f64,
+        mass: f64,
+    ) -> Result<usize> {
+        self.check_ball(position, velocity, radius, mass)?;
         let i = self.add_particle(position, velocity, mass, false)?;
         self.mark_ball(i, radius);
         Ok(i)
@@ -220,6 +246,18 @@ impl World {
             )?;
         }
         self.balls.walls = Some(w);
+        Ok(())
+    }
+
+    /// [`World::add_walls`] leaving the balls where they are (a ball resting on a wall is a
+    /// rounding past it after a run): for a world rebuilt from its own structure, as
+    /// [`World::add_ball_as_found`].
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `lo` or `hi`, as [`World::add_walls`].
+    pub(crate) fn add_walls_as_found(&mut self, lo: &[f64], hi: &[f64]) -> Result<()> {
+        self.refuse_flow("walls")?;
+        self.balls.walls = Some(collide::check_walls(lo, hi, self.dim())?);
         Ok(())
     }
 

@@ -4,10 +4,13 @@ use crate::error::{num, Error, Result};
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-/// The document being read: its name and text (for line numbers).
+/// The document being read: its name and text (for line numbers), and whether it is a
+/// world's structure that a snapshot is restored onto (its balls are taken where the run left
+/// them: [`super::parse_structure`]).
 pub(super) struct Doc<'a> {
     pub file: &'a str,
     pub text: &'a str,
+    pub restoring: bool,
 }
 
 /// A table of the document with where it is and its path (`particles[2]`, empty at the top).

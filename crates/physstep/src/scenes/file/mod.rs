@@ -77,7 +77,7 @@ pub fn load(path: &std::path::Path) -> Result<SceneFile> {
 /// unknown key, a value of the wrong type or out of range (as the engine's checks say), a
 /// particle index that does not exist, a mesh that is not closed.
 pub fn parse(text: &str, file: &str) -> Result<SceneFile> {
-    read::scene(&doc::Doc { file, text }, None)
+    read::scene(&doc::Doc { file, text, restoring: false }, None)
 }
 
 /// [`parse`] with the game loop's variant `mode` in place of the text's own: a world rebuilt
@@ -86,5 +86,18 @@ pub fn parse(text: &str, file: &str) -> Result<SceneFile> {
 /// # Errors
 /// As [`parse`].
 pub fn parse_with_loop(text: &str, file: &str, mode: crate::clock::LoopMode) -> Result<SceneFile> {
-    read::scene(&doc::Doc { file, text }, Some(mode))
+    read::scene(&doc::Doc { file, text, restoring: false }, Some(mode))
+}
+
+/// [`parse_with_loop`] of a world's own [`structure`], to restore its snapshot onto (a pickle,
+/// a copy under another loop): the balls are taken where the run left them. A run leaves
+/// touching balls a rounding closer than their radii (a settled pile: about 1e-7 of a radius),
+/// a ball that has just landed deeper for a step, and a ball on a wall a rounding past it,
+/// which a scene file's balls may not be ([`World::add_ball`] refuses them): here neither
+/// the overlap nor the walls are checked; every other check is as [`parse`]'s.
+///
+/// # Errors
+/// As [`parse`], but for the balls' overlap and walls.
+pub fn parse_structure(text: &str, file: &str, mode: crate::clock::LoopMode) -> Result<SceneFile> {
+    read::scene(&doc::Doc { file, text, restoring: true }, Some(mode))
 }

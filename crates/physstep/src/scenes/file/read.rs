@@ -449,7 +449,11 @@ pub(super) fn particles(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Res
                 return Err(doc.err(at, &format!("{path}.static"), "a ball is made static by mass = inf"));
             }
             flush(w, &mut x, &mut v, &mut m, run_static)?;
-            w.add_ball(&pos, &vel, r, mass).map_err(field)?;
+            if doc.restoring {
+                w.add_ball_as_found(&pos, &vel, r, mass).map_err(field)?;
+            } else {
+                w.add_ball(&pos, &vel, r, mass).map_err(field)?;
+            }
             continue;
         }
         if fixed != run_static {
@@ -527,7 +531,8 @@ pub(super) fn collisions(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Re
         let wt = Table { table: wt, at: wat, path: "collisions.walls" };
         doc.keys(wt, &["lo", "hi"])?;
         let (lo, hi) = (doc.vec_req(wt, "lo", w.dim())?, doc.vec_req(wt, "hi", w.dim())?);
-        w.add_walls(&lo, &hi).map_err(|e| doc.engine(wat, "collisions.walls", e))?;
+        let added = if doc.restoring { w.add_walls_as_found(&lo, &hi) } else { w.add_walls(&lo, &hi) };
+        added.map_err(|e| doc.engine(wat, "collisions.walls", e))?;
     }
     Ok(())
 }
