@@ -118,6 +118,14 @@ class Panel:
         return (e - self.e0) / (abs(self.e0) if abs(self.e0) >= 1e-12 else 1.0)
 
 
+def box_corners(centre: Any, angle: float, hx: float, hy: float) -> np.ndarray:
+    """The four corners (4, 2) of a box of half extents ``hx``, ``hy`` at ``centre`` turned by
+    ``angle``, in order round it."""
+    c, s = math.cos(angle), math.sin(angle)
+    local = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]) * [hx, hy]
+    return np.asarray(centre) + local @ np.array([[c, s], [-s, c]])
+
+
 def start_afresh(
     panels: list[Panel],
     build: Any,

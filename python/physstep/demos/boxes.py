@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pygame
 
@@ -103,10 +101,8 @@ class BoxesDemo(Demo):
         ground = self.to_screen(rect, [0.0, 0.0])[1]
         pygame.draw.rect(surf, GROUND, (rect.x, ground, rect.width, rect.bottom - ground))
         pygame.draw.line(surf, base.DIM, (rect.x, ground), (rect.right, ground), 2)
-        corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]) * HALF
         for p, a in zip(w.solid_positions()[1:], w.solid_orientations()[1:], strict=True):
-            c, s = math.cos(a), math.sin(a)
-            pts = [self.to_screen(rect, p + [c * u - s * v, s * u + c * v]) for u, v in corners]
+            pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), HALF, HALF)]
             pygame.draw.polygon(surf, BOX, pts)
             pygame.draw.polygon(surf, EDGE, pts, 2)
         base.text(

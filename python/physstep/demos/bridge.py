@@ -31,15 +31,6 @@ DOLL, DOLL_EDGE = (120, 190, 140), (180, 235, 195)
 SHIN, THIGH, TORSO, UPPER_ARM, FOREARM, HEAD = 0.45, 0.45, 0.6, 0.3, 0.3, 0.25
 DOLL_DENSITY, DOLL_FRICTION, DOLL_SPIN = 200.0, 5.0, 1.0
 HINGE, GROUND = (235, 235, 240), (34, 38, 50)
-SQUARE = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
-
-
-def corners(centre: np.ndarray, angle: float, hx: float, hy: float) -> np.ndarray:
-    """The four corners (4, 2) of a box of half extents ``hx``, ``hy`` at ``centre`` turned by
-    ``angle``."""
-    c, s = math.cos(angle), math.sin(angle)
-    local = SQUARE * [hx, hy]
-    return centre + local @ np.array([[c, s], [-s, c]])
 
 
 def plank_ends(w: physstep.World) -> tuple[np.ndarray, np.ndarray]:
@@ -218,7 +209,7 @@ class BridgeDemo(Demo):
         pygame.draw.line(surf, base.DIM, (rect.x, ground), (rect.right, ground), 2)
         pos, ang = w.solid_positions(), w.solid_orientations()
         for p, a in zip(pos[:PLANKS], ang[:PLANKS], strict=True):
-            pts = [self.to_screen(rect, c) for c in corners(p, float(a), HALF_LENGTH, HALF_THICK)]
+            pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), HALF_LENGTH, HALF_THICK)]
             pygame.draw.polygon(surf, PLANK, pts)
             pygame.draw.polygon(surf, PLANK_EDGE, pts, 1)
         s = self.scale(rect)
@@ -233,14 +224,14 @@ class BridgeDemo(Demo):
                 continue
             if kind == "capsule":
                 hh, radius = size
-                pts = [self.to_screen(rect, c) for c in corners(p, float(a), radius, hh)]
+                pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), radius, hh)]
                 pygame.draw.polygon(surf, DOLL, pts)
                 r = max(1, round(radius * s))
                 for end in capsule_ends(p, float(a), hh):
                     pygame.draw.circle(surf, DOLL, self.to_screen(rect, end), r)
                 continue
             fill, edge = (HEAVY, HEAVY_EDGE) if kind == "heavy" else (BOX, BOX_EDGE)
-            pts = [self.to_screen(rect, c) for c in corners(p, float(a), size[0], size[0])]
+            pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), size[0], size[0])]
             pygame.draw.polygon(surf, fill, pts)
             pygame.draw.polygon(surf, edge, pts, 2)
         points = hinges(w)

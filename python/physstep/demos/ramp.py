@@ -127,9 +127,7 @@ class RampDemo(Demo):
             q = along * (0.5 * k) + normal * (PLANK - 0.12)
             pygame.draw.line(surf, MARK, self.to_screen(rect, p), self.to_screen(rect, q), 2)
         # The box.
-        cb, sb = math.cos(turn), math.sin(turn)
-        sq = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]) * HALF
-        pts = [self.to_screen(rect, box + [cb * u - sb * v, sb * u + cb * v]) for u, v in sq]
+        pts = [self.to_screen(rect, c) for c in base.box_corners(box, turn, HALF, HALF)]
         pygame.draw.polygon(surf, BOX, pts)
         pygame.draw.polygon(surf, EDGE, pts, 2)
         base.text(
