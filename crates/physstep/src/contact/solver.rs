@@ -2,20 +2,23 @@
 //! the integrators are). The one here is Box2D v3's soft step (Catto, "Solver2D", 2024):
 //!
 //! ```text
-//! collide     boxes widened by the speculative distance, sweep and prune, parry's manifolds;
-//!             each point: arms from the centres, effective masses, the normal speed before
-//!             the step (for restitution), last step's impulses matched by feature id
+//! collide     boxes widened by the speculative distance, sweep and prune (pairs joined by a
+//!             joint left out), parry's manifolds; each point: arms from the centres,
+//!             effective masses, the normal speed before the step (for restitution), last
+//!             step's impulses matched by feature id; each joint: its arms and frames
 //! substep     h = dt / substeps, `substeps` times:
-//!   integrate   v += h g (dynamic solids)
-//!   warm start  the accumulated impulses applied again
-//!   solve       each point: the normal impulse with a soft bias toward zero separation
-//!               (a spring of `contact_hertz`, damping ratio `damping_ratio`, pushing at most
-//!               `push_speed`); the separation kept current by the bodies' motion since the
-//!               step began (no new narrow phase); friction clamped to mu times the normal
+//!   integrate   v += h g (dynamic solids); in space the gyroscopic term, implicit
+//!   warm start  the accumulated impulses applied again (joints', then contacts')
+//!   solve       the joints' rows (joint.rs), then each point: the normal impulse with a soft
+//!               bias toward zero separation (a spring of `contact_hertz`, damping ratio
+//!               `damping_ratio`, pushing at most `push_speed`); the separation kept current
+//!               by the bodies' motion since the step began (no new narrow phase); friction
+//!               clamped to mu times the normal
 //!   drift       x += h v, the orientation turned exactly by h w
 //!   relax       the same without the bias (the velocity the soft push left removed)
-//! restitution the normal speed set to -e times its value before the step (where it was
-//!             faster than `restitution_threshold`)
+//! restitution the normal speed set to -e times the fastest it closed at before the contact
+//!             acted (where that was faster than `restitution_threshold`)
+//! project     optionally (`joint_projection`), jointed solids moved back together
 //! ```
 //!
 //! A point that is apart is speculative: it lets the bodies close the gap in one step and no
