@@ -9,7 +9,7 @@
 //! substep     h = dt / substeps, `substeps` times:
 //!   integrate   v += h g (dynamic solids); in space the gyroscopic term, implicit
 //!   warm start  the accumulated impulses applied again (joints', then contacts')
-//!   solve       the joints' rows (joint.rs), then each point: the normal impulse with a soft
+//!   solve       the joints' rows (joint/rows.rs), then each point: the normal impulse with a soft
 //!               bias toward zero separation (a spring of `contact_hertz`, damping ratio
 //!               `damping_ratio`, pushing at most `push_speed`); the separation kept current
 //!               by the bodies' motion since the step began (no new narrow phase); friction

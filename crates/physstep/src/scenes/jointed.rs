@@ -36,7 +36,7 @@ pub(super) fn bridge(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
         return Err(crate::error::Error::invalid(
             "span",
             crate::error::num(v("span")),
-            format!("{least:.3} (a half circle) to 1 (taut)"),
+            format!("at least {least:.3} (a half circle) and below 1 (taut)"),
         ));
     }
     let (mut lo, mut hi) = (0.0, std::f64::consts::PI / n as f64);
