@@ -125,6 +125,9 @@ pub(crate) struct Body<S: Space> {
     pub inv_mass: f64,
     /// Inverse inertia in the body's frame.
     pub inv_i_local: S::InvI,
+    /// Inertia in the body's frame (zero for a solid that does not turn): kept so that the
+    /// substeps' gyroscopic term does not invert it again and again.
+    pub i_local: S::InvI,
     /// Centre of mass in the shape's frame.
     pub com: S::V,
     /// Dynamic, static or kinematic.
@@ -297,6 +300,7 @@ impl<S: Space> Solids<S> {
             w: S::W::read(&p.angular_velocity),
             inv_mass: if dynamic { 1.0 / mass } else { 0.0 },
             inv_i_local: if dynamic { inv_i } else { S::no_inertia() },
+            i_local: if dynamic { S::inertia(inv_i) } else { S::no_inertia() },
             com,
             kind: p.kind,
         };

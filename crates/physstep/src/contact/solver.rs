@@ -410,7 +410,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         for (b, m) in bodies.iter().zip(st.motion.iter_mut()) {
             if b.kind == Kind::Dynamic {
                 m.v += gravity * h;
-                m.w = S::gyroscopic(b.q, b.inv_i_local, m.w, h);
+                m.w = S::gyroscopic(b.q, b.i_local, m.w, h);
             }
         }
         if !joints.is_empty() {

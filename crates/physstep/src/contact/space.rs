@@ -167,9 +167,12 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     fn angular_solve(ia: Self::InvI, ib: Self::InvI, rhs: Self::W) -> Self::W;
 
     /// The angular velocity after `h` of torque-free spin (`I w' = -w x I w`, the gyroscopic
-    /// term), by [`crate::rigid::orientation::implicit_gyroscopic_rate`] (stable at any
+    /// term) of a solid of inertia `i_local` in its frame ([`Space::inertia`]), by [`crate::rigid::orientation::implicit_gyroscopic_rate`] (stable at any
     /// spin). Nothing in the plane (there `w x I w` is zero).
-    fn gyroscopic(q: Self::Rot, inv_i_local: Self::InvI, w: Self::W, h: f64) -> Self::W;
+    fn gyroscopic(q: Self::Rot, i_local: Self::InvI, w: Self::W, h: f64) -> Self::W;
+    /// The inertia of an inverse inertia (in a body's frame): its inverse, or zero where it is
+    /// singular (a solid that does not turn).
+    fn inertia(inv_i: Self::InvI) -> Self::InvI;
     /// The narrow phase's shape of a user's shape.
     ///
     /// # Errors
@@ -319,8 +322,15 @@ impl Space for Plane {
         c[0]
     }
 
-    fn gyroscopic(_q: f64, _inv_i_local: f64, w: f64, _h: f64) -> f64 {
+    fn gyroscopic(_q: f64, _i_local: f64, w: f64, _h: f64) -> f64 {
         w
+    }
+    fn inertia(inv_i: f64) -> f64 {
+        if inv_i > 0.0 {
+            1.0 / inv_i
+        } else {
+            0.0
+        }
     }
     fn relative(a: f64, b: f64) -> f64 {
         b - a
@@ -454,12 +464,19 @@ impl Space for Space3 {
         DQuat::from_xyzw(c[1], c[2], c[3], c[0])
     }
 
-    fn gyroscopic(q: DQuat, inv_i_local: DMat3, w: DVec3, h: f64) -> DVec3 {
-        if w == DVec3::ZERO || inv_i_local.determinant() <= 0.0 {
+    fn gyroscopic(q: DQuat, i_local: DMat3, w: DVec3, h: f64) -> DVec3 {
+        if w == DVec3::ZERO || i_local == DMat3::ZERO {
             return w;
         }
         let wb = q.conjugate() * w;
-        q * (wb + crate::rigid::orientation::implicit_gyroscopic_rate(inv_i_local.inverse(), wb, h) * h)
+        q * (wb + crate::rigid::orientation::implicit_gyroscopic_rate(i_local, wb, h) * h)
+    }
+    fn inertia(inv_i: DMat3) -> DMat3 {
+        if inv_i.determinant() > 0.0 {
+            inv_i.inverse()
+        } else {
+            DMat3::ZERO
+        }
     }
     fn relative(a: DQuat, b: DQuat) -> DQuat {
         a.conjugate() * b
