@@ -108,20 +108,11 @@ def test_ctrl_c_interrupts_a_long_step_after_its_last_whole_step() -> None:
     assert p.returncode == 0
 
 
-#: The bound a Ctrl-C must be heard within (s), given generously: a hang or a wait for the
-#: step to end (a step of 20,000 bodies takes a second or more, and 64 of them ran before a
-#: look) fails it, a slow machine does not.
-HEARD = 10.0
-
-
-def _interrupt_when(p: subprocess.Popen[str], sign: str) -> tuple[str, str, float]:
-    """Sends SIGINT once the child printed ``sign`` on stderr; its output and how long it took
-    to end after the signal."""
-    import time
-
+def _interrupt_when(p: subprocess.Popen[str], sign: str) -> tuple[str, str]:
+    """Sends SIGINT once the child printed ``sign`` on stderr; its output (a child that does
+    not end within HANG seconds of the signal fails the test: it did not hear it)."""
     assert p.stderr is not None
     assert p.stderr.readline().strip() == sign
-    sent = time.monotonic()
     p.send_signal(signal.SIGINT)
     try:
         out, err = p.communicate(timeout=HANG)
@@ -129,16 +120,18 @@ def _interrupt_when(p: subprocess.Popen[str], sign: str) -> tuple[str, str, floa
         if p.poll() is None:
             p.kill()
             p.wait()
-    return out, err, time.monotonic() - sent
+    return out, err
 
 
 def test_ctrl_c_is_heard_inside_one_long_step_of_n_body_gravity() -> None:
-    # One step of 20,000 bodies is 2e8 pairs: Ctrl-C is heard between pair blocks, the step
-    # rolled back bitwise, KeyboardInterrupt raised at once.
+    # ONE step of 40,000 bodies (8e8 pairs, seconds of work): the signal arrives while it
+    # runs, and is heard between pair blocks: the step is rolled back bitwise (no step
+    # counted, the positions and velocities those before it) and KeyboardInterrupt raised.
+    # A signal heard only when the step ended would leave one step counted.
     code = (
         "import sys, threading, physstep\n"
-        "w = physstep.World.from_scene('nbody', 'leapfrog', 0.001, params={'n': 20000})\n"
-        "x0 = w.positions.copy()\n"
+        "w = physstep.World.from_scene('nbody', 'leapfrog', 0.001, params={'n': 40000})\n"
+        "x0, v0 = w.positions.copy(), w.velocities.copy()\n"
         "def probe():\n"
         "    while True:\n"
         "        try:\n"
@@ -148,16 +141,11 @@ def test_ctrl_c_is_heard_inside_one_long_step_of_n_body_gravity() -> None:
         "            return\n"
         "threading.Thread(target=probe, daemon=True).start()\n"
         "try:\n"
-        "    while True:\n"
-        "        try:\n"
-        "            w.step(100)\n"
-        "        except physstep.WorldBusyError:\n"
-        "            continue\n"
+        "    w.step(1)\n"
+        "    print('finished the step', w.steps, flush=True)\n"
         "except KeyboardInterrupt:\n"
-        "    fresh = physstep.World.from_scene('nbody', 'leapfrog', 0.001, params={'n': 20000})\n"
-        "    fresh.step(w.steps) if w.steps else None\n"
-        "    same = (w.positions == fresh.positions).all() and (w.velocities == fresh.velocities).all()\n"
-        "    print('interrupted', w.steps < 100, bool(same), flush=True)\n"
+        "    same = (w.positions == x0).all() and (w.velocities == v0).all()\n"
+        "    print('interrupted', w.steps, bool(same), flush=True)\n"
     )
     p = subprocess.Popen(
         [sys.executable, "-c", code],
@@ -166,9 +154,8 @@ def test_ctrl_c_is_heard_inside_one_long_step_of_n_body_gravity() -> None:
         text=True,
         preexec_fn=sigint_default,
     )
-    out, err, took = _interrupt_when(p, "stepping")
-    assert out.strip() == "interrupted True True", err
-    assert took < HEARD, took
+    out, err = _interrupt_when(p, "stepping")
+    assert out.strip() == "interrupted 0 True", err
 
 
 def test_the_command_line_exits_130_at_the_first_ctrl_c_inside_a_long_step() -> None:
@@ -191,10 +178,11 @@ def test_the_command_line_exits_130_at_the_first_ctrl_c_inside_a_long_step() -> 
         text=True,
         preexec_fn=sigint_default,
     )
-    out, err, took = _interrupt_when(p, "stepping")
+    # (The whole run is a thousand such steps, far beyond HANG: only a signal heard during
+    # the run ends it in time.)
+    out, err = _interrupt_when(p, "stepping")
     assert p.returncode == 130, (p.returncode, err)
     assert err == "physstep: interrupted\n" and out == ""
-    assert took < HEARD, took
 
 
 def test_ctrl_c_inside_a_python_force_of_a_watched_call_is_not_lost() -> None:
