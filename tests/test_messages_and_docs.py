@@ -54,6 +54,16 @@ def test_scenes_that_lose_energy_by_design_report_the_energy_lost() -> None:
     assert "energy lost" in run_cli("run", "stiff-chain", "--until", "2").stdout
 
 
+def test_a_scene_whose_contacts_push_solids_apart_reports_the_energy_gained_not_an_error() -> None:
+    # `confined` starts its circles overlapping, without gravity, from rest (E0 = 0 J): the
+    # contacts push them apart; it read "max error 8.73e+04 J".
+    en = _summary("confined", "--param", "n=20", "--until", "0.5")["energy"]
+    assert en["dissipation"] == "contacts pushing apart" and en["initial"] == 0 and en["lost"] < 0
+    text = " ".join(run_cli("run", "confined", "--param", "n=20", "--until", "0.5").stdout.split())
+    assert f"energy gained {-en['lost']:.3g} J: contacts pushing apart; at most" in text
+    assert "error" not in text
+
+
 def test_the_energy_scale_says_what_it_is() -> None:
     traj = physstep.simulate("chain", "velocity-verlet", 0.001, 0.5)
     assert abs(traj.energy[0]) < 1e-20  # released from the height of its pivot
