@@ -312,8 +312,9 @@ pub(super) fn domino(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
 
 /// `confined`: Box2D v3's and Solver2D's confined circles: `n` x `n` (25 x 25) circles of
 /// radius 0.5 m on a grid 18/n m apart (overlapping: more circles than the box holds) in a
-/// closed 20 m box of capsule walls, without gravity. They push each other apart at most at
-/// the push speed and jam; nothing explodes.
+/// closed 20 m box of capsule walls, without gravity. Each contact pushes its pair apart at
+/// most at the push speed (a row of overlaps adds them up: the first circles leave at up to
+/// 32 m/s); they hit the walls, jam and come to rest.
 ///
 /// # Errors
 /// As [`World::add_solid`]; `n` above 30 (the circles' area 1.8 times the box's).
