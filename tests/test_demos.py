@@ -355,6 +355,24 @@ def test_every_scene_file_runs_in_the_scene_demo(path: Path, tmp_path) -> None:
     _assert_not_blank(shot)
 
 
+@pytest.mark.parametrize(("stem", "least"), [("ramp", 5000), ("top-on-floor", 100), ("dice", 100)])
+def test_the_scene_demo_draws_a_files_solids(stem: str, least: int, tmp_path) -> None:
+    # The solids' shapes come from the file (a box on its ramp, a top's hull, dice as wire
+    # boxes), in the dynamic solids' colour; before, a file of solids drew none of them.
+    from physstep.demos import scene_solids
+
+    path = Path(__file__).parent.parent / "examples" / "scenes" / f"{stem}.toml"
+    shot = str(tmp_path / "shot.png")
+    app.run(scene=str(path), headless=True, frames=3, screenshot=shot)
+    px = _pixels(shot).reshape(-1, 3)
+    dim = 2 if stem == "ramp" else 3
+    colour = scene_solids.DYNAMIC if dim == 2 else scene_solids.DYNAMIC_EDGE
+    drawn = int(np.count_nonzero((px == colour).all(axis=1)))
+    assert drawn > least, drawn
+    if stem == "ramp":  # the ramp itself, static: cut to the panel, not bent by pixel clipping
+        assert int(np.count_nonzero((px == scene_solids.STILL).all(axis=1))) > 5000
+
+
 @pytest.mark.parametrize("stem", ["chain", "top", "lorenz"])
 def test_the_scene_demo_takes_every_key_and_a_drag(stem: str, tmp_path) -> None:
     path = Path(__file__).parent.parent / "examples" / "scenes" / f"{stem}.toml"

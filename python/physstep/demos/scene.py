@@ -21,7 +21,7 @@ import numpy as np
 import pygame
 
 import physstep
-from physstep.demos import base
+from physstep.demos import base, scene_solids
 from physstep.demos.balls import PULL_SPEED, PULL_TIME
 from physstep.demos.base import Demo, Panel
 from physstep.demos.racket import AXIS_COLOURS, rotation
@@ -128,12 +128,17 @@ class SceneDemo(Demo):
             ]
             self.body_halves = [_box_half(b.get("shape", {})) for b in doc.get("bodies", [])]
             self.pivots = [b.get("pivot") for b in doc.get("bodies", [])]
+            self.solids = scene_solids.read(doc)
             self.flow = str(doc["flow"]["kind"]) if "flow" in doc else None
             self.no_energy = "none (a flow)" if self.flow is not None else "unknown"
             gravity = [f["g"] for f in doc.get("forces", []) if f["kind"] == "gravity"]
             up = -np.array(gravity[0], dtype=float) if gravity and self.dim == 3 else np.zeros(3)
             if not np.any(up):
-                up = np.array([0.0, 0.0, 1.0]) if self.body_halves else np.array([0.0, 1.0, 0.0])
+                up = (
+                    np.array([0.0, 0.0, 1.0])
+                    if self.body_halves and not self.solids
+                    else np.array([0.0, 1.0, 0.0])
+                )
             self.camera = _camera(up / np.linalg.norm(up))
             self._fit(world)
             self._fitted_text = text
@@ -189,6 +194,17 @@ class SceneDemo(Demo):
             for c in np.array(w.body_positions()):
                 for d in np.vstack([np.eye(3), -np.eye(3)]):
                     pts.append(self.plane(c + reach * 1.2 * d))
+        if w.solid_count:
+            # The dynamic solids (a static ground 200 m wide would shrink the rest to dots),
+            # or the static ones where nothing moves.
+            moving = [k for k, s in enumerate(self.solids) if s.dynamic] or range(len(self.solids))
+            centres = np.array(w.solid_positions())
+            for k in moving:
+                r = scene_solids.reach(self.solids[k].shape)
+                if r is not None and k < len(centres):
+                    # Room around each (a lone box on a ramp shows the ramp, not only itself).
+                    for d in np.vstack([np.eye(self.dim), -np.eye(self.dim)]):
+                        pts.append(self.plane(centres[k] + 3 * r * d))
         return pts
 
     def _fit(self, world: physstep.World) -> None:
@@ -204,7 +220,7 @@ class SceneDemo(Demo):
             lo, hi = np.array(walls[0], dtype=float), np.array(walls[1], dtype=float)
             pts += [self.plane(np.where(bits[: self.dim], hi, lo)) for bits in _CORNERS]
         w = copy.copy(world)
-        cap = max(FIT_STEPS, FIT_WORK // max(1, len(w) + w.body_count))
+        cap = max(FIT_STEPS, FIT_WORK // max(1, len(w) + w.body_count + w.solid_count))
         if physstep.method(w.method).implicit:
             cap = FIT_STEPS_IMPLICIT
         n = min(cap, math.ceil(min(FIT_TIME, self.until) / w.dt))
@@ -246,9 +262,13 @@ class SceneDemo(Demo):
         return self._screen(rect, self.plane(p))
 
     def _screen(self, rect: pygame.Rect, q: tuple[float, float]) -> tuple[int, int]:
-        s, c, r = self.scale(rect), self.bounds[0], self.area(rect)
-        px, py = r.centerx + (q[0] - c[0]) * s, r.centery - (q[1] - c[1]) * s
+        px, py = self._pixel(rect, q)
         return (int(base._clip(px)), int(base._clip(py)))
+
+    def _pixel(self, rect: pygame.Rect, q: tuple[float, float]) -> tuple[float, float]:
+        """Plane point ``q`` in pixels, unclipped."""
+        s, c, r = self.scale(rect), self.bounds[0], self.area(rect)
+        return r.centerx + (q[0] - c[0]) * s, r.centery - (q[1] - c[1]) * s
 
     def to_world(self, rect: pygame.Rect, pos: tuple[int, int], dim: int) -> np.ndarray:
         s, c, r = self.scale(rect), self.bounds[0], self.area(rect)
@@ -289,6 +309,11 @@ class SceneDemo(Demo):
             return [self.plane(x[-1])]
         pts = [self.plane(p) for k, p in enumerate(x) if k not in self.static]
         pts += [self.plane(c) for c in np.array(w.body_positions())] if w.body_count else []
+        if w.solid_count:
+            centres = np.array(w.solid_positions())
+            pts += [
+                self.plane(centres[k]) for k, s in enumerate(self.solids) if s.dynamic and k < len(centres)
+            ]
         return pts if len(pts) <= TRAIL_MAX else []
 
     def record(self, panel: Panel, x: np.ndarray) -> None:
@@ -320,6 +345,7 @@ class SceneDemo(Demo):
         ):
             if n:
                 rows.append((word, f"{n}", base.TEXT))
+        rows += scene_solids.hud_rows(w)
         if w.constraint_count:
             rows.append(("violation", f"{w.constraint_violation():.2e} m (max)", base.TEXT))
         if len(w) and self.flow is None and np.any(w.radii > 0):
@@ -338,6 +364,7 @@ class SceneDemo(Demo):
             self._draw_trails(surf, rect, panel)
             self._draw_links(surf, rect, x)
             self._draw_bodies(surf, rect, panel)
+            self._draw_solids(surf, rect, w)
             self._draw_particles(surf, rect, w, x)
         title = self.title
         while len(title) > 4 and f.size(title)[0] > rect.width - 20:
@@ -466,6 +493,19 @@ class SceneDemo(Demo):
             if pivot is not None:
                 p = self.to_screen(rect, c + r @ np.array(pivot, dtype=float))
                 pygame.draw.rect(surf, base.ACCENT, pygame.Rect(p[0] - 5, p[1] - 5, 10, 10), 2)
+
+    def _draw_solids(self, surf: pygame.Surface, rect: pygame.Rect, w: physstep.World) -> None:
+        """The solids, their shapes read from the file."""
+        if not w.solid_count:
+            return
+        scale, extent = self.scale(rect), float(max(self.bounds[1]))
+        screen = lambda p: self.to_screen(rect, p)  # noqa: E731
+        if self.dim == 2:
+            pixel = lambda p: self._pixel(rect, self.plane(p))  # noqa: E731
+            scene_solids.draw_2d(surf, screen, pixel, self.area(rect), scale, self.solids, w, extent)
+        else:
+            wire = lambda corners, colour: self._wire(surf, rect, corners, colour)  # noqa: E731
+            scene_solids.draw_3d(surf, screen, scale, wire, self.solids, w, extent)
 
     def _draw_particles(
         self, surf: pygame.Surface, rect: pygame.Rect, w: physstep.World, x: np.ndarray
