@@ -18,6 +18,7 @@ bash scripts/check-wheel.sh
 "$VENV/bin/ruff" check python tests scripts bench examples build_backend
 "$VENV/bin/ruff" format --check python tests scripts bench examples build_backend
 "$VENV/bin/python" -m mypy.stubtest physstep._core
+"$VENV/bin/python" -m mypy python/physstep
 for example in examples/*.py; do MPLBACKEND=Agg "$VENV/bin/python" "$example" >/dev/null; done
 MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q
 # The documentation site: a broken link or anchor, a README section gone or a missing docstring

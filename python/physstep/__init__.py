@@ -212,7 +212,8 @@ class _Deferred:
     __slots__ = ("_rows", "_part", "_done")
 
     def __init__(self, rows: Callable[[], Any], part: int | None = None) -> None:
-        self._rows, self._part, self._done = rows, part, None
+        self._rows, self._part = rows, part
+        self._done: tuple[Any] | None = None
 
     def value(self) -> Any:
         if self._done is None:

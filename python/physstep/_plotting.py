@@ -180,8 +180,8 @@ LOG_FLOOR = 1e-16
 def _legend_on_top(ax: Any, drawn: list[np.ndarray], entries: int, ncols: int, log: bool = False) -> None:
     """The legend of ``ax`` at its top, in headroom above the ``drawn`` values (y limits
     widened to make it, in log space on a log axis), so it never hides a line."""
-    vals = [d[np.isfinite(d) & (d > 0 if log else True)] for d in drawn]
-    vals = np.concatenate(vals) if vals else np.empty(0)
+    kept = [d[np.isfinite(d) & (d > 0 if log else True)] for d in drawn]
+    vals = np.concatenate(kept) if kept else np.empty(0)
     rows = -(-entries // ncols)
     frac = min(0.65, 0.12 + 0.11 * rows)  # the part of the axis the legend takes
     if len(vals):

@@ -371,6 +371,7 @@ def energy(trajs: Trajectory | Iterable[Trajectory], relative: bool = False) -> 
     else:
         drawn = []
         for k, (r, label) in enumerate(zip(runs, labels, strict=True)):
+            assert r.energy is not None  # checked above
             (t, y), note = _finite([r.t, r.energy], r.method)
             ax.plot(t, y, label=label + note, **style(k))
             drawn.append(y[np.isfinite(y)])

@@ -77,7 +77,9 @@ def spin(trajs: Trajectory | Iterable[Trajectory], body: int = 0) -> Figure:
     fig = _figure((10.0, 2.4 * sum(heights) + 0.6))
     axes = fig.subplots(len(runs) + 2, 1, sharex=True, gridspec_kw={"height_ratios": heights})
     for ax, r, label in zip(axes, runs, labels, strict=False):
-        cols, note = _finite([r.t, *(r.body_spin[:, b, k] for k in range(3))], r.method)
+        spin = r.body_spin
+        assert spin is not None  # checked above
+        cols, note = _finite([r.t, *(spin[:, b, k] for k in range(3))], r.method)
         for k, name in enumerate(_PRINCIPAL):
             ax.plot(cols[0], cols[k + 1], label=f"axis {k + 1} ({name} moment)", lw=1.0)
         ax.set_ylabel("omega, body frame (rad/s)")

@@ -140,7 +140,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     repeats = res.get("ns_per_step_runs", res.get("repeats"))
     timing = "ns/step" if repeats in (None, 1) else f"ns/step (median of {repeats})"
     kind = res.get("kind")
-    error = {"flow": "final error", "bodies": "final spin error (rad/s)"}.get(kind, "final error (m)")
+    error = {"flow": "final error", "bodies": "final spin error (rad/s)"}.get(str(kind), "final error (m)")
     bodies = kind == "bodies"
     cols = (
         "method",
@@ -253,8 +253,9 @@ def _cmd_order(args: argparse.Namespace) -> int:
 
 def _cmd_stability(args: argparse.Namespace) -> int:
     """``physstep stability``: the largest stable dt of a method on a scene."""
-    res = lab.stability(args.scene, args.method, _params(args), cap=args.cap, time_scale=args.time_scale)
-    res = res.to_dict()
+    res = lab.stability(
+        args.scene, args.method, _params(args), cap=args.cap, time_scale=args.time_scale
+    ).to_dict()
     output.finite(res)
     if args.format == "json":
         print(output.dump(res))

@@ -107,7 +107,7 @@ class ClothDemo(Demo):
 
     @property
     def stiff(self) -> bool:
-        """Whether the cloth shown is the spring cloth (drawn turned: see :meth:`view`)."""
+        """Whether the cloth shown is the spring cloth (drawn turned: see :meth:`viewed`)."""
         return MODELS[self.model].scene == "stiff-cloth"
 
     def world(self, method: str, dt: float) -> physstep.World:
@@ -176,7 +176,7 @@ class ClothDemo(Demo):
 
     # A 3D view: orthographic through CAMERA.
 
-    def view(self, x: np.ndarray) -> np.ndarray:
+    def viewed(self, x: np.ndarray) -> np.ndarray:
         """World positions (n, 3) as the view shows them. The spring cloth lies in the plane
         z = 0 with its pinned edge at y = 1 and falls along -z: it is turned so that it
         hangs as the position-based cloth does (its pinned edge on the bar, down along -y,
@@ -187,7 +187,7 @@ class ClothDemo(Demo):
         return np.stack([x[..., 0], x[..., 2], 1.0 - x[..., 1]], axis=-1)
 
     def unview(self, p: np.ndarray) -> np.ndarray:
-        """The world position of view point ``p`` (the inverse of :meth:`view`)."""
+        """The world position of view point ``p`` (the inverse of :meth:`viewed`)."""
         if not self.stiff:
             return p
         return np.array([p[0], 1.0 - p[2], p[1]])
@@ -202,13 +202,13 @@ class ClothDemo(Demo):
         return (int(base._clip(rect.centerx + c[0] * s)), int(base._clip(rect.centery - c[1] * s)))
 
     def to_screen(self, rect: pygame.Rect, p: object) -> tuple[int, int]:
-        return self.screen(rect, self.view(np.asarray(p, dtype=float)))
+        return self.screen(rect, self.viewed(np.asarray(p, dtype=float)))
 
     def hold(self, world: physstep.World, i: int, rect: pygame.Rect, pos: tuple[int, int]) -> bool:
         """Puts particle ``i`` under the pointer at its current depth, at rest."""
         x, v = np.array(world.positions), np.array(world.velocities)
         s = self.scale(rect)
-        depth = float(CAMERA[2] @ (self.view(x[i]) - CENTRE))
+        depth = float(CAMERA[2] @ (self.viewed(x[i]) - CENTRE))
         c = np.array([(pos[0] - rect.centerx) / s, (rect.centery - pos[1]) / s, depth])
         x[i] = self.unview(CENTRE + CAMERA.T @ c)
         v[i] = 0.0
@@ -217,7 +217,7 @@ class ClothDemo(Demo):
 
     def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
         s = self.scale(rect)
-        x = self.view(x)
+        x = self.viewed(x)
         n = N_STIFF if self.stiff else W
         side = 1.0 if self.stiff else (W - 1) * SPACING
         pins = (n * (n - 1), n * n - 1) if self.stiff else (0, W - 1)
@@ -244,7 +244,8 @@ class ClothDemo(Demo):
                 colour = FRONT if facing >= 0 else BACK
                 shade = 0.35 + 0.65 * abs(float(nrm @ light))
                 depth = float(cam[[a, b, d, e], 2].mean())
-                quads.append((depth, (a, b, d, e), tuple(int(ch * shade) for ch in colour)))
+                shaded = (int(colour[0] * shade), int(colour[1] * shade), int(colour[2] * shade))
+                quads.append((depth, (a, b, d, e), shaded))
         quads.sort(key=lambda q: q[0])
         for _, idx, colour in quads:
             pts = [tuple(scr[i]) for i in idx]

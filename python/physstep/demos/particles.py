@@ -64,7 +64,7 @@ class SpringDemo(Demo):
         base.text(surf, font, "x = 0", (zero[0], y + 40), base.DIM, "midtop")
         mass = self.to_screen(rect, x[0])
         coils = 14
-        pts = [(wall, y)]
+        pts: list[tuple[float, float]] = [(wall, y)]
         for k in range(1, 2 * coils):
             pts.append((wall + (mass[0] - wall) * k / (2 * coils), y + (10 if k % 2 else -10)))
         pts.append((mass[0], y))
@@ -84,10 +84,10 @@ class SpringDemo(Demo):
             (ph.x + 6, ph.y + 4),
             base.DIM,
         )
-        pts = [(int(base._clip(c[0] + px * s)), int(base._clip(c[1] - pv * s))) for px, pv in panel.trail]
-        base.draw_trail(surf, pts, base.TRAIL)
-        if pts:
-            pygame.draw.circle(surf, base.ACCENT, pts[-1], 4)
+        trail = [(int(base._clip(c[0] + px * s)), int(base._clip(c[1] - pv * s))) for px, pv in panel.trail]
+        base.draw_trail(surf, trail, base.TRAIL)
+        if trail:
+            pygame.draw.circle(surf, base.ACCENT, trail[-1], 4)
 
 
 class OrbitDemo(Demo):

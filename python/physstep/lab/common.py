@@ -169,7 +169,7 @@ def check_jobs(scene: Any, jobs: Any, executor: Any) -> int | None:
     so it cannot reach another process).
     """
     if jobs is not None and (
-        isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or not 1 <= jobs <= MAX_JOBS
+        isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or not 1 <= int(jobs) <= MAX_JOBS
     ):
         raise ValueError(f"invalid jobs = {jobs!r}: must be a whole number from 1 to {MAX_JOBS}")
     jobs = None if jobs is None else int(jobs)

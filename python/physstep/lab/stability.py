@@ -351,10 +351,10 @@ def _criterion(
         if _map_period(method) == 2:
             text += " (two-step map, per-step radius)"
 
-        def stable(d: float) -> bool:
+        def by_radius(d: float) -> bool:
             return _rho(subject, method, d) <= 1.0 + RHO_TOL
 
-        return text, stable, stable
+        return text, by_radius, by_radius
     assert growth is not None
     n = growth.steps
     text = (
@@ -561,7 +561,7 @@ def stability(
         grid=(grid[0], grid[-1], GRID_PER_DECADE),
         note=note,
         growth=None if growth is None else growth.test(),
-        stable_above=None if growth is None else tuple(f * dt_max for f in above),
+        stable_above=None if growth is None else tuple(f * (dt_max or 0.0) for f in above),
         horizon=None if growth is None else horizon,
         spectral_radius_at_dt_max=_rho(subject, method, dt_max) if linear and dt_max else None,
     )
