@@ -234,3 +234,33 @@ def test_the_readme_and_the_contact_page_examples_run_and_say_true():
     assert isinstance(w, physstep.World)
     assert w.solid_positions()[1] == pytest.approx([0.0, 0.5], abs=1e-3)
     assert w.max_penetration == pytest.approx(2.2e-5, rel=0.1)  # "0.02 mm in it"
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_solids_are_drawn_between_the_last_two_steps_of_a_frame(dim: int) -> None:
+    # A sphere drifting and turning at constant rates: the drawn pose is (1 - alpha) of a
+    # step behind the current one; outside a frame (after step()) it is the current one.
+    dt, spin = 1 / 60, 3.0
+    w = physstep.World(dim, dt=dt)
+    v = [2.0, -1.0, 0.5][:dim]
+    w.add_solid(
+        physstep.Circle(0.5),
+        position=[0.0] * dim,
+        velocity=v,
+        angular_velocity=[0.0, 0.0, spin] if dim == 3 else spin,
+    )
+    w.advance(0.05 + 0.4 * dt)  # three steps, 0.4 of one left over
+    assert w.alpha == pytest.approx(0.4, abs=1e-9)
+    back = (1 - w.alpha) * dt
+    np.testing.assert_allclose(
+        w.interpolated_solid_positions(), w.solid_positions() - back * np.array(v), atol=1e-12
+    )
+    angle = spin * (w.time - back)
+    if dim == 2:
+        np.testing.assert_allclose(w.interpolated_solid_orientations(), [angle], atol=1e-12)
+    else:
+        want = [math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)]
+        np.testing.assert_allclose(w.interpolated_solid_orientations(), [want], atol=1e-12)
+    w.step(1)
+    np.testing.assert_array_equal(w.interpolated_solid_positions(), w.solid_positions())
+    np.testing.assert_array_equal(w.interpolated_solid_orientations(), w.solid_orientations())

@@ -599,6 +599,16 @@ class World:
         """Positions to draw (n, dim), m: previous + alpha (current - previous); a new
         array (a copy), unlike :attr:`positions`."""
 
+    def interpolated_solid_positions(self) -> npt.NDArray[np.float64]:
+        """Solid positions to draw (n, dim), m: as :meth:`interpolated_positions`, between
+        the solids' poses before the last step of the latest :meth:`advance` and the current
+        ones (the current ones after a :meth:`step`); a copy."""
+
+    def interpolated_solid_orientations(self) -> npt.NDArray[np.float64]:
+        """Solid orientations to draw, shaped as :meth:`solid_orientations` gives them
+        (angles (n,) in 2D, rad; quaternions (n, 4) as (w, x, y, z) in 3D): the angle moved
+        by ``alpha`` of its change over the last step, the quaternion slerped."""
+
     @property
     def positions(self) -> npt.NDArray[np.float64]:
         """Positions (n, dim), m: a read-only view of the world's own memory, not a copy

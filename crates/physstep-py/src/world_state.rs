@@ -32,6 +32,28 @@ impl World {
         matrix(py, w.interpolated_positions(), w.dim())
     }
 
+    /// Solid positions to draw (n, dim), m: as `interpolated_positions()`, between the
+    /// solids' poses before the last step of the latest `advance()` and the current ones;
+    /// the current ones after a `step()`; a copy.
+    fn interpolated_solid_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let g = self.lock()?;
+        matrix(py, g.engine.interpolated_solid_positions(), g.engine.dim())
+    }
+
+    /// Solid orientations to draw, as `solid_orientations()` gives them (angles (n,) in 2D,
+    /// quaternions (n, 4) as (w, x, y, z) in 3D): the angle moved by `alpha` of its change
+    /// over the last step, the quaternion slerped.
+    fn interpolated_solid_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        use numpy::IntoPyArray;
+        let g = self.lock()?;
+        let q = g.engine.interpolated_solid_orientations();
+        if g.engine.dim() == 3 {
+            Ok(matrix(py, q, 4)?.into_any())
+        } else {
+            Ok(q.into_pyarray(py).into_any())
+        }
+    }
+
     /// Positions (n, dim), m: a read-only view of the world's own memory, not a copy (see
     /// docs/views.md); assign an array to move the particles.
     #[getter]

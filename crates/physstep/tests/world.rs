@@ -757,3 +757,66 @@ fn set_method_keeps_the_worlds_newton_settings() {
     w.set_method("backward-euler").unwrap();
     assert!(matches!(w.step(1), Err(Error::NotConverged { iterations: 1, .. })));
 }
+
+/// A world of one free solid moving and turning at constant rates (no gravity: nothing
+/// changes them), a second one at rest.
+fn drifting_solid(dim: usize) -> World {
+    use physstep::contact::{Shape, SolidParams};
+    let mut w = common::world(dim, "symplectic-euler", 0.01);
+    let mut p = SolidParams::new(Shape::Circle { radius: 0.5 }, &vec![0.0; dim]);
+    p.velocity = if dim == 3 { vec![2.0, -1.0, 0.5] } else { vec![2.0, -1.0] };
+    // (A sphere's inertia is isotropic: it turns at a constant rate about a fixed axis.)
+    p.angular_velocity = if dim == 3 { vec![0.0, 0.0, 3.0] } else { vec![3.0] };
+    w.add_solid(p).unwrap();
+    w.add_solid(SolidParams::new(
+        Shape::Circle { radius: 0.5 },
+        &if dim == 3 { vec![5.0, 0.0, 0.0] } else { vec![5.0, 0.0] },
+    ))
+    .unwrap();
+    w
+}
+
+#[test]
+fn solids_are_drawn_between_the_last_two_steps_of_a_frame() {
+    for dim in [2, 3] {
+        let mut w = drifting_solid(dim);
+        // 2.5 steps: two steps, alpha 0.5 (the first frame's balance carried).
+        w.advance(0.025).unwrap();
+        let alpha = w.alpha();
+        assert!((alpha - 0.5).abs() < 1e-9, "alpha {alpha}");
+        let (x, q) = (w.solid_positions(), w.solid_orientations());
+        let (xi, qi) = (w.interpolated_solid_positions(), w.interpolated_solid_orientations());
+        assert_eq!((xi.len(), qi.len()), (x.len(), q.len()));
+        // Constant velocity: the drawn pose is (1 - alpha) of a step behind.
+        let back = (1.0 - alpha) * 0.01;
+        let v = [2.0, -1.0, 0.5];
+        for k in 0..dim {
+            assert!((xi[k] - (x[k] - back * v[k])).abs() < 1e-12, "dim {dim} x[{k}]");
+            assert_eq!(xi[dim + k].to_bits(), x[dim + k].to_bits(), "a solid at rest is drawn where it is");
+        }
+        if dim == 2 {
+            assert!((qi[0] - (q[0] - back * 3.0)).abs() < 1e-12);
+        } else {
+            // Turned about z by 3 rad/s: the drawn quaternion is (cos, 0, 0, sin) of half
+            // the angle (1 - alpha) of a step back.
+            let angle = 3.0 * (w.time() - back);
+            let want = [(angle / 2.0).cos(), 0.0, 0.0, (angle / 2.0).sin()];
+            for k in 0..4 {
+                assert!((qi[k] - want[k]).abs() < 1e-12, "q[{k}] {} vs {}", qi[k], want[k]);
+            }
+        }
+        // Outside a frame (a step) and once a solid is added: drawn as they are.
+        w.step(1).unwrap();
+        assert_eq!(w.interpolated_solid_positions(), w.solid_positions());
+        assert_eq!(w.interpolated_solid_orientations(), w.solid_orientations());
+        w.advance(0.025).unwrap();
+        assert_ne!(w.interpolated_solid_positions(), w.solid_positions());
+        use physstep::contact::{Shape, SolidParams};
+        w.add_solid(SolidParams::new(
+            Shape::Circle { radius: 0.5 },
+            &if dim == 3 { vec![9.0, 0.0, 0.0] } else { vec![9.0, 0.0] },
+        ))
+        .unwrap();
+        assert_eq!(w.interpolated_solid_positions(), w.solid_positions());
+    }
+}

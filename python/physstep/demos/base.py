@@ -118,6 +118,16 @@ class Panel:
         return (e - self.e0) / (abs(self.e0) if abs(self.e0) >= 1e-12 else 1.0)
 
 
+def solid_poses(panel: Panel) -> tuple[np.ndarray, np.ndarray]:
+    """The solids' positions and orientations to draw: between the last two steps by the
+    loop's ``alpha`` (render interpolation) while it runs, as they are otherwise (paused,
+    single steps)."""
+    w = panel.world
+    if panel.interpolate:
+        return np.asarray(w.interpolated_solid_positions()), np.asarray(w.interpolated_solid_orientations())
+    return np.asarray(w.solid_positions()), np.asarray(w.solid_orientations())
+
+
 def box_corners(centre: Any, angle: float, hx: float, hy: float) -> np.ndarray:
     """The four corners (4, 2) of a box of half extents ``hx``, ``hy`` at ``centre`` turned by
     ``angle``, in order round it."""

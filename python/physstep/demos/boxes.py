@@ -97,11 +97,11 @@ class BoxesDemo(Demo):
         ]
 
     def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
-        w = panel.world
         ground = self.to_screen(rect, [0.0, 0.0])[1]
         pygame.draw.rect(surf, GROUND, (rect.x, ground, rect.width, rect.bottom - ground))
         pygame.draw.line(surf, base.DIM, (rect.x, ground), (rect.right, ground), 2)
-        for p, a in zip(w.solid_positions()[1:], w.solid_orientations()[1:], strict=True):
+        pos, ang = base.solid_poses(panel)
+        for p, a in zip(pos[1:], ang[1:], strict=True):
             pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), HALF, HALF)]
             pygame.draw.polygon(surf, BOX, pts)
             pygame.draw.polygon(surf, EDGE, pts, 2)

@@ -207,7 +207,7 @@ class BridgeDemo(Demo):
         ground = self.to_screen(rect, [0.0, -GROUND_DEPTH])[1]
         pygame.draw.rect(surf, GROUND, (rect.x, ground, rect.width, rect.bottom - ground))
         pygame.draw.line(surf, base.DIM, (rect.x, ground), (rect.right, ground), 2)
-        pos, ang = w.solid_positions(), w.solid_orientations()
+        pos, ang = base.solid_poses(panel)
         for p, a in zip(pos[:PLANKS], ang[:PLANKS], strict=True):
             pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), HALF_LENGTH, HALF_THICK)]
             pygame.draw.polygon(surf, PLANK, pts)

@@ -93,7 +93,6 @@ class DiceDemo(Demo):
         ]
 
     def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
-        w = panel.world
         scale = min(rect.width, rect.height) / 3.6
         cx, cy = rect.centerx, rect.centery + int(0.12 * rect.height)
 
@@ -108,7 +107,7 @@ class DiceDemo(Demo):
         for t in np.arange(-span, span + 1e-9, 0.5):
             for p0, p1 in (([t, 0, -span], [t, 0, span]), ([-span, 0, t], [span, 0, t])):
                 pygame.draw.line(surf, FLOOR_LINE, project(np.array(p0)), project(np.array(p1)))
-        pos, quats = w.solid_positions()[1:], w.solid_orientations()[1:]
+        pos, quats = (a[1:] for a in base.solid_poses(panel))
         # Shadows under the dice, then the dice far to near.
         for p in pos:
             shadow = [project(np.array([p[0] + sx * HALF, 0.0, p[2] + sz * HALF])) for sx, sz in quad_signs()]

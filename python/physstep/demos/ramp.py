@@ -108,8 +108,7 @@ class RampDemo(Demo):
         return rows
 
     def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
-        w = panel.world
-        pos, ang = w.solid_positions(), w.solid_orientations()
+        pos, ang = base.solid_poses(panel)
         box, turn = pos[1], float(ang[1])
         self.view = (float(box[0]), float(box[1]), self.view[2])  # follow the box
         c, s = math.cos(self.angle), math.sin(self.angle)

@@ -364,7 +364,7 @@ class SceneDemo(Demo):
             self._draw_trails(surf, rect, panel)
             self._draw_links(surf, rect, x)
             self._draw_bodies(surf, rect, panel)
-            self._draw_solids(surf, rect, w)
+            self._draw_solids(surf, rect, panel)
             self._draw_particles(surf, rect, w, x)
         title = self.title
         while len(title) > 4 and f.size(title)[0] > rect.width - 20:
@@ -494,18 +494,19 @@ class SceneDemo(Demo):
                 p = self.to_screen(rect, c + r @ np.array(pivot, dtype=float))
                 pygame.draw.rect(surf, base.ACCENT, pygame.Rect(p[0] - 5, p[1] - 5, 10, 10), 2)
 
-    def _draw_solids(self, surf: pygame.Surface, rect: pygame.Rect, w: physstep.World) -> None:
+    def _draw_solids(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel) -> None:
         """The solids, their shapes read from the file."""
-        if not w.solid_count:
+        if not panel.world.solid_count:
             return
+        poses = base.solid_poses(panel)
         scale, extent = self.scale(rect), float(max(self.bounds[1]))
         screen = lambda p: self.to_screen(rect, p)  # noqa: E731
         if self.dim == 2:
             pixel = lambda p: self._pixel(rect, self.plane(p))  # noqa: E731
-            scene_solids.draw_2d(surf, screen, pixel, self.area(rect), scale, self.solids, w, extent)
+            scene_solids.draw_2d(surf, screen, pixel, self.area(rect), scale, self.solids, poses, extent)
         else:
             wire = lambda corners, colour: self._wire(surf, rect, corners, colour)  # noqa: E731
-            scene_solids.draw_3d(surf, screen, scale, wire, self.solids, w, extent)
+            scene_solids.draw_3d(surf, screen, scale, wire, self.solids, poses, extent)
 
     def _draw_particles(
         self, surf: pygame.Surface, rect: pygame.Rect, w: physstep.World, x: np.ndarray

@@ -135,15 +135,15 @@ def draw_2d(
     rect: pygame.Rect,
     scale: float,
     solids: list[Solid],
-    w: physstep.World,
+    poses: tuple[np.ndarray, np.ndarray],
     extent: float,
 ) -> None:
-    """The solids of the 2D world ``w``; ``screen`` maps a world point to the panel (clipped to
-    what pygame draws), ``pixel`` the same unclipped (polygons are cut to ``rect``), ``scale``
-    is pixels a metre, ``extent`` the view's size (m: how long a plane's line is drawn)."""
-    for solid, p, a in zip(
-        solids, np.array(w.solid_positions()), np.array(w.solid_orientations()), strict=False
-    ):
+    """The 2D solids at ``poses`` (positions and orientations, as
+    :func:`physstep.demos.base.solid_poses` gives them); ``screen`` maps a world point to the
+    panel (clipped to what pygame draws), ``pixel`` the same unclipped (polygons are cut to
+    ``rect``), ``scale`` is pixels a metre, ``extent`` the view's size (m: how long a plane's
+    line is drawn)."""
+    for solid, p, a in zip(solids, *poses, strict=False):
         shape, kind = solid.shape, solid.shape["kind"]
         angle = float(np.ravel(a)[0])
         turn = _turn2(angle)
@@ -210,14 +210,13 @@ def draw_3d(
     scale: float,
     wire: Callable[[list[Any], tuple[int, int, int]], None],
     solids: list[Solid],
-    w: physstep.World,
+    poses: tuple[np.ndarray, np.ndarray],
     extent: float,
 ) -> None:
-    """The solids of the 3D world ``w`` in the demo's projection (``screen``, ``scale`` pixels a
-    metre, ``wire`` draws a box from its 8 corners, ``extent`` the view's size, m)."""
-    for solid, p, q in zip(
-        solids, np.array(w.solid_positions()), np.array(w.solid_orientations()), strict=False
-    ):
+    """The 3D solids at ``poses`` (as :func:`draw_2d` takes them) in the demo's projection
+    (``screen``, ``scale`` pixels a metre, ``wire`` draws a box from its 8 corners,
+    ``extent`` the view's size, m)."""
+    for solid, p, q in zip(solids, *poses, strict=False):
         shape, kind = solid.shape, solid.shape["kind"]
         r = rotation(q)
         edge = DYNAMIC_EDGE if solid.dynamic else STILL_EDGE

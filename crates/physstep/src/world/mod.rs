@@ -18,6 +18,7 @@ mod balls;
 mod bodies;
 mod constraints;
 mod flat;
+mod interpolate;
 mod kernel;
 mod model;
 mod particles;
@@ -117,6 +118,9 @@ pub struct World {
     body_loads: Vec<(glam::DVec3, glam::DVec3)>,
     /// Body orientations before the latest step of a frame, for render interpolation.
     prev_q: Vec<[f64; 4]>,
+    /// Solid positions then orientations before the latest step of a frame, for render
+    /// interpolation (`interpolate.rs`).
+    prev_solids: Vec<f64>,
     /// Position constraints on the particles (the Relax stage).
     constraints: crate::constraints::Constraints,
     /// Balls (particles with a radius), walls and the Collide stage's scratch.
@@ -178,6 +182,7 @@ impl World {
             body_params: Vec::new(),
             body_loads: Vec::new(),
             prev_q: Vec::new(),
+            prev_solids: Vec::new(),
             constraints: crate::constraints::Constraints::default(),
             balls: crate::collide::Balls::default(),
             solids: solids::SolidSet::for_dim(params.dim),

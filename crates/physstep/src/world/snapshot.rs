@@ -199,6 +199,10 @@ impl World {
         self.state.evals = evals;
         self.state.y.copy_from_slice(y);
         self.prev_x = prev_x.to_vec();
+        // (The bodies' and solids' poses before the frame's last step are not in a snapshot:
+        // they are drawn as they are until the next frame.)
+        self.prev_q.clear();
+        self.prev_solids.clear();
         self.clock.restore_balance([*hi, *lo]);
         if let Some(stats) = stats {
             self.balls.stats = stats;
