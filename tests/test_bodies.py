@@ -579,3 +579,13 @@ def test_a_scene_with_bodies_copies_and_pickles() -> None:
     for twin in twins:
         twin.step(10)
         assert twin.state_hash() == w.state_hash()
+
+
+def test_after_a_step_outside_a_frame_bodies_are_drawn_as_they_are() -> None:
+    # (It slerped from the orientation kept by the last advance() with its alpha.)
+    w = physstep.World(3, dt=1 / 60)
+    w.add_body(physstep.Sphere(0.5), angular_velocity=(0.0, 0.0, 3.0))
+    w.advance(0.05 + 0.4 / 60)
+    assert not np.array_equal(w.interpolated_body_orientations(), w.body_orientations())
+    w.step(1)
+    np.testing.assert_array_equal(w.interpolated_body_orientations(), w.body_orientations())

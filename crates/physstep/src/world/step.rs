@@ -103,10 +103,10 @@ impl World {
             prev.extend_from_slice(self.positions());
             self.keep_orientations();
             self.keep_solid_poses();
-            let solids = std::mem::take(&mut self.prev_solids);
+            let (q, solids) = (std::mem::take(&mut self.prev_q), std::mem::take(&mut self.prev_solids));
             self.run(1, plan.dt)?;
             self.prev_x = prev;
-            self.prev_solids = solids;
+            (self.prev_q, self.prev_solids) = (q, solids);
         }
         Ok(Frame { plan, alpha: self.clock.alpha() })
     }
@@ -292,6 +292,7 @@ impl World {
         // Interpolation is between the last two states of a frame of `advance`; outside it
         // the current positions are drawn as they are.
         self.prev_x.clear();
+        self.prev_q.clear();
         self.prev_solids.clear();
         let mut back = std::mem::take(&mut self.rollback);
         // The fused kernel keeps its rollback as it reads the state, at each pass; the others
