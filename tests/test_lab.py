@@ -43,6 +43,16 @@ def test_order_without_exact_solution_uses_the_reference() -> None:
     assert abs(res.order - 2) < 0.15
 
 
+def test_a_stiff_scenes_reference_goes_finer_where_rk4_is_unstable() -> None:
+    # The 100-link stiff chain at dt = 1/60: RK4 diverges at dt/16 and dt/32 (its stability
+    # limit is about 2.8 / omega_max); the reference halves its step until it holds, and
+    # says so. (It used to fail the whole comparison with the reference's DivergedError.)
+    res = lab.compare("stiff-chain", methods=["backward-euler"], until=0.5)
+    assert res.error_against == f"reference: rk4 at dt/64 = {1 / 60 / 64:.6g} s"
+    (row,) = res.rows
+    assert not row.diverged and 0 < row.final_error < 1.0
+
+
 def test_order_of_a_method_exact_on_the_scene_is_none() -> None:
     res = lab.order("projectile", "velocity-verlet", levels=3)
     assert res.order is None and "exact" in res.note

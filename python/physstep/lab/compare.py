@@ -12,6 +12,7 @@ import physstep
 from physstep import Trajectory
 from physstep.lab.common import (
     ANGULAR_MOMENTUM_ERROR,
+    REFERENCE_METHOD,
     REFERENCE_REFINE,
     check_jobs,
     check_run,
@@ -105,8 +106,9 @@ def compare(
     t_end = next((r.t_end for r in rows if not r.diverged), steps * dt)
     against = error_against(
         subject.has_exact,
-        None if ref is None else dt / REFERENCE_REFINE,
-        *([] if ref is None else [ref.method]),
+        None if ref is None else ref.dt,
+        REFERENCE_METHOD if ref is None else ref.method,
+        run_dt=dt,
     )
     return CompareResult(
         **table(subject, until, against, skipped, ran.note),

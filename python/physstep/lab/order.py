@@ -198,7 +198,7 @@ def order(
         order_all=_slope([d for d, _ in usable], [e for _, e in usable]) if len(usable) >= 2 else None,
         until=until,
         params=subject.full_params,
-        error_against=error_against(has_exact, ref_dt, ref_method[0]),
+        error_against=error_against(has_exact, ref_dt, ref_method[0], run_dt=until / count(max(ks))),
         error=f"final {'state' if subject.kind == 'flow' else 'position'} error, max over coordinates",
         runs=tuple(out_runs),
         note=note,

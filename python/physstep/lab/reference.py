@@ -5,9 +5,10 @@ A scene with an exact solution (spring, drag, projectile, orbit, kepler; pendulu
 every user system) is measured against a reference run: :data:`REFERENCE_METHOD` (RK4: it
 applies to particles and flows alike, and is the most accurate method that does; velocity
 Verlet, SHAKE/RATTLE, on a scene with position constraints) at
-``dt / REFERENCE_REFINE`` of the finest dt, interpolated with cubic Hermite polynomials
-between its rows (x and v for particles, y and dy/dt for a flow). Every result says which
-in ``error_against``.
+``dt / REFERENCE_REFINE`` of the finest dt (finer, halved up to
+:data:`REFERENCE_RETRIES` times, where RK4 is unstable at that step: a stiff scene),
+interpolated with cubic Hermite polynomials between its rows (x and v for particles, y and
+dy/dt for a flow). Every result says which in ``error_against``.
 """
 
 from __future__ import annotations
@@ -36,13 +37,31 @@ def reference_method(scene: Any, params: dict[str, float] | None = None) -> str:
     return REFERENCE_METHOD
 
 
+#: How many times the reference step is halved again when the run diverges at
+#: ``dt / REFERENCE_REFINE`` (RK4 past its stability limit on a stiff scene: the 100-link
+#: ``stiff-chain`` at dt = 1/60 s needs dt/64).
+REFERENCE_RETRIES = 4
+
+
 def reference(
     scene: Any, dt: float, until: float, params: dict[str, float] | None = None, *, every: int = 1
 ) -> Trajectory:
     """The reference run of a scene or system: :func:`reference_method` at
-    ``dt / REFERENCE_REFINE``, one row every ``every`` of its steps (the last always)."""
+    ``dt / REFERENCE_REFINE``, one row every ``every`` of its steps (the last always); where
+    that diverges, at half that step (and ``every`` doubled: the same rows), and so on up to
+    :data:`REFERENCE_RETRIES` times; then the last run's :class:`physstep.DivergedError`.
+    The step taken is the trajectory's ``dt``."""
     method = reference_method(scene, params)
-    return physstep.simulate(scene, method, dt / REFERENCE_REFINE, until, params, every=every)
+    for k in range(REFERENCE_RETRIES + 1):
+        finer = 2**k
+        try:
+            return physstep.simulate(
+                scene, method, dt / (REFERENCE_REFINE * finer), until, params, every=every * finer
+            )
+        except physstep.DivergedError:
+            if k == REFERENCE_RETRIES:
+                raise
+    raise AssertionError("unreachable")  # pragma: no cover
 
 
 def hermite(traj: Trajectory, times: np.ndarray) -> np.ndarray:
@@ -107,8 +126,13 @@ def max_error(traj: Trajectory, ref: Trajectory | None) -> float:
     return float(np.abs(traj.x - hermite(ref, traj.t)).max())
 
 
-def error_against(has_exact: bool, ref_dt: float | None, method: str = REFERENCE_METHOD) -> str:
-    """What the errors were measured against, as a phrase (``error_against``)."""
+def error_against(
+    has_exact: bool, ref_dt: float | None, method: str = REFERENCE_METHOD, run_dt: float | None = None
+) -> str:
+    """What the errors were measured against, as a phrase (``error_against``): the
+    reference's step as a part of the finest run's ``run_dt`` (REFERENCE_REFINE unless the
+    reference had to go finer)."""
     if has_exact:
         return "exact solution"
-    return f"reference: {method} at dt/{REFERENCE_REFINE} = {ref_dt:.6g} s"
+    refine = REFERENCE_REFINE if not (run_dt and ref_dt) else round(run_dt / ref_dt)
+    return f"reference: {method} at dt/{refine} = {ref_dt:.6g} s"

@@ -107,7 +107,7 @@ def sweep(
         progress=progress,
         labels=labels,
     )
-    against = error_against(subject.has_exact, None if ref is None else ref.dt)
+    against = error_against(subject.has_exact, None if ref is None else ref.dt, run_dt=min(values))
     return SweepResult(
         **table(subject, until, against, skipped, ran.note), rows=tuple(ran.results), workers=ran.workers
     )
