@@ -5,7 +5,9 @@
 
 use super::step::StepContext;
 use super::World;
-use crate::contact::{ContactReport, JointParams, Plane, Settings, SolidParams, Solids, Space, Space3, Vect};
+use crate::contact::{
+    ContactReport, JointParams, Plane, Settings, SolidParams, SolidSpring, Solids, Space, Space3, Vect,
+};
 use crate::error::{Error, Result};
 use crate::forces::Force;
 
@@ -74,6 +76,21 @@ impl SolidSet {
             (SolidSet::Space(a), SolidSet::Space(b)) => a.save(b),
             _ => into.clone_from(self),
         }
+    }
+
+    /// Whether a step of the solids depends on nothing but their state.
+    pub(crate) fn replayable(&self) -> bool {
+        each!(self, s => s.replayable(), true)
+    }
+
+    /// A fingerprint of the solids' drag and springs, `None` without either.
+    pub(crate) fn forces_fingerprint(&self) -> Option<u64> {
+        each!(self, s => s.forces_fingerprint(), None)
+    }
+
+    /// Forgets the loads applied by hand (a step took them).
+    pub(crate) fn clear_applied(&mut self) {
+        each!(self, s => s.clear_applied(), ());
     }
 
     /// Puts back what [`SolidSet::save`] kept.
@@ -222,13 +239,69 @@ impl World {
         each!(&self.solids, s => s.kinetic_energy(), 0.0)
     }
 
-    /// Potential energy of the dynamic solids in the world's gravity, J.
+    /// Potential energy of the solids: the dynamic ones' in the world's gravity and their
+    /// springs', J.
     pub(super) fn solid_potential_energy(&self) -> f64 {
         fn u<S: Space>(m: &super::Model, s: &Solids<S>) -> f64 {
-            let g = gravity_of::<S>(m);
-            s.bodies.iter().filter(|b| b.inv_mass > 0.0).map(|b| -g.dot(b.c) / b.inv_mass).sum()
+            s.gravity_energy(gravity_of::<S>(m)) + s.spring_energy()
         }
         each!(&self.solids, s => u(&self.model, s), 0.0)
+    }
+
+    /// Energy of the solids, J: kinetic (translation and rotation), potential in the world's
+    /// gravity (0 at the origin) and in their springs. Conserved by the exact motion of
+    /// solids that touch nothing, under gravity and undamped springs.
+    #[must_use]
+    pub fn solid_energy(&self) -> f64 {
+        self.solid_kinetic_energy() + self.solid_potential_energy()
+    }
+
+    /// Adds a spring between a point of solid `a` and a point of solid `b` (each in its
+    /// solid's frame, the frame its shape is given in), or a fixed point of the world (`b` =
+    /// `None`, `point_b` in world coordinates): `F = k (|d| - rest) u + c (dv . u) u` on `a`'s
+    /// point and `-F` on `b`'s, with their torques (`rest` 0: the linear `k d + c dv`),
+    /// applied in each of the contact solver's substeps. Its rest length, when not given, is
+    /// the distance between the ends now. Returns its index among the solid springs.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field (`a`, `b`, `point_a`, `point_b`,
+    /// `stiffness`, `rest_length`, `damping`) and the value, or `dim` for a world without
+    /// solids; the world is unchanged.
+    pub fn add_solid_spring(&mut self, spring: SolidSpring) -> Result<usize> {
+        let dim = self.dim();
+        let i = each!(&mut self.solids, s => s.add_spring(spring), Err(Error::invalid("dim", dim, "2 or 3 (springs join solids)")))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(i)
+    }
+
+    /// Each solid spring as it was made (its rest length resolved).
+    #[must_use]
+    pub fn solid_springs(&self) -> &[SolidSpring] {
+        each!(&self.solids, s => s.springs(), &[])
+    }
+
+    /// Applies `force` (N, world frame: `dim` numbers) to solid `solid` for the next step, at
+    /// the world point `at` (its centre of mass when `None`), which adds the torque of the
+    /// force about the centre. Loads add up until the next step takes them (Box2D's
+    /// `ApplyForce`), held constant over its substeps.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid`, `force` or `at`; the world is unchanged.
+    pub fn apply_solid_force(&mut self, solid: usize, force: &[f64], at: Option<&[f64]>) -> Result<()> {
+        let torque = vec![0.0; if self.dim() == 3 { 3 } else { 1 }];
+        let dim = self.dim();
+        each!(&mut self.solids, s => s.apply(solid, force, at, &torque), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
+    }
+
+    /// Applies `torque` (N m: one number in 2D, a world-frame vector in 3D) to solid `solid`
+    /// for the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` or `torque`; the world is unchanged.
+    pub fn apply_solid_torque(&mut self, solid: usize, torque: &[f64]) -> Result<()> {
+        let dim = self.dim();
+        let force = vec![0.0; dim];
+        each!(&mut self.solids, s => s.apply(solid, &force, None, torque), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
     }
 
     /// The contact points of the latest step.
@@ -298,7 +371,9 @@ impl World {
     /// Contact: the solids advanced by the contact solver over the step, then checked.
     pub(super) fn contact(&mut self, ctx: &StepContext) -> Result<()> {
         fn run<S: Space>(g: S::V, s: &mut Solids<S>, ctx: &StepContext, method: &str) -> Result<()> {
+            s.take_applied_as_load();
             crate::contact::solver::step(s, ctx.h, g);
+            s.forces.load.clear();
             match s.runaway() {
                 Some(b) => Err(Error::Diverged {
                     method: format!("{} (contact solver {})", method, s.settings.solver),
