@@ -93,8 +93,6 @@ pub(crate) struct UserLoad<S: Space> {
     pub(crate) solid: usize,
     /// The point from the centre of mass, in the solid's frame.
     pub(crate) arm: S::V,
-    /// The point as given (in the shape's frame).
-    pub(crate) point: Vec<f64>,
     pub(crate) generator: crate::forces::UserForce,
 }
 
@@ -281,6 +279,74 @@ impl<S: Space> Forces<S> {
         let a = &mut self.applied[i];
         a.0 += force;
         a.1 += S::cross_vv(arm, force) + torque;
+    }
+
+    /// Adds a user's force at `point` (the solid's frame) of solid `solid`; its index.
+    pub(crate) fn add_user(
+        &mut self,
+        solid: usize,
+        point: &[f64],
+        generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
+        bodies: &[Body<S>],
+    ) -> Result<usize> {
+        solid_index("solid", solid, bodies.len())?;
+        let p = vector::<S>("point", point)?;
+        let arm = arm(&bodies[solid], p);
+        self.users.push(UserLoad { solid, arm, generator: crate::forces::UserForce(generator) });
+        Ok(self.users.len() - 1)
+    }
+
+    /// This step's loads, held over its substeps: those applied by hand, and each user
+    /// force evaluated at time `t` on the solids as they are.
+    ///
+    /// # Errors
+    /// [`Error::Force`] naming the force that failed or gave a value that is not finite;
+    /// the loads are then left empty.
+    pub(crate) fn gather(&mut self, t: f64, bodies: &[Body<S>]) -> Result<()> {
+        self.load.clone_from(&self.applied);
+        if self.users.is_empty() {
+            return Ok(());
+        }
+        if self.load.is_empty() {
+            self.load.resize(bodies.len(), (S::V::default(), S::W::default()));
+        }
+        let (mut x, mut v) = (Vec::with_capacity(3), Vec::with_capacity(3));
+        for u in &self.users {
+            let b = &bodies[u.solid];
+            let e = end(b, b.v, b.w, u.arm);
+            x.clear();
+            v.clear();
+            e.x.write(&mut x);
+            e.v.write(&mut v);
+            let mut f = vec![0.0; S::DIM];
+            let r = u.generator.0.add_forces(t, &x, &v, &mut f).map_err(|r| (r, false));
+            let r = r.and_then(|()| match f.iter().position(|c| !c.is_finite()) {
+                None => Ok(()),
+                Some(k) => Err((format!("force[0][{k}] = {} is not finite", f[k]), true)),
+            });
+            if let Err((reason, non_finite)) = r {
+                self.load.clear();
+                return Err(Error::Force { name: u.generator.0.name().to_string(), reason, non_finite });
+            }
+            let f = S::V::read(&f);
+            let l = &mut self.load[u.solid];
+            l.0 += f;
+            l.1 += S::cross_vv(e.arm, f);
+        }
+        Ok(())
+    }
+
+    /// The user forces' potential energy at the solids as they are, `None` when one has none.
+    pub(crate) fn user_potential(&self, bodies: &[Body<S>]) -> Option<f64> {
+        let mut total = 0.0;
+        let mut x = Vec::with_capacity(3);
+        for u in &self.users {
+            let b = &bodies[u.solid];
+            x.clear();
+            (b.c + S::rotate(b.q, u.arm)).write(&mut x);
+            total += u.generator.0.potential(&x)?;
+        }
+        Some(total)
     }
 
     /// Whether a step depends on nothing but the state (no user code, no load by hand).

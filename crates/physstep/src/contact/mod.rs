@@ -395,13 +395,13 @@ impl<S: Space> Solids<S> {
     }
 
     /// Applies `force` (N, world frame) to solid `i` for the next step, at the world point
-    /// `at` (its centre of mass when `None`: then no torque), and `torque` (N m; one number in
+    /// `point` (its centre of mass when `None`: then no torque), and `torque` (N m; one number in
     /// 2D). Loads add up until a step takes them; they are held constant over its substeps.
     ///
     /// # Errors
-    /// [`Error::InvalidValue`] naming `solid`, `force`, `at` or `torque` (a wrong length, not
+    /// [`Error::InvalidValue`] naming `solid`, `force`, `point` or `torque` (a wrong length, not
     /// finite, or beyond 1e12 in size); the solids are unchanged.
-    pub fn apply(&mut self, i: usize, force: &[f64], at: Option<&[f64]>, torque: &[f64]) -> Result<()> {
+    pub fn apply(&mut self, i: usize, force: &[f64], point: Option<&[f64]>, torque: &[f64]) -> Result<()> {
         forces::solid_index("solid", i, self.len())?;
         let a = if S::DIM == 3 { 3 } else { 1 };
         let check = |field: &str, v: &[f64], n: usize| -> Result<()> {
@@ -413,9 +413,9 @@ impl<S: Space> Solids<S> {
         };
         check("force", force, S::DIM)?;
         check("torque", torque, a)?;
-        let arm = match at {
+        let arm = match point {
             Some(at) => {
-                check("at", at, S::DIM)?;
+                check("point", at, S::DIM)?;
                 S::V::read(at) - self.bodies[i].c
             }
             None => S::V::default(),
@@ -437,9 +437,41 @@ impl<S: Space> Solids<S> {
         self.forces.clear_applied();
     }
 
-    /// This step's loads: those applied by hand. (The World adds its user forces to them.)
-    pub(crate) fn take_applied_as_load(&mut self) {
-        self.forces.load.clone_from(&self.forces.applied);
+    /// Adds a user force acting at `point` of solid `solid` (in its frame, the frame its
+    /// shape is given in, m): the generator sees that point as one particle (its world
+    /// position and velocity, `DIM` numbers each) and returns the force on it, which also
+    /// turns the solid. Evaluated once a step, at its start; the substeps hold it. Returns
+    /// its index among the solid forces.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` or `point`; the solids are unchanged.
+    pub fn add_force(
+        &mut self,
+        solid: usize,
+        point: &[f64],
+        generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
+    ) -> Result<usize> {
+        self.forces.add_user(solid, point, generator, &self.bodies)
+    }
+
+    /// Number of user forces on the solids.
+    #[must_use]
+    pub fn force_count(&self) -> usize {
+        self.forces.users.len()
+    }
+
+    /// The user forces' potential energy now, J; `None` when one of them has none.
+    #[must_use]
+    pub fn user_potential(&self) -> Option<f64> {
+        self.forces.user_potential(&self.bodies)
+    }
+
+    /// This step's loads at time `t`: those applied by hand and the user forces'.
+    ///
+    /// # Errors
+    /// [`Error::Force`] naming a user force that failed or gave a non-finite value.
+    pub(crate) fn gather_loads(&mut self, t: f64) -> Result<()> {
+        self.forces.gather(t, &self.bodies)
     }
 
     /// A fingerprint of the drag and springs, `None` without either (for the state hash).
@@ -512,18 +544,20 @@ impl<S: Space> Solids<S> {
         self.solver.report().iter().map(|c| c.depth).fold(0.0, f64::max)
     }
 
-    /// Advances the solids by `dt` under `gravity` (dynamic solids only), their drag, springs
-    /// and the loads applied by hand (which it then forgets, when it succeeds).
+    /// Advances the solids by `dt` under `gravity` (dynamic solids only), their drag, springs,
+    /// user forces (evaluated at time 0: a standalone set of solids keeps no clock) and the
+    /// loads applied by hand (which it then forgets, when it succeeds).
     ///
     /// # Errors
-    /// [`Error::InvalidValue`] for a bad `dt`; [`Error::Diverged`] (naming the solid) when
-    /// a value became non-finite or ran away, the solids then as before the step.
+    /// [`Error::InvalidValue`] for a bad `dt`; [`Error::Force`] for a user force that failed;
+    /// [`Error::Diverged`] (naming the solid) when a value became non-finite or ran away, the
+    /// solids then as before the step.
     pub fn step(&mut self, dt: f64, gravity: S::V) -> Result<()> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(Error::invalid("dt", num(dt), "finite and > 0"));
         }
+        self.gather_loads(0.0)?;
         let before = (self.bodies.clone(), self.solver.clone(), self.joints.clone());
-        self.take_applied_as_load();
         solver::step(self, dt, gravity);
         self.forces.load.clear();
         if let Some(b) = self.runaway() {

@@ -274,6 +274,40 @@ impl World {
         Ok(i)
     }
 
+    /// Adds a user force acting at `point` of solid `solid` (in its frame, the frame its
+    /// shape is given in, m): the generator sees that point as one particle (its world
+    /// position and velocity, `dim` numbers each) and returns the force on it, which also
+    /// turns the solid about its centre. Evaluated once a step, at the step's start (time and
+    /// state); the contact solver's substeps hold it constant over the step. Its potential,
+    /// if it has one, joins [`World::energy`]; without one that energy is unknown. Returns
+    /// its index among the solid forces.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` or `point`, or `dim` for a world without
+    /// solids; the world is unchanged.
+    pub fn add_solid_force(
+        &mut self,
+        solid: usize,
+        point: &[f64],
+        generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
+    ) -> Result<usize> {
+        let dim = self.dim();
+        let i = each!(&mut self.solids, s => s.add_force(solid, point, generator), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(i)
+    }
+
+    /// Number of user forces on solids.
+    #[must_use]
+    pub fn solid_force_count(&self) -> usize {
+        each!(&self.solids, s => s.force_count(), 0)
+    }
+
+    /// The potential energy of the user forces on solids, J; `None` when one has none.
+    pub(super) fn solid_user_potential(&self) -> Option<f64> {
+        each!(&self.solids, s => s.user_potential(), Some(0.0))
+    }
+
     /// Each solid spring as it was made (its rest length resolved).
     #[must_use]
     pub fn solid_springs(&self) -> &[SolidSpring] {
@@ -281,16 +315,16 @@ impl World {
     }
 
     /// Applies `force` (N, world frame: `dim` numbers) to solid `solid` for the next step, at
-    /// the world point `at` (its centre of mass when `None`), which adds the torque of the
+    /// the world point `point` (its centre of mass when `None`), which adds the torque of the
     /// force about the centre. Loads add up until the next step takes them (Box2D's
     /// `ApplyForce`), held constant over its substeps.
     ///
     /// # Errors
-    /// [`Error::InvalidValue`] naming `solid`, `force` or `at`; the world is unchanged.
-    pub fn apply_solid_force(&mut self, solid: usize, force: &[f64], at: Option<&[f64]>) -> Result<()> {
+    /// [`Error::InvalidValue`] naming `solid`, `force` or `point`; the world is unchanged.
+    pub fn apply_solid_force(&mut self, solid: usize, force: &[f64], point: Option<&[f64]>) -> Result<()> {
         let torque = vec![0.0; if self.dim() == 3 { 3 } else { 1 }];
         let dim = self.dim();
-        each!(&mut self.solids, s => s.apply(solid, force, at, &torque), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
+        each!(&mut self.solids, s => s.apply(solid, force, point, &torque), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
     }
 
     /// Applies `torque` (N m: one number in 2D, a world-frame vector in 3D) to solid `solid`
@@ -371,7 +405,7 @@ impl World {
     /// Contact: the solids advanced by the contact solver over the step, then checked.
     pub(super) fn contact(&mut self, ctx: &StepContext) -> Result<()> {
         fn run<S: Space>(g: S::V, s: &mut Solids<S>, ctx: &StepContext, method: &str) -> Result<()> {
-            s.take_applied_as_load();
+            s.gather_loads(ctx.t)?;
             crate::contact::solver::step(s, ctx.h, g);
             s.forces.load.clear();
             match s.runaway() {
