@@ -86,14 +86,15 @@ def test_a_sprung_solid_keeps_its_energy_and_oscillates_at_sqrt_k_over_m(dim: in
 def test_two_solids_on_a_spring_keep_their_momentum(dim: int) -> None:
     w = world(dim, 0.0)
     w.add_solid(physstep.Circle(0.5), velocity=[0.0, 0.3] + [0.0] * (dim - 2))
-    w.add_solid(physstep.Circle(0.5), position=[2.0] + [0.0] * (dim - 1), density=3.0, velocity=[-0.7] + [0.0] * (dim - 1))
-    w.add_solid_spring(0, [0.0, 0.3] + [0.0] * (dim - 2), 1, [-0.2, 0.1] + [0.0] * (dim - 2), stiffness=50.0, rest_length=1.0)
+    w.add_solid(physstep.Circle(0.5), position=[4.0] + [0.0] * (dim - 1), density=3.0, velocity=[-0.7] + [0.0] * (dim - 1))
+    w.add_solid_spring(0, [0.0, 0.3] + [0.0] * (dim - 2), 1, [-0.2, 0.1] + [0.0] * (dim - 2), stiffness=50.0, rest_length=3.5)
     masses = np.array([ball_mass(dim), ball_mass(dim, rho=3.0)])
     p0 = masses @ w.solid_velocities()
     e0 = w.solid_energy()
     w.step(600)
     assert np.allclose(masses @ w.solid_velocities(), p0, rtol=0, atol=1e-12)
     assert np.any(w.solid_angular_velocities() != 0.0), "the spring off their centres turns them"
+    assert len(w.contacts()["depths"]) == 0, "they never came near each other"
     assert w.solid_energy() == pytest.approx(e0, rel=0.02)
 
 
@@ -151,11 +152,11 @@ def test_drag_and_springs_survive_pickles_snapshots_and_scene_files_bitwise(dim:
     w.step(50)
     assert w.state_hash() == copy.state_hash()
     fresh = sprung_world(dim)
-    text = physstep.scene_file_text(fresh, "sprung")
+    text = physstep.scene_text(fresh, "sprung")
     assert "[[solid_springs]]" in text and "linear_damping = 0.25" in text
     path = tmp_path / "sprung.toml"
     path.write_text(text)
-    back, _ = physstep.read_scene(str(path))
+    back = physstep.load_scene(path)
     assert back.state_hash() == fresh.state_hash()
     back.step(80)
     fresh.step(80)
@@ -185,3 +186,155 @@ def test_a_force_applied_by_hand_acts_for_one_step_at_its_point(dim: int) -> Non
         w.apply_solid_force(0, [math.inf] * dim)
     with pytest.raises(ValueError, match="torque"):
         w.apply_solid_torque(0, [1.0, 2.0])
+
+
+def push_up(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """A constant force up (module level: it pickles)."""
+    f = np.zeros_like(x)
+    f[0, 1] = 4.0
+    return f
+
+
+def spring_to_origin(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return -30.0 * x - 0.5 * v
+
+
+def spring_potential(x: np.ndarray) -> float:
+    return 15.0 * float(np.sum(x * x))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_python_force_is_held_over_the_step_as_a_load_by_hand_is(dim: int) -> None:
+    by_hand, by_func = world(dim), world(dim)
+    for w in (by_hand, by_func):
+        w.add_solid(physstep.Box(*[0.3] * dim), angular_velocity=1.0 if dim == 2 else [0.0, 0.0, 1.0])
+    point = [0.3, 0.1] + [0.0] * (dim - 2)
+    assert by_func.add_solid_force(0, push_up, point) == 0
+    assert by_func.solid_force_count == 1
+    for _ in range(40):
+        # Where the point is now, in the world: the force acts there.
+        at = by_hand.solid_positions()[0].copy()
+        if dim == 2:
+            c, s = math.cos(by_hand.solid_orientations()[0]), math.sin(by_hand.solid_orientations()[0])
+            at += [c * point[0] - s * point[1], s * point[0] + c * point[1]]
+        else:
+            wq, *u = by_hand.solid_orientations()[0]
+            u = np.array(u)
+            p = np.array(point)
+            at += p + 2 * wq * np.cross(u, p) + 2 * np.cross(u, np.cross(u, p))
+        by_hand.apply_solid_force(0, [0.0, 4.0] + [0.0] * (dim - 2), point=at)
+        by_hand.step(1)
+        by_func.step(1)
+    assert by_func.solid_velocities()[0] == pytest.approx(by_hand.solid_velocities()[0], rel=1e-12, abs=1e-12)
+    assert by_func.solid_angular_velocities() == pytest.approx(by_hand.solid_angular_velocities(), rel=1e-9)
+    assert by_func.solid_velocities()[0, 1] > -G * 40 * DT + 1.0, "it pushed up"
+
+
+def test_a_python_force_sees_the_point_where_it_is_and_turns_the_solid() -> None:
+    w = world(2, 0.0)
+    w.add_solid(physstep.Circle(0.5), position=[1.0, 2.0], orientation=math.pi / 2)
+    seen = []
+
+    def record(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        seen.append((t, x.copy(), v.copy()))
+        return np.array([[1.0, 0.0]])
+
+    w.add_solid_force(0, record, [0.5, 0.0])
+    w.step(2)
+    assert len(seen) == 2, "once a step"
+    t, x, v = seen[0]
+    assert t == 0.0
+    assert np.allclose(x, [[1.0, 2.5]], rtol=0, atol=1e-15)  # (0.5, 0) turned a quarter turn
+    assert np.all(v == 0.0)
+    assert seen[1][0] == DT
+    # (0, 0.5) x (1, 0) = -0.5: clockwise.
+    assert w.solid_angular_velocities()[0] < 0.0
+
+
+def test_a_python_force_with_a_potential_keeps_the_energy_known() -> None:
+    w = world(2, 0.0)
+    w.add_solid(physstep.Circle(0.5), position=[0.5, 0.0])
+    w.add_solid_force(0, spring_to_origin, potential=spring_potential)
+    e0 = w.energy()
+    assert e0 == pytest.approx(w.solid_energy() + 15.0 * 0.25)
+    w.step(60)
+    assert w.energy() < e0, "its damping took energy"
+    w.add_solid_force(0, push_up)
+    assert w.energy() is None
+
+
+def test_an_exception_in_a_python_force_propagates_and_rolls_the_step_back() -> None:
+    w = world(3)
+    w.add_solid(physstep.Circle(0.5))
+    calls = []
+
+    def fails(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        calls.append(t)
+        if len(calls) == 3:
+            raise KeyError("boom")
+        return np.zeros((1, 3))
+
+    w.add_solid_force(0, fails)
+    w.step(1)
+    h, steps = w.state_hash(), w.steps
+    with pytest.raises(KeyError, match="boom"):
+        w.step(5)
+    assert w.steps == steps + 1
+    w2 = world(3)
+    w2.add_solid(physstep.Circle(0.5))
+    w2.step(2)
+    assert w.solid_positions().tobytes() == w2.solid_positions().tobytes(), "the failing step left no trace"
+    assert h != w.state_hash()
+
+
+def test_a_python_force_that_is_not_finite_is_a_value_error_naming_it() -> None:
+    w = world(2)
+    w.add_solid(physstep.Circle(0.5))
+
+    def wild(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return np.array([[math.nan, 0.0]])
+
+    w.add_solid_force(0, wild, name="wild wind")
+    h = w.state_hash()
+    with pytest.raises(ValueError, match="force 'wild wind' failed: force.0..0. = NaN is not finite") as e:
+        w.step(1)
+    assert len(str(e.value).splitlines()) == 1
+    assert w.state_hash() == h and w.steps == 0
+
+
+def test_python_forces_on_solids_pickle_copy_and_refuse_export() -> None:
+    w = world(2)
+    w.add_solid(physstep.Box(0.3, 0.3))
+    w.add_solid_force(0, push_up, [0.3, 0.0])
+    w.step(10)
+    back = pickle.loads(pickle.dumps(w))
+    import copy as copying
+
+    twin = copying.copy(w)
+    assert back.solid_force_count == twin.solid_force_count == 1
+    for other in (back, twin):
+        other.step(20)
+    w.step(20)
+    assert back.state_hash() == w.state_hash() == twin.state_hash()
+    w.add_solid_force(0, lambda t, x, v: np.zeros((1, 2)))
+    with pytest.raises(pickle.PicklingError, match="solid's point"):
+        pickle.dumps(w)
+    fresh = world(2)
+    fresh.add_solid(physstep.Circle(0.5))
+    fresh.add_solid_force(0, push_up)
+    with pytest.raises(ValueError, match="user forces"):
+        physstep.scene_text(fresh, "t")
+
+
+def test_bad_python_forces_on_solids_are_refused() -> None:
+    w = world(2)
+    w.add_solid(physstep.Circle(0.5))
+    with pytest.raises(ValueError, match="solid"):
+        w.add_solid_force(3, push_up)
+    with pytest.raises(ValueError, match="func"):
+        w.add_solid_force(0, 3.0)
+    with pytest.raises(ValueError, match="point"):
+        w.add_solid_force(0, push_up, [0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="potential"):
+        w.add_solid_force(0, push_up, potential=1.0)
+    assert w.solid_force_count == 0

@@ -826,7 +826,7 @@ class World:
         *,
         stiffness: float,
         rest_length: float | None = None,
-        damping: float = 0.0,
+        damping: float | None = None,
     ) -> int:
         """Adds a spring between ``point_a`` of solid ``a`` and ``point_b`` of solid ``b``
         (each in its solid's frame, the frame its shape is given in, m), or, with ``b``
@@ -852,6 +852,29 @@ class World:
         step, at the world point ``point`` (default its centre of mass), which also turns
         it. Loads add up until a step takes them, held constant over its substeps.
         ValueError naming the bad field."""
+
+    def add_solid_force(
+        self,
+        solid: int,
+        func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
+        point: npt.ArrayLike | None = None,
+        *,
+        potential: Callable[[npt.NDArray[np.float64]], float] | None = None,
+        name: str | None = None,
+    ) -> int:
+        """Adds a force from Python at ``point`` of solid ``solid`` (its frame, the frame its
+        shape is given in, m; default the origin of its shape): ``func(t, x, v)`` sees that
+        point as one particle, its world position and velocity as (1, dim) arrays, and
+        returns the force on it (1, dim), N, which also turns the solid about its centre. It
+        is evaluated once a step, at the step's start, and held constant over the contact
+        solver's substeps. ``potential(x)`` (J) keeps :meth:`energy` known; ``name`` names it
+        in errors (default the function's). An exception raised inside propagates unchanged,
+        and a result that is not finite is a ValueError naming the force; the step is
+        rolled back either way. Returns the force's index among the solid forces."""
+
+    @property
+    def solid_force_count(self) -> int:
+        """Number of forces from Python on solids."""
 
     def apply_solid_torque(self, solid: int, torque: float | npt.ArrayLike) -> None:
         """Applies ``torque`` (N m: one number in 2D, a world-frame vector in 3D) to solid

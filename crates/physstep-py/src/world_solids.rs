@@ -115,6 +115,23 @@ fn solid_shape(o: &Bound<'_, PyAny>) -> PyResult<Shape> {
     })
 }
 
+/// Adds a Python force at `point` of `solid` to the engine and keeps its spec (for copies and
+/// pickles).
+pub(crate) fn add_force(
+    py: Python<'_>,
+    w: &mut physstep::world::World,
+    kept: &mut Vec<crate::handle::SolidForceSpec>,
+    solid: usize,
+    point: Vec<f64>,
+    spec: Py<PyAny>,
+    slot: &crate::force::Slot,
+) -> PyResult<usize> {
+    let force = crate::force::PyForce::from_spec(spec.bind(py), w.dim(), slot)?;
+    let k = w.add_solid_force(solid, &point, std::sync::Arc::new(force)).map_err(py_err)?;
+    kept.push((solid, point, std::sync::Arc::new(spec)));
+    Ok(k)
+}
+
 fn numbers(o: Option<&Bound<'_, PyAny>>, field: &str) -> PyResult<Option<Vec<f64>>> {
     match o.filter(|o| !o.is_none()) {
         None => Ok(None),
@@ -201,7 +218,7 @@ impl World {
     /// `rest_length` (m, >= 0) defaults to the distance between the ends now (0: the linear
     /// spring k d). Returns its index among the solid springs. ValueError naming the bad
     /// field; the world is then unchanged.
-    #[pyo3(signature = (a, point_a, b=None, point_b=None, *, stiffness, rest_length=None, damping=0.0))]
+    #[pyo3(signature = (a, point_a, b=None, point_b=None, *, stiffness, rest_length=None, damping=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_solid_spring(
         &self,
@@ -211,7 +228,7 @@ impl World {
         point_b: Option<&Bound<'_, PyAny>>,
         stiffness: &Bound<'_, PyAny>,
         rest_length: Option<&Bound<'_, PyAny>>,
-        damping: &Bound<'_, PyAny>,
+        damping: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
         let a = crate::convert::index(a, "a")?;
         let b = b.filter(|o| !o.is_none()).map(|o| crate::convert::index(o, "b")).transpose()?;
@@ -226,7 +243,7 @@ impl World {
             point_b,
             stiffness: float(stiffness, "stiffness")?,
             rest_length: rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?,
-            damping: float(damping, "damping")?,
+            damping: damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?,
         };
         g.flush()?.add_solid_spring(spring).map_err(py_err)
     }
@@ -260,6 +277,60 @@ impl World {
         let at = numbers(point, "point")?;
         let mut g = self.lock()?;
         g.flush()?.apply_solid_force(solid, &force, at.as_deref()).map_err(py_err)
+    }
+
+    /// Adds a force from Python at `point` of solid `solid` (its frame, the frame its shape
+    /// is given in, m; default the origin of its shape): `func(t, x, v)` sees that point as
+    /// one particle, its world position and velocity as (1, dim) arrays, and returns the
+    /// force on it (1, dim), N, which also turns the solid about its centre. It is evaluated
+    /// once a step, at the step's start, and held constant over the contact solver's
+    /// substeps. `potential(x)` (J) keeps World.energy() known; `name` names it in errors
+    /// (default the function's). An exception raised inside propagates unchanged, and a
+    /// result that is not finite is a ValueError naming the force; the step is rolled
+    /// back either way. Returns the force's index among the solid forces.
+    #[pyo3(signature = (solid, func, point=None, *, potential=None, name=None))]
+    fn add_solid_force(
+        &self,
+        py: Python<'_>,
+        solid: &Bound<'_, PyAny>,
+        func: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+        potential: Option<&Bound<'_, PyAny>>,
+        name: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let solid = crate::convert::index(solid, "solid")?;
+        if !func.is_callable() {
+            return Err(invalid("func", func, "callable"));
+        }
+        let potential = match potential.filter(|p| !p.is_none()) {
+            Some(p) if p.is_callable() => Some(p.clone().unbind()),
+            Some(p) => return Err(invalid("potential", p, "callable")),
+            None => None,
+        };
+        let name = match name.filter(|n| !n.is_none()) {
+            Some(n) => text(n, "name")?,
+            None => func
+                .getattr("__name__")
+                .and_then(|n| n.extract::<String>())
+                .unwrap_or_else(|_| "solid force".into()),
+        };
+        let mut g = self.lock()?;
+        let dim = g.engine.dim();
+        let point = numbers(point, "point")?.unwrap_or_else(|| vec![0.0; dim]);
+        // Evaluated once a step: whether it reads v changes nothing, so it is taken to.
+        let spec = (func, potential.as_ref().map(|p| p.bind(py)), py.None(), true, &name, false)
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
+        g.flush()?;
+        let crate::handle::Inner { engine, solid_forces, slot, .. } = &mut *g;
+        add_force(py, engine, solid_forces, solid, point, spec, slot)
+    }
+
+    /// Number of forces from Python on solids.
+    #[getter]
+    fn solid_force_count(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.solid_force_count())
     }
 
     /// Applies `torque` (N m: one number in 2D, a world-frame vector in 3D) to solid

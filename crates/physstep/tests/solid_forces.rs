@@ -159,7 +159,7 @@ fn two_solids_on_a_spring_keep_their_momentum_and_angular_momentum() {
         let mut a = ball(dim, &vec![0.0; dim]);
         a.velocity[1] = 0.3;
         let mut at = vec![0.0; dim];
-        at[0] = 2.0;
+        at[0] = 4.0;
         let mut b = ball(dim, &at);
         b.density = 3.0;
         b.velocity[0] = -0.7;
@@ -177,7 +177,7 @@ fn two_solids_on_a_spring_keep_their_momentum_and_angular_momentum() {
             b: Some(1),
             point_b: pb,
             stiffness: 50.0,
-            rest_length: Some(1.0),
+            rest_length: Some(3.5),
             damping: 0.5,
         };
         w.add_solid_spring(s).unwrap();
@@ -189,13 +189,20 @@ fn two_solids_on_a_spring_keep_their_momentum_and_angular_momentum() {
         let p0 = momentum(&w);
         let scale = masses[0] * 0.3 + masses[1] * 0.7;
         let e0 = w.solid_energy();
-        w.step(600).unwrap();
+        let mut touched = false;
+        for _ in 0..600 {
+            w.step(1).unwrap();
+            touched |= !w.contacts().depths.is_empty();
+        }
+        assert!(!touched, "{dim}D: they came near each other");
         let p1 = momentum(&w);
         for k in 0..dim {
             assert!((p1[k] - p0[k]).abs() < 1e-13 * scale * 600.0, "{dim}D p[{k}] {} -> {}", p0[k], p1[k]);
         }
-        // Damping took energy; it turned them (the spring is off their centres).
-        assert!(w.solid_energy() < e0);
+        // Damping along the line took energy, a little; it turned them (the spring is off
+        // their centres).
+        let e = w.solid_energy();
+        assert!(e < e0 && e > 0.5 * e0, "{dim}D: {e0} J -> {e} J");
         let spin = w.solid_angular_velocities();
         assert!(spin[0] != 0.0, "{spin:?}");
     }
