@@ -376,3 +376,112 @@ fn scene_files_refuse_bad_solid_springs_naming_the_table() {
     let e = physstep::scenes::file::parse(&text, "bad.toml").unwrap_err().to_string();
     assert!(e.contains("wobble"), "{e}");
 }
+
+/// A user force at a solid's point: a zero-rest spring to the origin, failing (or giving a
+/// NaN) on the call numbered `fail_at` when set.
+struct Pull {
+    k: f64,
+    calls: std::sync::atomic::AtomicUsize,
+    fail_at: Option<(usize, bool)>,
+}
+
+impl physstep::forces::ForceGenerator for Pull {
+    fn name(&self) -> &str {
+        "pull"
+    }
+
+    fn add_forces(&self, _t: f64, x: &[f64], _v: &[f64], f: &mut [f64]) -> Result<(), String> {
+        let n = self.calls.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        if let Some((k, nan)) = self.fail_at {
+            if n == k {
+                if nan {
+                    f[0] = f64::NAN;
+                    return Ok(());
+                }
+                return Err("the wind stopped".into());
+            }
+        }
+        for (fi, xi) in f.iter_mut().zip(x) {
+            *fi -= self.k * xi;
+        }
+        Ok(())
+    }
+
+    fn potential(&self, x: &[f64]) -> Option<f64> {
+        Some(0.5 * self.k * x.iter().map(|c| c * c).sum::<f64>())
+    }
+}
+
+/// Where `point` (in solid 0's frame: a ball's, its centre its origin) is now.
+fn point_now(w: &World, point: &[f64]) -> Vec<f64> {
+    let c = w.solid_positions();
+    let q = w.solid_orientations();
+    if w.dim() == 2 {
+        let (s, co) = q[0].sin_cos();
+        vec![c[0] + co * point[0] - s * point[1], c[1] + s * point[0] + co * point[1]]
+    } else {
+        let q = glam::DQuat::from_xyzw(q[1], q[2], q[3], q[0]);
+        let p = q * glam::DVec3::from_slice(point);
+        vec![c[0] + p.x, c[1] + p.y, c[2] + p.z]
+    }
+}
+
+fn pull(fail_at: Option<(usize, bool)>) -> std::sync::Arc<Pull> {
+    std::sync::Arc::new(Pull { k: 20.0, calls: 0.into(), fail_at })
+}
+
+#[test]
+fn a_user_force_at_a_point_is_held_over_the_step_and_its_failures_roll_the_step_back() {
+    for dim in [2, 3] {
+        // Once a step at its start: the same bits as applying its value by hand.
+        let mut at = vec![0.0; dim];
+        at[0] = 1.0;
+        let mut point = vec![0.0; dim];
+        point[1] = 0.25;
+        let mut by_user = world(dim, 0.0);
+        let mut by_hand = world(dim, 0.0);
+        by_user.add_solid(ball(dim, &at)).unwrap();
+        by_hand.add_solid(ball(dim, &at)).unwrap();
+        assert_eq!(by_user.add_solid_force(0, &point, pull(None)).unwrap(), 0);
+        assert_eq!(by_user.solid_force_count(), 1);
+        for _ in 0..30 {
+            // The point now: where the user force saw it.
+            let x = point_now(&by_hand, &point);
+            let f: Vec<f64> = x.iter().map(|xi| -20.0 * xi).collect();
+            by_hand.apply_solid_force(0, &f, Some(&x)).unwrap();
+            by_hand.step(1).unwrap();
+            by_user.step(1).unwrap();
+        }
+        assert_eq!(by_user.solid_velocities(), by_hand.solid_velocities(), "{dim}D");
+        assert_eq!(by_user.solid_angular_velocities(), by_hand.solid_angular_velocities(), "{dim}D");
+        // Its potential joins the world's energy.
+        let e = by_user.energy().unwrap();
+        let u: f64 = point_now(&by_user, &point).iter().map(|x| 10.0 * x * x).sum();
+        assert!((e - by_user.solid_energy() - u).abs() < 1e-12 * e.abs(), "{dim}D: {e}, {u}");
+
+        for nan in [false, true] {
+            let mut w = world(dim, 9.81);
+            w.add_solid(ball(dim, &at)).unwrap();
+            w.add_solid_force(0, &point, pull(Some((3, nan)))).unwrap();
+            w.step(3).unwrap();
+            let h = w.state_hash();
+            let e = w.step(2).unwrap_err();
+            assert_eq!(w.steps(), 3, "{dim}D: the failing step is rolled back");
+            assert_eq!(w.state_hash(), h);
+            let msg = e.to_string();
+            assert!(msg.contains("pull"), "{msg}");
+            assert!(msg.contains(if nan { "NaN is not finite" } else { "the wind stopped" }), "{msg}");
+            assert_eq!(e.is_step_failure(), nan, "{msg}");
+        }
+        let mut w = world(dim, 0.0);
+        w.add_solid(ball(dim, &at)).unwrap();
+        let e = w.add_solid_force(2, &point, pull(None)).unwrap_err().to_string();
+        assert!(e.starts_with("invalid solid = 2"), "{e}");
+        let e = w.add_solid_force(0, &[0.0; 4], pull(None)).unwrap_err().to_string();
+        assert!(e.starts_with("invalid len(point) = 4"), "{e}");
+        assert_eq!(w.solid_force_count(), 0);
+        // A file cannot hold it.
+        w.add_solid_force(0, &point, pull(None)).unwrap();
+        assert!(physstep::scenes::file::export(&w, "t", None).is_err());
+    }
+}
