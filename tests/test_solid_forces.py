@@ -28,7 +28,9 @@ def test_drag_decays_speed_and_spin_as_exp_minus_c_t(dim: int) -> None:
     w = world(dim, 0.0)
     spin = 3.0 if dim == 2 else [0.0, 0.0, 3.0]
     v0 = [2.0] + [0.0] * (dim - 1)
-    w.add_solid(physstep.Circle(0.5), velocity=v0, angular_velocity=spin, linear_damping=0.5, angular_damping=0.3)
+    w.add_solid(
+        physstep.Circle(0.5), velocity=v0, angular_velocity=spin, linear_damping=0.5, angular_damping=0.3
+    )
     w.step(120)
     t = 120 * DT
     assert w.solid_velocities()[0, 0] == pytest.approx(2.0 * math.exp(-0.5 * t), rel=0.01)
@@ -86,8 +88,15 @@ def test_a_sprung_solid_keeps_its_energy_and_oscillates_at_sqrt_k_over_m(dim: in
 def test_two_solids_on_a_spring_keep_their_momentum(dim: int) -> None:
     w = world(dim, 0.0)
     w.add_solid(physstep.Circle(0.5), velocity=[0.0, 0.3] + [0.0] * (dim - 2))
-    w.add_solid(physstep.Circle(0.5), position=[4.0] + [0.0] * (dim - 1), density=3.0, velocity=[-0.7] + [0.0] * (dim - 1))
-    w.add_solid_spring(0, [0.0, 0.3] + [0.0] * (dim - 2), 1, [-0.2, 0.1] + [0.0] * (dim - 2), stiffness=50.0, rest_length=3.5)
+    w.add_solid(
+        physstep.Circle(0.5),
+        position=[4.0] + [0.0] * (dim - 1),
+        density=3.0,
+        velocity=[-0.7] + [0.0] * (dim - 1),
+    )
+    w.add_solid_spring(
+        0, [0.0, 0.3] + [0.0] * (dim - 2), 1, [-0.2, 0.1] + [0.0] * (dim - 2), stiffness=50.0, rest_length=3.5
+    )
     masses = np.array([ball_mass(dim), ball_mass(dim, rho=3.0)])
     p0 = masses @ w.solid_velocities()
     e0 = w.solid_energy()

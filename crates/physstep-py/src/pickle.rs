@@ -138,7 +138,8 @@ pub(crate) fn _world_from_scene(
     if let Some(items) = parts.get_item("solid_forces")? {
         for item in items.try_iter()? {
             let item = item?;
-            let (solid, point): (usize, Vec<f64>) = (item.get_item(0)?.extract()?, item.get_item(1)?.extract()?);
+            let (solid, point): (usize, Vec<f64>) =
+                (item.get_item(0)?.extract()?, item.get_item(1)?.extract()?);
             let spec = item.get_item(2)?.unbind();
             crate::world_solids::add_force(py, &mut engine, &mut solid_forces, solid, point, spec, &slot)?;
         }

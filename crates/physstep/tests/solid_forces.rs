@@ -68,7 +68,8 @@ fn drag_is_refused_when_negative_or_not_finite_and_the_world_is_unchanged() {
     let mut w = world(2, 9.81);
     w.add_solid(ball(2, &[0.0, 0.0])).unwrap();
     let before = w.state_hash();
-    for (field, bad) in [("linear_damping", -1.0), ("angular_damping", f64::NAN), ("linear_damping", f64::INFINITY)]
+    for (field, bad) in
+        [("linear_damping", -1.0), ("angular_damping", f64::NAN), ("linear_damping", f64::INFINITY)]
     {
         let mut p = ball(2, &[3.0, 0.0]);
         if field == "linear_damping" {

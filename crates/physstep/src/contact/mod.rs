@@ -407,7 +407,9 @@ impl<S: Space> Solids<S> {
         let check = |field: &str, v: &[f64], n: usize| -> Result<()> {
             len(field, v, n)?;
             match v.iter().position(|x| !(x.is_finite() && x.abs() <= crate::limits::PARAM_MAX)) {
-                Some(k) => Err(Error::invalid(format!("{field}[{k}]"), num(v[k]), "finite (at most 1e12 in size)")),
+                Some(k) => {
+                    Err(Error::invalid(format!("{field}[{k}]"), num(v[k]), "finite (at most 1e12 in size)"))
+                }
                 None => Ok(()),
             }
         };
