@@ -347,3 +347,20 @@ def test_bad_python_forces_on_solids_are_refused() -> None:
     with pytest.raises(ValueError, match="potential"):
         w.add_solid_force(0, push_up, potential=1.0)
     assert w.solid_force_count == 0
+
+
+def test_the_contact_page_example_of_forces_runs() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parent.parent / "docs" / "contact.md").read_text()
+    start = text.index("```python\n", text.index("## Forces on solids")) + len("```python\n")
+    printed: list[float] = []
+    scope: dict[str, object] = {"physstep": physstep, "print": printed.append}
+    exec(text[start : text.index("```", start)], scope)  # noqa: S102
+    w = scope["w"]
+    assert isinstance(w, physstep.World)
+    assert w.solid_spring_count == 2
+    assert printed == [w.solid_energy()]
+    assert math.isfinite(printed[0])
+    # The push up at the circle's edge turned it.
+    assert w.solid_angular_velocities()[1] != 0.0
