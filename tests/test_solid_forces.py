@@ -7,6 +7,7 @@ import pickle
 import numpy as np
 import physstep
 import pytest
+from conftest import run_cli
 
 G = 9.81
 DT = 1 / 60
@@ -364,3 +365,47 @@ def test_the_contact_page_example_of_forces_runs() -> None:
     assert math.isfinite(printed[0])
     # The push up at the circle's edge turned it.
     assert w.solid_angular_velocities()[1] != 0.0
+
+
+SPRUNG_FILE = """dimension = 2
+dt = 0.0166
+
+[[solids]]
+shape = { kind = "circle", radius = 0.5 }
+position = [0, 0]
+linear_damping = 0.5
+
+[[solid_springs]]
+a = 0
+point_a = [0, 0.5]
+point_b = [0, 2]
+stiffness = 40
+"""
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "want"),
+    [
+        (
+            "linear_damping = 0.5",
+            "linear_damping = -0.5",
+            "s.toml:4: solids[0]: invalid linear_damping = -0.5",
+        ),
+        ("stiffness = 40", "stiffness = -40", "s.toml:9: solid_springs[0]: invalid stiffness = -40"),
+        ("a = 0", "a = 4", "s.toml:9: solid_springs[0]: invalid a = 4: must be an existing solid"),
+        ("point_b = [0, 2]", "point_b = [0, 2, 1]", "solid_springs[0].point_b: has 3 numbers: must have 2"),
+    ],
+)
+def test_the_cli_refuses_bad_drag_and_springs_in_a_file_in_one_line_exit_2(
+    tmp_path, old: str, new: str, want: str
+) -> None:
+    good = tmp_path / "good.toml"
+    good.write_text(SPRUNG_FILE)
+    ran = run_cli("run", str(good), "--until", "1")
+    assert ran.returncode == 0, ran.stderr
+    p = tmp_path / "s.toml"
+    p.write_text(SPRUNG_FILE.replace(old, new))
+    res = run_cli("run", str(p), "--until", "1")
+    assert res.returncode == 2
+    assert res.stderr.count("\n") == 1 and "Traceback" not in res.stderr
+    assert want in res.stderr, res.stderr

@@ -76,7 +76,7 @@ pub(crate) struct Spring<S: Space> {
     c: f64,
 }
 
-/// The force on a solid's point, in the world, and the solid's angular velocity's part.
+/// One end of a spring (or a user force's point), in the world.
 #[derive(Debug, Clone, Copy)]
 struct End<S: Space> {
     /// The end's position.
