@@ -98,10 +98,23 @@ def test_two_solids_on_a_spring_keep_their_momentum(dim: int) -> None:
     w.add_solid_spring(
         0, [0.0, 0.3] + [0.0] * (dim - 2), 1, [-0.2, 0.1] + [0.0] * (dim - 2), stiffness=50.0, rest_length=3.5
     )
+    ends = w.solid_spring_ends()
+    assert ends.shape == (1, 2, dim)
+    assert np.allclose(ends[0], [[0.0, 0.3] + [0.0] * (dim - 2), [3.8, 0.1] + [0.0] * (dim - 2)], atol=1e-15)
     masses = np.array([ball_mass(dim), ball_mass(dim, rho=3.0)])
     p0 = masses @ w.solid_velocities()
     e0 = w.solid_energy()
     w.step(600)
+    ends = w.solid_spring_ends()[0]
+    stretch = np.linalg.norm(ends[1] - ends[0]) - 3.5
+    spin = w.solid_angular_velocities()
+    kinetic = 0.5 * masses @ np.sum(w.solid_velocities() ** 2, axis=1)
+    if dim == 2:
+        kinetic += 0.5 * masses @ (0.125 * spin**2)
+    else:
+        kinetic += 0.5 * masses @ (0.1 * np.sum(spin**2, axis=1))
+    # Its ends are where the energy says: kinetic plus 0.5 k stretch^2.
+    assert w.solid_energy() == pytest.approx(kinetic + 0.5 * 50.0 * stretch**2, rel=1e-12)
     assert np.allclose(masses @ w.solid_velocities(), p0, rtol=0, atol=1e-12)
     assert np.any(w.solid_angular_velocities() != 0.0), "the spring off their centres turns them"
     assert len(w.contacts()["depths"]) == 0, "they never came near each other"

@@ -842,6 +842,10 @@ class World:
     def solid_spring_count(self) -> int:
         """Number of solid springs."""
 
+    def solid_spring_ends(self) -> npt.NDArray[np.float64]:
+        """The solid springs' two ends now (n, 2, dim), m: the end on ``a``, then the end on
+        ``b`` (or the world point). What a game draws."""
+
     def solid_energy(self) -> float:
         """Energy of the solids, J: kinetic (translation and rotation), potential in the
         world's gravity (0 at the origin) and in the solid springs. What the exact motion of

@@ -254,6 +254,18 @@ impl World {
         Ok(self.lock()?.engine.solid_springs().len())
     }
 
+    /// The solid springs' two ends now (n, 2, dim), m: the end on `a`, then the end on `b`
+    /// (or the world point). What a game draws.
+    fn solid_spring_ends<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        let g = self.lock()?;
+        let d = g.engine.dim();
+        let ends = g.engine.solid_spring_ends();
+        let n = ends.len() / (2 * d);
+        let a = numpy::ndarray::Array3::from_shape_vec((n, 2, d), ends)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        Ok(a.into_pyarray(py))
+    }
+
     /// Energy of the solids, J: kinetic (translation and rotation), potential in the
     /// world's gravity (0 at the origin) and in the solid springs. What the exact motion of
     /// solids touching nothing, under gravity and undamped springs, conserves.

@@ -265,6 +265,17 @@ impl<S: Space> Forces<S> {
         Ok(self.springs.len() - 1)
     }
 
+    /// Each spring's two ends now, world coordinates, flat (`a`'s end, then `b`'s).
+    pub(crate) fn ends(&self, bodies: &[Body<S>]) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.springs.len() * 2 * S::DIM);
+        for s in &self.springs {
+            let (ea, eb) = s.ends(bodies, |_| (S::V::default(), S::W::default()));
+            ea.x.write(&mut out);
+            eb.x.write(&mut out);
+        }
+        out
+    }
+
     /// The springs' potential energy, J.
     pub(crate) fn potential(&self, bodies: &[Body<S>]) -> f64 {
         self.springs.iter().map(|s| s.potential(bodies)).sum()

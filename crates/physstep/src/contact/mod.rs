@@ -381,6 +381,13 @@ impl<S: Space> Solids<S> {
         &self.forces.spring_params
     }
 
+    /// Each solid spring's two ends now, world coordinates, flat (`DIM` numbers each: the end
+    /// on `a`, then the end on `b` or the anchor).
+    #[must_use]
+    pub fn spring_ends(&self) -> Vec<f64> {
+        self.forces.ends(&self.bodies)
+    }
+
     /// Potential energy of the solid springs now, J.
     #[must_use]
     pub fn spring_energy(&self) -> f64 {

@@ -308,6 +308,13 @@ impl World {
         each!(&self.solids, s => s.user_potential(), Some(0.0))
     }
 
+    /// Each solid spring's two ends now, world coordinates, flat (`dim` numbers each: the end
+    /// on `a`, then the end on `b` or the anchor), m: what a game draws.
+    #[must_use]
+    pub fn solid_spring_ends(&self) -> Vec<f64> {
+        each!(&self.solids, s => s.spring_ends(), Vec::new())
+    }
+
     /// Each solid spring as it was made (its rest length resolved).
     #[must_use]
     pub fn solid_springs(&self) -> &[SolidSpring] {
