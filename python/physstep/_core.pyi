@@ -810,6 +810,8 @@ class World:
         density: float | None = None,
         friction: float | None = None,
         restitution: float | None = None,
+        linear_damping: float | None = None,
+        angular_damping: float | None = None,
     ) -> int:
         """Adds a solid: a rigid body with a shape that collides with the other solids,
         stepped by the contact solver (docs: Contact); returns its index among the solids.
@@ -820,8 +822,77 @@ class World:
         z) in 3D; ``velocity`` (m/s) and ``angular_velocity`` (rad/s: one number in 2D);
         ``kind``: "dynamic" (default), "static" or "kinematic"; ``density`` (kg/m^2 in 2D,
         kg/m^3 in 3D; default 1); ``friction`` >= 0 (default 0.6; a pair: the geometric
-        mean); ``restitution`` in [0, 1] (default 0; a pair: the larger). ValueError naming
-        the bad field; the world is then unchanged."""
+        mean); ``restitution`` in [0, 1] (default 0; a pair: the larger);
+        ``linear_damping`` and ``angular_damping``, drag in 1/s (>= 0, default 0: in each
+        substep v *= 1 / (1 + h c), so speed decays as exp(-c t)). ValueError naming the bad
+        field; the world is then unchanged."""
+
+    def add_solid_spring(
+        self,
+        a: int,
+        point_a: npt.ArrayLike,
+        b: int | None = None,
+        point_b: npt.ArrayLike | None = None,
+        *,
+        stiffness: float,
+        rest_length: float | None = None,
+        damping: float | None = None,
+    ) -> int:
+        """Adds a spring between ``point_a`` of solid ``a`` and ``point_b`` of solid ``b``
+        (each in its solid's frame, the frame its shape is given in, m), or, with ``b``
+        None, the fixed world point ``point_b``: the force k (L - rest_length) + damping
+        (the ends' relative speed along the line), N, pulls the two ends together along the
+        line between them, equal and opposite, and turns each solid about its centre;
+        applied in each of the contact solver's substeps. ``stiffness`` N/m and ``damping``
+        N s/m (default 0) >= 0; ``rest_length`` (m, >= 0) defaults to the distance between
+        the ends now (0: the linear spring k d). Returns its index among the solid springs.
+        ValueError naming the bad field; the world is then unchanged."""
+
+    @property
+    def solid_spring_count(self) -> int:
+        """Number of solid springs."""
+
+    def solid_spring_ends(self) -> npt.NDArray[np.float64]:
+        """The solid springs' two ends now (n, 2, dim), m: the end on ``a``, then the end on
+        ``b`` (or the world point). What a game draws."""
+
+    def solid_energy(self) -> float:
+        """Energy of the solids, J: kinetic (translation and rotation), potential in the
+        world's gravity (0 at the origin) and in the solid springs. What the exact motion of
+        solids touching nothing, under gravity and undamped springs, conserves."""
+
+    def apply_solid_force(self, solid: int, force: npt.ArrayLike, point: npt.ArrayLike | None = None) -> None:
+        """Applies ``force`` (N, world frame: dim numbers) to solid ``solid`` for the next
+        step, at the world point ``point`` (default its centre of mass), which also turns
+        it. Loads add up until a step takes them, held constant over its substeps.
+        ValueError naming the bad field."""
+
+    def add_solid_force(
+        self,
+        solid: int,
+        func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
+        point: npt.ArrayLike | None = None,
+        *,
+        potential: Callable[[npt.NDArray[np.float64]], float] | None = None,
+        name: str | None = None,
+    ) -> int:
+        """Adds a force from Python at ``point`` of solid ``solid`` (its frame, the frame its
+        shape is given in, m; default the origin of its shape): ``func(t, x, v)`` sees that
+        point as one particle, its world position and velocity as (1, dim) arrays, and
+        returns the force on it (1, dim), N, which also turns the solid about its centre. It
+        is evaluated once a step, at the step's start, and held constant over the contact
+        solver's substeps. ``potential(x)`` (J) keeps :meth:`energy` known; ``name`` names it
+        in errors (default the function's). An exception raised inside propagates unchanged,
+        and a result that is not finite is a ValueError naming the force; the step is
+        rolled back either way. Returns the force's index among the solid forces."""
+
+    @property
+    def solid_force_count(self) -> int:
+        """Number of forces from Python on solids."""
+
+    def apply_solid_torque(self, solid: int, torque: float | npt.ArrayLike) -> None:
+        """Applies ``torque`` (N m: one number in 2D, a world-frame vector in 3D) to solid
+        ``solid`` for the next step. ValueError naming the bad field."""
 
     @property
     def solid_count(self) -> int:

@@ -21,6 +21,10 @@ use std::sync::{Mutex, MutexGuard, TryLockError};
 /// cannot hold, for pickles and copies.
 pub(crate) type BodyForceSpec = (usize, [f64; 3], std::sync::Arc<Py<PyAny>>);
 
+/// A Python force at a solid's point as added: solid, point (its frame, `dim` numbers), and
+/// the force's spec as [`BodyForceSpec`]'s.
+pub(crate) type SolidForceSpec = (usize, Vec<f64>, std::sync::Arc<Py<PyAny>>);
+
 /// Particles, forces, an integrator and a fixed-timestep game loop.
 ///
 /// World(dim, method="symplectic-euler", dt=1/120, max_steps_per_frame=8,
@@ -83,6 +87,8 @@ pub(crate) struct Inner {
     pub(crate) pending: ParticleBatch,
     /// The Python forces at body points as added, for pickling.
     pub(crate) body_forces: Vec<BodyForceSpec>,
+    /// The Python forces at solids' points as added, for pickling.
+    pub(crate) solid_forces: Vec<SolidForceSpec>,
     /// The zero-copy views lent out (`crate::views`): detached before the state reallocates.
     pub(crate) views: Views,
 }
@@ -159,7 +165,8 @@ impl World {
     ) -> Self {
         let (pending, body_forces) = (ParticleBatch::default(), Vec::new());
         let views = Views::default();
-        let inner = Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, views });
+        let solid_forces = Vec::new();
+        let inner = Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, solid_forces, views });
         Self { inner, holder: AtomicUsize::new(0) }
     }
 }

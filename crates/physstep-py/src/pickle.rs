@@ -8,8 +8,9 @@
 //!
 //! The pickled `parts` are a dict: `scene` (the text), `loop` and `substeps` (the loop
 //! variant to rebuild under: the text's own unless changed, as the demos do to switch a
-//! world's loop), `forces` (the Python forces' specs), `body_forces` (`(body, point, spec)`)
-//! and `flow` (a Python flow's spec, or None).
+//! world's loop), `forces` (the Python forces' specs), `body_forces` (`(body, point, spec)`),
+//! `solid_forces` (`(solid, point, spec)`; absent from older pickles) and `flow` (a Python
+//! flow's spec, or None).
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
@@ -39,6 +40,10 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
     for (body, point, spec) in &g.body_forces {
         body_forces.append((*body, point.to_vec(), spec.bind(py)))?;
     }
+    let solid_forces = PyList::empty(py);
+    for (solid, point, spec) in &g.solid_forces {
+        solid_forces.append((*solid, point.clone(), spec.bind(py)))?;
+    }
     if let (Some(Flow::User { .. }), None) = (w.flow(), &g.flow) {
         return Err(PyValueError::new_err("this World's flow is not a Python one: it cannot be pickled"));
     }
@@ -64,11 +69,16 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
         let name: String = item.get_item(2)?.get_item(4)?.extract()?;
         check(format!("Python force {k} at a body point ('{name}')"), &item)?;
     }
+    for (k, item) in solid_forces.iter().enumerate() {
+        let name: String = item.get_item(2)?.get_item(4)?.extract()?;
+        check(format!("Python force {k} at a solid's point ('{name}')"), &item)?;
+    }
     if let Some(f) = &g.flow {
         check("Python flow".into(), f.bind(py))?;
     }
     d.set_item("forces", forces)?;
     d.set_item("body_forces", body_forces)?;
+    d.set_item("solid_forces", solid_forces)?;
     d.set_item("flow", g.flow.as_ref().map(|f| f.bind(py)))?;
     let rebuild = py.import("physstep._core")?.getattr("_world_from_scene")?;
     Ok((rebuild, (d.into_any(), PyBytes::new(py, &w.snapshot()).into_any())))
@@ -124,8 +134,19 @@ pub(crate) fn _world_from_scene(
         let spec = item.get_item(2)?.unbind();
         crate::world_bodies::add_force(py, &mut engine, &mut body_forces, body, point, spec, &slot)?;
     }
+    let mut solid_forces = Vec::new();
+    if let Some(items) = parts.get_item("solid_forces")? {
+        for item in items.try_iter()? {
+            let item = item?;
+            let (solid, point): (usize, Vec<f64>) =
+                (item.get_item(0)?.extract()?, item.get_item(1)?.extract()?);
+            let spec = item.get_item(2)?.unbind();
+            crate::world_solids::add_force(py, &mut engine, &mut solid_forces, solid, point, spec, &slot)?;
+        }
+    }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let world = World::with_parts(engine, slot, user, flow_spec);
     world.lock()?.body_forces = body_forces;
+    world.lock()?.solid_forces = solid_forces;
     Ok(world)
 }

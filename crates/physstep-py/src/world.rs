@@ -156,6 +156,7 @@ impl World {
         let flow = g.flow.as_ref().map(|f| f.clone_ref(py));
         let copy = Self::with_parts(engine, g.slot.clone(), user, flow);
         copy.lock()?.body_forces = g.body_forces.clone();
+        copy.lock()?.solid_forces = g.solid_forces.clone();
         Ok(copy)
     }
 

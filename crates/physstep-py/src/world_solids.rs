@@ -7,7 +7,7 @@ use crate::convert::{array, float, invalid, matrix, text};
 use crate::handle::World;
 use crate::py_err;
 use numpy::{IntoPyArray, PyArray2};
-use physstep::contact::{JointKind, JointParams, Kind, Shape, SolidParams, SOLVERS};
+use physstep::contact::{JointKind, JointParams, Kind, Shape, SolidParams, SolidSpring, SOLVERS};
 use physstep::rigid::inertia::Shape as BodyShape;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -115,6 +115,23 @@ fn solid_shape(o: &Bound<'_, PyAny>) -> PyResult<Shape> {
     })
 }
 
+/// Adds a Python force at `point` of `solid` to the engine and keeps its spec (for copies and
+/// pickles).
+pub(crate) fn add_force(
+    py: Python<'_>,
+    w: &mut physstep::world::World,
+    kept: &mut Vec<crate::handle::SolidForceSpec>,
+    solid: usize,
+    point: Vec<f64>,
+    spec: Py<PyAny>,
+    slot: &crate::force::Slot,
+) -> PyResult<usize> {
+    let force = crate::force::PyForce::from_spec(spec.bind(py), w.dim(), slot)?;
+    let k = w.add_solid_force(solid, &point, std::sync::Arc::new(force)).map_err(py_err)?;
+    kept.push((solid, point, std::sync::Arc::new(spec)));
+    Ok(k)
+}
+
 fn numbers(o: Option<&Bound<'_, PyAny>>, field: &str) -> PyResult<Option<Vec<f64>>> {
     match o.filter(|o| !o.is_none()) {
         None => Ok(None),
@@ -140,8 +157,11 @@ impl World {
     /// (w, x, y, z) in 3D; `velocity` (m/s) and `angular_velocity` (rad/s: one number in
     /// 2D); `kind`: "dynamic" (default), "static" or "kinematic"; `density` (kg/m^2 in 2D,
     /// kg/m^3 in 3D; default 1); `friction` >= 0 (default 0.6; a pair: the geometric mean);
-    /// `restitution` in [0, 1] (default 0; a pair: the larger). ValueError naming the bad field; the world is then unchanged.
-    #[pyo3(signature = (shape, *, position=None, orientation=None, velocity=None, angular_velocity=None, kind=None, density=None, friction=None, restitution=None))]
+    /// `restitution` in [0, 1] (default 0; a pair: the larger); `linear_damping` and
+    /// `angular_damping`, drag in 1/s (>= 0, default 0: in each substep v *= 1 / (1 + h c),
+    /// so speed decays as exp(-c t)). ValueError naming the bad field; the world is then
+    /// unchanged.
+    #[pyo3(signature = (shape, *, position=None, orientation=None, velocity=None, angular_velocity=None, kind=None, density=None, friction=None, restitution=None, linear_damping=None, angular_damping=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_solid(
         &self,
@@ -154,6 +174,8 @@ impl World {
         density: Option<&Bound<'_, PyAny>>,
         friction: Option<&Bound<'_, PyAny>>,
         restitution: Option<&Bound<'_, PyAny>>,
+        linear_damping: Option<&Bound<'_, PyAny>>,
+        angular_damping: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
         let shape = solid_shape(shape)?;
         let given = |o: Option<&Bound<'_, PyAny>>, field: &str, default: f64| -> PyResult<f64> {
@@ -182,7 +204,154 @@ impl World {
         p.density = given(density, "density", p.density)?;
         p.friction = given(friction, "friction", p.friction)?;
         p.restitution = given(restitution, "restitution", p.restitution)?;
+        p.linear_damping = given(linear_damping, "linear_damping", 0.0)?;
+        p.angular_damping = given(angular_damping, "angular_damping", 0.0)?;
         g.grow()?.add_solid(p).map_err(py_err)
+    }
+
+    /// Adds a spring between `point_a` of solid `a` and `point_b` of solid `b` (each in its
+    /// solid's frame, the frame its shape is given in, m), or, with `b` None, the fixed world
+    /// point `point_b`: the force k (L - rest_length) + damping (the ends' relative speed
+    /// along the line), N, pulls the two ends together along the line between them, equal and
+    /// opposite, and turns each solid about its centre; applied in each of the contact
+    /// solver's substeps. `stiffness` N/m and `damping` N s/m (default 0) >= 0;
+    /// `rest_length` (m, >= 0) defaults to the distance between the ends now (0: the linear
+    /// spring k d). Returns its index among the solid springs. ValueError naming the bad
+    /// field; the world is then unchanged.
+    #[pyo3(signature = (a, point_a, b=None, point_b=None, *, stiffness, rest_length=None, damping=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_solid_spring(
+        &self,
+        a: &Bound<'_, PyAny>,
+        point_a: &Bound<'_, PyAny>,
+        b: Option<&Bound<'_, PyAny>>,
+        point_b: Option<&Bound<'_, PyAny>>,
+        stiffness: &Bound<'_, PyAny>,
+        rest_length: Option<&Bound<'_, PyAny>>,
+        damping: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let a = crate::convert::index(a, "a")?;
+        let b = b.filter(|o| !o.is_none()).map(|o| crate::convert::index(o, "b")).transpose()?;
+        let point_a = numbers(Some(point_a), "point_a")?.unwrap_or_default();
+        let mut g = self.lock()?;
+        let dim = g.engine.dim();
+        let point_b = numbers(point_b, "point_b")?.unwrap_or_else(|| vec![0.0; dim]);
+        let spring = SolidSpring {
+            a,
+            point_a,
+            b,
+            point_b,
+            stiffness: float(stiffness, "stiffness")?,
+            rest_length: rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?,
+            damping: damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?,
+        };
+        g.flush()?.add_solid_spring(spring).map_err(py_err)
+    }
+
+    /// Number of solid springs.
+    #[getter]
+    fn solid_spring_count(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.solid_springs().len())
+    }
+
+    /// The solid springs' two ends now (n, 2, dim), m: the end on `a`, then the end on `b`
+    /// (or the world point). What a game draws.
+    fn solid_spring_ends<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        let g = self.lock()?;
+        let d = g.engine.dim();
+        let ends = g.engine.solid_spring_ends();
+        let n = ends.len() / (2 * d);
+        let a = numpy::ndarray::Array3::from_shape_vec((n, 2, d), ends)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        Ok(a.into_pyarray(py))
+    }
+
+    /// Energy of the solids, J: kinetic (translation and rotation), potential in the
+    /// world's gravity (0 at the origin) and in the solid springs. What the exact motion of
+    /// solids touching nothing, under gravity and undamped springs, conserves.
+    fn solid_energy(&self) -> PyResult<f64> {
+        Ok(self.lock()?.engine.solid_energy())
+    }
+
+    /// Applies `force` (N, world frame: dim numbers) to solid `solid` for the next step, at
+    /// the world point `point` (default its centre of mass), which also turns it. Loads add
+    /// up until a step takes them, held constant over its substeps. ValueError naming the
+    /// bad field.
+    #[pyo3(signature = (solid, force, point=None))]
+    fn apply_solid_force(
+        &self,
+        solid: &Bound<'_, PyAny>,
+        force: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let solid = crate::convert::index(solid, "solid")?;
+        let force = numbers(Some(force), "force")?.unwrap_or_default();
+        let at = numbers(point, "point")?;
+        let mut g = self.lock()?;
+        g.flush()?.apply_solid_force(solid, &force, at.as_deref()).map_err(py_err)
+    }
+
+    /// Adds a force from Python at `point` of solid `solid` (its frame, the frame its shape
+    /// is given in, m; default the origin of its shape): `func(t, x, v)` sees that point as
+    /// one particle, its world position and velocity as (1, dim) arrays, and returns the
+    /// force on it (1, dim), N, which also turns the solid about its centre. It is evaluated
+    /// once a step, at the step's start, and held constant over the contact solver's
+    /// substeps. `potential(x)` (J) keeps World.energy() known; `name` names it in errors
+    /// (default the function's). An exception raised inside propagates unchanged, and a
+    /// result that is not finite is a ValueError naming the force; the step is rolled
+    /// back either way. Returns the force's index among the solid forces.
+    #[pyo3(signature = (solid, func, point=None, *, potential=None, name=None))]
+    fn add_solid_force(
+        &self,
+        py: Python<'_>,
+        solid: &Bound<'_, PyAny>,
+        func: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+        potential: Option<&Bound<'_, PyAny>>,
+        name: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let solid = crate::convert::index(solid, "solid")?;
+        if !func.is_callable() {
+            return Err(invalid("func", func, "callable"));
+        }
+        let potential = match potential.filter(|p| !p.is_none()) {
+            Some(p) if p.is_callable() => Some(p.clone().unbind()),
+            Some(p) => return Err(invalid("potential", p, "callable")),
+            None => None,
+        };
+        let name = match name.filter(|n| !n.is_none()) {
+            Some(n) => text(n, "name")?,
+            None => func
+                .getattr("__name__")
+                .and_then(|n| n.extract::<String>())
+                .unwrap_or_else(|_| "solid force".into()),
+        };
+        let mut g = self.lock()?;
+        let dim = g.engine.dim();
+        let point = numbers(point, "point")?.unwrap_or_else(|| vec![0.0; dim]);
+        // Evaluated once a step: whether it reads v changes nothing, so it is taken to.
+        let spec = (func, potential.as_ref().map(|p| p.bind(py)), py.None(), true, &name, false)
+            .into_pyobject(py)?
+            .into_any()
+            .unbind();
+        g.flush()?;
+        let crate::handle::Inner { engine, solid_forces, slot, .. } = &mut *g;
+        add_force(py, engine, solid_forces, solid, point, spec, slot)
+    }
+
+    /// Number of forces from Python on solids.
+    #[getter]
+    fn solid_force_count(&self) -> PyResult<usize> {
+        Ok(self.lock()?.engine.solid_force_count())
+    }
+
+    /// Applies `torque` (N m: one number in 2D, a world-frame vector in 3D) to solid
+    /// `solid` for the next step. ValueError naming the bad field.
+    fn apply_solid_torque(&self, solid: &Bound<'_, PyAny>, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+        let solid = crate::convert::index(solid, "solid")?;
+        let torque = numbers(Some(torque), "torque")?.unwrap_or_default();
+        let mut g = self.lock()?;
+        g.flush()?.apply_solid_torque(solid, &torque).map_err(py_err)
     }
 
     /// Adds a joint between solids `a` and `b` (indices from add_solid; `b` None: the world,

@@ -59,7 +59,7 @@ fn bad_files_are_refused_with_the_file_line_and_field() {
     let m = err("dimension = 1\n\n[[particles]]\nposition = [0.0]\nmass = -1.0\n");
     assert_eq!(m, "scene file bad.toml:3: particles[0]: invalid mass = -1: must be > 0 with a finite inverse 1/m (about 5.6e-309 or more), at most 1e100 (inf for a static particle)");
     let m = err("dimension = 1\ncolour = 3\n");
-    assert_eq!(m, "scene file bad.toml:2: colour: unknown key; valid keys here: dimension, method, dt, until, constraint_iterations, loop, rigid, flow, particles, bodies, forces, springs, body_springs, constraints, collisions, contact, solids, joints");
+    assert_eq!(m, "scene file bad.toml:2: colour: unknown key; valid keys here: dimension, method, dt, until, constraint_iterations, loop, rigid, flow, particles, bodies, forces, springs, body_springs, constraints, collisions, contact, solids, joints, solid_springs");
     let m = err("dimension = 1\n[[particles]]\nposition = [0.0]\nmas = 2.0\n");
     assert!(m.starts_with("scene file bad.toml:4: particles[0].mas: unknown key"), "{m}");
     let m = err("dimension = 2\n[[particles]]\nposition = [0.0, 1.0]\n[[constraints]]\nkind = \"distance\"\ni = 0\nj = 7\nlength = 1.0\n");

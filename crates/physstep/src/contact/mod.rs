@@ -14,12 +14,14 @@
 //! engines (Box2D, Rapier, Jolt) fix it. The world's method integrates everything else.
 
 pub mod broad;
+mod forces;
 pub mod joint;
 mod settings;
 mod shape;
 pub mod solver;
 pub mod space;
 
+pub use forces::SolidSpring;
 pub use joint::{JointKind, JointParams, JOINT_KINDS};
 pub use settings::{Info, Settings, SOLVERS};
 pub use shape::Shape;
@@ -88,10 +90,15 @@ pub struct SolidParams {
     pub friction: f64,
     /// Restitution in [0, 1]; a pair uses the larger of its two.
     pub restitution: f64,
+    /// Linear drag, 1/s (>= 0): in each substep `v *= 1 / (1 + h c)` (Box2D's form).
+    pub linear_damping: f64,
+    /// Angular drag, 1/s (>= 0): in each substep `w *= 1 / (1 + h c)`.
+    pub angular_damping: f64,
 }
 
 impl SolidParams {
-    /// A dynamic solid of `shape` at `position`, at rest, density 1, friction 0.6, no bounce.
+    /// A dynamic solid of `shape` at `position`, at rest, density 1, friction 0.6, no bounce,
+    /// no drag.
     #[must_use]
     pub fn new(shape: Shape, position: &[f64]) -> Self {
         let dim = position.len();
@@ -105,6 +112,8 @@ impl SolidParams {
             density: 1.0,
             friction: 0.6,
             restitution: 0.0,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
         }
     }
 }
@@ -171,6 +180,8 @@ pub struct Solids<S: Space> {
     pub(crate) joint_params: Vec<JointParams>,
     /// Pairs of solids a joint keeps from colliding, `(low, high)`, sorted.
     pub(crate) no_collide: Vec<(u32, u32)>,
+    /// Drag, springs and loads ([`forces`]).
+    pub(crate) forces: forces::Forces<S>,
 }
 
 impl<S: Space> Default for Solids<S> {
@@ -184,6 +195,7 @@ impl<S: Space> Default for Solids<S> {
             joints: Vec::new(),
             joint_params: Vec::new(),
             no_collide: Vec::new(),
+            forces: forces::Forces::default(),
         }
     }
 }
@@ -232,7 +244,8 @@ impl<S: Space> Solids<S> {
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming the field (`position`, `density`, `friction`,
-    /// `restitution`, `kind`, a size of the shape) and the value.
+    /// `restitution`, `linear_damping`, `angular_damping`, `kind`, a size of the shape) and
+    /// the value.
     pub fn check(p: &SolidParams) -> Result<()> {
         let (d, r) = (S::DIM, S::ROT);
         let a = if d == 3 { 3 } else { 1 };
@@ -256,6 +269,8 @@ impl<S: Space> Solids<S> {
         if !(0.0..=1.0).contains(&p.restitution) {
             return Err(Error::invalid("restitution", num(p.restitution), "in [0, 1]"));
         }
+        forces::check_damping("linear_damping", p.linear_damping)?;
+        forces::check_damping("angular_damping", p.angular_damping)?;
         if p.kind == Kind::Dynamic && p.shape.is_massless() {
             return Err(Error::invalid(
                 "kind",
@@ -306,6 +321,7 @@ impl<S: Space> Solids<S> {
         };
         self.bodies.push(body);
         self.shapes.push(shape);
+        self.forces.push_solid(p.linear_damping, p.angular_damping);
         self.params.push(p);
         Ok(self.bodies.len() - 1)
     }
@@ -345,6 +361,131 @@ impl<S: Space> Solids<S> {
     #[must_use]
     pub fn joint_errors(&self) -> Vec<f64> {
         self.joints.iter().map(|j| j.error(&self.bodies)).collect()
+    }
+
+    /// Adds a spring between a point of solid `a` and a point of solid `b` (or a fixed point
+    /// of the world, `b` = `None`); returns its index among the solid springs. Its rest
+    /// length, when not given, is the distance between the two ends now.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field (`a`, `b` a missing solid or `a` itself,
+    /// `point_a`, `point_b` of the wrong length or not finite, `stiffness`, `damping`,
+    /// `rest_length` negative or not finite) and the value; the solids are unchanged.
+    pub fn add_spring(&mut self, p: SolidSpring) -> Result<usize> {
+        self.forces.add_spring(p, &self.bodies)
+    }
+
+    /// Each solid spring as it was made (its rest length resolved).
+    #[must_use]
+    pub fn springs(&self) -> &[SolidSpring] {
+        &self.forces.spring_params
+    }
+
+    /// Each solid spring's two ends now, world coordinates, flat (`DIM` numbers each: the end
+    /// on `a`, then the end on `b` or the anchor).
+    #[must_use]
+    pub fn spring_ends(&self) -> Vec<f64> {
+        self.forces.ends(&self.bodies)
+    }
+
+    /// Potential energy of the solid springs now, J.
+    #[must_use]
+    pub fn spring_energy(&self) -> f64 {
+        self.forces.potential(&self.bodies)
+    }
+
+    /// Potential energy of the dynamic solids in the uniform gravity `g`, J (0 at the
+    /// origin).
+    #[must_use]
+    pub fn gravity_energy(&self, g: S::V) -> f64 {
+        self.bodies.iter().filter(|b| b.inv_mass > 0.0).map(|b| -g.dot(b.c) / b.inv_mass).sum()
+    }
+
+    /// Applies `force` (N, world frame) to solid `i` for the next step, at the world point
+    /// `point` (its centre of mass when `None`: then no torque), and `torque` (N m; one number in
+    /// 2D). Loads add up until a step takes them; they are held constant over its substeps.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid`, `force`, `point` or `torque` (a wrong length, not
+    /// finite, or beyond 1e12 in size); the solids are unchanged.
+    pub fn apply(&mut self, i: usize, force: &[f64], point: Option<&[f64]>, torque: &[f64]) -> Result<()> {
+        forces::solid_index("solid", i, self.len())?;
+        let a = if S::DIM == 3 { 3 } else { 1 };
+        let check = |field: &str, v: &[f64], n: usize| -> Result<()> {
+            len(field, v, n)?;
+            match v.iter().position(|x| !(x.is_finite() && x.abs() <= crate::limits::PARAM_MAX)) {
+                Some(k) => {
+                    Err(Error::invalid(format!("{field}[{k}]"), num(v[k]), "finite (at most 1e12 in size)"))
+                }
+                None => Ok(()),
+            }
+        };
+        check("force", force, S::DIM)?;
+        check("torque", torque, a)?;
+        let arm = match point {
+            Some(at) => {
+                check("point", at, S::DIM)?;
+                S::V::read(at) - self.bodies[i].c
+            }
+            None => S::V::default(),
+        };
+        let n = self.len();
+        self.forces.apply(n, i, S::V::read(force), arm, S::W::read(torque));
+        Ok(())
+    }
+
+    /// Whether a step of these solids depends on nothing but their state (no user force, no
+    /// load applied by hand waiting).
+    #[must_use]
+    pub(crate) fn replayable(&self) -> bool {
+        self.forces.replayable()
+    }
+
+    /// Forgets the loads applied by hand (a step took them).
+    pub(crate) fn clear_applied(&mut self) {
+        self.forces.clear_applied();
+    }
+
+    /// Adds a user force acting at `point` of solid `solid` (in its frame, the frame its
+    /// shape is given in, m): the generator sees that point as one particle (its world
+    /// position and velocity, `DIM` numbers each) and returns the force on it, which also
+    /// turns the solid. Evaluated once a step, at its start; the substeps hold it. Returns
+    /// its index among the solid forces.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` or `point`; the solids are unchanged.
+    pub fn add_force(
+        &mut self,
+        solid: usize,
+        point: &[f64],
+        generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
+    ) -> Result<usize> {
+        self.forces.add_user(solid, point, generator, &self.bodies)
+    }
+
+    /// Number of user forces on the solids.
+    #[must_use]
+    pub fn force_count(&self) -> usize {
+        self.forces.users.len()
+    }
+
+    /// The user forces' potential energy now, J; `None` when one of them has none.
+    #[must_use]
+    pub fn user_potential(&self) -> Option<f64> {
+        self.forces.user_potential(&self.bodies)
+    }
+
+    /// This step's loads at time `t`: those applied by hand and the user forces'.
+    ///
+    /// # Errors
+    /// [`Error::Force`] naming a user force that failed or gave a non-finite value.
+    pub(crate) fn gather_loads(&mut self, t: f64) -> Result<()> {
+        self.forces.gather(t, &self.bodies)
+    }
+
+    /// A fingerprint of the drag and springs, `None` without either (for the state hash).
+    pub(crate) fn forces_fingerprint(&self) -> Option<u64> {
+        self.forces.fingerprint()
     }
 
     /// Origins of the shapes, flat (`DIM` a solid).
@@ -412,17 +553,22 @@ impl<S: Space> Solids<S> {
         self.solver.report().iter().map(|c| c.depth).fold(0.0, f64::max)
     }
 
-    /// Advances the solids by `dt` under `gravity` (dynamic solids only).
+    /// Advances the solids by `dt` under `gravity` (dynamic solids only), their drag, springs,
+    /// user forces (evaluated at time 0: a standalone set of solids keeps no clock) and the
+    /// loads applied by hand (which it then forgets, when it succeeds).
     ///
     /// # Errors
-    /// [`Error::InvalidValue`] for a bad `dt`; [`Error::Diverged`] (naming the solid) when
-    /// a value became non-finite or ran away, the solids then as before the step.
+    /// [`Error::InvalidValue`] for a bad `dt`; [`Error::Force`] for a user force that failed;
+    /// [`Error::Diverged`] (naming the solid) when a value became non-finite or ran away, the
+    /// solids then as before the step.
     pub fn step(&mut self, dt: f64, gravity: S::V) -> Result<()> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(Error::invalid("dt", num(dt), "finite and > 0"));
         }
+        self.gather_loads(0.0)?;
         let before = (self.bodies.clone(), self.solver.clone(), self.joints.clone());
         solver::step(self, dt, gravity);
+        self.forces.load.clear();
         if let Some(b) = self.runaway() {
             (self.bodies, self.solver, self.joints) = before;
             return Err(Error::Diverged {
@@ -435,6 +581,7 @@ impl<S: Space> Solids<S> {
                 solid: Some(b),
             });
         }
+        self.clear_applied();
         Ok(())
     }
 

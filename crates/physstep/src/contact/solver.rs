@@ -406,7 +406,9 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
 
     let mut bodies = std::mem::take(&mut solids.bodies);
     for _ in 0..n {
-        // Integrate velocities: gravity, and in space the gyroscopic term (implicit).
+        // Integrate velocities: drag, springs and loads (forces.rs), gravity, and in space the
+        // gyroscopic term (implicit).
+        super::forces::integrate(&mut solids.forces, &bodies, &mut st.motion, h);
         for (b, m) in bodies.iter().zip(st.motion.iter_mut()) {
             if b.kind == Kind::Dynamic {
                 m.v += gravity * h;

@@ -249,7 +249,8 @@ impl World {
     }
 
     /// A 64-bit hash of the dynamic state (time, positions, velocities, integrator memory,
-    /// and the constraints with their sweep count when there are any):
+    /// the constraints with their sweep count when there are any, the solids' drag and
+    /// springs when there are any):
     /// equal for bitwise-equal states, different after any change.
     #[must_use]
     pub fn state_hash(&self) -> u64 {
@@ -260,6 +261,10 @@ impl World {
         self.integrator.memory().iter().for_each(|v| eat(*v));
         self.balls_block().iter().for_each(|v| eat(*v));
         self.solids.block().iter().for_each(|v| eat(*v));
+        // The solids' drag and springs shape every later step (none: the hash as before).
+        if let Some(print) = self.solids.forces_fingerprint() {
+            h = fnv1a(h, &print.to_le_bytes());
+        }
         // Constraints shape every later step: a world with others is another world (none
         // leave the hash as it was before they existed).
         if !self.constraints.is_empty() {

@@ -5,7 +5,9 @@
 
 use super::step::StepContext;
 use super::World;
-use crate::contact::{ContactReport, JointParams, Plane, Settings, SolidParams, Solids, Space, Space3, Vect};
+use crate::contact::{
+    ContactReport, JointParams, Plane, Settings, SolidParams, SolidSpring, Solids, Space, Space3, Vect,
+};
 use crate::error::{Error, Result};
 use crate::forces::Force;
 
@@ -74,6 +76,21 @@ impl SolidSet {
             (SolidSet::Space(a), SolidSet::Space(b)) => a.save(b),
             _ => into.clone_from(self),
         }
+    }
+
+    /// Whether a step of the solids depends on nothing but their state.
+    pub(crate) fn replayable(&self) -> bool {
+        each!(self, s => s.replayable(), true)
+    }
+
+    /// A fingerprint of the solids' drag and springs, `None` without either.
+    pub(crate) fn forces_fingerprint(&self) -> Option<u64> {
+        each!(self, s => s.forces_fingerprint(), None)
+    }
+
+    /// Forgets the loads applied by hand (a step took them).
+    pub(crate) fn clear_applied(&mut self) {
+        each!(self, s => s.clear_applied(), ());
     }
 
     /// Puts back what [`SolidSet::save`] kept.
@@ -222,13 +239,110 @@ impl World {
         each!(&self.solids, s => s.kinetic_energy(), 0.0)
     }
 
-    /// Potential energy of the dynamic solids in the world's gravity, J.
+    /// Potential energy of the solids: the dynamic ones' in the world's gravity and their
+    /// springs', J.
     pub(super) fn solid_potential_energy(&self) -> f64 {
         fn u<S: Space>(m: &super::Model, s: &Solids<S>) -> f64 {
-            let g = gravity_of::<S>(m);
-            s.bodies.iter().filter(|b| b.inv_mass > 0.0).map(|b| -g.dot(b.c) / b.inv_mass).sum()
+            s.gravity_energy(gravity_of::<S>(m)) + s.spring_energy()
         }
         each!(&self.solids, s => u(&self.model, s), 0.0)
+    }
+
+    /// Energy of the solids, J: kinetic (translation and rotation), potential in the world's
+    /// gravity (0 at the origin) and in their springs. Conserved by the exact motion of
+    /// solids that touch nothing, under gravity and undamped springs.
+    #[must_use]
+    pub fn solid_energy(&self) -> f64 {
+        self.solid_kinetic_energy() + self.solid_potential_energy()
+    }
+
+    /// Adds a spring between a point of solid `a` and a point of solid `b` (each in its
+    /// solid's frame, the frame its shape is given in), or a fixed point of the world (`b` =
+    /// `None`, `point_b` in world coordinates): `F = k (|d| - rest) u + c (dv . u) u` on `a`'s
+    /// point and `-F` on `b`'s, with their torques (`rest` 0: the linear `k d + c dv`),
+    /// applied in each of the contact solver's substeps. Its rest length, when not given, is
+    /// the distance between the ends now. Returns its index among the solid springs.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming the field (`a`, `b`, `point_a`, `point_b`,
+    /// `stiffness`, `rest_length`, `damping`) and the value, or `dim` for a world without
+    /// solids; the world is unchanged.
+    pub fn add_solid_spring(&mut self, spring: SolidSpring) -> Result<usize> {
+        let dim = self.dim();
+        let i = each!(&mut self.solids, s => s.add_spring(spring), Err(Error::invalid("dim", dim, "2 or 3 (springs join solids)")))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(i)
+    }
+
+    /// Adds a user force acting at `point` of solid `solid` (in its frame, the frame its
+    /// shape is given in, m): the generator sees that point as one particle (its world
+    /// position and velocity, `dim` numbers each) and returns the force on it, which also
+    /// turns the solid about its centre. Evaluated once a step, at the step's start (time and
+    /// state); the contact solver's substeps hold it constant over the step. Its potential,
+    /// if it has one, joins [`World::energy`]; without one that energy is unknown. Returns
+    /// its index among the solid forces.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` or `point`, or `dim` for a world without
+    /// solids; the world is unchanged.
+    pub fn add_solid_force(
+        &mut self,
+        solid: usize,
+        point: &[f64],
+        generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
+    ) -> Result<usize> {
+        let dim = self.dim();
+        let i = each!(&mut self.solids, s => s.add_force(solid, point, generator), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(i)
+    }
+
+    /// Number of user forces on solids.
+    #[must_use]
+    pub fn solid_force_count(&self) -> usize {
+        each!(&self.solids, s => s.force_count(), 0)
+    }
+
+    /// The potential energy of the user forces on solids, J; `None` when one has none.
+    pub(super) fn solid_user_potential(&self) -> Option<f64> {
+        each!(&self.solids, s => s.user_potential(), Some(0.0))
+    }
+
+    /// Each solid spring's two ends now, world coordinates, flat (`dim` numbers each: the end
+    /// on `a`, then the end on `b` or the anchor), m: what a game draws.
+    #[must_use]
+    pub fn solid_spring_ends(&self) -> Vec<f64> {
+        each!(&self.solids, s => s.spring_ends(), Vec::new())
+    }
+
+    /// Each solid spring as it was made (its rest length resolved).
+    #[must_use]
+    pub fn solid_springs(&self) -> &[SolidSpring] {
+        each!(&self.solids, s => s.springs(), &[])
+    }
+
+    /// Applies `force` (N, world frame: `dim` numbers) to solid `solid` for the next step, at
+    /// the world point `point` (its centre of mass when `None`), which adds the torque of the
+    /// force about the centre. Loads add up until the next step takes them (Box2D's
+    /// `ApplyForce`), held constant over its substeps.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid`, `force` or `point`; the world is unchanged.
+    pub fn apply_solid_force(&mut self, solid: usize, force: &[f64], point: Option<&[f64]>) -> Result<()> {
+        let torque = vec![0.0; if self.dim() == 3 { 3 } else { 1 }];
+        let dim = self.dim();
+        each!(&mut self.solids, s => s.apply(solid, force, point, &torque), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
+    }
+
+    /// Applies `torque` (N m: one number in 2D, a world-frame vector in 3D) to solid `solid`
+    /// for the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` or `torque`; the world is unchanged.
+    pub fn apply_solid_torque(&mut self, solid: usize, torque: &[f64]) -> Result<()> {
+        let dim = self.dim();
+        let force = vec![0.0; dim];
+        each!(&mut self.solids, s => s.apply(solid, &force, None, torque), Err(Error::invalid("dim", dim, "2 or 3 (a world that can hold solids)")))
     }
 
     /// The contact points of the latest step.
@@ -298,7 +412,9 @@ impl World {
     /// Contact: the solids advanced by the contact solver over the step, then checked.
     pub(super) fn contact(&mut self, ctx: &StepContext) -> Result<()> {
         fn run<S: Space>(g: S::V, s: &mut Solids<S>, ctx: &StepContext, method: &str) -> Result<()> {
+            s.gather_loads(ctx.t)?;
             crate::contact::solver::step(s, ctx.h, g);
+            s.forces.load.clear();
             match s.runaway() {
                 Some(b) => Err(Error::Diverged {
                     method: format!("{} (contact solver {})", method, s.settings.solver),

@@ -128,7 +128,8 @@ impl World {
         let particles = self.model.kinetic(self.velocities())
             + self.model.potential(self.positions())?
             + self.solid_kinetic_energy()
-            + self.solid_potential_energy();
+            + self.solid_potential_energy()
+            + self.solid_user_potential()?;
         if self.bodies.is_empty() {
             return Some(particles);
         }

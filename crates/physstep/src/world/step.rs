@@ -225,6 +225,7 @@ impl World {
         self.model.user.is_empty()
             && self.bodies.forces.is_empty()
             && self.bodies.force.iter().chain(&self.bodies.torque).all(|v| *v == glam::DVec3::ZERO)
+            && self.solids.replayable()
     }
 
     /// Takes `n` steps of `h` seconds: a failing step is rolled back and reported, the steps
@@ -531,6 +532,7 @@ impl World {
             return;
         }
         self.clear_loads();
+        self.solids.clear_applied();
         self.epoch = ctx.epoch;
         self.state.steps += k;
         self.state.t = ctx.epoch.time(self.state.steps).unwrap_or(f64::NAN);

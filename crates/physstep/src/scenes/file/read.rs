@@ -14,7 +14,7 @@ use crate::rigid::inertia::Shape;
 use crate::world::{BodyParams, World, WorldParams};
 use toml::de::DeTable;
 
-const TOP: [&str; 18] = [
+const TOP: [&str; 19] = [
     "dimension",
     "method",
     "dt",
@@ -33,6 +33,7 @@ const TOP: [&str; 18] = [
     "contact",
     "solids",
     "joints",
+    "solid_springs",
 ];
 
 /// The whole file; `mode`, when given, in place of the file's loop variant.

@@ -2,10 +2,11 @@
 //! the contacts' and joints' tuning where it is not the default), `[[solids]]` (each solid as
 //! it was added: shape, kind, pose, velocities, density, friction, restitution) and
 //! `[[joints]]` (each joint as it was made: kind, the two solids, anchors, axis, lengths,
-//! limits, motor).
+//! limits, motor) and `[[solid_springs]]` (each spring between solids' points as made: the
+//! two ends, stiffness, rest length, damping).
 
 use super::doc::{Doc, Table};
-use crate::contact::{JointKind, JointParams, Kind, Settings, Shape, SolidParams};
+use crate::contact::{JointKind, JointParams, Kind, Settings, Shape, SolidParams, SolidSpring};
 use crate::error::Result;
 use crate::world::World;
 use std::fmt::Write;
@@ -75,8 +76,52 @@ pub(super) fn write(world: &World, s: &mut String) {
             num(p.friction),
             num(p.restitution)
         );
+        for (key, v) in [("linear_damping", p.linear_damping), ("angular_damping", p.angular_damping)] {
+            if v != 0.0 {
+                let _ = writeln!(s, "{key} = {}", num(v));
+            }
+        }
     }
     write_joints(world, s);
+    write_springs(world, s);
+}
+
+/// Appends the `[[solid_springs]]` of `world` (as they were made, rest lengths resolved).
+fn write_springs(world: &World, s: &mut String) {
+    for p in world.solid_springs() {
+        let _ = write!(s, "\n[[solid_springs]]\na = {}\npoint_a = {}\n", p.a, arr(&p.point_a));
+        if let Some(b) = p.b {
+            let _ = writeln!(s, "b = {b}");
+        }
+        let _ = writeln!(s, "point_b = {}\nstiffness = {}", arr(&p.point_b), num(p.stiffness));
+        if let Some(r) = p.rest_length {
+            let _ = writeln!(s, "rest_length = {}", num(r));
+        }
+        if p.damping != 0.0 {
+            let _ = writeln!(s, "damping = {}", num(p.damping));
+        }
+    }
+}
+
+/// `[[solid_springs]]` into `w` (after its solids).
+fn read_springs(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
+    let dim = w.dim();
+    for (k, (table, at)) in doc.tables(top, "solid_springs")?.into_iter().enumerate() {
+        let path = format!("solid_springs[{k}]");
+        let t = Table { table, at, path: &path };
+        doc.keys(t, &["a", "point_a", "b", "point_b", "stiffness", "rest_length", "damping"])?;
+        let p = SolidSpring {
+            a: doc.index_req(t, "a")?,
+            point_a: doc.vec_req(t, "point_a", dim)?,
+            b: doc.index(t, "b")?,
+            point_b: doc.vec_req(t, "point_b", dim)?,
+            stiffness: doc.f64_req(t, "stiffness")?,
+            rest_length: doc.f64(t, "rest_length")?,
+            damping: doc.f64(t, "damping")?.unwrap_or(0.0),
+        };
+        w.add_solid_spring(p).map_err(|e| doc.engine(at, &path, e))?;
+    }
+    Ok(())
 }
 
 /// The contact solver's tuning numbers by their `[contact]` keys (written where they are
@@ -293,6 +338,8 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
                 "density",
                 "friction",
                 "restitution",
+                "linear_damping",
+                "angular_damping",
             ],
         )?;
         let spath = format!("{path}.shape");
@@ -315,7 +362,10 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
         p.density = doc.f64(t, "density")?.unwrap_or(p.density);
         p.friction = doc.f64(t, "friction")?.unwrap_or(p.friction);
         p.restitution = doc.f64(t, "restitution")?.unwrap_or(p.restitution);
+        p.linear_damping = doc.f64(t, "linear_damping")?.unwrap_or(0.0);
+        p.angular_damping = doc.f64(t, "angular_damping")?.unwrap_or(0.0);
         w.add_solid(p).map_err(|e| doc.engine(at, &path, e))?;
     }
-    read_joints(doc, top, w)
+    read_joints(doc, top, w)?;
+    read_springs(doc, top, w)
 }

@@ -76,7 +76,8 @@ fn write(world: &World, title: &str, until: Option<f64>, purpose: Purpose) -> Re
     };
     let b = world.bodies();
     if purpose == Purpose::File {
-        if world.model().user_forces() > 0 || !b.springs.is_empty() || !b.forces.is_empty() {
+        let users = world.model().user_forces() + world.solid_force_count();
+        if users > 0 || !b.springs.is_empty() || !b.forces.is_empty() {
             return refuse(
                 "cannot be exported: a scene file holds no user forces, body springs or body forces",
             );
