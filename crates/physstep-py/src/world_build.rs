@@ -80,7 +80,7 @@ impl World {
         let mut guard = self.lock()?;
         let w = guard.flush()?;
         let g = vector(g, "g", w.dim())?;
-        w.add_force(Force::Gravity { g }).map_err(py_err)
+        w.add_force(Force::Gravity { g }).map(|_| ()).map_err(py_err)
     }
 
     /// Adds a damped spring (`stiffness` N/m, `damping` N s/m) from particle `i` to particle
@@ -103,7 +103,7 @@ impl World {
         let rest_length =
             rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
         let damping = damping.map_or(Ok(0.0), |c| float(c, "damping"))?;
-        w.add_spring(i, j, stiffness, rest_length, damping).map_err(py_err)
+        w.add_spring(i, j, stiffness, rest_length, damping).map(|_| ()).map_err(py_err)
     }
 
     /// Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2).
@@ -116,7 +116,7 @@ impl World {
         let linear = linear.map_or(Ok(0.0), |c| float(c, "linear"))?;
         let quadratic = quadratic.map_or(Ok(0.0), |c| float(c, "quadratic"))?;
         let mut g = self.lock()?;
-        g.flush()?.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
+        g.flush()?.add_force(Force::Drag { linear, quadratic }).map(|_| ()).map_err(py_err)
     }
 
     /// Adds gravity towards a fixed `center` with parameter `gm` (m^3/s^2): a = -gm r / |r|^3.
@@ -125,7 +125,7 @@ impl World {
         let mut g = self.lock()?;
         let w = g.flush()?;
         let center = vector(center, "center", w.dim())?;
-        w.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
+        w.add_force(Force::CentralGravity { center, gm }).map(|_| ()).map_err(py_err)
     }
 
     /// Adds mutual gravity between all particles (constant `g`, `softening` length m).
@@ -138,7 +138,7 @@ impl World {
         let gval = g.map_or(Ok(1.0), |g| float(g, "g"))?;
         let softening = softening.map_or(Ok(0.0), |s| float(s, "softening"))?;
         let mut guard = self.lock()?;
-        guard.flush()?.add_force(Force::NBody { g: gval, softening }).map_err(py_err)
+        guard.flush()?.add_force(Force::NBody { g: gval, softening }).map(|_| ()).map_err(py_err)
     }
 
     /// Adds the notes' force-based rod from particle `i` to `j_or_anchor` (a particle or an
@@ -155,7 +155,7 @@ impl World {
         let i = index(i, "i")?;
         let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
         let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
-        w.add_rod(i, j, length).map_err(py_err)
+        w.add_rod(i, j, length).map(|_| ()).map_err(py_err)
     }
 
     /// Adds a force written in Python: `func(t, x, v)` gets the time and the positions and
@@ -208,7 +208,8 @@ impl World {
         let w = g.flush()?;
         let force = PyForce::new(name, w.dim(), func, potential, jacobian, velocity_dependent, inplace, slot);
         let spec = force.spec(py)?.unbind();
-        let k = w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
+        let id = w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
+        let k = w.user_force_index(id).unwrap_or_default();
         g.user.push(spec);
         Ok(k)
     }
