@@ -11,6 +11,7 @@
 mod convert;
 mod errors;
 mod force;
+mod force_handle;
 mod handle;
 mod interrupt;
 mod lease;
@@ -41,6 +42,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_file::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene_file::scene_file_text, m)?)?;
     m.add_class::<handle::World>()?;
+    m.add_class::<force_handle::ForceHandle>()?;
     m.add_class::<shapes::Shape>()?;
     m.add_class::<shapes::Sphere>()?;
     m.add_class::<shapes::BoxShape>()?;

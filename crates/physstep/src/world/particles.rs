@@ -175,12 +175,18 @@ impl World {
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming `force` (an id this world holds no built-in force
-    /// of), `kind` (another kind) or the bad field, as [`World::add_force`]; the world is
+    /// of), `kind` (another kind) or the bad field, as [`World::add_force`] (a rod's `length`
+    /// must be the distance its ends have, as [`World::add_rod`] checks); the world is
     /// unchanged.
     pub fn set_force(&mut self, id: ForceId, force: Force) -> Result<()> {
         self.refuse_flow("a force")?;
-        if matches!(force, Force::NBody { .. }) {
-            crate::forces::finite_masses(&self.model.mass, 0)?;
+        match force {
+            Force::NBody { .. } => crate::forces::finite_masses(&self.model.mass, 0)?,
+            // A rod holds the length its ends have, as `add_rod` checks.
+            Force::Rod { i, j, length } if self.force(id).is_some_and(|f| f.kind() == "rod") => {
+                self.rod_length(i, j, Some(length))?;
+            }
+            _ => {}
         }
         self.model.forces.replace(id, force, self.len(), self.dim())?;
         self.touch();

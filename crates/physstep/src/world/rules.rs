@@ -133,8 +133,15 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `i`, `j_or_anchor` or `length`; the world is unchanged.
     pub fn add_rod(&mut self, i: usize, j_or_anchor: Endpoint, length: Option<f64>) -> Result<ForceId> {
+        let length = self.rod_length(i, j_or_anchor, length)?;
+        self.add_force(Force::Rod { i, j: j_or_anchor, length })
+    }
+
+    /// The length of a rod from `i` to `j_or_anchor`: the distance they have, which
+    /// `length`, when given, must equal (to 1e-9 relative).
+    pub(super) fn rod_length(&self, i: usize, j_or_anchor: Endpoint, length: Option<f64>) -> Result<f64> {
         let r = self.distance(i, j_or_anchor)?;
-        let length = match length {
+        Ok(match length {
             None => r,
             Some(l) if !(l.is_finite() && l > 0.0) => {
                 return Err(Error::invalid("length", crate::error::num(l), "a finite number > 0"))
@@ -147,7 +154,6 @@ impl World {
                 ))
             }
             Some(l) => l,
-        };
-        self.add_force(Force::Rod { i, j: j_or_anchor, length })
+        })
     }
 }
