@@ -233,3 +233,125 @@ def test_a_pickle_written_before_handles_still_loads_with_ids_in_order() -> None
     old.step(10)
     w.step(10)
     assert _bits(old) == _bits(w)
+
+
+# Per-entity views: w.particles[i], w.bodies[b].
+
+
+def test_a_particle_set_through_its_view_is_the_state_stepped() -> None:
+    for method in ("symplectic-euler", "velocity-verlet", "rk4", "verlet"):
+        w = _particles(method)
+        w.add_gravity([0.0, -9.81])
+        w.add_spring(1, 2, 40.0)
+        w.step(10)
+        built = copy.copy(w)
+        p = w.particles[1]
+        p.position = [0.7, -0.4]
+        p.velocity = [1.0, 2.0]
+        p.mass = 3.0
+        assert (p.position.tolist(), p.velocity.tolist(), p.mass) == ([0.7, -0.4], [1.0, 2.0], 3.0)
+        # The same through the whole-array setters (which restart a method's memory alike).
+        x, v = np.array(built.positions), np.array(built.velocities)
+        x[1], v[1] = [0.7, -0.4], [1.0, 2.0]
+        built.positions, built.velocities = x, v
+        built.particles[-3].mass = 3.0
+        w.step(30)
+        built.step(30)
+        assert _bits(w) == _bits(built), method
+
+
+def test_the_particles_are_a_sequence_of_views() -> None:
+    w = _particles()
+    w.add_particle([5.0, 5.0])  # waiting in the batch: counted and reachable
+    assert len(w.particles) == 5
+    assert [p.index for p in w.particles] == [0, 1, 2, 3, 4]
+    assert w.particles[-1].position.tolist() == [5.0, 5.0]
+    assert w.particles[0].static and not w.particles[1].static
+    with pytest.raises(IndexError, match="particle index 5 out of range: the World has 5 particles"):
+        w.particles[5]
+    view = w.positions
+    w.particles[2].position = [9.0, 9.0]
+    assert view[2].tolist() == [9.0, 9.0]  # the zero-copy view shows it
+
+
+def test_bad_particle_values_are_one_line_and_change_nothing() -> None:
+    w = _particles()
+    w.add_nbody_gravity()
+    kept = (_bits(w), [p.mass for p in w.particles])
+    p, fixed = w.particles[1], w.particles[0]
+    for attr, value, start in [
+        ("position", [0.0, float("nan")], "invalid position[1] = NaN"),
+        ("position", [0.0, 1.0, 2.0], "invalid position shape (3,): must be (2,)"),
+        ("velocity", [1e200, 0.0], "invalid velocity[0] = 1e200"),
+        ("mass", 0.0, "invalid mass = 0: must be > 0"),
+        ("mass", float("inf"), "invalid mass[1] = inf: must be finite when n-body gravity is on"),
+        ("mass", "heavy", "invalid mass = 'heavy': must be a number"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            setattr(p, attr, value)
+        assert str(e.value).startswith(start) and "\n" not in str(e.value)
+    with pytest.raises(ValueError, match="must be zero for particle 0, which is static"):
+        fixed.velocity = [1.0, 0.0]
+    assert (_bits(w), [p.mass for p in w.particles]) == kept
+
+
+def _bodies() -> physstep.World:
+    w = physstep.World(3, method="rk4", dt=0.01)
+    w.add_gravity([0.0, 0.0, -9.81])
+    w.add_body(physstep.Box(1.0, 0.5, 0.2), mass=2.0, angular_velocity=[0.1, 1.0, 0.2])
+    w.add_body(physstep.Sphere(0.3), position=[3.0, 0.0, 0.0])
+    return w
+
+
+def test_a_bodys_velocity_set_through_its_view_is_the_one_stepped() -> None:
+    q = [0.9, 0.1, -0.3, 0.2]
+    w = _bodies()
+    b = w.bodies[0]
+    b.position = [1.0, 2.0, 3.0]
+    b.velocity = [0.5, -1.0, 2.0]
+    b.orientation = q
+    b.angular_velocity = [2.0, 0.0, -1.0]
+    built = physstep.World(3, method="rk4", dt=0.01)
+    built.add_gravity([0.0, 0.0, -9.81])
+    built.add_body(
+        physstep.Box(1.0, 0.5, 0.2),
+        mass=2.0,
+        position=[1.0, 2.0, 3.0],
+        velocity=[0.5, -1.0, 2.0],
+        orientation=q,
+        angular_velocity=[2.0, 0.0, -1.0],
+    )
+    built.add_body(physstep.Sphere(0.3), position=[3.0, 0.0, 0.0])
+    assert np.allclose(b.orientation, np.array(q) / np.linalg.norm(q), rtol=0, atol=1e-15)
+    assert np.allclose(b.angular_velocity, [2.0, 0.0, -1.0], rtol=0, atol=1e-12)
+    w.step(40)
+    built.step(40)
+    assert w.state_hash() == built.state_hash()
+    assert w.bodies.positions.tobytes() == built.body_positions().tobytes()
+    for name in ("positions", "velocities", "orientations", "angular_velocities"):
+        arr = getattr(w.bodies, name)
+        assert arr.shape == (2, 4 if name == "orientations" else 3)
+    assert [x.index for x in w.bodies] == [0, 1] and len(w.bodies) == 2 and w.bodies[-1].mass > 0
+
+
+def test_bad_body_values_are_one_line_and_change_nothing() -> None:
+    w = _bodies()
+    w.add_body(physstep.Sphere(0.3), position=[0.0, 5.0, 0.0], pivot=[0.0, 0.0, 0.3])
+    kept = w.state_hash()
+    b, pinned = w.bodies[0], w.bodies[2]
+    for attr, value, start in [
+        ("position", [0.0, float("nan"), 0.0], "invalid position[1] = NaN"),
+        ("velocity", [0.0, 0.0], "invalid velocity shape (2,): must be (3,)"),
+        ("orientation", [0.0, 0.0, 0.0, 0.0], "invalid orientation = [0, 0, 0, 0]: must be a quaternion"),
+        ("angular_velocity", [0.0, 0.0, float("inf")], "invalid angular_velocity[2] = inf"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            setattr(b, attr, value)
+        assert str(e.value).startswith(start) and "\n" not in str(e.value)
+    with pytest.raises(ValueError, match="pinned body"):
+        pinned.position = [0.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match="pinned body"):
+        pinned.velocity = [1.0, 0.0, 0.0]
+    with pytest.raises(IndexError, match="body index 3 out of range"):
+        w.bodies[3]
+    assert w.state_hash() == kept

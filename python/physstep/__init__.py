@@ -29,6 +29,8 @@ import numpy as np
 
 from physstep import _constraints, _core
 from physstep._core import (
+    Bodies,
+    Body,
     Box,
     Capsule,
     Circle,
@@ -39,6 +41,8 @@ from physstep._core import (
     ForceHandle,
     MassProperties,
     Mesh,
+    Particle,
+    Particles,
     Plane,
     Polygon,
     Segment,
@@ -55,6 +59,8 @@ from physstep._core import (
 from physstep._scenefile import SceneFile, export_scene, load_scene, scene_text
 
 __all__ = [
+    "Bodies",
+    "Body",
     "Box",
     "Capsule",
     "Circle",
@@ -62,11 +68,13 @@ __all__ = [
     "ConvergenceError",
     "Cylinder",
     "DivergedError",
-    "ForceHandle",
     "Flow",
+    "ForceHandle",
     "MassProperties",
     "Mesh",
     "MethodInfo",
+    "Particle",
+    "Particles",
     "Plane",
     "Polygon",
     "SceneFile",

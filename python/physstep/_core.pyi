@@ -5,7 +5,7 @@ Every bad argument raises ValueError naming the field and the value (``invalid d
 back; a World used by two threads at once raises :class:`WorldBusyError`.
 """
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, final
 
 import numpy as np
@@ -13,6 +13,8 @@ import numpy.typing as npt
 from typing_extensions import disjoint_base
 
 __all__ = [
+    "Bodies",
+    "Body",
     "Box",
     "Capsule",
     "Circle",
@@ -23,6 +25,8 @@ __all__ = [
     "ForceHandle",
     "MassProperties",
     "Mesh",
+    "Particle",
+    "Particles",
     "Plane",
     "Polygon",
     "Segment",
@@ -307,6 +311,106 @@ def simulate(
     Raises ValueError for any bad argument (unknown scene or method, dt <= 0, ...),
     DivergedError or ConvergenceError when a step fails, KeyboardInterrupt on Ctrl-C.
     """
+
+@final
+class Particle:
+    """One particle of a World (``w.particles[i]``): its state read and written through the
+    World. Each read is a copy; each write is validated as ``add_particle`` validates
+    (ValueError naming the field, the World unchanged) and, as assigning
+    ``World.positions`` does, restarts a method that carries memory (Verlet's previous
+    positions: a teleport is not a velocity)."""
+
+    @property
+    def index(self) -> int:
+        """The particle's index in the World (its row of ``World.positions``)."""
+    @property
+    def position(self) -> npt.NDArray[np.float64]:
+        """Position (dim,), m; assign to move the particle."""
+    @position.setter
+    def position(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def velocity(self) -> npt.NDArray[np.float64]:
+        """Velocity (dim,), m/s; assign to set it (a static particle's must stay zero)."""
+    @velocity.setter
+    def velocity(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def mass(self) -> float:
+        """Mass, kg; assign to change it (> 0 with a finite inverse, at most 1e100; the
+        velocity is kept). A dynamic particle takes a finite mass; a static one stays
+        static."""
+    @mass.setter
+    def mass(self, value: float) -> None: ...
+    @property
+    def static(self) -> bool:
+        """Whether the particle is static (immovable): fixed when it is added."""
+
+@final
+class Particles:
+    """The particles of a World as a sequence of :class:`Particle` views:
+    ``len(w.particles)``, ``w.particles[i]`` (negative from the end; IndexError past the
+    end), iteration. Rows in the order the particles were added (none is removed)."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: int, /) -> Particle: ...
+    def __iter__(self) -> Iterator[Particle]: ...
+
+@final
+class Body:
+    """One rigid body of a World (``w.bodies[b]``): its state read and written through the
+    World, validated as ``add_body`` validates (ValueError naming the field, the World
+    unchanged); a write restarts a method that carries memory."""
+
+    @property
+    def index(self) -> int:
+        """The body's index in the World (its row of ``World.bodies.positions``)."""
+    @property
+    def position(self) -> npt.NDArray[np.float64]:
+        """Centre of mass (3,), m; assign to move the body (refused for a pinned body)."""
+    @position.setter
+    def position(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def velocity(self) -> npt.NDArray[np.float64]:
+        """Velocity of the centre of mass (3,), m/s; assign to set it (a pinned body's must
+        be zero)."""
+    @velocity.setter
+    def velocity(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def orientation(self) -> npt.NDArray[np.float64]:
+        """Orientation of the shape frame (4,), a unit quaternion (w, x, y, z); assign any
+        quaternion of length >= 1e-12: it is normalised, as ``add_body`` does (a shorter one
+        or one not finite is refused). The angular velocity is kept."""
+    @orientation.setter
+    def orientation(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def angular_velocity(self) -> npt.NDArray[np.float64]:
+        """Angular velocity (3,), rad/s, world frame; assign to set it."""
+    @angular_velocity.setter
+    def angular_velocity(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def mass(self) -> float:
+        """Mass, kg."""
+
+@final
+class Bodies:
+    """The rigid bodies of a World as a sequence of :class:`Body` views (``len``,
+    ``w.bodies[b]``, iteration) with their state as arrays, copies with one row per body in
+    the order they were added (none is removed)."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: int, /) -> Body: ...
+    def __iter__(self) -> Iterator[Body]: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float64]:
+        """Centres of mass (nb, 3), m."""
+    @property
+    def velocities(self) -> npt.NDArray[np.float64]:
+        """Velocities of the centres of mass (nb, 3), m/s."""
+    @property
+    def orientations(self) -> npt.NDArray[np.float64]:
+        """Orientations of the shape frames (nb, 4), unit quaternions (w, x, y, z)."""
+    @property
+    def angular_velocities(self) -> npt.NDArray[np.float64]:
+        """Angular velocities (nb, 3), rad/s, world frame."""
 
 @final
 class ForceHandle:
@@ -603,6 +707,15 @@ class World:
         """This World's handle of the force ``handle`` names: a handle of the World this one
         was copied or unpickled from reaches the same force here. ValueError for a removed
         force or another World's handle."""
+
+    @property
+    def particles(self) -> Particles:
+        """The particles as a sequence of views: ``w.particles[i].position = ...``."""
+
+    @property
+    def bodies(self) -> Bodies:
+        """The rigid bodies as a sequence of views (``w.bodies[b].velocity = ...``) with their
+        state as arrays (``w.bodies.positions``)."""
 
     @property
     def forces(self) -> list[ForceHandle]:

@@ -9,6 +9,7 @@
 //! is a `ValueError` that names it.
 
 mod convert;
+mod entity_views;
 mod errors;
 mod force;
 mod force_handle;
@@ -43,6 +44,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_file::scene_file_text, m)?)?;
     m.add_class::<handle::World>()?;
     m.add_class::<force_handle::ForceHandle>()?;
+    m.add_class::<entity_views::Particles>()?;
+    m.add_class::<entity_views::Particle>()?;
+    m.add_class::<entity_views::Bodies>()?;
+    m.add_class::<entity_views::Body>()?;
     m.add_class::<shapes::Shape>()?;
     m.add_class::<shapes::Sphere>()?;
     m.add_class::<shapes::BoxShape>()?;
