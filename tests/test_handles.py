@@ -355,3 +355,20 @@ def test_bad_body_values_are_one_line_and_change_nothing() -> None:
     with pytest.raises(IndexError, match="body index 3 out of range"):
         w.bodies[3]
     assert w.state_hash() == kept
+
+
+def test_state_set_through_views_is_in_the_snapshot_hash_and_pickle() -> None:
+    w = _bodies()
+    w.add_particle([0.0, 0.0, 1.0], velocity=[1.0, 0.0, 0.0])
+    h = w.state_hash()
+    w.bodies[1].velocity = [0.0, 1.0, 0.0]
+    w.particles[0].position = [0.0, 0.0, 2.0]
+    assert w.state_hash() != h
+    twin = pickle.loads(pickle.dumps(w))
+    restored = _bodies()
+    restored.add_particle([0.0, 0.0, 1.0], velocity=[1.0, 0.0, 0.0])
+    restored.restore(w.snapshot())
+    assert twin.state_hash() == w.state_hash() == restored.state_hash()
+    for world in (w, twin, restored):
+        world.step(25)
+    assert twin.state_hash() == w.state_hash() == restored.state_hash()

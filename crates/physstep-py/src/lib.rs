@@ -4,7 +4,8 @@
 //! `convert` (arguments in, arrays out), `registry` (methods and scenes), `record`
 //! (`simulate`), `views` (zero-copy `positions` and `velocities`), `world` (`World`; `world_build`, `world_state`, `world_bodies`, `world_constraints` hold its
 //! methods by concern), `shapes` (rigid-body shapes and their mass properties), `scene_file` (TOML scene files in
-//! and out). Nothing
+//! and out), `force_handle` (what an `add_*` of a force returns), `entity_views`
+//! (`w.particles[i]`, `w.bodies[b]`). Nothing
 //! panics across the boundary: every engine call returns a `Result`, and every bad argument
 //! is a `ValueError` that names it.
 

@@ -248,3 +248,17 @@ fn force_ids_survive_a_round_trip_through_scene_text_when_set_back() {
     assert_eq!(e, "invalid len(ids) = 1: must be 3, one per force");
     assert_eq!(back.force_ids(), ids);
 }
+
+#[test]
+fn a_rod_changed_through_its_id_keeps_the_length_its_ends_have() {
+    let mut w = particles("rk4");
+    let r = w.add_rod(1, Endpoint::Particle(3), None).unwrap();
+    let Some(Force::Rod { length, .. }) = w.force(r) else { panic!("not a rod") };
+    let e = w.set_force(r, Force::Rod { i: 1, j: Endpoint::Particle(3), length: 2.0 * length }).unwrap_err();
+    assert!(e.to_string().starts_with("invalid length = "), "{e}");
+    assert!(e.to_string().contains("the current distance"), "{e}");
+    // Its other end moved to another particle at the same distance is a rod all the same.
+    let to_anchor = Force::Rod { i: 1, j: Endpoint::Anchor([1.0 + length, 0.2, 0.0]), length };
+    w.set_force(r, to_anchor).unwrap();
+    assert_eq!(w.force(r), Some(to_anchor));
+}
