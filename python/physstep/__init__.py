@@ -29,6 +29,8 @@ import numpy as np
 
 from physstep import _constraints, _core
 from physstep._core import (
+    Bodies,
+    Body,
     Box,
     Capsule,
     Circle,
@@ -36,8 +38,11 @@ from physstep._core import (
     ConvergenceError,
     Cylinder,
     DivergedError,
+    ForceHandle,
     MassProperties,
     Mesh,
+    Particle,
+    Particles,
     Plane,
     Polygon,
     Segment,
@@ -54,6 +59,8 @@ from physstep._core import (
 from physstep._scenefile import SceneFile, export_scene, load_scene, scene_text
 
 __all__ = [
+    "Bodies",
+    "Body",
     "Box",
     "Capsule",
     "Circle",
@@ -62,9 +69,12 @@ __all__ = [
     "Cylinder",
     "DivergedError",
     "Flow",
+    "ForceHandle",
     "MassProperties",
     "Mesh",
     "MethodInfo",
+    "Particle",
+    "Particles",
     "Plane",
     "Polygon",
     "SceneFile",

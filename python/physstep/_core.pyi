@@ -5,7 +5,7 @@ Every bad argument raises ValueError naming the field and the value (``invalid d
 back; a World used by two threads at once raises :class:`WorldBusyError`.
 """
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, final
 
 import numpy as np
@@ -13,6 +13,8 @@ import numpy.typing as npt
 from typing_extensions import disjoint_base
 
 __all__ = [
+    "Bodies",
+    "Body",
     "Box",
     "Capsule",
     "Circle",
@@ -20,8 +22,11 @@ __all__ = [
     "ConvergenceError",
     "Cylinder",
     "DivergedError",
+    "ForceHandle",
     "MassProperties",
     "Mesh",
+    "Particle",
+    "Particles",
     "Plane",
     "Polygon",
     "Segment",
@@ -308,6 +313,201 @@ def simulate(
     """
 
 @final
+class Particle:
+    """One particle of a World (``w.particles[i]``): its state read and written through the
+    World. Each read is a copy; each write is validated as ``add_particle`` validates
+    (ValueError naming the field, the World unchanged) and, as assigning
+    ``World.positions`` does, restarts a method that carries memory (Verlet's previous
+    positions: a teleport is not a velocity)."""
+
+    @property
+    def index(self) -> int:
+        """The particle's index in the World (its row of ``World.positions``)."""
+    @property
+    def position(self) -> npt.NDArray[np.float64]:
+        """Position (dim,), m; assign to move the particle."""
+    @position.setter
+    def position(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def velocity(self) -> npt.NDArray[np.float64]:
+        """Velocity (dim,), m/s; assign to set it (a static particle's must stay zero)."""
+    @velocity.setter
+    def velocity(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def mass(self) -> float:
+        """Mass, kg; assign to change it (> 0 with a finite inverse, at most 1e100; the
+        velocity is kept). A dynamic particle takes a finite mass; a static one stays
+        static."""
+    @mass.setter
+    def mass(self, value: float) -> None: ...
+    @property
+    def static(self) -> bool:
+        """Whether the particle is static (immovable): fixed when it is added."""
+
+@final
+class Particles:
+    """The particles of a World as a sequence of :class:`Particle` views:
+    ``len(w.particles)``, ``w.particles[i]`` (negative from the end; IndexError past the
+    end), iteration. Rows in the order the particles were added (none is removed)."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: int, /) -> Particle: ...
+    def __iter__(self) -> Iterator[Particle]: ...
+
+@final
+class Body:
+    """One rigid body of a World (``w.bodies[b]``): its state read and written through the
+    World, validated as ``add_body`` validates (ValueError naming the field, the World
+    unchanged); a write restarts a method that carries memory."""
+
+    @property
+    def index(self) -> int:
+        """The body's index in the World (its row of ``World.bodies.positions``)."""
+    @property
+    def position(self) -> npt.NDArray[np.float64]:
+        """Centre of mass (3,), m; assign to move the body (refused for a pinned body)."""
+    @position.setter
+    def position(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def velocity(self) -> npt.NDArray[np.float64]:
+        """Velocity of the centre of mass (3,), m/s; assign to set it (a pinned body's must
+        be zero)."""
+    @velocity.setter
+    def velocity(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def orientation(self) -> npt.NDArray[np.float64]:
+        """Orientation of the shape frame (4,), a unit quaternion (w, x, y, z); assign any
+        quaternion of length >= 1e-12: it is normalised, as ``add_body`` does (a shorter one
+        or one not finite is refused). The angular velocity is kept."""
+    @orientation.setter
+    def orientation(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def angular_velocity(self) -> npt.NDArray[np.float64]:
+        """Angular velocity (3,), rad/s, world frame; assign to set it."""
+    @angular_velocity.setter
+    def angular_velocity(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def mass(self) -> float:
+        """Mass, kg."""
+
+@final
+class Bodies:
+    """The rigid bodies of a World as a sequence of :class:`Body` views (``len``,
+    ``w.bodies[b]``, iteration) with their state as arrays, copies with one row per body in
+    the order they were added (none is removed)."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: int, /) -> Body: ...
+    def __iter__(self) -> Iterator[Body]: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float64]:
+        """Centres of mass (nb, 3), m."""
+    @property
+    def velocities(self) -> npt.NDArray[np.float64]:
+        """Velocities of the centres of mass (nb, 3), m/s."""
+    @property
+    def orientations(self) -> npt.NDArray[np.float64]:
+        """Orientations of the shape frames (nb, 4), unit quaternions (w, x, y, z)."""
+    @property
+    def angular_velocities(self) -> npt.NDArray[np.float64]:
+        """Angular velocities (nb, 3), rad/s, world frame."""
+
+@final
+class ForceHandle:
+    """A handle to one force of a World, what every ``add_*`` of a force returns
+    (``add_gravity``, ``add_spring``, ``add_drag``, ``add_central_gravity``,
+    ``add_nbody_gravity``, ``add_rod``, ``add_force``). It names the force by an id its
+    World never gives again, so it stays that force's while others are added or removed.
+    The force's parameters read and write through it (``h.stiffness = 2e3``), validated as
+    the ``add_*`` call was (ValueError naming the field, the force unchanged); the next step
+    sees the change. A parameter the force's kind has not raises AttributeError; a handle of
+    a removed force raises ValueError. ``World.remove(h)`` removes the force. A copy or a
+    pickle of the World takes the handles of the World it came from (``copy.force(h)``).
+    """
+
+    @property
+    def id(self) -> int:
+        """The force's id in its World: never given to another force of that World."""
+    @property
+    def kind(self) -> str:
+        """``gravity``, ``spring``, ``drag``, ``central-gravity``, ``nbody``, ``rod``, or
+        ``python`` (a force added with ``add_force``, which has no parameters here)."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the force is still in its World."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same force of the same World."""
+    def __hash__(self) -> int: ...
+    @property
+    def stiffness(self) -> float:
+        """A spring's stiffness, N/m (>= 0)."""
+    @stiffness.setter
+    def stiffness(self, value: float) -> None: ...
+    @property
+    def rest_length(self) -> float:
+        """A spring's rest length, m (>= 0)."""
+    @rest_length.setter
+    def rest_length(self, value: float) -> None: ...
+    @property
+    def damping(self) -> float:
+        """A spring's damping along it, N s/m (>= 0)."""
+    @damping.setter
+    def damping(self, value: float) -> None: ...
+    @property
+    def i(self) -> int:
+        """The first particle of a spring or rod (the lower index of a pair: the World
+        stores a pair as ``i < j``). Read-only: remove the force and add another to change
+        its ends."""
+    @property
+    def j(self) -> int | None:
+        """The other particle of a spring or rod, or None when its other end is an anchor.
+        Read-only."""
+    @property
+    def anchor(self) -> npt.NDArray[np.float64] | None:
+        """The anchor point (dim,) of a spring or rod to a fixed point, m, or None when its
+        other end is a particle. Writable for a spring to an anchor (a mouse spring that
+        follows the cursor); a rod's anchor must keep the rod's length."""
+    @anchor.setter
+    def anchor(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def length(self) -> float:
+        """A rod's length, m (read-only: a rod holds the length its ends have)."""
+    @property
+    def g(self) -> Any:
+        """Uniform gravity's acceleration (dim,), m/s^2; n-body gravity's constant G (a
+        number)."""
+    @g.setter
+    def g(self, value: Any) -> None: ...
+    @property
+    def softening(self) -> float:
+        """N-body gravity's softening length, m (>= 0)."""
+    @softening.setter
+    def softening(self, value: float) -> None: ...
+    @property
+    def linear(self) -> float:
+        """Drag's linear coefficient, N s/m (>= 0)."""
+    @linear.setter
+    def linear(self, value: float) -> None: ...
+    @property
+    def quadratic(self) -> float:
+        """Drag's quadratic coefficient, N s^2/m^2 (>= 0)."""
+    @quadratic.setter
+    def quadratic(self, value: float) -> None: ...
+    @property
+    def center(self) -> npt.NDArray[np.float64]:
+        """Central gravity's centre (dim,), m."""
+    @center.setter
+    def center(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def gm(self) -> float:
+        """Central gravity's parameter G M, m^3/s^2."""
+    @gm.setter
+    def gm(self, value: float) -> None: ...
+
+@final
 class World:
     """Particles, forces, an integrator and a fixed-timestep game loop.
 
@@ -464,8 +664,9 @@ class World:
         ``max_overlap`` (the deepest overlap of two balls, or of a ball past a wall, after any
         step, m) and ``pair_tests`` (pairs the narrow phase tested: grows with N, not N^2)."""
 
-    def add_gravity(self, g: Any) -> None:
-        """Adds uniform gravity ``g`` (dim numbers, m/s^2) on every dynamic particle."""
+    def add_gravity(self, g: Any) -> ForceHandle:
+        """Adds uniform gravity ``g`` (dim numbers, m/s^2) on every dynamic particle; returns
+        its handle."""
 
     def add_spring(
         self,
@@ -474,24 +675,52 @@ class World:
         stiffness: float,
         rest_length: float | None = None,
         damping: float | None = None,
-    ) -> None:
+    ) -> ForceHandle:
         """Adds a damped spring (``stiffness`` N/m, ``damping`` N s/m) from particle ``i`` to a
         particle or an anchor point (dim numbers, m); ``rest_length`` (m) defaults to the
-        current distance. ValueError for a bad index or value."""
+        current distance. Returns its handle (``h.stiffness = ...``). ValueError for a bad
+        index or value."""
 
-    def add_drag(self, linear: float | None = None, quadratic: float | None = None) -> None:
-        """Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2)."""
+    def add_drag(self, linear: float | None = None, quadratic: float | None = None) -> ForceHandle:
+        """Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2);
+        returns its handle."""
 
-    def add_central_gravity(self, center: Any, gm: float) -> None:
-        """Adds gravity towards ``center`` (m) with ``gm`` (m^3/s^2): a = -gm r / |r|^3."""
+    def add_central_gravity(self, center: Any, gm: float) -> ForceHandle:
+        """Adds gravity towards ``center`` (m) with ``gm`` (m^3/s^2): a = -gm r / |r|^3;
+        returns its handle."""
 
-    def add_nbody_gravity(self, g: float | None = None, softening: float | None = None) -> None:
+    def add_nbody_gravity(self, g: float | None = None, softening: float | None = None) -> ForceHandle:
         """Adds mutual gravity between all particles (constant ``g``, default 1; ``softening``
-        length, m)."""
+        length, m); returns its handle."""
 
-    def add_rod(self, i: int, j_or_anchor: Any, length: float | None = None) -> None:
+    def add_rod(self, i: int, j_or_anchor: Any, length: float | None = None) -> ForceHandle:
         """Adds a force-based rod from particle ``i`` to a particle or an anchor point holding
-        the current distance (``length``, m, when given, must equal it: ValueError)."""
+        the current distance (``length``, m, when given, must equal it: ValueError); returns
+        its handle."""
+
+    def remove(self, handle: ForceHandle) -> None:
+        """Removes the force ``handle`` names; the World then steps bitwise as one that never
+        had it, and the other handles stay valid. ValueError for a handle of a removed
+        force or of another World (not a copy or pickle of this one)."""
+
+    def force(self, handle: ForceHandle) -> ForceHandle:
+        """This World's handle of the force ``handle`` names: a handle of the World this one
+        was copied or unpickled from reaches the same force here. ValueError for a removed
+        force or another World's handle."""
+
+    @property
+    def particles(self) -> Particles:
+        """The particles as a sequence of views: ``w.particles[i].position = ...``."""
+
+    @property
+    def bodies(self) -> Bodies:
+        """The rigid bodies as a sequence of views (``w.bodies[b].velocity = ...``) with their
+        state as arrays (``w.bodies.positions``)."""
+
+    @property
+    def forces(self) -> list[ForceHandle]:
+        """Handles of every force: the built-in ones in the World's canonical order (the
+        order they act in), then the Python forces in the order they were added."""
 
     def add_distance_constraint(
         self, i: int, j: Any, length: float | None = None, compliance: float | None = None
@@ -674,14 +903,15 @@ class World:
         velocity_dependent: bool | None = None,
         name: str | None = None,
         inplace: bool | None = None,
-    ) -> int:
+    ) -> ForceHandle:
         """Adds a Python force: ``func(t, x, v)`` gets positions and velocities (n, dim) as
         read-only arrays and returns forces (n, dim), N; with ``inplace=True`` it is
         ``func(t, x, v, out)`` and writes them into ``out`` (n, dim, zeroed), returning None.
         The arrays are reused from call to call, not allocated (one kept past its call is
         left to the caller with its values, and replaced). ``potential(x)`` (J) makes the
         energy known; ``jacobian(t, x, v)`` returns (dF/dx, dF/dv) for the implicit methods.
-        Returns its index among the user forces; ValueError if an argument is not callable.
+        Returns its handle (kind ``python``; ``World.remove`` takes it); ValueError if an
+        argument is not callable.
         An exception raised inside propagates unchanged from the step, which is rolled
         back."""
 

@@ -38,6 +38,17 @@ pub struct World {
     holder: AtomicUsize,
 }
 
+/// A new family token: random (std's per-process random keys, advanced for every hasher),
+/// so the Worlds of two processes, or a pickle from another process, do not share one.
+fn new_family() -> u64 {
+    use std::hash::{BuildHasher, Hasher};
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_usize(COUNT.fetch_add(1, Ordering::Relaxed));
+    h.write_u32(std::process::id());
+    h.finish()
+}
+
 /// A number for the current thread, never 0 (the address of a thread-local).
 fn thread_tag() -> usize {
     thread_local!(static TAG: u8 = const { 0 });
@@ -91,6 +102,10 @@ pub(crate) struct Inner {
     pub(crate) solid_forces: Vec<SolidForceSpec>,
     /// The zero-copy views lent out (`crate::views`): detached before the state reallocates.
     pub(crate) views: Views,
+    /// This World's family: a random number, kept by its copies and pickles, that the
+    /// handles of its forces carry (`crate::force_handle`): a World takes the handles of its
+    /// own family and refuses another's.
+    pub(crate) family: u64,
 }
 
 impl Inner {
@@ -166,7 +181,9 @@ impl World {
         let (pending, body_forces) = (ParticleBatch::default(), Vec::new());
         let views = Views::default();
         let solid_forces = Vec::new();
-        let inner = Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, solid_forces, views });
+        let family = new_family();
+        let inner =
+            Mutex::new(Inner { engine, slot, user, flow, pending, body_forces, solid_forces, views, family });
         Self { inner, holder: AtomicUsize::new(0) }
     }
 }

@@ -4,13 +4,16 @@
 //! `convert` (arguments in, arrays out), `registry` (methods and scenes), `record`
 //! (`simulate`), `views` (zero-copy `positions` and `velocities`), `world` (`World`; `world_build`, `world_state`, `world_bodies`, `world_constraints` hold its
 //! methods by concern), `shapes` (rigid-body shapes and their mass properties), `scene_file` (TOML scene files in
-//! and out). Nothing
+//! and out), `force_handle` (what an `add_*` of a force returns), `entity_views`
+//! (`w.particles[i]`, `w.bodies[b]`). Nothing
 //! panics across the boundary: every engine call returns a `Result`, and every bad argument
 //! is a `ValueError` that names it.
 
 mod convert;
+mod entity_views;
 mod errors;
 mod force;
+mod force_handle;
 mod handle;
 mod interrupt;
 mod lease;
@@ -41,6 +44,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_file::read_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene_file::scene_file_text, m)?)?;
     m.add_class::<handle::World>()?;
+    m.add_class::<force_handle::ForceHandle>()?;
+    m.add_class::<entity_views::Particles>()?;
+    m.add_class::<entity_views::Particle>()?;
+    m.add_class::<entity_views::Bodies>()?;
+    m.add_class::<entity_views::Body>()?;
     m.add_class::<shapes::Shape>()?;
     m.add_class::<shapes::Sphere>()?;
     m.add_class::<shapes::BoxShape>()?;

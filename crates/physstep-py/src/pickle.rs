@@ -9,8 +9,10 @@
 //! The pickled `parts` are a dict: `scene` (the text), `loop` and `substeps` (the loop
 //! variant to rebuild under: the text's own unless changed, as the demos do to switch a
 //! world's loop), `forces` (the Python forces' specs), `body_forces` (`(body, point, spec)`),
-//! `solid_forces` (`(solid, point, spec)`; absent from older pickles) and `flow` (a Python
-//! flow's spec, or None).
+//! `solid_forces` (`(solid, point, spec)`; absent from older pickles), `flow` (a Python
+//! flow's spec, or None), and `family`, `force_ids`, `next_force_id` (the World's family
+//! token and its forces' ids, so handles taken before pickling reach the same forces after;
+//! absent from pickles written before handles, whose forces get ids in order).
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
@@ -18,6 +20,7 @@ use crate::handle::{raise, Inner, World};
 use crate::py_err;
 use physstep::clock::LoopMode;
 use physstep::flows::Flow;
+use physstep::forces::ForceId;
 use physstep::world::{World as Engine, WorldParams};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -76,6 +79,11 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
     if let Some(f) = &g.flow {
         check("Python flow".into(), f.bind(py))?;
     }
+    // The forces' ids and the family, so the handles taken before pickling reach the same
+    // forces after (scene text carries no ids).
+    d.set_item("family", g.family)?;
+    d.set_item("force_ids", w.force_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("next_force_id", w.next_force_id().0)?;
     d.set_item("forces", forces)?;
     d.set_item("body_forces", body_forces)?;
     d.set_item("solid_forces", solid_forces)?;
@@ -144,9 +152,20 @@ pub(crate) fn _world_from_scene(
             crate::world_solids::add_force(py, &mut engine, &mut solid_forces, solid, point, spec, &slot)?;
         }
     }
+    // A pickle written before handles has no ids: the forces keep the ones given in order.
+    if let (Some(ids), Some(next)) = (parts.get_item("force_ids")?, parts.get_item("next_force_id")?) {
+        let ids: Vec<u64> = ids.extract()?;
+        let ids: Vec<ForceId> = ids.into_iter().map(ForceId).collect();
+        engine.set_force_ids(&ids, next.extract()?).map_err(py_err)?;
+    }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let world = World::with_parts(engine, slot, user, flow_spec);
-    world.lock()?.body_forces = body_forces;
-    world.lock()?.solid_forces = solid_forces;
+    let mut g = world.lock()?;
+    g.body_forces = body_forces;
+    g.solid_forces = solid_forces;
+    if let Some(family) = parts.get_item("family")? {
+        g.family = family.extract()?;
+    }
+    drop(g);
     Ok(world)
 }

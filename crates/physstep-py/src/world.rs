@@ -155,8 +155,12 @@ impl World {
         let user = g.user.iter().map(|u| u.clone_ref(py)).collect();
         let flow = g.flow.as_ref().map(|f| f.clone_ref(py));
         let copy = Self::with_parts(engine, g.slot.clone(), user, flow);
-        copy.lock()?.body_forces = g.body_forces.clone();
-        copy.lock()?.solid_forces = g.solid_forces.clone();
+        let mut c = copy.lock()?;
+        c.body_forces = g.body_forces.clone();
+        c.solid_forces = g.solid_forces.clone();
+        // The copy takes this World's force handles.
+        c.family = g.family;
+        drop(c);
         Ok(copy)
     }
 

@@ -40,7 +40,7 @@ fn vec3(o: Option<&Bound<'_, PyAny>>, field: &str, default: [f64; 3]) -> PyResul
 }
 
 /// One `(nb, k)` array of a per-body reading.
-fn per_body<'py, const N: usize>(
+pub(crate) fn per_body<'py, const N: usize>(
     py: Python<'py>,
     w: &Engine,
     read: impl Fn(&Engine, usize) -> physstep::Result<[f64; N]>,

@@ -2,10 +2,11 @@
 
 use crate::convert::{array, float, index, text, vector};
 use crate::force::PyForce;
+use crate::force_handle::{ForceHandle, PYTHON};
 use crate::handle::{Inner, World};
 use crate::py_err;
 use numpy::PyArray1;
-use physstep::forces::{Endpoint, Force};
+use physstep::forces::{Endpoint, Force, ForceId};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -19,6 +20,12 @@ pub(crate) fn endpoint(o: &Bound<'_, PyAny>, field: &str, dim: usize) -> PyResul
     let mut out = [0.0; 3];
     out[..dim].copy_from_slice(&p);
     Ok(Endpoint::Anchor(out))
+}
+
+/// The handle of force `id` of `world`, built-in or Python.
+fn handle_of(world: &Bound<'_, World>, g: &Inner, id: ForceId) -> ForceHandle {
+    let kind = g.engine.force(id).map_or(PYTHON, |f| f.kind());
+    ForceHandle::new(world, g.family, id, kind)
 }
 
 #[pymethods]
@@ -75,27 +82,30 @@ impl World {
         Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
     }
 
-    /// Adds uniform gravity `g` (dim numbers, m/s^2) on every dynamic particle.
-    fn add_gravity(&self, g: &Bound<'_, PyAny>) -> PyResult<()> {
-        let mut guard = self.lock()?;
+    /// Adds uniform gravity `g` (dim numbers, m/s^2) on every dynamic particle; returns its
+    /// handle.
+    fn add_gravity(slf: &Bound<'_, Self>, g: &Bound<'_, PyAny>) -> PyResult<ForceHandle> {
+        let mut guard = slf.get().lock()?;
         let w = guard.flush()?;
         let g = vector(g, "g", w.dim())?;
-        w.add_force(Force::Gravity { g }).map_err(py_err)
+        let id = w.add_force(Force::Gravity { g }).map_err(py_err)?;
+        Ok(handle_of(slf, &guard, id))
     }
 
     /// Adds a damped spring (`stiffness` N/m, `damping` N s/m) from particle `i` to particle
     /// `j_or_anchor` or to a fixed anchor point; `rest_length` (m) defaults to the current
-    /// distance. A zero rest length makes the linear spring F = -k d - c w.
+    /// distance. A zero rest length makes the linear spring F = -k d - c w. Returns its
+    /// handle (`h.stiffness = ...`).
     #[pyo3(signature = (i, j_or_anchor, stiffness, rest_length=None, damping=None))]
     fn add_spring(
-        &self,
+        slf: &Bound<'_, Self>,
         i: &Bound<'_, PyAny>,
         j_or_anchor: &Bound<'_, PyAny>,
         stiffness: &Bound<'_, PyAny>,
         rest_length: Option<&Bound<'_, PyAny>>,
         damping: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
-        let mut guard = self.lock()?;
+    ) -> PyResult<ForceHandle> {
+        let mut guard = slf.get().lock()?;
         let w = guard.flush()?;
         let i = index(i, "i")?;
         let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
@@ -103,59 +113,72 @@ impl World {
         let rest_length =
             rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
         let damping = damping.map_or(Ok(0.0), |c| float(c, "damping"))?;
-        w.add_spring(i, j, stiffness, rest_length, damping).map_err(py_err)
+        let id = w.add_spring(i, j, stiffness, rest_length, damping).map_err(py_err)?;
+        Ok(handle_of(slf, &guard, id))
     }
 
-    /// Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2).
+    /// Adds drag F = -(linear + quadratic |v|) v on every particle (N s/m, N s^2/m^2);
+    /// returns its handle.
     #[pyo3(signature = (linear=None, quadratic=None))]
     fn add_drag(
-        &self,
+        slf: &Bound<'_, Self>,
         linear: Option<&Bound<'_, PyAny>>,
         quadratic: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
+    ) -> PyResult<ForceHandle> {
         let linear = linear.map_or(Ok(0.0), |c| float(c, "linear"))?;
         let quadratic = quadratic.map_or(Ok(0.0), |c| float(c, "quadratic"))?;
-        let mut g = self.lock()?;
-        g.flush()?.add_force(Force::Drag { linear, quadratic }).map_err(py_err)
+        let mut g = slf.get().lock()?;
+        let id = g.flush()?.add_force(Force::Drag { linear, quadratic }).map_err(py_err)?;
+        Ok(handle_of(slf, &g, id))
     }
 
-    /// Adds gravity towards a fixed `center` with parameter `gm` (m^3/s^2): a = -gm r / |r|^3.
-    fn add_central_gravity(&self, center: &Bound<'_, PyAny>, gm: &Bound<'_, PyAny>) -> PyResult<()> {
+    /// Adds gravity towards a fixed `center` with parameter `gm` (m^3/s^2): a = -gm r / |r|^3;
+    /// returns its handle.
+    fn add_central_gravity(
+        slf: &Bound<'_, Self>,
+        center: &Bound<'_, PyAny>,
+        gm: &Bound<'_, PyAny>,
+    ) -> PyResult<ForceHandle> {
         let gm = float(gm, "gm")?;
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         let w = g.flush()?;
         let center = vector(center, "center", w.dim())?;
-        w.add_force(Force::CentralGravity { center, gm }).map_err(py_err)
+        let id = w.add_force(Force::CentralGravity { center, gm }).map_err(py_err)?;
+        Ok(handle_of(slf, &g, id))
     }
 
-    /// Adds mutual gravity between all particles (constant `g`, `softening` length m).
+    /// Adds mutual gravity between all particles (constant `g`, `softening` length m);
+    /// returns its handle.
     #[pyo3(signature = (g=None, softening=None))]
     fn add_nbody_gravity(
-        &self,
+        slf: &Bound<'_, Self>,
         g: Option<&Bound<'_, PyAny>>,
         softening: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
+    ) -> PyResult<ForceHandle> {
         let gval = g.map_or(Ok(1.0), |g| float(g, "g"))?;
         let softening = softening.map_or(Ok(0.0), |s| float(s, "softening"))?;
-        let mut guard = self.lock()?;
-        guard.flush()?.add_force(Force::NBody { g: gval, softening }).map_err(py_err)
+        let mut guard = slf.get().lock()?;
+        let id = guard.flush()?.add_force(Force::NBody { g: gval, softening }).map_err(py_err)?;
+        Ok(handle_of(slf, &guard, id))
     }
 
     /// Adds the notes' force-based rod from particle `i` to `j_or_anchor` (a particle or an
     /// anchor point); it holds the current distance (`length`, when given, must equal it).
+    /// Returns its handle.
     #[pyo3(signature = (i, j_or_anchor, length=None))]
     fn add_rod(
-        &self,
+        slf: &Bound<'_, Self>,
         i: &Bound<'_, PyAny>,
         j_or_anchor: &Bound<'_, PyAny>,
         length: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
-        let mut guard = self.lock()?;
+    ) -> PyResult<ForceHandle> {
+        let mut guard = slf.get().lock()?;
         let w = guard.flush()?;
         let i = index(i, "i")?;
         let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
         let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
-        w.add_rod(i, j, length).map_err(py_err)
+        let id = w.add_rod(i, j, length).map_err(py_err)?;
+        Ok(handle_of(slf, &guard, id))
     }
 
     /// Adds a force written in Python: `func(t, x, v)` gets the time and the positions and
@@ -167,11 +190,11 @@ impl World {
     /// `jacobian(t, x, v)` returns (dF/dx, dF/dv), each (n dim, n dim), for the implicit
     /// methods; `velocity_dependent=False` saves re-evaluations when the force ignores v.
     /// An exception raised inside propagates unchanged, with the step rolled back. Returns
-    /// the force's index among the user forces.
+    /// the force's handle (kind `python`), which `remove` takes.
     #[pyo3(signature = (func, *, potential=None, jacobian=None, velocity_dependent=None, name=None, inplace=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_force(
-        &self,
+        slf: &Bound<'_, Self>,
         py: Python<'_>,
         func: &Bound<'_, PyAny>,
         potential: Option<&Bound<'_, PyAny>>,
@@ -179,7 +202,7 @@ impl World {
         velocity_dependent: Option<&Bound<'_, PyAny>>,
         name: Option<&Bound<'_, PyAny>>,
         inplace: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
+    ) -> PyResult<ForceHandle> {
         let callable = |o: Option<&Bound<'_, PyAny>>, field: &str| -> PyResult<Option<Py<PyAny>>> {
             match o.filter(|o| !o.is_none()) {
                 Some(o) if o.is_callable() => Ok(Some(o.clone().unbind())),
@@ -194,7 +217,7 @@ impl World {
         let velocity_dependent =
             velocity_dependent.map_or(Ok(true), |v| crate::convert::flag(v, "velocity_dependent"))?;
         let inplace = inplace.map_or(Ok(false), |v| crate::convert::flag(v, "inplace"))?;
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         let k = g.engine.model().user_forces();
         let name = match name {
             Some(n) => text(n, "name")?,
@@ -208,8 +231,50 @@ impl World {
         let w = g.flush()?;
         let force = PyForce::new(name, w.dim(), func, potential, jacobian, velocity_dependent, inplace, slot);
         let spec = force.spec(py)?.unbind();
-        let k = w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
+        let id = w.add_force_generator(std::sync::Arc::new(force)).map_err(py_err)?;
         g.user.push(spec);
-        Ok(k)
+        Ok(ForceHandle::new(slf, g.family, id, PYTHON))
+    }
+
+    /// Removes what `handle` names (a force: what `add_gravity`, `add_spring`, `add_drag`,
+    /// `add_central_gravity`, `add_nbody_gravity`, `add_rod` and `add_force` return); the
+    /// World then steps bitwise as one that never had it. The other handles stay valid.
+    fn remove(&self, handle: &Bound<'_, PyAny>) -> PyResult<()> {
+        let h = handle.cast::<ForceHandle>().map_err(|_| {
+            crate::convert::invalid("handle", handle, "a ForceHandle (what an add_* of a force returns)")
+        })?;
+        let mut g = self.lock()?;
+        let id = h.get().id_in(g.family)?;
+        let at = g.engine.user_force_index(id);
+        g.flush()?.remove_force(id).map_err(py_err)?;
+        if let Some(at) = at {
+            g.user.remove(at);
+        }
+        Ok(())
+    }
+
+    /// The handle in this World of the force `handle` names (a handle of the World this one
+    /// was copied or unpickled from reaches the same force here).
+    fn force(slf: &Bound<'_, Self>, handle: &Bound<'_, PyAny>) -> PyResult<ForceHandle> {
+        let h = handle.cast::<ForceHandle>().map_err(|_| {
+            crate::convert::invalid("handle", handle, "a ForceHandle (what an add_* of a force returns)")
+        })?;
+        let g = slf.get().lock()?;
+        let id = h.get().id_in(g.family)?;
+        if g.engine.force(id).is_none() && !g.engine.is_user_force(id) {
+            return Err(PyValueError::new_err(format!(
+                "invalid force = ForceHandle(id={id}, kind='{}'): this World holds no such force (it was removed)",
+                h.get().kind_name()
+            )));
+        }
+        Ok(handle_of(slf, &g, id))
+    }
+
+    /// Handles of every force of the World: the built-in ones in the World's canonical order
+    /// (the order they act in), then the Python forces in the order they were added.
+    #[getter]
+    fn forces(slf: &Bound<'_, Self>) -> PyResult<Vec<ForceHandle>> {
+        let g = slf.get().lock()?;
+        Ok(g.engine.force_ids().into_iter().map(|id| handle_of(slf, &g, id)).collect())
     }
 }

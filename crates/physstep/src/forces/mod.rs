@@ -18,7 +18,7 @@
 //! 4. rod constraints, one at a time in canonical order.
 
 pub use generator::{ForceGenerator, UserForce};
-pub use set::ForceSet;
+pub use set::{ForceId, ForceSet};
 
 mod blocks;
 mod central;
@@ -28,7 +28,7 @@ mod gravity;
 pub(crate) mod local;
 mod nbody;
 mod rod;
-mod set;
+pub(crate) mod set;
 mod spring;
 
 use crate::error::{Error, Result};
@@ -114,6 +114,22 @@ pub enum Force {
         /// Nominal length, m, > 0 (checked at `add`; the constraint holds the current length).
         length: f64,
     },
+}
+
+impl Force {
+    /// The kind's name, as scene files and the Python handles spell it: `gravity`, `spring`,
+    /// `drag`, `central-gravity`, `nbody`, `rod`.
+    #[must_use]
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Gravity { .. } => "gravity",
+            Self::Spring { .. } => "spring",
+            Self::Drag { .. } => "drag",
+            Self::CentralGravity { .. } => "central-gravity",
+            Self::NBody { .. } => "nbody",
+            Self::Rod { .. } => "rod",
+        }
+    }
 }
 
 /// Canonical sort key: kind rank, normalised indices, parameter bits.

@@ -3,16 +3,63 @@
 
 use super::local::Local;
 use super::{central, drag, finite_masses, gravity, nbody, rod, spring, Endpoint, Force};
-use crate::error::Result;
+use crate::error::{Error, Result};
 
-/// The forces of a world, kept in canonical order.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// A force's handle in its world: a number given when it is added (by
+/// [`ForceSet::add`], [`crate::world::World::add_force`] and every `add_*` of a force),
+/// never given again by that world, that stays the force's while other forces come and go
+/// (their canonical order moves the forces' indices, never their ids). Built-in forces and
+/// the user's generators draw from the same counter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ForceId(pub u64);
+
+impl std::fmt::Display for ForceId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+
+/// The forces of a world, kept in canonical order, each with its [`ForceId`].
+///
+/// Two sets are equal when they hold the same forces in the same order (so step the same
+/// bits), whatever their ids.
+#[derive(Debug, Clone, Default)]
 pub struct ForceSet {
     forces: Vec<Force>,
+    /// The id of each force of `forces`, in the same order.
+    ids: Vec<ForceId>,
+    /// The id the next force gets (ids are never given twice).
+    next: u64,
     /// What the list holds, kept on `add` so the hot path does not scan for it.
     kinds: Kinds,
     /// The per-particle forces, gathered on `add`.
     local: Local,
+}
+
+impl PartialEq for ForceSet {
+    fn eq(&self, other: &Self) -> bool {
+        self.forces == other.forces && self.kinds == other.kinds && self.local == other.local
+    }
+}
+
+/// No force of id `id`.
+pub(crate) fn unknown(id: ForceId) -> Error {
+    Error::invalid("force", id, "the id of a force of this world (it was removed, or never added here)")
+}
+
+/// Checks `ids` as the ids of `len` forces under the counter `next`: one per force, distinct,
+/// each below `next`.
+pub(crate) fn check_ids(ids: &[ForceId], len: usize, next: u64) -> Result<()> {
+    if ids.len() != len {
+        return Err(Error::invalid("len(ids)", ids.len(), format!("{len}, one per force")));
+    }
+    let mut seen = std::collections::HashSet::new();
+    for id in ids {
+        if id.0 >= next || !seen.insert(*id) {
+            return Err(Error::invalid("ids", id, format!("distinct ids below next = {next}")));
+        }
+    }
+    Ok(())
 }
 
 /// Which phases of [`ForceSet::accel`] have work, and whether any force reads velocity.
@@ -64,14 +111,113 @@ impl ForceSet {
     /// `j != i`); `stiffness`, `rest_length`, `damping`, `linear`, `quadratic`, `softening`
     /// (finite, >= 0); `length` (finite, > 0); `gm`, `g` (finite); `g`, `center`, `anchor`
     /// (every component within `dim` finite).
-    pub fn add(&mut self, force: Force, n: usize, dim: usize) -> Result<()> {
+    pub fn add(&mut self, force: Force, n: usize, dim: usize) -> Result<ForceId> {
         let force = force.normalised(n, dim)?;
+        let id = self.new_id();
+        self.insert(force, id);
+        self.kinds = self.kinds.with(&force);
+        self.local.add(&force, self.forces.iter());
+        Ok(id)
+    }
+
+    /// A new id (for a force the set holds, or a user generator beside it).
+    pub(crate) fn new_id(&mut self) -> ForceId {
+        let id = ForceId(self.next);
+        self.next += 1;
+        id
+    }
+
+    /// The id the next force will get.
+    #[must_use]
+    pub fn next_id(&self) -> ForceId {
+        ForceId(self.next)
+    }
+
+    /// Inserts a normalised force at its canonical place, with `id`.
+    fn insert(&mut self, force: Force, id: ForceId) {
         let key = force.key();
         let at = self.forces.partition_point(|f| f.key() <= key);
         self.forces.insert(at, force);
-        self.kinds = self.kinds.with(&force);
-        self.local.add(&force, self.forces.iter());
+        self.ids.insert(at, id);
+    }
+
+    /// Where force `id` sits in the canonical order.
+    fn position(&self, id: ForceId) -> Option<usize> {
+        self.ids.iter().position(|&i| i == id)
+    }
+
+    /// The force of id `id`, as normalised when it was added (`None` when the set holds
+    /// none of that id: never added, removed, or a user generator).
+    #[must_use]
+    pub fn get(&self, id: ForceId) -> Option<Force> {
+        self.position(id).map(|at| self.forces[at])
+    }
+
+    /// The forces with their ids, in canonical order.
+    pub fn iter_ids(&self) -> impl Iterator<Item = (ForceId, &Force)> {
+        self.ids.iter().copied().zip(&self.forces)
+    }
+
+    /// Removes force `id` and returns it (`None`, the set unchanged, when it holds no such
+    /// force). What is left steps bitwise as a set that never held it: the derived
+    /// per-particle forces and kinds are gathered again over the canonical order.
+    pub fn remove(&mut self, id: ForceId) -> Option<Force> {
+        let at = self.position(id)?;
+        let force = self.forces.remove(at);
+        self.ids.remove(at);
+        self.rebuild();
+        Some(force)
+    }
+
+    /// Puts `force` in place of force `id`, validated as [`ForceSet::add`] validates (for `n`
+    /// particles in `dim` dimensions) and of the same kind; it keeps the id and moves to its
+    /// canonical place, and the set steps bitwise as one that had it from the start.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `force` (no force of that id here), `kind` (another
+    /// kind of force) or the bad field as [`ForceSet::add`]; the set is unchanged.
+    pub fn replace(&mut self, id: ForceId, force: Force, n: usize, dim: usize) -> Result<()> {
+        let Some(at) = self.position(id) else {
+            return Err(unknown(id));
+        };
+        let old = self.forces[at];
+        if old.rank() != force.rank() {
+            return Err(Error::invalid(
+                "kind",
+                force.kind(),
+                format!("'{}', the kind of force {id} (remove it and add the other instead)", old.kind()),
+            ));
+        }
+        let force = force.normalised(n, dim)?;
+        self.forces.remove(at);
+        self.ids.remove(at);
+        self.insert(force, id);
+        self.rebuild();
         Ok(())
+    }
+
+    /// Gives the forces (in canonical order) the ids `ids` and the counter `next`, as a face
+    /// that keeps its own handles across a round trip through scene text (the Python pickle)
+    /// restores them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `ids` (not one per force, or one repeated, or one
+    /// `>= next`); the set is unchanged.
+    pub fn set_ids(&mut self, ids: &[ForceId], next: u64) -> Result<()> {
+        check_ids(ids, self.forces.len(), next)?;
+        self.ids = ids.to_vec();
+        self.next = next;
+        Ok(())
+    }
+
+    /// The kinds and per-particle forces gathered again over the whole set, in canonical
+    /// order (what adding the forces one by one gives: the same sums, in the same order).
+    fn rebuild(&mut self) {
+        self.kinds = self.forces.iter().fold(Kinds::default(), |k, f| k.with(f));
+        self.local = Local::default();
+        for f in &self.forces {
+            self.local.add(f, self.forces.iter());
+        }
     }
 
     /// Number of forces.

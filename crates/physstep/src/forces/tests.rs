@@ -293,7 +293,9 @@ fn static_particles_stay_put() {
 #[test]
 fn validation_names_field_and_value() {
     let mut fs = ForceSet::new();
-    let msg = |r: Result<()>| r.unwrap_err().to_string();
+    fn msg<T: std::fmt::Debug>(r: Result<T>) -> String {
+        r.unwrap_err().to_string()
+    }
     let a0 = Endpoint::Anchor([0.0; 3]);
     assert_eq!(
         msg(fs.add(spring(1, Endpoint::Particle(7), 1.0, 0.0, 0.0), 3, 2)),

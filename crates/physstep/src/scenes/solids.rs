@@ -23,7 +23,7 @@ pub(super) fn count(v: &Param<'_>, name: &str, per: usize) -> Result<usize> {
 pub(super) fn gravity(w: &mut World, g: f64) -> Result<()> {
     let mut a = [0.0; 3];
     a[1] = -g;
-    w.add_force(Force::Gravity { g: a })
+    w.add_force(Force::Gravity { g: a }).map(|_| ())
 }
 
 pub(super) fn ground(w: &mut World, friction: f64) -> Result<usize> {

@@ -202,6 +202,100 @@ impl World {
         Ok([q.w, q.x, q.y, q.z])
     }
 
+    /// Sets the state of body `b` by hand (a teleport): its centre of mass `position` (m),
+    /// the `velocity` of its centre (m/s), the `orientation` of its shape frame (a quaternion
+    /// `(w, x, y, z)`, normalised as [`World::add_body`] normalises it) and its
+    /// `angular_velocity` (rad/s, world frame); `None` keeps that part as it is (a new
+    /// orientation keeps the angular velocity, not the angular momentum). Validated as
+    /// [`World::add_body`]; as [`World::set_positions`] does, it restarts a method that
+    /// carries memory and the derivative is evaluated again before the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `body` (out of range), `position`, `velocity`,
+    /// `angular_velocity` (not finite, or past 1e100), `orientation` (not finite, or of
+    /// length below 1e-12), or, for a pinned body (which turns about its pin), a `position`
+    /// or a nonzero `velocity`; the world is unchanged.
+    pub fn set_body_state(
+        &mut self,
+        b: usize,
+        position: Option<[f64; 3]>,
+        velocity: Option<[f64; 3]>,
+        orientation: Option<[f64; 4]>,
+        angular_velocity: Option<[f64; 3]>,
+    ) -> Result<()> {
+        self.body_index(b)?;
+        let pinned = self.bodies.pinned[b];
+        if let Some(x) = position {
+            bounded("position", &x, RUNAWAY)?;
+            if pinned {
+                return Err(Error::invalid(
+                    "position",
+                    format!("{x:?}"),
+                    "left as it is for a pinned body (it turns about its pin: set its orientation)",
+                ));
+            }
+        }
+        if let Some(v) = velocity {
+            bounded("velocity", &v, RUNAWAY)?;
+            if pinned && v.iter().any(|c| *c != 0.0) {
+                return Err(Error::invalid(
+                    "velocity",
+                    format!("{v:?}"),
+                    "[0, 0, 0] for a pinned body (its centre moves with its spin)",
+                ));
+            }
+        }
+        if let Some(w) = angular_velocity {
+            bounded("angular_velocity", &w, RUNAWAY)?;
+        }
+        let user = orientation.map(|q| orientation::validate_quaternion("orientation", q)).transpose()?;
+        let omega = match angular_velocity {
+            Some(w) => Some(DVec3::from_array(w)),
+            None if user.is_some() => Some(DVec3::from_array(self.body_angular_velocity(b)?)),
+            None => None,
+        };
+        // Everything checked: write.
+        let (np, nx) = (self.model.len(), self.nx());
+        let xb = np + b * X_LEN;
+        let vb = nx + np + b * V_LEN;
+        let mut q = quat(&self.state.y[xb + 3..]);
+        if let Some(user) = user {
+            q = (user * self.bodies.frame[b]).normalize();
+            put_quat(&mut self.state.y[xb + 3..xb + X_LEN], q);
+        }
+        if let Some(x) = position {
+            put_vec3(&mut self.state.y[xb..xb + 3], DVec3::from_array(x));
+        }
+        if let (Some(v), false) = (velocity, pinned) {
+            put_vec3(&mut self.state.y[vb..vb + 3], DVec3::from_array(v) * self.bodies.mass[b]);
+        }
+        if let Some(omega) = omega {
+            // L = R diag(I) R^T omega, as `add_body` sets it.
+            let l = q * (self.bodies.inertia[b] * (q.inverse() * omega));
+            let slot = self.bodies.slot(self.bodies.form, b, q, l);
+            put_vec3(&mut self.state.y[vb + 3..vb + V_LEN], slot);
+        }
+        // The body as a scene file would add it now.
+        let (center, _) = self.body_center(b)?;
+        let user_q = q * self.bodies.frame[b].inverse();
+        let reference = self.bodies.reference[b];
+        let p = &mut self.body_params[b];
+        if let Some(q) = orientation {
+            p.orientation = q;
+        }
+        if !pinned {
+            p.position = (center - user_q * reference).to_array();
+        }
+        if let Some(v) = velocity {
+            p.velocity = v;
+        }
+        if let Some(w) = omega {
+            p.angular_velocity = w.to_array();
+        }
+        self.touch();
+        Ok(())
+    }
+
     /// Velocity of body `b`'s centre of mass, m/s.
     ///
     /// # Errors

@@ -14,6 +14,8 @@ pub struct Model {
     pub(super) forces: ForceSet,
     /// The user's force generators, in the order they were added.
     pub(super) user: Vec<UserForce>,
+    /// The id of each user force, in the same order.
+    pub(super) user_ids: Vec<crate::forces::ForceId>,
     pub(super) scratch: Vec<f64>,
     pub(super) user_f: Vec<f64>,
     /// The first failure of a user force during the current step (the accelerations were

@@ -4,7 +4,7 @@
 use super::{Model, World, MAX_MASS};
 use crate::dynamics::SecondOrder;
 use crate::error::{bounded, Error, Result};
-use crate::forces::Force;
+use crate::forces::{Force, ForceId};
 use crate::limits::RUNAWAY;
 
 impl World {
@@ -127,21 +127,110 @@ impl World {
         Ok(())
     }
 
-    /// Adds a force generator.
+    /// Adds a built-in force; returns its id, the handle that reaches it while other forces
+    /// come and go ([`World::force`], [`World::set_force`], [`World::remove_force`]).
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming the bad field (a missing particle index, a negative
     /// stiffness, a zero rod length, ...); the world is unchanged.
-    pub fn add_force(&mut self, force: Force) -> Result<()> {
+    pub fn add_force(&mut self, force: Force) -> Result<ForceId> {
         self.refuse_flow("a force")?;
         if matches!(force, Force::NBody { .. }) {
             // n-body gravity pulls with every mass: none may be infinite.
             crate::forces::finite_masses(&self.model.mass, 0)?;
         }
         // `add` validates before it inserts, so a rejected force leaves the set as it was.
-        self.model.forces.add(force, self.len(), self.dim())?;
+        let id = self.model.forces.add(force, self.len(), self.dim())?;
+        self.touch();
+        Ok(id)
+    }
+
+    /// The built-in force of id `id`, as the world holds it (pairs ordered `i < j`,
+    /// components beyond `dim` zero); `None` for an id removed, never given, or a user
+    /// force's ([`World::is_user_force`]).
+    #[must_use]
+    pub fn force(&self, id: ForceId) -> Option<Force> {
+        self.model.forces.get(id)
+    }
+
+    /// Whether `id` is a user force's ([`World::add_force_generator`]) still in the world.
+    #[must_use]
+    pub fn is_user_force(&self, id: ForceId) -> bool {
+        self.model.user_ids.contains(&id)
+    }
+
+    /// The ids of every force of the world: the built-in ones in canonical order (the order
+    /// [`Model::forces`] iterates), then the user forces in the order they were added.
+    #[must_use]
+    pub fn force_ids(&self) -> Vec<ForceId> {
+        let set = self.model.forces.iter_ids().map(|(id, _)| id);
+        set.chain(self.model.user_ids.iter().copied()).collect()
+    }
+
+    /// Replaces force `id` by `force` of the same kind (a spring's stiffness, rest length,
+    /// damping or ends, gravity's `g`, drag's coefficients, ...), validated as
+    /// [`World::add_force`] validates; the force keeps its id. The next step sees it, and
+    /// the world steps bitwise as one that had this force from the start: like an added
+    /// force, it restarts a method that carries memory (as [`World::add_force`] does).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `force` (an id this world holds no built-in force
+    /// of), `kind` (another kind) or the bad field, as [`World::add_force`] (a rod's `length`
+    /// must be the distance its ends have, as [`World::add_rod`] checks); the world is
+    /// unchanged.
+    pub fn set_force(&mut self, id: ForceId, force: Force) -> Result<()> {
+        self.refuse_flow("a force")?;
+        match force {
+            Force::NBody { .. } => crate::forces::finite_masses(&self.model.mass, 0)?,
+            // A rod holds the length its ends have, as `add_rod` checks.
+            Force::Rod { i, j, length } if self.force(id).is_some_and(|f| f.kind() == "rod") => {
+                self.rod_length(i, j, Some(length))?;
+            }
+            _ => {}
+        }
+        self.model.forces.replace(id, force, self.len(), self.dim())?;
         self.touch();
         Ok(())
+    }
+
+    /// Removes force `id` (built-in or user): the world then steps bitwise as one that never
+    /// had it (restarting a method that carries memory, as adding a force does). The ids of
+    /// the other forces do not change, and `id` is never given again.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `force` when the world holds no force of that id
+    /// (removed already, or never added here); the world is unchanged.
+    pub fn remove_force(&mut self, id: ForceId) -> Result<()> {
+        if self.model.forces.remove(id).is_none() {
+            let at = self.model.user_ids.iter().position(|&u| u == id);
+            let at = at.ok_or_else(|| crate::forces::set::unknown(id))?;
+            self.model.user.remove(at);
+            self.model.user_ids.remove(at);
+        }
+        self.touch();
+        Ok(())
+    }
+
+    /// Gives the world's forces the ids `ids` (one per force in the order of
+    /// [`World::force_ids`]) and the id counter `next`: how a face that serialises a world
+    /// as scene text, which carries no ids (a scene file's forces get ids in reading order),
+    /// keeps its handles valid across the round trip (the Python pickle does).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `len(ids)` (not one per force) or `ids` (an id
+    /// repeated or not below `next`); the world is unchanged.
+    pub fn set_force_ids(&mut self, ids: &[ForceId], next: u64) -> Result<()> {
+        let builtin = self.model.forces.len();
+        crate::forces::set::check_ids(ids, builtin + self.model.user.len(), next)?;
+        self.model.forces.set_ids(&ids[..builtin], next)?;
+        self.model.user_ids = ids[builtin..].to_vec();
+        Ok(())
+    }
+
+    /// The id the next force added will get.
+    #[must_use]
+    pub fn next_force_id(&self) -> ForceId {
+        self.model.forces.next_id()
     }
 
     /// The force model (forces, masses, energies).
@@ -150,17 +239,27 @@ impl World {
         &self.model
     }
 
-    /// Adds a user force; returns its index among the user forces.
+    /// Adds a user force; returns its id (from the counter the built-in forces draw
+    /// from), which [`World::remove_force`] takes.
     ///
     /// # Errors
     /// [`Error::Unsupported`] for a world that is a flow.
     pub fn add_force_generator(
         &mut self,
         generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
-    ) -> Result<usize> {
+    ) -> Result<ForceId> {
         self.refuse_flow("a force")?;
         self.model.user.push(crate::forces::UserForce(generator));
+        let id = self.model.forces.new_id();
+        self.model.user_ids.push(id);
         self.touch();
-        Ok(self.model.user.len() - 1)
+        Ok(id)
+    }
+
+    /// The position of user force `id` among the user forces (the order they act in and
+    /// were added in), `None` when it is not one.
+    #[must_use]
+    pub fn user_force_index(&self, id: ForceId) -> Option<usize> {
+        self.model.user_ids.iter().position(|&u| u == id)
     }
 }

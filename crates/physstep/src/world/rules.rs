@@ -4,7 +4,7 @@
 
 use super::World;
 use crate::error::{Error, Result};
-use crate::forces::{Endpoint, Force};
+use crate::forces::{Endpoint, Force, ForceId};
 
 /// Particles checked and waiting to be added in one go: growing a world's `[x; v]` state one
 /// particle at a time moves the velocity half every time, which is quadratic in a spawn
@@ -107,7 +107,8 @@ impl World {
     }
 
     /// Adds a damped spring from particle `i` to `j` (a particle or an anchor); the rest
-    /// length defaults to the current distance.
+    /// length defaults to the current distance. Returns its id ([`World::set_force`] changes
+    /// its stiffness, rest length or damping).
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming `i`, `j_or_anchor`, `stiffness`, `rest_length` or
@@ -119,7 +120,7 @@ impl World {
         stiffness: f64,
         rest_length: Option<f64>,
         damping: f64,
-    ) -> Result<()> {
+    ) -> Result<ForceId> {
         let r = self.distance(i, j_or_anchor)?;
         let rest_length = rest_length.unwrap_or(r);
         self.add_force(Force::Spring { i, j: j_or_anchor, stiffness, rest_length, damping })
@@ -127,13 +128,20 @@ impl World {
 
     /// Adds the notes' force-based rod from particle `i` to `j` (a particle or an anchor). It
     /// holds the length the particles have: `length` defaults to it and, when given, must
-    /// equal it (to 1e-9 relative).
+    /// equal it (to 1e-9 relative). Returns its id.
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming `i`, `j_or_anchor` or `length`; the world is unchanged.
-    pub fn add_rod(&mut self, i: usize, j_or_anchor: Endpoint, length: Option<f64>) -> Result<()> {
+    pub fn add_rod(&mut self, i: usize, j_or_anchor: Endpoint, length: Option<f64>) -> Result<ForceId> {
+        let length = self.rod_length(i, j_or_anchor, length)?;
+        self.add_force(Force::Rod { i, j: j_or_anchor, length })
+    }
+
+    /// The length of a rod from `i` to `j_or_anchor`: the distance they have, which
+    /// `length`, when given, must equal (to 1e-9 relative).
+    pub(super) fn rod_length(&self, i: usize, j_or_anchor: Endpoint, length: Option<f64>) -> Result<f64> {
         let r = self.distance(i, j_or_anchor)?;
-        let length = match length {
+        Ok(match length {
             None => r,
             Some(l) if !(l.is_finite() && l > 0.0) => {
                 return Err(Error::invalid("length", crate::error::num(l), "a finite number > 0"))
@@ -146,7 +154,6 @@ impl World {
                 ))
             }
             Some(l) => l,
-        };
-        self.add_force(Force::Rod { i, j: j_or_anchor, length })
+        })
     }
 }

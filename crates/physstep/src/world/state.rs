@@ -100,6 +100,101 @@ impl World {
         Ok(())
     }
 
+    /// Sets particle `i`'s `position` (m) and `velocity` (m/s), each `dim` numbers; `None`
+    /// keeps it. Validated as [`World::add_particle`] (finite, at most 1e100; a ball may not
+    /// be moved into another or out of the walls, as [`World::set_positions`] refuses), and,
+    /// as [`World::set_positions`] does, it restarts a method that carries memory (Verlet's
+    /// previous positions: a teleport is not a velocity) and the derivative is evaluated
+    /// again before the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `particle` (out of range), `len(position)`,
+    /// `len(velocity)`, `position`, `velocity`, or `velocity` nonzero for a static particle;
+    /// the world is unchanged.
+    pub fn set_particle(
+        &mut self,
+        i: usize,
+        position: Option<&[f64]>,
+        velocity: Option<&[f64]>,
+    ) -> Result<()> {
+        self.refuse_flow("particles")?;
+        self.particle_index(i)?;
+        let d = self.dim();
+        for (field, v) in [("position", position), ("velocity", velocity)] {
+            if let Some(v) = v {
+                if v.len() != d {
+                    return Err(Error::invalid(
+                        format!("len({field})"),
+                        v.len(),
+                        format!("{d}, the world's dim"),
+                    ));
+                }
+                bounded(field, v, RUNAWAY)?;
+            }
+        }
+        if let Some(v) = velocity {
+            if self.model.inv_mass[i] == 0.0 && v.iter().any(|c| *c != 0.0) {
+                return Err(Error::invalid(
+                    "velocity",
+                    format!("{v:?}"),
+                    format!("zero for particle {i}, which is static"),
+                ));
+            }
+        }
+        if let Some(x) = position {
+            if !self.balls.index.is_empty() {
+                let mut all = self.positions().to_vec();
+                all[i * d..(i + 1) * d].copy_from_slice(x);
+                self.check_ball_positions(&all)?;
+            }
+            self.state.y[i * d..(i + 1) * d].copy_from_slice(x);
+        }
+        if let Some(v) = velocity {
+            let at = self.nx() + i * d;
+            self.state.y[at..at + d].copy_from_slice(v);
+        }
+        self.touch();
+        Ok(())
+    }
+
+    /// Sets particle `i`'s mass, kg, validated as [`World::add_particle`] validates it
+    /// (> 0 with a finite inverse, at most 1e100); the velocity is kept (the momentum
+    /// changes with the mass). A static particle stays static (its mass may change, or be
+    /// `inf`); a dynamic one takes a finite mass (whether a particle is static is fixed when
+    /// it is added).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `particle` or `mass` (also `inf` for a dynamic
+    /// particle, and an infinite mass under n-body gravity); the world is unchanged.
+    pub fn set_mass(&mut self, i: usize, mass: f64) -> Result<()> {
+        self.refuse_flow("particles")?;
+        self.particle_index(i)?;
+        let fixed = self.model.inv_mass[i] == 0.0;
+        if self.model.forces.needs_finite_masses() {
+            crate::forces::finite_masses(&[mass], i)?;
+        }
+        self.check_particles(&self.positions()[..self.dim()], None, Some(&[mass]))?;
+        if !fixed && mass.is_infinite() {
+            return Err(Error::invalid(
+                "mass",
+                crate::error::num(mass),
+                format!("finite for particle {i}, which is dynamic (a particle is static or not from when it is added)"),
+            ));
+        }
+        self.model.mass[i] = mass;
+        self.model.inv_mass[i] = if fixed { 0.0 } else { 1.0 / mass };
+        self.touch();
+        Ok(())
+    }
+
+    fn particle_index(&self, i: usize) -> Result<()> {
+        let n = self.len();
+        if i >= n {
+            return Err(Error::invalid("particle", i, format!("an index below {n}")));
+        }
+        Ok(())
+    }
+
     /// Physics time, s.
     #[must_use]
     pub fn time(&self) -> f64 {
