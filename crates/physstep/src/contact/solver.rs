@@ -357,7 +357,12 @@ fn collide<S: Space>(solids: &mut Solids<S>) {
         let (ba, bb) = (&solids.bodies[a as usize], &solids.bodies[b as usize]);
         let ((qa, oa), (qb, ob)) = (st.basis[a as usize], st.basis[b as usize]);
         st.touches.clear();
-        S::touches((&solids.shapes[a as usize], oa, ba.q), (&solids.shapes[b as usize], ob, bb.q), margin, &mut st.touches);
+        S::touches(
+            (&solids.shapes[a as usize], oa, ba.q),
+            (&solids.shapes[b as usize], ob, bb.q),
+            margin,
+            &mut st.touches,
+        );
         if st.touches.is_empty() {
             continue;
         }
