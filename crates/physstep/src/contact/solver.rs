@@ -45,13 +45,44 @@ impl Soft {
     }
 }
 
-/// One contact point being solved.
+/// The coefficients of a pair's softness as the passes use them.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Coefs {
+    /// `mass_scale * bias_rate` (the product the bias is made of, taken once).
+    bias: f64,
+    mass_scale: f64,
+    impulse_scale: f64,
+}
+
+impl Coefs {
+    fn of(k: Soft) -> Self {
+        Self { bias: k.mass_scale * k.bias_rate, mass_scale: k.mass_scale, impulse_scale: k.impulse_scale }
+    }
+}
+
+/// Two solids in contact: what their points share, and where the points are.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Point<S: Space> {
+struct Pair {
     a: u32,
     b: u32,
+    /// The points: `points[start..end]` (and `contacts[start..end]`).
+    start: u32,
+    end: u32,
+    friction: f64,
+    restitution: f64,
+    /// Against a static or kinematic solid: the stiffer softness.
+    rigid_other: bool,
+    /// The softness of this step's substeps (the stiffer one where `rigid_other`).
+    soft: Coefs,
+}
+
+/// One contact point as the passes solve it: what they read and write, kept together and
+/// apart from what they do not ([`Contact`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Point<S: Space> {
     normal: S::V,
-    tangents: [S::V; 2],
+    /// The tangents (kept in space; the normal turned a quarter in the plane).
+    frame: S::Frame,
     ra: S::V,
     rb: S::V,
     /// Separation minus the arms' part, so that the separation now is
@@ -61,25 +92,30 @@ struct Point<S: Space> {
     tangent_mass: [f64; 2],
     normal_impulse: f64,
     tangent_impulse: [f64; 2],
-    total_normal: f64,
-    total_friction: f64,
     max_normal: f64,
     /// The fastest closing normal speed of the step before the contact acted (negative:
     /// closing): at the step's start, or in a substep's solve.
     approach: f64,
-    friction: f64,
-    restitution: f64,
-    /// Against a static or kinematic solid: the stiffer softness.
-    rigid_other: bool,
+    /// How far the anchors had slid apart along each tangent when the step began.
+    slip: [f64; 2],
+}
+
+/// What the passes do not read of a contact point: what it reports, and what it carries to
+/// the next step besides its impulses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Contact<S: Space> {
+    a: u32,
+    b: u32,
     id: u64,
+    normal: S::V,
     depth: f64,
     at: S::V,
+    total_normal: f64,
+    total_friction: f64,
     /// Where the point first touched, in each body's frame about its centre of mass: static
     /// friction holds the two together (kept while the point sticks, moved when it slides).
     anchor_a: S::V,
     anchor_b: S::V,
-    /// How far the anchors had slid apart along each tangent when the step began.
-    slip: [f64; 2],
 }
 
 /// What a body is during a step: velocities, and the motion since the step began.
@@ -120,40 +156,45 @@ pub(crate) struct Warm<S: Space> {
     anchor_b: S::V,
 }
 
-/// The solver's memory between steps (last step's impulses for warm starting) and scratch.
+/// The solver's memory between steps (last step's impulses for warm starting, the latest
+/// contacts for reports) and scratch.
 #[derive(Debug, Clone)]
 pub(crate) struct State<S: Space> {
+    /// The latest step's contact points as the passes solve them (scratch between steps:
+    /// the next step finds them again).
     points: Vec<Point<S>>,
-    /// Each pair's points: `points[ranges[k].0..ranges[k].1]`.
-    ranges: Vec<(usize, usize)>,
+    /// The same points' reports and anchors (kept between steps).
+    contacts: Vec<Contact<S>>,
+    /// The pairs in contact and their points (scratch between steps).
+    touching: Vec<Pair>,
     /// Last step's impulses and friction anchors by `(a, b, id)`, sorted.
     warm: Vec<Warm<S>>,
     order: Vec<u32>,
     lo: Vec<[f64; 3]>,
     hi: Vec<[f64; 3]>,
     moves: Vec<bool>,
+    /// Each solid's orientation made ready to turn vectors, and its shape's origin.
+    basis: Vec<(S::Basis, S::V)>,
     pairs: Vec<(u32, u32)>,
     touches: Vec<Touch<S::V>>,
     motion: Vec<Motion<S>>,
-    /// A pair's arms turned by each body's rotation since the step began, found by the
-    /// normal solve and used again by friction (no solid turns between the two).
-    turned: Vec<(S::V, S::V)>,
 }
 
 impl<S: Space> Default for State<S> {
     fn default() -> Self {
         Self {
             points: Vec::new(),
-            ranges: Vec::new(),
+            contacts: Vec::new(),
+            touching: Vec::new(),
             warm: Vec::new(),
             order: Vec::new(),
             lo: Vec::new(),
             hi: Vec::new(),
             moves: Vec::new(),
+            basis: Vec::new(),
             pairs: Vec::new(),
             touches: Vec::new(),
             motion: Vec::new(),
-            turned: Vec::new(),
         }
     }
 }
@@ -214,27 +255,29 @@ impl<S: Space> State<S> {
     pub(crate) fn set_warm(&mut self, warm: Vec<Warm<S>>) {
         self.warm = warm;
         self.points.clear();
-        self.ranges.clear();
+        self.contacts.clear();
+        self.touching.clear();
     }
 
-    /// Copies the contacts and warm starts into `into` (the scratch is not kept).
+    /// Copies what the next step and the reports read into `into`: the contacts, the warm
+    /// starts and the broad phase's order (the passes' points are scratch, found again by
+    /// the next step, and not kept).
     pub(crate) fn save(&self, into: &mut State<S>) {
-        into.points.clone_from(&self.points);
-        into.ranges.clone_from(&self.ranges);
+        into.contacts.clone_from(&self.contacts);
         into.warm.clone_from(&self.warm);
         into.order.clone_from(&self.order);
     }
 
     pub(crate) fn report(&self) -> Vec<ContactReport<S::V>> {
-        self.points
+        self.contacts
             .iter()
-            .map(|p| ContactReport {
-                pair: (p.a as usize, p.b as usize),
-                point: p.at,
-                normal: p.normal,
-                depth: p.depth,
-                normal_impulse: p.total_normal,
-                friction_impulse: p.total_friction,
+            .map(|c| ContactReport {
+                pair: (c.a as usize, c.b as usize),
+                point: c.at,
+                normal: c.normal,
+                depth: c.depth,
+                normal_impulse: c.total_normal,
+                friction_impulse: c.total_friction,
             })
             .collect()
     }
@@ -284,17 +327,23 @@ pub(crate) fn two<S: Space>(m: &mut [Motion<S>], a: u32, b: u32) -> (&mut Motion
 }
 
 /// Finds the contacts of the solids as they are and prepares them for the step.
+#[allow(clippy::needless_range_loop)] // k indexes a point's tangents and slips alike
 fn collide<S: Space>(solids: &mut Solids<S>) {
     let margin = solids.settings.speculative_distance;
     let st = &mut solids.solver;
     st.lo.clear();
     st.hi.clear();
     st.moves.clear();
+    st.basis.clear();
     for (b, shape) in solids.bodies.iter().zip(&solids.shapes) {
-        let (lo, hi) = S::aabb(shape, b.origin(), b.q, margin / 2.0);
+        // `Body::origin`, with the rotation made ready once for the solid's every point.
+        let basis = S::basis(b.q);
+        let origin = b.c - S::rotate_by(basis, b.com);
+        let (lo, hi) = S::aabb(shape, origin, b.q, margin / 2.0);
         st.lo.push(lo);
         st.hi.push(hi);
         st.moves.push(b.kind == Kind::Dynamic);
+        st.basis.push((basis, origin));
     }
     broad::pairs(&st.lo, &st.hi, &st.moves, &mut st.order, &mut st.pairs);
     if !solids.no_collide.is_empty() {
@@ -302,13 +351,15 @@ fn collide<S: Space>(solids: &mut Solids<S>) {
         st.pairs.retain(|p| solids.no_collide.binary_search(p).is_err());
     }
     st.points.clear();
-    st.ranges.clear();
+    st.contacts.clear();
+    st.touching.clear();
     for &(a, b) in &st.pairs {
         let (ba, bb) = (&solids.bodies[a as usize], &solids.bodies[b as usize]);
+        let ((qa, oa), (qb, ob)) = (st.basis[a as usize], st.basis[b as usize]);
         st.touches.clear();
         S::touches(
-            (&solids.shapes[a as usize], ba.origin(), ba.q),
-            (&solids.shapes[b as usize], bb.origin(), bb.q),
+            (&solids.shapes[a as usize], oa, ba.q),
+            (&solids.shapes[b as usize], ob, bb.q),
             margin,
             &mut st.touches,
         );
@@ -330,14 +381,15 @@ fn collide<S: Space>(solids: &mut Solids<S>) {
                 }
                 Err(_) => (0.0, [0.0; 2], S::unrotate(ba.q, ra), S::unrotate(bb.q, rb)),
             };
-            let tangents = S::tangents(t.normal);
-            let apart = S::rotate(bb.q, anchor_b) + bb.c - S::rotate(ba.q, anchor_a) - ba.c;
-            let slip = [apart.dot(tangents[0]), apart.dot(tangents[1])];
+            let frame = S::frame(t.normal);
+            let apart = S::rotate_by(qb, anchor_b) + bb.c - S::rotate_by(qa, anchor_a) - ba.c;
+            let mut slip = [0.0; 2];
+            for k in 0..S::TANGENTS {
+                slip[k] = apart.dot(S::tangent(t.normal, frame, k));
+            }
             st.points.push(Point {
-                a,
-                b,
                 normal: t.normal,
-                tangents,
+                frame,
                 ra,
                 rb,
                 adjusted: t.separation - (rb - ra).dot(t.normal),
@@ -345,22 +397,33 @@ fn collide<S: Space>(solids: &mut Solids<S>) {
                 tangent_mass: [0.0; 2],
                 normal_impulse: ni,
                 tangent_impulse: ti,
-                total_normal: 0.0,
-                total_friction: 0.0,
                 max_normal: 0.0,
                 approach: 0.0,
-                friction,
-                restitution,
-                rigid_other: ba.kind != Kind::Dynamic || bb.kind != Kind::Dynamic,
-                id: t.id,
-                depth: -t.separation,
-                at,
-                anchor_a,
-                anchor_b,
                 slip,
             });
+            st.contacts.push(Contact {
+                a,
+                b,
+                id: t.id,
+                normal: t.normal,
+                depth: -t.separation,
+                at,
+                total_normal: 0.0,
+                total_friction: 0.0,
+                anchor_a,
+                anchor_b,
+            });
         }
-        st.ranges.push((start, st.points.len()));
+        st.touching.push(Pair {
+            a,
+            b,
+            start: start as u32,
+            end: st.points.len() as u32,
+            friction,
+            restitution,
+            rigid_other: ba.kind != Kind::Dynamic || bb.kind != Kind::Dynamic,
+            soft: Coefs::default(),
+        });
     }
 }
 
@@ -395,13 +458,16 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         // The world, for joints to it: the last motion, which never moves.
         st.motion.push(Motion::fixed());
     }
-    for p in &mut st.points {
-        let (ma, mb) = (&st.motion[p.a as usize], &st.motion[p.b as usize]);
-        p.normal_mass = effective_mass(ma, mb, p.ra, p.rb, p.normal);
-        for k in 0..S::TANGENTS {
-            p.tangent_mass[k] = effective_mass(ma, mb, p.ra, p.rb, p.tangents[k]);
+    for pair in &mut st.touching {
+        pair.soft = Coefs::of(if pair.rigid_other { rigid } else { soft });
+        let (ma, mb) = (&st.motion[pair.a as usize], &st.motion[pair.b as usize]);
+        for p in &mut st.points[pair.start as usize..pair.end as usize] {
+            p.normal_mass = effective_mass(ma, mb, p.ra, p.rb, p.normal);
+            for k in 0..S::TANGENTS {
+                p.tangent_mass[k] = effective_mass(ma, mb, p.ra, p.rb, S::tangent(p.normal, p.frame, k));
+            }
+            p.approach = relative_velocity(ma, mb, p.ra, p.rb).dot(p.normal);
         }
-        p.approach = relative_velocity(ma, mb, p.ra, p.rb).dot(p.normal);
     }
 
     let mut bodies = std::mem::take(&mut solids.bodies);
@@ -423,7 +489,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             if !joints.is_empty() {
                 joint::solve(joints, &mut st.motion, h, Some(joint_soft));
             }
-            solve(st, inv_h, Some((soft, rigid, set.push_speed)));
+            solve::<S, true>(st, inv_h, set.push_speed);
         }
         // Integrate positions.
         for (b, m) in bodies.iter_mut().zip(st.motion.iter_mut()) {
@@ -438,13 +504,13 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             if !joints.is_empty() {
                 joint::solve(joints, &mut st.motion, h, None);
             }
-            solve(st, inv_h, None);
+            solve::<S, false>(st, inv_h, set.push_speed);
         }
         // The impulse a point applies in a substep is its accumulated impulse (the warm
         // start and the increments): the step's is their sum.
-        for p in &mut st.points {
-            p.total_normal += p.normal_impulse;
-            p.total_friction += S::friction_size(p.tangent_impulse);
+        for (p, c) in st.points.iter().zip(&mut st.contacts) {
+            c.total_normal += p.normal_impulse;
+            c.total_friction += S::friction_size(p.tangent_impulse);
         }
     }
     restitution(st, set.restitution_threshold);
@@ -457,25 +523,26 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     }
     solids.bodies = bodies;
     st.warm.clear();
-    for p in &st.points {
-        let t = p.tangent_impulse;
-        let sliding = S::friction_size(t) >= 0.999 * p.friction * p.normal_impulse;
-        let (anchor_a, anchor_b) = if sliding || p.normal_impulse == 0.0 {
-            // Sliding (or not pressed): static friction lets go, and takes hold again where
-            // the point is now.
-            let (ba, bb) = (&solids.bodies[p.a as usize], &solids.bodies[p.b as usize]);
-            let at = p.at + (st.motion[p.a as usize].dp + st.motion[p.b as usize].dp) * 0.5;
-            (S::unrotate(ba.q, at - ba.c), S::unrotate(bb.q, at - bb.c))
-        } else {
-            (p.anchor_a, p.anchor_b)
-        };
-        st.warm.push(Warm {
-            key: (p.a, p.b, p.id),
-            normal: p.normal_impulse,
-            tangent: t,
-            anchor_a,
-            anchor_b,
-        });
+    for pair in &st.touching {
+        let range = pair.start as usize..pair.end as usize;
+        for (p, c) in st.points[range.clone()].iter().zip(&mut st.contacts[range]) {
+            let t = p.tangent_impulse;
+            let sliding = S::friction_size(t) >= 0.999 * pair.friction * p.normal_impulse;
+            if sliding || p.normal_impulse == 0.0 {
+                // Sliding (or not pressed): static friction lets go, and takes hold again
+                // where the point is now.
+                let (ba, bb) = (&solids.bodies[c.a as usize], &solids.bodies[c.b as usize]);
+                let at = c.at + (st.motion[c.a as usize].dp + st.motion[c.b as usize].dp) * 0.5;
+                (c.anchor_a, c.anchor_b) = (S::unrotate(ba.q, at - ba.c), S::unrotate(bb.q, at - bb.c));
+            }
+            st.warm.push(Warm {
+                key: (c.a, c.b, c.id),
+                normal: p.normal_impulse,
+                tangent: t,
+                anchor_a: c.anchor_a,
+                anchor_b: c.anchor_b,
+            });
+        }
     }
     // The points come in pair order, so the keys usually are in order already.
     if !st.warm.is_sorted_by_key(|w| w.key) {
@@ -486,40 +553,47 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
 
 #[allow(clippy::needless_range_loop)] // k indexes a point's tangents and impulses alike
 fn warm_start<S: Space>(st: &mut State<S>) {
-    for p in &st.points {
-        let (ma, mb) = two(&mut st.motion, p.a, p.b);
-        let mut imp = p.normal * p.normal_impulse;
-        for k in 0..S::TANGENTS {
-            imp += p.tangents[k] * p.tangent_impulse[k];
+    for pair in &st.touching {
+        let (ia, ib) = (pair.a as usize, pair.b as usize);
+        // The two solids' motions held in registers over the pair's points.
+        let (mut ma, mut mb) = (st.motion[ia], st.motion[ib]);
+        for p in &st.points[pair.start as usize..pair.end as usize] {
+            let mut imp = p.normal * p.normal_impulse;
+            for k in 0..S::TANGENTS {
+                imp += S::tangent(p.normal, p.frame, k) * p.tangent_impulse[k];
+            }
+            push(&mut ma, &mut mb, p.ra, p.rb, imp);
         }
-        push(ma, mb, p.ra, p.rb, imp);
+        (st.motion[ia].v, st.motion[ia].w) = (ma.v, ma.w);
+        (st.motion[ib].v, st.motion[ib].w) = (mb.v, mb.w);
     }
 }
 
+/// One pass over every pair: normal impulses, then friction, with the soft bias (`BIAS`,
+/// the solve) or without it (the relax pass). The two solids' motions are held in
+/// registers over the pair's points and stored once.
 #[allow(clippy::needless_range_loop)] // k indexes a point's tangents, masses and impulses alike
-/// One pass over every pair: normal impulses (with the soft bias when `bias` is given), and
-/// friction in the relax pass (without the bias).
-fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)>) {
-    for &(s, e) in &st.ranges {
-        st.turned.clear();
-        for p in &mut st.points[s..e] {
-            let (ma, mb) = two(&mut st.motion, p.a, p.b);
+fn solve<S: Space, const BIAS: bool>(st: &mut State<S>, inv_h: f64, push_speed: f64) {
+    for pair in &st.touching {
+        let (ia, ib) = (pair.a as usize, pair.b as usize);
+        let (mut ma, mut mb) = (st.motion[ia], st.motion[ib]);
+        let c = pair.soft;
+        let points = &mut st.points[pair.start as usize..pair.end as usize];
+        for p in points.iter_mut() {
             let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
-            st.turned.push((ta, tb));
             let d = mb.dp + tb - ma.dp - ta;
             let sep = d.dot(p.normal) + p.adjusted;
             let (mut vbias, mut mass_scale, mut impulse_scale) = (0.0, 1.0, 0.0);
             if sep > 0.0 {
                 // Apart: close the gap in this substep and no more.
                 vbias = sep * inv_h;
-            } else if let Some((soft, rigid, push_speed)) = bias {
-                let k = if p.rigid_other { rigid } else { soft };
-                vbias = (k.mass_scale * k.bias_rate * sep).max(-push_speed);
-                mass_scale = k.mass_scale;
-                impulse_scale = k.impulse_scale;
+            } else if BIAS {
+                vbias = (c.bias * sep).max(-push_speed);
+                mass_scale = c.mass_scale;
+                impulse_scale = c.impulse_scale;
             }
-            let vn = relative_velocity(ma, mb, p.ra, p.rb).dot(p.normal);
-            if bias.is_some() && p.restitution > 0.0 {
+            let vn = relative_velocity(&ma, &mb, p.ra, p.rb).dot(p.normal);
+            if BIAS && pair.restitution > 0.0 {
                 // The speed a bouncing point arrives at: gravity keeps adding to it over the
                 // step's substeps until the contact stops it (the step's start undercounts
                 // it by up to g dt, a few % of a bounce's height).
@@ -530,29 +604,33 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
             let imp = new - p.normal_impulse;
             p.normal_impulse = new;
             p.max_normal = p.max_normal.max(imp);
-            push(ma, mb, p.ra, p.rb, p.normal * imp);
+            push(&mut ma, &mut mb, p.ra, p.rb, p.normal * imp);
         }
-        for (p, &(ta, tb)) in st.points[s..e].iter_mut().zip(&st.turned) {
-            let (ma, mb) = two(&mut st.motion, p.a, p.b);
-            let limit = p.friction * p.normal_impulse;
-            let dv = relative_velocity(ma, mb, p.ra, p.rb);
+        for p in points.iter_mut() {
+            let limit = pair.friction * p.normal_impulse;
+            let dv = relative_velocity(&ma, &mb, p.ra, p.rb);
             let mut new = [0.0; 2];
             // With the bias, static friction pulls the anchors back together as softly as a
             // contact pushes (so a box on a ramp steeper than it can slide on does not
-            // creep); without it, friction stops the sliding velocity.
-            let moved = if bias.is_some() { mb.dp + tb - p.rb - ma.dp - ta + p.ra } else { S::V::default() };
+            // creep); without it, friction stops the sliding velocity. The arms are turned
+            // again as the normal solve turned them (no solid turns between the two).
+            let moved = if BIAS {
+                let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
+                mb.dp + tb - p.rb - ma.dp - ta + p.ra
+            } else {
+                S::V::default()
+            };
             for k in 0..S::TANGENTS {
-                let vt = dv.dot(p.tangents[k]);
-                new[k] = match bias {
-                    Some((soft, rigid, push_speed)) => {
-                        let c = if p.rigid_other { rigid } else { soft };
-                        let err = p.slip[k] + moved.dot(p.tangents[k]);
-                        let vbias = (c.mass_scale * c.bias_rate * err).clamp(-push_speed, push_speed);
-                        p.tangent_impulse[k]
-                            - p.tangent_mass[k] * (c.mass_scale * vt + vbias)
-                            - c.impulse_scale * p.tangent_impulse[k]
-                    }
-                    None => p.tangent_impulse[k] - p.tangent_mass[k] * vt,
+                let t = S::tangent(p.normal, p.frame, k);
+                let vt = dv.dot(t);
+                new[k] = if BIAS {
+                    let err = p.slip[k] + moved.dot(t);
+                    let vbias = (c.bias * err).clamp(-push_speed, push_speed);
+                    p.tangent_impulse[k]
+                        - p.tangent_mass[k] * (c.mass_scale * vt + vbias)
+                        - c.impulse_scale * p.tangent_impulse[k]
+                } else {
+                    p.tangent_impulse[k] - p.tangent_mass[k] * vt
                 };
             }
             let size = S::friction_size(new);
@@ -563,29 +641,35 @@ fn solve<S: Space>(st: &mut State<S>, inv_h: f64, bias: Option<(Soft, Soft, f64)
             }
             let mut imp = S::V::default();
             for k in 0..S::TANGENTS {
-                imp += p.tangents[k] * (new[k] - p.tangent_impulse[k]);
+                imp += S::tangent(p.normal, p.frame, k) * (new[k] - p.tangent_impulse[k]);
             }
             p.tangent_impulse = new;
-            push(ma, mb, p.ra, p.rb, imp);
+            push(&mut ma, &mut mb, p.ra, p.rb, imp);
         }
+        (st.motion[ia].v, st.motion[ia].w) = (ma.v, ma.w);
+        (st.motion[ib].v, st.motion[ib].w) = (mb.v, mb.w);
     }
 }
 
 /// After the substeps: the normal speed of each point that closed faster than `threshold`
 /// and was pushed set to `-e` times its speed before the step.
 fn restitution<S: Space>(st: &mut State<S>, threshold: f64) {
-    for &(s, e) in &st.ranges {
-        for p in &mut st.points[s..e] {
-            if p.restitution == 0.0 || p.approach > -threshold || p.max_normal == 0.0 {
+    for pair in &st.touching {
+        if pair.restitution == 0.0 {
+            continue;
+        }
+        let range = pair.start as usize..pair.end as usize;
+        for (p, c) in st.points[range.clone()].iter_mut().zip(&mut st.contacts[range]) {
+            if p.approach > -threshold || p.max_normal == 0.0 {
                 continue;
             }
-            let (ma, mb) = two(&mut st.motion, p.a, p.b);
+            let (ma, mb) = two(&mut st.motion, pair.a, pair.b);
             let vn = relative_velocity(ma, mb, p.ra, p.rb).dot(p.normal);
-            let imp = -p.normal_mass * (vn + p.restitution * p.approach);
+            let imp = -p.normal_mass * (vn + pair.restitution * p.approach);
             let new = (p.normal_impulse + imp).max(0.0);
             let imp = new - p.normal_impulse;
             p.normal_impulse = new;
-            p.total_normal += imp;
+            c.total_normal += imp;
             push(ma, mb, p.ra, p.rb, p.normal * imp);
         }
     }

@@ -130,6 +130,19 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     fn world_inverse_inertia(q: Self::Rot, local: Self::InvI) -> Self::InvI;
     /// Unit tangents completing `n` to an orthonormal frame (one in the plane).
     fn tangents(n: Self::V) -> [Self::V; 2];
+    /// What a contact point keeps of its tangents: nothing in the plane (the tangent is the
+    /// normal turned a quarter, exactly), the two of [`Space::tangents`] in space.
+    type Frame: Copy + Debug + PartialEq + Send + Sync;
+    /// The frame kept for a normal `n`.
+    fn frame(n: Self::V) -> Self::Frame;
+    /// Tangent `k` of the normal `n` with its kept frame: `tangents(n)[k]`, to the bit.
+    fn tangent(n: Self::V, frame: Self::Frame, k: usize) -> Self::V;
+    /// A rotation made ready to turn many vectors (its sine and cosine in the plane).
+    type Basis: Copy + Debug + Send + Sync;
+    /// The ready form of `q`.
+    fn basis(q: Self::Rot) -> Self::Basis;
+    /// `v` turned by `q` given as [`Space::basis`]: `rotate(q, v)`, to the bit.
+    fn rotate_by(b: Self::Basis, v: Self::V) -> Self::V;
     /// Number of tangents (1 in the plane, 2 in space).
     const TANGENTS: usize;
     /// The size of a friction impulse `t` (its components along the tangents),
@@ -276,7 +289,13 @@ impl Space for Plane {
         i * w
     }
     fn rotate(q: f64, v: DVec2) -> DVec2 {
-        let (s, c) = q.sin_cos();
+        Self::rotate_by(Self::basis(q), v)
+    }
+    type Basis = (f64, f64);
+    fn basis(q: f64) -> (f64, f64) {
+        q.sin_cos()
+    }
+    fn rotate_by((s, c): (f64, f64), v: DVec2) -> DVec2 {
         DVec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
     }
     fn unrotate(q: f64, v: DVec2) -> DVec2 {
@@ -294,6 +313,11 @@ impl Space for Plane {
     }
     fn tangents(n: DVec2) -> [DVec2; 2] {
         [n.perp(), DVec2::ZERO]
+    }
+    type Frame = ();
+    fn frame(_n: DVec2) {}
+    fn tangent(n: DVec2, _frame: (), _k: usize) -> DVec2 {
+        n.perp()
     }
     /// One tangent: `|t0|`, which is `sqrt(t0^2)` to the bit (in binary floating point the
     /// square root of a correctly rounded square is the number's size, while the square is
@@ -436,6 +460,13 @@ impl Space for Space3 {
     fn rotate(q: DQuat, v: DVec3) -> DVec3 {
         q * v
     }
+    type Basis = DQuat;
+    fn basis(q: DQuat) -> DQuat {
+        q
+    }
+    fn rotate_by(q: DQuat, v: DVec3) -> DVec3 {
+        q * v
+    }
     fn unrotate(q: DQuat, v: DVec3) -> DVec3 {
         q.conjugate() * v
     }
@@ -453,6 +484,13 @@ impl Space for Space3 {
     fn tangents(n: DVec3) -> [DVec3; 2] {
         let (a, b) = n.any_orthonormal_pair();
         [a, b]
+    }
+    type Frame = [DVec3; 2];
+    fn frame(n: DVec3) -> [DVec3; 2] {
+        Self::tangents(n)
+    }
+    fn tangent(_n: DVec3, frame: [DVec3; 2], k: usize) -> DVec3 {
+        frame[k]
     }
     fn write_rot(q: DQuat, out: &mut Vec<f64>) {
         out.extend_from_slice(&[q.w, q.x, q.y, q.z]);
