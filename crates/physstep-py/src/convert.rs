@@ -176,6 +176,16 @@ pub(crate) fn matrix(py: Python<'_>, data: Vec<f64>, cols: usize) -> PyResult<Bo
     Ok(arr.into_pyarray(py))
 }
 
+/// Solids' orientations, flat as the engine gives them, shaped for Python: the angles (n,)
+/// in 2D, the quaternions (n, 4) as (w, x, y, z) in 3D.
+pub(crate) fn orientations(py: Python<'_>, q: Vec<f64>, dim: usize) -> PyResult<Bound<'_, PyAny>> {
+    if dim == 3 {
+        Ok(matrix(py, q, 4)?.into_any())
+    } else {
+        Ok(q.into_pyarray(py).into_any())
+    }
+}
+
 /// Rows of `cols` indices from any array-like of whole numbers (numpy integer arrays, nested
 /// lists of ints), shape `(m, cols)`; a negative entry names its place (`triangles[4][1]`).
 /// The engine checks them against what they index.

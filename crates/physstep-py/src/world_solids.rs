@@ -476,12 +476,7 @@ impl World {
     /// z) in 3D.
     fn solid_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let g = self.lock()?;
-        let q = g.engine.solid_orientations();
-        if g.engine.dim() == 3 {
-            Ok(matrix(py, q, 4)?.into_any())
-        } else {
-            Ok(q.into_pyarray(py).into_any())
-        }
+        crate::convert::orientations(py, g.engine.solid_orientations(), g.engine.dim())
     }
 
     /// Velocities of the solids' centres of mass (n, dim), m/s.

@@ -1,7 +1,7 @@
 //! `World`'s methods that read and set its state: positions, velocities, accelerations,
 //! time, energy, snapshots and hashes, the game loop's interpolation and totals.
 
-use crate::convert::{array, bytes, matrix};
+use crate::convert::{array, bytes, matrix, orientations};
 use crate::handle::{raise, World};
 use crate::py_err;
 use crate::views::{view, Part};
@@ -44,14 +44,8 @@ impl World {
     /// quaternions (n, 4) as (w, x, y, z) in 3D): the angle moved by `alpha` of its change
     /// over the last step, the quaternion slerped.
     fn interpolated_solid_orientations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        use numpy::IntoPyArray;
         let g = self.lock()?;
-        let q = g.engine.interpolated_solid_orientations();
-        if g.engine.dim() == 3 {
-            Ok(matrix(py, q, 4)?.into_any())
-        } else {
-            Ok(q.into_pyarray(py).into_any())
-        }
+        orientations(py, g.engine.interpolated_solid_orientations(), g.engine.dim())
     }
 
     /// Positions (n, dim), m: a read-only view of the world's own memory, not a copy (see
