@@ -4,25 +4,35 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=${PHYSSTEP_VENV:-.venv}
+START=$SECONDS
+stage() { printf '[test %4ds] %s\n' "$((SECONDS - START))" "$*"; }
 PHYSSTEP_EXTRAS=test,distributed,demo,docs bash scripts/setup.sh
+stage "rustfmt, clippy"
 cargo fmt --all --check
 cargo clippy --workspace --all-targets -- -D warnings
+stage "cargo test (the test profile: the engine's unit tests and one integration-test binary)"
 cargo test --workspace --exclude physstep-py
+stage "cargo doc, the Rust example"
 RUSTDOCFLAGS="-D warnings" cargo doc -q -p physstep --no-deps
 # The test profile: the example as `cargo test` just built it, not a build of its own.
 cargo run -q --profile test -p physstep --example custom_force
 # The wheel a user without Rust installs: built from the same release build, installed into a
 # new venv with no toolchain on PATH, the quick-start table and a smoke test run from it.
+stage "the wheel, installed in a new venv without Rust"
 bash scripts/build-wheel.sh >/dev/null
 bash scripts/check-wheel.sh
+stage "ruff, stubtest, mypy, the examples"
 "$VENV/bin/ruff" check python tests scripts bench examples build_backend
 "$VENV/bin/ruff" format --check python tests scripts bench examples build_backend
 "$VENV/bin/python" -m mypy.stubtest physstep._core
 "$VENV/bin/python" -m mypy python/physstep
 for example in examples/*.py; do MPLBACKEND=Agg "$VENV/bin/python" "$example" >/dev/null; done
+stage "pytest"
 MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q
 # The documentation site: a broken link or anchor, a README section gone or a missing docstring
 # fails it (not --quiet: mkdocs then drops the warnings that --strict counts).
+stage "the documentation site (mkdocs --strict)"
 SITE=$(mktemp -d)
 trap 'rm -rf "$SITE"' EXIT
 NO_MKDOCS_2_WARNING=1 "$VENV/bin/mkdocs" build --strict --site-dir "$SITE"
+stage "all passed"

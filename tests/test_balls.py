@@ -187,7 +187,7 @@ def test_cli_bad_balls_params_exit_2(param: str, needle: str) -> None:
 
 def test_pile_scene_is_listed_and_comes_to_rest() -> None:
     # Before resting contacts a pile at restitution 0.5 failed with a ConvergenceError 1.4 s
-    # into its fall; 200 balls here (the 1,000-ball check is crates/physstep/tests/collisions.rs).
+    # into its fall; 200 balls here (the 1,000-ball check is crates/physstep/tests/it/collisions.rs).
     res = run_cli("scenes")
     assert res.returncode == 0 and "pile" in res.stdout, res.stderr
     w = physstep.World.from_scene("pile", params={"n": 200, "restitution": 0.5})

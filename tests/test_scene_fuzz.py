@@ -95,7 +95,7 @@ def test_fuzz_structured_files_load_or_are_one_line_value_errors(top: list, tabl
 
 def test_regressions_stay_fixed() -> None:
     """Inputs that once misbehaved (none yet from the Python side: the Rust proptest's are in
-    crates/physstep/tests/scene_fuzz.rs)."""
+    crates/physstep/tests/it/scene_fuzz.rs)."""
     for text in ["dimension = 99999999999999999999\n", "dimension = 2\nconstraint_iterations = 5000000000\n"]:
         p = _DIR / "r.toml"
         p.write_text(text)

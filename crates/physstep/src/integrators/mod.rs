@@ -123,7 +123,7 @@ pub trait Method {
     /// recipe written once, generic over the storage it runs on
     /// ([`Ops`](crate::dynamics::Ops)); returns whether the method has that form (`false`,
     /// the default: `e` is left as it was). The element-wise kernels run it for methods that
-    /// are local and keep no memory (see [`Integrator::fresh_local`]); `tests/kernels.rs`
+    /// are local and keep no memory (see [`Integrator::fresh_local`]); `tests/it/kernels.rs`
     /// and `world/flat.rs`'s unit test hold it bitwise to the staged step.
     fn element_step<A: Fn(f64, f64) -> f64>(&self, e: &mut Element<A>) -> bool {
         let _ = e;

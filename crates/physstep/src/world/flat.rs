@@ -6,7 +6,7 @@
 //! inverse masses and gravity are laid out per element, all the steps of a run while a chunk
 //! sits in L1, and the compiler turns the loop over elements into vector code.
 //!
-//! `tests/kernels.rs` checks every method with an element form against the staged step
+//! `tests/it/kernels.rs` checks every method with an element form against the staged step
 //! bitwise; the acceleration is [`Local`](crate::forces::local::Local)'s per-particle
 //! function in its element-wise case.
 

@@ -4,7 +4,7 @@
 //! [`Local::element_springs`]), stepped by a method with an element-wise form. As in
 //! [`super::flat`], a step is the method file's own recipe run on one number pair
 //! `(x_j, v_j)` at a time ([`Method::element_step`]), and the acceleration is [`Local`]'s
-//! per-particle function in its element-wise case (`tests/kernels.rs` checks both against
+//! per-particle function in its element-wise case (`tests/it/kernels.rs` checks both against
 //! the staged step bitwise); a step costs little more than its arithmetic.
 //!
 //! Why the element-wise acceleration is the per-particle one bit for bit: that function sums

@@ -2,9 +2,7 @@
 //! head-on, 2D oblique, 3D, unequal masses and radii), conservation over a scene, the broad
 //! phase's pair tests growing linearly with N, rollback, bad input, every method.
 
-mod common;
-
-use common::{close, max_pair_overlap, world};
+use crate::common::{close, max_pair_overlap, world};
 use physstep::forces::ForceGenerator;
 use physstep::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};

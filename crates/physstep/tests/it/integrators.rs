@@ -2,9 +2,8 @@
 //! methods across changes of dt and resets, evaluation counts, stage logs, divergence
 //! handling and determinism.
 
-mod common;
-
-use common::spring;
+use crate::common;
+use crate::common::spring;
 use physstep::integrators::registry::{self, State};
 use physstep::integrators::StageLog;
 use physstep::prelude::*;
@@ -457,7 +456,7 @@ fn a_nan_force_fails_the_step_and_leaves_the_state_bitwise_unchanged() {
             other => panic!("{}: expected Diverged, got {other:?}", info.name),
         }
         assert!(err.to_string().contains(info.name), "{err}");
-        // The method's memory is rolled back bitwise too (on a World: tests/restore_and_rollback.rs).
+        // The method's memory is rolled back bitwise too (on a World: tests/it/restore_and_rollback.rs).
         let mem_bits = |m: Vec<f64>| m.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         assert_eq!(mem_bits(integ.memory()), mem_bits(memory), "{}: memory changed", info.name);
         // Un-poisoned, the next step goes on exactly as an uninterrupted run would.

@@ -1,9 +1,7 @@
 //! The built-in scenes: every scene under every method, exact solutions, convergence orders
 //! and parameter validation.
 
-mod common;
-
-use common::slope;
+use crate::common::slope;
 use physstep::prelude::*;
 use std::f64::consts::{PI, TAU};
 
@@ -93,7 +91,7 @@ fn every_scene_builds_and_steps_under_every_method() {
                 "nbody" if info.implicit => &[("n", 4.0)],
                 // A dense Newton solve of a 12 x 12 cloth's 432 coordinates is slow.
                 "cloth" if info.implicit => &[("w", 4.0), ("h", 4.0)],
-                // Stiff at their defaults by design (tests/stiff.rs): soft here, so every
+                // Stiff at their defaults by design (tests/it/stiff.rs): soft here, so every
                 // method holds at 1 ms.
                 "stiff-chain" | "stiff-cloth" => &[("n", 4.0), ("k", 100.0)],
                 _ => &[],
@@ -328,7 +326,7 @@ fn kepler_rk4_matches_the_exact_solution() {
 fn pendulum_without_gravity_is_a_circle() {
     let (l, om, th) = (1.5, 1.0, 0.5);
     // The notes' rod force (rod = 0): smooth, so each method keeps its order on it (the
-    // constraint version is tested in tests/constraints.rs).
+    // constraint version is tested in tests/it/constraints.rs).
     let over = [("g", 0.0), ("omega0", om), ("length", l), ("theta0", th), ("rod", 0.0)];
     let scene = scenes::build("pendulum", &over, "rk4", 0.01).unwrap();
     assert!(scene.has_exact());

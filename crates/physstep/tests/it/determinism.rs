@@ -8,10 +8,9 @@
 //! Euler (its Newton and conjugate-gradient iterations are in the hash too). A change of
 //! any hash means a change of the trajectory's bits: docs/determinism.md says which changes
 //! (compiler flags, fused multiply-add, the target CPU, libm) may do that, and how to record
-//! the new table (`PHYSSTEP_PRINT_HASHES=1 cargo test -p physstep --test determinism`).
+//! the new table (`PHYSSTEP_PRINT_HASHES=1 cargo test -p physstep --test it determinism::`).
 
-mod common;
-
+use crate::common;
 use physstep::prelude::*;
 
 /// Steps taken before the hash is read.
@@ -34,7 +33,7 @@ const HASHES: &[(&str, u64)] = &[
     // block incomplete Cholesky and taken with a secant line search since those became the
     // defaults (they iterate differently: the converged steps differ within Newton's
     // tolerance). Block Jacobi with whole updates still gives the earlier hashes,
-    // 0xc24332ff08e015c0 and 0xdc5a56c5afc9ca06 (tests/stiff.rs checks it).
+    // 0xc24332ff08e015c0 and 0xdc5a56c5afc9ca06 (tests/it/stiff.rs checks it).
     ("stiff-chain", 0xb85df278b95da399),
     ("stiff-cloth", 0xa2c4f0954767846b),
     ("racket", 0x61739902e34aadf3),

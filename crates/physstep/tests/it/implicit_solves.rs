@@ -27,7 +27,7 @@ fn implicit_methods_solve_tiny_states_as_well_as_large_ones() {
 #[test]
 fn a_dense_solve_too_large_is_refused_before_allocating() {
     // chain n = 20000: 80000 unknowns, a 51 GB Jacobian (the process aborted). The sparse
-    // solve takes it now (tests/stiff.rs); the dense one, asked for, is still refused.
+    // solve takes it now (tests/it/stiff.rs); the dense one, asked for, is still refused.
     let mut s = scenes::build("chain", &[("n", 20000.0)], "backward-euler", 0.001).unwrap();
     let dense = physstep::integrators::ImplicitParams { dense_up_to: usize::MAX, ..Default::default() };
     s.world.set_implicit(dense).unwrap();

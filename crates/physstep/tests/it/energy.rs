@@ -1,8 +1,6 @@
 //! Energy signatures on the notes' undamped spring (m = 10, k = 5, x0 = 20: E0 = 1000 J)
 //! over 10,000 steps of dt = 0.1 (about 112 periods).
 
-mod common;
-
 use physstep::prelude::*;
 
 const DT: f64 = 0.1;

@@ -1,8 +1,7 @@
 //! Scene files: every built-in scene exported and loaded back runs bitwise the built-in
 //! trajectory; bad files are refused with one line naming the file, the line and the field.
 
-mod common;
-
+use crate::common;
 use physstep::prelude::*;
 use physstep::scenes::file;
 

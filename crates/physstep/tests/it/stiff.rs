@@ -280,7 +280,7 @@ fn cg_iterations_per_newton_update_grow_at_most_like_the_square_root_of_the_chai
 #[test]
 fn block_jacobi_without_the_line_search_keeps_the_earlier_trajectories_bitwise() {
     // The recorded hashes of stiff-chain and stiff-cloth (n = 6) before the incomplete
-    // Cholesky preconditioner and the line search became the default (tests/determinism.rs,
+    // Cholesky preconditioner and the line search became the default (tests/it/determinism.rs,
     // 1,000 steps): block Jacobi with whole updates still gives those bits.
     for (scene, params, want) in [
         ("stiff-chain", [("n", 100.0)], 0xc243_32ff_08e0_15c0_u64),

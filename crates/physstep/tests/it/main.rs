@@ -1,0 +1,37 @@
+//! The engine's integration tests, one binary: each module is one concern (the names say what
+//! they hold); `common` has the helpers they share. One crate links parry and the engine once,
+//! where a binary a file linked them about thirty times.
+
+mod bodies;
+mod collisions;
+mod common;
+mod constraints;
+mod contact;
+mod contact_scenes;
+mod contact_stage;
+mod convergence;
+mod determinism;
+mod energy;
+mod entity_state;
+mod flows;
+mod golden_tables;
+mod handles;
+mod implicit_solves;
+mod integrators;
+mod interrupt;
+mod joints;
+mod kepler_solution;
+mod kernels;
+mod parts;
+mod refused_inputs;
+mod registry;
+mod restore_and_rollback;
+mod scene_files;
+mod scene_fuzz;
+mod scenes;
+mod solid_forces;
+mod spring_at_zero_length;
+mod stiff;
+mod user_forces;
+mod vector_paths;
+mod world;
