@@ -38,10 +38,10 @@ def main() -> None:
         s = lab.stability(duffing, m, rtol=1e-3)
         dt_max = "no limit" if s.dt_max is None else f"{s.dt_max:.4f}"
         note = "stable again just above" if s.stable_above else ""
-        print(f"{m:<18} {o['info_order']:>5} {o['order']:>8.3f} {dt_max:>11}  {note}")
+        print(f"{m:<18} {o.info_order:>5} {o.order:>8.3f} {dt_max:>11}  {note}")
         assert abs(o.order - o.info_order) < 0.15
-    print(f"errors against the {o['error_against']}")
-    print(f"stability: {s['criterion']}")
+    print(f"errors against the {o.error_against}")
+    print(f"stability: {s.criterion}")
 
 
 if __name__ == "__main__":
