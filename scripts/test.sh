@@ -29,7 +29,8 @@ stage "ruff, stubtest, mypy, the examples"
 # An example that calls a deprecated physstep API fails (the warning is raised in the example).
 for example in examples/*.py; do MPLBACKEND=Agg "$VENV/bin/python" -W error::DeprecationWarning:__main__ "$example" >/dev/null; done
 stage "pytest"
-MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q
+# Across the cores (pytest-xdist), a module's tests on one worker so its fixtures are made once.
+MPLBACKEND=Agg "$VENV/bin/python" -m pytest -q -n auto --dist loadscope
 # The documentation site: a broken link or anchor, a README section gone or a missing docstring
 # fails it (not --quiet: mkdocs then drops the warnings that --strict counts).
 stage "the documentation site (mkdocs --strict)"

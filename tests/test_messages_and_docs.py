@@ -190,6 +190,6 @@ def test_compare_says_where_the_energy_is_lost_by_design() -> None:
     rows = {row["method"]: row["energy_dissipation"] for row in json.loads(r.stdout)["rows"]}
     assert rows == {"rk4": "drag", "backward-euler": "drag; backward-euler damps by design"}
     res = physstep.lab.compare("spring", ["rk4", "implicit-midpoint"], until=1.0)
-    assert [row["energy_dissipation"] for row in res["rows"]] == [None, None]
+    assert [row.energy_dissipation for row in res.rows] == [None, None]
     text = run_cli("compare", "drag", "--methods", "rk4", "--until", "1").stdout
     assert "energy lost by design, not an error: rk4 (drag)" in " ".join(text.split())

@@ -30,9 +30,9 @@ ORBIT_LIMIT = 10.0
 
 
 @pytest.fixture(scope="module")
-def limits() -> dict[tuple[str, str], dict]:
+def limits() -> dict[tuple[str, str], lab.StabilityResult]:
     """The stability result of every (case, method), computed once."""
-    out: dict[tuple[str, str], dict] = {}
+    out: dict[tuple[str, str], lab.StabilityResult] = {}
     for case, (scene, params) in {**LINEAR_CASES, "orbit": ("orbit", None)}.items():
         for m in METHODS:
             out[case, m] = lab.stability(scene, m, params)
@@ -58,7 +58,7 @@ def _orbit_growth(method: str, dt: float, steps: int = ORBIT_STEPS) -> float:
     return float(max(np.abs(traj.x - traj.x[0]).max(), np.abs(traj.v - traj.v[0]).max()))
 
 
-def _finite(limits: dict[tuple[str, str], dict], case: str, method: str) -> float:
+def _finite(limits: dict[tuple[str, str], lab.StabilityResult], case: str, method: str) -> float:
     d = limits[case, method].dt_max
     if not d:
         pytest.skip(f"{method} on {case}: dt_max = {d}")
@@ -81,7 +81,7 @@ def test_orbit_runs_confirm_dt_max(limits, method: str) -> None:
     d = _finite(limits, "orbit", method)
     # over the horizon the limit holds for: the test's, or the longer one it was checked
     # against when the first run of that was not bounded (issue 25, item 14)
-    h = limits["orbit", method]["horizon"]
+    h = limits["orbit", method].horizon
     steps = h["steps"] if h["long_dt_max"] else ORBIT_STEPS
     below = _orbit_growth(method, 0.97 * d, steps)
     above = _orbit_growth(method, 1.03 * d, steps)
