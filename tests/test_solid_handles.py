@@ -75,6 +75,7 @@ def test_handles_reach_their_solids_after_a_removal_and_a_removed_one_is_refused
     assert (ball.id, operator.index(ball), int(ball), ball.alive, ball.kind) == (7, 7, 7, True, "dynamic")
     before = w.solid_positions()[ball].copy()
     assert w.joint_count == 1 and w.solid_spring_count == 2
+    pairs_before = w.contacts()["pairs"]
     w.remove(h[2])
     # The rows after it moved up; the handles follow.
     assert len(w.solids) == 7 == w.solid_count
@@ -84,7 +85,9 @@ def test_handles_reach_their_solids_after_a_removal_and_a_removed_one_is_refused
     assert w.solids[6] == ball and hash(w.solids[6]) == hash(ball)
     assert [s.id for s in w.solids] == [0, 1, 3, 4, 5, 6, 7]
     assert not h[2].alive
-    assert all(2 not in p and p.max() < 7 for p in w.contacts()["pairs"])
+    # The latest contacts without it, renumbered.
+    kept = [[a - (a > 2), b - (b > 2)] for a, b in pairs_before.tolist() if 2 not in (a, b)]
+    assert w.contacts()["pairs"].tolist() == kept
     # Removing a solid takes what hangs on it.
     w.remove(ball)
     assert (w.joint_count, w.solid_spring_count) == (0, 1)
@@ -94,13 +97,14 @@ def test_handles_reach_their_solids_after_a_removal_and_a_removed_one_is_refused
         lambda: w.remove(ball),
         lambda: ball.position,
         lambda: operator.index(ball),
-        lambda: w.solid_positions()[ball],
         lambda: w.apply_solid_force(ball, [1.0, 0.0]),
         lambda: w.solids[ball],
         lambda: w.add_joint("ball", ball, anchor=[0.0, 0.0]),
     ):
         with pytest.raises(ValueError, match=f"^{msg.replace('(', '[(]').replace(')', '[)]')}$"):
             use()
+    with pytest.raises(IndexError):  # numpy turns the handle's ValueError into its own
+        w.solid_positions()[ball]
     w.step(60)
     assert np.isfinite(w.solid_positions()).all()
     # A new solid gets a new id.
@@ -121,7 +125,7 @@ def test_a_world_after_removals_pickles_and_copies_and_steps_bitwise() -> None:
     assert other.state_hash() == w.state_hash()
     assert motion(other) == motion(w)
     other.remove(h[7])
-    assert other.solid_count == 5 and w.solid_count == 6
+    assert other.solid_count == 6 and w.solid_count == 7
     # The same solids built without it: the same motion, other ids, another hash.
     a, ha = pile(2)
     a.remove(ha[6])
