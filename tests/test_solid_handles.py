@@ -149,6 +149,10 @@ def test_a_solids_view_writes_are_validated_and_stepped() -> None:
     assert list(box.position) == [10.0, 5.0] and box.angle == 0.5 == box.orientation
     assert box.shape.kind == "box" and w.solids[0].kind == "static"
     x = w.solid_positions()[box][1]
+    # Render interpolation draws a solid moved by hand where it was put.
+    w.advance(0.05)
+    box.position = [10.0, 5.0]
+    assert list(w.interpolated_solid_positions()[box]) == [10.0, 5.0]
     w.step()
     assert 4.9 < w.solid_positions()[box][1] < x
     hash_before = w.state_hash()
@@ -179,7 +183,14 @@ def test_joint_and_spring_handles_read_and_write_their_parameters() -> None:
     wheel = w.add_solid(physstep.Circle(0.5))
     j = w.add_joint("revolute", wheel, anchor=[0.0, 0.0], max_motor=100.0)
     assert isinstance(j, physstep.JointHandle)
-    assert (j.kind, j.a, j.b, j.lower, j.motor_speed, j.max_motor) == ("revolute", wheel, None, None, 0.0, 100.0)
+    assert (j.kind, j.a, j.b, j.lower, j.motor_speed, j.max_motor) == (
+        "revolute",
+        wheel,
+        None,
+        None,
+        0.0,
+        100.0,
+    )
     j.motor_speed = 2.0
     w.step(60)
     assert w.solids[wheel].angular_velocity == pytest.approx(2.0, abs=1e-6)
@@ -192,7 +203,9 @@ def test_joint_and_spring_handles_read_and_write_their_parameters() -> None:
     assert (j.lower, j.max_motor) == (-0.1, 100.0)
     w.remove(j)
     assert not j.alive and w.joint_count == 0
-    with pytest.raises(ValueError, match=r"^invalid joint = JointHandle\(id=0\): it was removed from its World$"):
+    with pytest.raises(
+        ValueError, match=r"^invalid joint = JointHandle\(id=0\): it was removed from its World$"
+    ):
         j.motor_speed  # noqa: B018
 
     def pulled(k: float | None) -> float:
@@ -216,10 +229,12 @@ def test_joint_and_spring_handles_read_and_write_their_parameters() -> None:
     assert w.solid_spring_count == 1 and not s.alive
 
 
-def test_a_force_on_a_solid_is_removed_by_its_handle_and_with_its_solid() -> None:
-    def push(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
-        return np.array([[1.0, 0.0]])
+def push(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """A force of 1 N along x (module level: it pickles)."""
+    return np.array([[1.0, 0.0]])
 
+
+def test_a_force_on_a_solid_is_removed_by_its_handle_and_with_its_solid() -> None:
     w, h = pile()
     f = w.add_solid_force(h[7], push)
     g = w.add_solid_force(h[1], push)
@@ -228,11 +243,17 @@ def test_a_force_on_a_solid_is_removed_by_its_handle_and_with_its_solid() -> Non
     assert not f.alive and g.alive and w.solid_force_count == 1
     assert g.solid == h[1]
     w.step(2)
-    copy.copy(w).step(1)
+    for other in (copy.copy(w), pickle.loads(pickle.dumps(w))):
+        assert other.solid_force_count == 1
+        other.step(5)
+    w.step(5)
+    assert motion(other) == motion(w)
     w.remove(g)
     assert w.solid_force_count == 0
     with pytest.raises(ValueError, match=r"^invalid force = SolidForceHandle\(id=1\): it was removed"):
         w.remove(g)
     other, _ = pile()
-    with pytest.raises(ValueError, match=r"^invalid solid = SolidHandle\(id=4\): must be a handle of this World's"):
+    with pytest.raises(
+        ValueError, match=r"^invalid solid = SolidHandle\(id=4\): must be a handle of this World's"
+    ):
         other.remove(h[4])

@@ -23,6 +23,7 @@ __all__ = [
     "Cylinder",
     "DivergedError",
     "ForceHandle",
+    "JointHandle",
     "MassProperties",
     "Mesh",
     "Particle",
@@ -31,7 +32,11 @@ __all__ = [
     "Polygon",
     "Segment",
     "Shape",
+    "SolidForceHandle",
+    "SolidHandle",
     "SolidShape",
+    "SolidSpringHandle",
+    "Solids",
     "Sphere",
     "StepError",
     "World",
@@ -433,17 +438,15 @@ class SolidHandle:
     def row(self) -> int:
         """Its row now among its kind (the add order, the removed ones taken out); ValueError
         once removed."""
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, other: object, /) -> bool: ...
     def __hash__(self) -> int: ...
-
-
     def __index__(self) -> int:
         """The solid's row now (ValueError once removed)."""
     def __int__(self) -> int:
         """The solid's row now (ValueError once removed)."""
     @property
     def kind(self) -> str:
-        """"dynamic", "static" or "kinematic"."""
+        """ "dynamic", "static" or "kinematic"."""
     @property
     def shape(self) -> SolidShape:
         """The shape as added (read-only; its ``kind`` names it)."""
@@ -503,13 +506,11 @@ class JointHandle:
     def row(self) -> int:
         """Its row now among its kind (the add order, the removed ones taken out); ValueError
         once removed."""
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, other: object, /) -> bool: ...
     def __hash__(self) -> int: ...
-
-
     @property
     def kind(self) -> str:
-        """"ball", "revolute", "distance", "weld" or "prismatic"."""
+        """ "ball", "revolute", "distance", "weld" or "prismatic"."""
     @property
     def a(self) -> SolidHandle | None:
         """The first solid's handle."""
@@ -578,10 +579,8 @@ class SolidSpringHandle:
     def row(self) -> int:
         """Its row now among its kind (the add order, the removed ones taken out); ValueError
         once removed."""
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, other: object, /) -> bool: ...
     def __hash__(self) -> int: ...
-
-
     @property
     def a(self) -> SolidHandle:
         """The first solid's handle."""
@@ -627,10 +626,8 @@ class SolidForceHandle:
     def row(self) -> int:
         """Its row now among its kind (the add order, the removed ones taken out); ValueError
         once removed."""
-    def __eq__(self, other: object) -> bool: ...
+    def __eq__(self, other: object, /) -> bool: ...
     def __hash__(self) -> int: ...
-
-
     @property
     def name(self) -> str:
         """The force's name."""
@@ -1336,7 +1333,9 @@ class World:
         world's gravity (0 at the origin) and in the solid springs. What the exact motion of
         solids touching nothing, under gravity and undamped springs, conserves."""
 
-    def apply_solid_force(self, solid: int | SolidHandle, force: npt.ArrayLike, point: npt.ArrayLike | None = None) -> None:
+    def apply_solid_force(
+        self, solid: int | SolidHandle, force: npt.ArrayLike, point: npt.ArrayLike | None = None
+    ) -> None:
         """Applies ``force`` (N, world frame: dim numbers) to solid ``solid`` for the next
         step, at the world point ``point`` (default its centre of mass), which also turns
         it. Loads add up until a step takes them, held constant over its substeps.

@@ -166,7 +166,12 @@ impl SolidHandle {
 
     /// Sets the parts of the motion given (`value` converted by `part` with the World's
     /// dimension).
-    fn write(&self, value: &Bound<'_, PyAny>, part: impl FnOnce(Vec<f64>) -> SolidMotion, field: &str) -> PyResult<()> {
+    fn write(
+        &self,
+        value: &Bound<'_, PyAny>,
+        part: impl FnOnce(Vec<f64>) -> SolidMotion,
+        field: &str,
+    ) -> PyResult<()> {
         let x = numbers(value, field)?;
         let mut g = self.world.get().lock()?;
         let w = g.flush()?;
@@ -258,7 +263,11 @@ impl SolidHandle {
             return Err(PyAttributeError::new_err("a solid of a 3D world has no angle: use orientation"));
         }
         let a = float(value, "angle")?;
-        self.write(&value.clone(), |_| SolidMotion { orientation: Some(vec![a]), ..Default::default() }, "angle")
+        self.write(
+            &value.clone(),
+            |_| SolidMotion { orientation: Some(vec![a]), ..Default::default() },
+            "angle",
+        )
     }
 
     /// Orientation: the angle (2D, rad) or a unit quaternion (4,) as (w, x, y, z) (3D);
@@ -290,7 +299,11 @@ impl SolidHandle {
 
     #[setter]
     fn set_angular_velocity(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.write(value, |w| SolidMotion { angular_velocity: Some(w), ..Default::default() }, "angular_velocity")
+        self.write(
+            value,
+            |w| SolidMotion { angular_velocity: Some(w), ..Default::default() },
+            "angular_velocity",
+        )
     }
 }
 
@@ -605,7 +618,12 @@ pub(crate) fn joint_handle(world: &Bound<'_, World>, w: &Engine, family: u64, ro
     JointHandle { world: world.clone().unbind(), family, id: w.joint_ids()[row].0 }
 }
 
-pub(crate) fn spring_handle(world: &Bound<'_, World>, w: &Engine, family: u64, row: usize) -> SolidSpringHandle {
+pub(crate) fn spring_handle(
+    world: &Bound<'_, World>,
+    w: &Engine,
+    family: u64,
+    row: usize,
+) -> SolidSpringHandle {
     SolidSpringHandle { world: world.clone().unbind(), family, id: w.solid_spring_ids()[row].0 }
 }
 
@@ -697,7 +715,9 @@ impl Solids {
         let k = crate::convert::whole(i, "index", i64::MIN, i64::MAX)?;
         let at = if k < 0 { k + n as i64 } else { k };
         if at < 0 || at >= n as i64 {
-            return Err(PyIndexError::new_err(format!("solid index {k} out of range: the World has {n} solids")));
+            return Err(PyIndexError::new_err(format!(
+                "solid index {k} out of range: the World has {n} solids"
+            )));
         }
         Ok(SolidHandle::of_row(self.world.bind(py), &g.engine, g.family, at as usize))
     }

@@ -296,7 +296,13 @@ impl<S: Space> Forces<S> {
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming `stiffness`, `rest_length` or `damping`; unchanged.
-    pub(crate) fn set_spring(&mut self, k: usize, stiffness: f64, rest_length: f64, damping: f64) -> Result<()> {
+    pub(crate) fn set_spring(
+        &mut self,
+        k: usize,
+        stiffness: f64,
+        rest_length: f64,
+        damping: f64,
+    ) -> Result<()> {
         for (field, v) in [("stiffness", stiffness), ("rest_length", rest_length), ("damping", damping)] {
             if !(v.is_finite() && (0.0..=PARAM_MAX).contains(&v)) {
                 return Err(Error::invalid(field, num(v), "a number in [0, 1e12]"));

@@ -25,7 +25,11 @@ pub struct SolidMotion {
 }
 
 fn no_such(field: &str, what: &str, id: u64) -> Error {
-    Error::invalid(field, id, format!("the id of a {what} of this world (it was removed, or never added here)"))
+    Error::invalid(
+        field,
+        id,
+        format!("the id of a {what} of this world (it was removed, or never added here)"),
+    )
 }
 
 fn numbers(field: &str, v: &[f64], n: usize) -> Result<()> {
@@ -107,7 +111,8 @@ impl<S: Space> Solids<S> {
     /// ids are then unchanged.
     pub fn set_ids(&mut self, ids: [&[u64]; 4], next: [u64; 4]) -> Result<()> {
         let mut new = self.ids.clone();
-        for (k, field) in ["solid_ids", "joint_ids", "spring_ids", "solid_force_ids"].into_iter().enumerate() {
+        for (k, field) in ["solid_ids", "joint_ids", "spring_ids", "solid_force_ids"].into_iter().enumerate()
+        {
             new[k].set(field, ids[k], next[k])?;
         }
         self.ids = new;
@@ -233,7 +238,13 @@ impl<S: Space> Solids<S> {
     /// # Errors
     /// [`Error::InvalidValue`] naming `spring`, `stiffness`, `rest_length` or `damping`;
     /// unchanged.
-    pub fn set_spring(&mut self, id: SolidSpringId, stiffness: f64, rest_length: f64, damping: f64) -> Result<()> {
+    pub fn set_spring(
+        &mut self,
+        id: SolidSpringId,
+        stiffness: f64,
+        rest_length: f64,
+        damping: f64,
+    ) -> Result<()> {
         let k = self.spring_row(id).ok_or_else(|| no_such("spring", "solid spring", id.0))?;
         self.forces.set_spring(k, stiffness, rest_length, damping)
     }

@@ -264,7 +264,13 @@ impl World {
     /// [`Error::InvalidValue`] naming `solid` when `id` is no solid of this world (removed,
     /// or never added); the world is unchanged.
     pub fn remove_solid(&mut self, id: SolidId) -> Result<()> {
-        let no = || Error::invalid("solid", id, "the id of a solid of this world (it was removed, or never added here)");
+        let no = || {
+            Error::invalid(
+                "solid",
+                id,
+                "the id of a solid of this world (it was removed, or never added here)",
+            )
+        };
         each!(&mut self.solids, s => s.remove_solid(id), Err(no()))?;
         self.solids_changed();
         Ok(())
@@ -276,7 +282,13 @@ impl World {
     /// [`Error::InvalidValue`] naming `joint` when `id` is no joint of this world; the world
     /// is unchanged.
     pub fn remove_joint(&mut self, id: JointId) -> Result<()> {
-        let no = || Error::invalid("joint", id, "the id of a joint of this world (it was removed, or never added here)");
+        let no = || {
+            Error::invalid(
+                "joint",
+                id,
+                "the id of a joint of this world (it was removed, or never added here)",
+            )
+        };
         each!(&mut self.solids, s => s.remove_joint(id), Err(no()))?;
         self.derivative = super::Derivative::Stale;
         Ok(())
@@ -288,7 +300,13 @@ impl World {
     /// [`Error::InvalidValue`] naming `spring` when `id` is no solid spring of this world; the
     /// world is unchanged.
     pub fn remove_solid_spring(&mut self, id: SolidSpringId) -> Result<()> {
-        let no = || Error::invalid("spring", id, "the id of a solid spring of this world (it was removed, or never added here)");
+        let no = || {
+            Error::invalid(
+                "spring",
+                id,
+                "the id of a solid spring of this world (it was removed, or never added here)",
+            )
+        };
         each!(&mut self.solids, s => s.remove_spring(id), Err(no()))?;
         self.derivative = super::Derivative::Stale;
         Ok(())
@@ -300,7 +318,13 @@ impl World {
     /// [`Error::InvalidValue`] naming `force` when `id` is no user force on a solid of this
     /// world; the world is unchanged.
     pub fn remove_solid_force(&mut self, id: SolidForceId) -> Result<usize> {
-        let no = || Error::invalid("force", id, "the id of a force on a solid of this world (it was removed, or never added here)");
+        let no = || {
+            Error::invalid(
+                "force",
+                id,
+                "the id of a force on a solid of this world (it was removed, or never added here)",
+            )
+        };
         let k = each!(&mut self.solids, s => s.remove_force(id), Err(no()))?;
         self.derivative = super::Derivative::Stale;
         Ok(k)
@@ -315,7 +339,13 @@ impl World {
     /// [`Error::InvalidValue`] naming `solid` or the bad part and the value; the world is
     /// unchanged.
     pub fn set_solid_motion(&mut self, id: SolidId, motion: &SolidMotion) -> Result<()> {
-        let no = || Error::invalid("solid", id, "the id of a solid of this world (it was removed, or never added here)");
+        let no = || {
+            Error::invalid(
+                "solid",
+                id,
+                "the id of a solid of this world (it was removed, or never added here)",
+            )
+        };
         each!(&mut self.solids, s => s.set_motion(id, motion), Err(no()))?;
         if motion.position.is_some() || motion.orientation.is_some() {
             self.prev_solids.clear();
@@ -330,7 +360,13 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `joint`, `motor_speed` or `max_motor`; unchanged.
     pub fn set_joint_motor(&mut self, id: JointId, speed: f64, max_motor: f64) -> Result<()> {
-        let no = || Error::invalid("joint", id, "the id of a joint of this world (it was removed, or never added here)");
+        let no = || {
+            Error::invalid(
+                "joint",
+                id,
+                "the id of a joint of this world (it was removed, or never added here)",
+            )
+        };
         each!(&mut self.solids, s => s.set_joint_motor(id, speed, max_motor), Err(no()))
     }
 
@@ -339,7 +375,13 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `joint`, `lower` or `upper`; unchanged.
     pub fn set_joint_limits(&mut self, id: JointId, lower: Option<f64>, upper: Option<f64>) -> Result<()> {
-        let no = || Error::invalid("joint", id, "the id of a joint of this world (it was removed, or never added here)");
+        let no = || {
+            Error::invalid(
+                "joint",
+                id,
+                "the id of a joint of this world (it was removed, or never added here)",
+            )
+        };
         each!(&mut self.solids, s => s.set_joint_limits(id, lower, upper), Err(no()))
     }
 
@@ -349,8 +391,20 @@ impl World {
     /// # Errors
     /// [`Error::InvalidValue`] naming `spring`, `stiffness`, `rest_length` or `damping`;
     /// unchanged.
-    pub fn set_solid_spring(&mut self, id: SolidSpringId, stiffness: f64, rest_length: f64, damping: f64) -> Result<()> {
-        let no = || Error::invalid("spring", id, "the id of a solid spring of this world (it was removed, or never added here)");
+    pub fn set_solid_spring(
+        &mut self,
+        id: SolidSpringId,
+        stiffness: f64,
+        rest_length: f64,
+        damping: f64,
+    ) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "spring",
+                id,
+                "the id of a solid spring of this world (it was removed, or never added here)",
+            )
+        };
         each!(&mut self.solids, s => s.set_spring(id, stiffness, rest_length, damping), Err(no()))
     }
 

@@ -2,8 +2,8 @@
 //! setting a solid's motion by hand (docs/contact.md, "Handles and removal").
 
 use physstep::contact::{
-    JointId, JointKind, JointParams, Kind, Shape, SolidForceId, SolidId, SolidMotion, SolidParams, SolidSpring,
-    SolidSpringId,
+    JointId, JointKind, JointParams, Kind, Shape, SolidForceId, SolidId, SolidMotion, SolidParams,
+    SolidSpring, SolidSpringId,
 };
 use physstep::forces::{Force, ForceGenerator};
 use physstep::world::{World, WorldParams};
@@ -68,7 +68,15 @@ fn pile(dim: usize, skip: Option<usize>) -> World {
     }
     let zero = vec![0.0; dim];
     if let (Some(a), Some(b)) = (row(5), row(7)) {
-        let s = SolidSpring { a, point_a: zero.clone(), b: Some(b), point_b: zero.clone(), stiffness: 20.0, rest_length: None, damping: 0.5 };
+        let s = SolidSpring {
+            a,
+            point_a: zero.clone(),
+            b: Some(b),
+            point_b: zero.clone(),
+            stiffness: 20.0,
+            rest_length: None,
+            damping: 0.5,
+        };
         w.add_solid_spring(s).unwrap();
     }
     if let Some(a) = row(4) {
@@ -197,8 +205,14 @@ fn removal_takes_what_hangs_on_the_solid_and_a_dead_id_is_one_error() {
     assert_eq!((row, w.solid_ids()[row]), (7, SolidId(8)));
     let hash = w.state_hash();
     for (e, want) in [
-        (w.remove_solid(SolidId(7)).unwrap_err(), "invalid solid = 7: must be the id of a solid of this world"),
-        (w.remove_joint(JointId(0)).unwrap_err(), "invalid joint = 0: must be the id of a joint of this world"),
+        (
+            w.remove_solid(SolidId(7)).unwrap_err(),
+            "invalid solid = 7: must be the id of a solid of this world",
+        ),
+        (
+            w.remove_joint(JointId(0)).unwrap_err(),
+            "invalid joint = 0: must be the id of a joint of this world",
+        ),
         (
             w.remove_solid_spring(SolidSpringId(0)).unwrap_err(),
             "invalid spring = 0: must be the id of a solid spring of this world",
@@ -298,7 +312,8 @@ fn snapshots_and_hashes_cover_the_ids_after_a_removal() {
     // Bad ids: one error naming the field.
     let e = c.set_solid_ids([&[0, 1], &[], &[], &[]], [9, 1, 2, 0]).unwrap_err().to_string();
     assert!(e.starts_with("invalid len(solid_ids) = 2"), "{e}");
-    let e = c.set_solid_ids([&[0, 1, 2, 3, 4, 5, 9], &[], &[0, 1], &[]], [9, 0, 2, 0]).unwrap_err().to_string();
+    let e =
+        c.set_solid_ids([&[0, 1, 2, 3, 4, 5, 9], &[], &[0, 1], &[]], [9, 0, 2, 0]).unwrap_err().to_string();
     assert!(e.starts_with("invalid solid_ids = 9: must be ids below next = 9"), "{e}");
     // Nothing removed: the ids are implicit, the snapshot is as before ids.
     assert_eq!(untouched.snapshot(), pile(3, None).snapshot());
@@ -312,7 +327,11 @@ fn a_solids_motion_set_by_hand_is_the_one_stepped_and_checked() {
     let mut w = pile(2, None);
     w.step(30).unwrap();
     let id = SolidId(7);
-    let set = SolidMotion { velocity: Some(vec![3.0, 0.0]), angular_velocity: Some(vec![1.0]), ..Default::default() };
+    let set = SolidMotion {
+        velocity: Some(vec![3.0, 0.0]),
+        angular_velocity: Some(vec![1.0]),
+        ..Default::default()
+    };
     w.set_solid_motion(id, &set).unwrap();
     assert_eq!(&w.solid_velocities()[14..16], &[3.0, 0.0]);
     assert_eq!(w.solid_angular_velocities()[7], 1.0);
@@ -323,9 +342,18 @@ fn a_solids_motion_set_by_hand_is_the_one_stepped_and_checked() {
     assert_eq!(w.solid_orientations()[1], 0.5);
     let hash = w.state_hash();
     for (m, want) in [
-        (SolidMotion { position: Some(vec![f64::NAN, 0.0]), ..Default::default() }, "invalid position[0] = NaN"),
-        (SolidMotion { velocity: Some(vec![1.0]), ..Default::default() }, "invalid len(velocity) = 1: must be 2"),
-        (SolidMotion { orientation: Some(vec![1e300]), ..Default::default() }, "invalid orientation[0] = 1e300"),
+        (
+            SolidMotion { position: Some(vec![f64::NAN, 0.0]), ..Default::default() },
+            "invalid position[0] = NaN",
+        ),
+        (
+            SolidMotion { velocity: Some(vec![1.0]), ..Default::default() },
+            "invalid len(velocity) = 1: must be 2",
+        ),
+        (
+            SolidMotion { orientation: Some(vec![1e300]), ..Default::default() },
+            "invalid orientation[0] = 1e300",
+        ),
     ] {
         let e = w.set_solid_motion(SolidId(2), &m).unwrap_err().to_string();
         assert!(e.starts_with(want), "{e}");
@@ -342,7 +370,11 @@ fn a_solids_motion_set_by_hand_is_the_one_stepped_and_checked() {
     assert!(y < 5.0 && y > 4.9, "{y}");
     // In 3D a quaternion is normalised.
     let mut s = pile(3, None);
-    s.set_solid_motion(SolidId(7), &SolidMotion { orientation: Some(vec![2.0, 0.0, 0.0, 0.0]), ..Default::default() }).unwrap();
+    s.set_solid_motion(
+        SolidId(7),
+        &SolidMotion { orientation: Some(vec![2.0, 0.0, 0.0, 0.0]), ..Default::default() },
+    )
+    .unwrap();
     assert_eq!(&s.solid_orientations()[28..32], &[1.0, 0.0, 0.0, 0.0]);
 }
 
