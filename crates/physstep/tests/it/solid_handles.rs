@@ -21,8 +21,8 @@ fn world(dim: usize) -> World {
 
 /// A pile on the ground in `dim` dimensions: the ground (0), a pyramid of boxes (1..=6), a
 /// ball hung from box 6 by a joint (7), springs from box 5 to the ball and from box 4 to the
-/// world; box 3 with drag. Solid `skip` (a row of the whole pile) is left out, with what
-/// hangs on it; the others keep their order.
+/// world; box 3 with drag; a kinematic box far off, rising (8). Solid `skip` (a row of the
+/// whole pile) is left out, with what hangs on it; the others keep their order.
 fn pile(dim: usize, skip: Option<usize>) -> World {
     let mut w = world(dim);
     let mut rows = Vec::new();
@@ -58,6 +58,14 @@ fn pile(dim: usize, skip: Option<usize>) -> World {
     let mut at = vec![0.0, 4.5, 0.0];
     at.truncate(dim);
     add(&mut w, 7, SolidParams::new(Shape::Circle { radius: 0.25 }, &at));
+    // A kinematic platform far off, rising.
+    let mut far = vec![20.0, 0.5, 0.0];
+    far.truncate(dim);
+    let mut lift = SolidParams::new(Shape::Box { half: vec![0.5; dim] }, &far);
+    lift.kind = Kind::Kinematic;
+    lift.velocity = vec![0.0; dim];
+    lift.velocity[1] = 0.5;
+    add(&mut w, 8, lift);
     let row = |k: usize| rows[k];
     if let (Some(a), Some(b)) = (row(6), row(7)) {
         let mut anchor = vec![0.0, 3.5, 0.0];
@@ -108,11 +116,11 @@ fn motion_bits(w: &World) -> Vec<u64> {
 #[test]
 fn a_solid_removed_before_any_step_steps_bitwise_as_a_world_built_without_it() {
     for dim in [2, 3] {
-        for k in 0..8 {
+        for k in 0..9 {
             let mut removed = pile(dim, None);
             removed.remove_solid(SolidId(k as u64)).unwrap();
             let mut built = pile(dim, Some(k));
-            assert_eq!(removed.solid_count(), 7);
+            assert_eq!(removed.solid_count(), 8);
             assert_eq!(removed.joint_count(), built.joint_count(), "{dim}D, solid {k}");
             assert_eq!(removed.solid_springs(), built.solid_springs(), "{dim}D, solid {k}");
             assert_eq!(removed.joint_params(), built.joint_params(), "{dim}D, solid {k}");
@@ -136,7 +144,7 @@ fn a_solid_removed_mid_run_leaves_the_contacts_and_the_others_keep_their_ids() {
         let before = w.solid_positions();
         assert!(w.contacts().pairs.iter().any(|p| p[0] == 0));
         w.remove_solid(SolidId(0)).unwrap();
-        assert_eq!(w.solid_ids(), [1, 2, 3, 4, 5, 6, 7].map(SolidId));
+        assert_eq!(w.solid_ids(), [1, 2, 3, 4, 5, 6, 7, 8].map(SolidId));
         assert_eq!(w.solid_row(SolidId(5)), Some(4));
         assert_eq!(w.solid_row(SolidId(0)), None);
         // Rows after it moved up one, their state with them.
@@ -155,7 +163,7 @@ fn a_solid_removed_mid_run_leaves_the_contacts_and_the_others_keep_their_ids() {
             let (y0, y) = (before[id as usize * dim + 1], x[r * dim + 1]);
             assert!(y < y0 - 1.0, "{dim}D: box {id} fell from {y0} to {y}");
         }
-        assert!(w.contacts().pairs.iter().all(|p| p[1] < 7));
+        assert!(w.contacts().pairs.iter().all(|p| p[1] < 8));
     }
 }
 
@@ -202,7 +210,7 @@ fn removal_takes_what_hangs_on_the_solid_and_a_dead_id_is_one_error() {
     assert_eq!(w.solid_springs()[0].a, 4);
     // Another solid added gets a new id, never 7 again.
     let row = w.add_solid(SolidParams::new(Shape::Circle { radius: 0.2 }, &[5.0, 5.0])).unwrap();
-    assert_eq!((row, w.solid_ids()[row]), (7, SolidId(8)));
+    assert_eq!((row, w.solid_ids()[row]), (8, SolidId(9)));
     let hash = w.state_hash();
     for (e, want) in [
         (
@@ -312,9 +320,16 @@ fn snapshots_and_hashes_cover_the_ids_after_a_removal() {
     // Bad ids: one error naming the field.
     let e = c.set_solid_ids([&[0, 1], &[], &[], &[]], [9, 1, 2, 0]).unwrap_err().to_string();
     assert!(e.starts_with("invalid len(solid_ids) = 2"), "{e}");
-    let e =
-        c.set_solid_ids([&[0, 1, 2, 3, 4, 5, 9], &[], &[0, 1], &[]], [9, 0, 2, 0]).unwrap_err().to_string();
+    let e = c
+        .set_solid_ids([&[0, 1, 2, 3, 4, 5, 7, 9], &[], &[0, 1], &[]], [9, 0, 2, 0])
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("invalid solid_ids = 9: must be ids below next = 9"), "{e}");
+    let e = c
+        .set_solid_ids([&[0, 1, 2, 3, 5, 4, 7, 8], &[], &[0, 1], &[]], [9, 0, 2, 0])
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("invalid solid_ids = 4: must be increasing ids"), "{e}");
     // Nothing removed: the ids are implicit, the snapshot is as before ids.
     assert_eq!(untouched.snapshot(), pile(3, None).snapshot());
 }
