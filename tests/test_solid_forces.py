@@ -57,7 +57,7 @@ def hanging(dim: int, k: float) -> tuple[physstep.World, float]:
     y = 1.0 - 2.0 - m * G / k - 0.2
     w.add_solid(physstep.Circle(0.5), position=[0.0, y] + [0.0] * (dim - 2))
     top = [0.0, 1.0] + [0.0] * (dim - 2)
-    assert w.add_solid_spring(0, [0.0] * dim, point_b=top, stiffness=k, rest_length=2.0) == 0
+    assert w.add_solid_spring(0, [0.0] * dim, point_b=top, stiffness=k, rest_length=2.0).row == 0
     return w, m
 
 
@@ -232,7 +232,7 @@ def test_a_python_force_is_held_over_the_step_as_a_load_by_hand_is(dim: int) -> 
     for w in (by_hand, by_func):
         w.add_solid(physstep.Box(*[0.3] * dim), angular_velocity=1.0 if dim == 2 else [0.0, 0.0, 1.0])
     point = [0.3, 0.1] + [0.0] * (dim - 2)
-    assert by_func.add_solid_force(0, push_up, point) == 0
+    assert by_func.add_solid_force(0, push_up, point).row == 0
     assert by_func.solid_force_count == 1
     for _ in range(40):
         # Where the point is now, in the world: the force acts there.

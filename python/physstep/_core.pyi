@@ -23,6 +23,7 @@ __all__ = [
     "Cylinder",
     "DivergedError",
     "ForceHandle",
+    "JointHandle",
     "MassProperties",
     "Mesh",
     "Particle",
@@ -31,7 +32,11 @@ __all__ = [
     "Polygon",
     "Segment",
     "Shape",
+    "SolidForceHandle",
+    "SolidHandle",
     "SolidShape",
+    "SolidSpringHandle",
+    "Solids",
     "Sphere",
     "StepError",
     "World",
@@ -413,6 +418,224 @@ class Bodies:
         """Angular velocities (nb, 3), rad/s, world frame."""
 
 @final
+class SolidHandle:
+    """A handle to one solid of a World (what ``add_solid`` returns), and its view: read and
+    write its state through it, validated as ``add_solid`` (ValueError naming the field, the
+    World unchanged). ``operator.index(h)`` and ``int(h)`` are its row now, so every call and
+    array that takes a solid index takes the handle; ValueError once it was removed
+    (``World.remove(h)``, which also removes the joints, springs and forces on it)."""
+
+    @property
+    def id(self) -> int:
+        """The id in its World: never given to another of its kind in that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether it is still in its World."""
+    @property
+    def row(self) -> int:
+        """Its row now among its kind (the add order, the removed ones taken out); ValueError
+        once removed."""
+    def __eq__(self, other: object, /) -> bool: ...
+    def __hash__(self) -> int: ...
+    def __index__(self) -> int:
+        """The solid's row now (ValueError once removed)."""
+    def __int__(self) -> int:
+        """The solid's row now (ValueError once removed)."""
+    @property
+    def kind(self) -> str:
+        """ "dynamic", "static" or "kinematic"."""
+    @property
+    def shape(self) -> SolidShape:
+        """The shape as added (read-only; its ``kind`` names it)."""
+    @property
+    def position(self) -> npt.NDArray[np.float64]:
+        """Origin of the shape (dim,), m; assign to move the solid (its contacts' warm
+        starts and render interpolation's previous pose are forgotten)."""
+    @position.setter
+    def position(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def velocity(self) -> npt.NDArray[np.float64]:
+        """Velocity of the centre of mass (dim,), m/s; assign to set it (a static solid's
+        stays zero)."""
+    @velocity.setter
+    def velocity(self, value: npt.ArrayLike) -> None: ...
+    @property
+    def angle(self) -> float:
+        """Angle, rad (2D worlds; AttributeError in 3D); assign to turn the solid."""
+    @angle.setter
+    def angle(self, value: float) -> None: ...
+    @property
+    def orientation(self) -> Any:
+        """The angle (2D, a float) or a unit quaternion (4,) as (w, x, y, z) (3D); assign to
+        turn the solid (a quaternion is normalised; a zero one is refused)."""
+    @orientation.setter
+    def orientation(self, value: float | npt.ArrayLike) -> None: ...
+    @property
+    def angular_velocity(self) -> Any:
+        """Angular velocity, rad/s: a float in 2D, (3,) world frame in 3D; assign to set it."""
+    @angular_velocity.setter
+    def angular_velocity(self, value: float | npt.ArrayLike) -> None: ...
+
+@final
+class Solids:
+    """The solids of a World as a sequence of :class:`SolidHandle` (``len``, ``w.solids[i]``
+    or ``w.solids[h]``, iteration in row order)."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: int | SolidHandle, /) -> SolidHandle: ...
+    def __iter__(self) -> Iterator[SolidHandle]: ...
+
+@final
+class JointHandle:
+    """A handle to one joint (what ``add_joint`` returns): its parameters as made; the motor
+    and limits writable, validated as ``add_joint``."""
+
+    @property
+    def id(self) -> int:
+        """The id in its World: never given to another of its kind in that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether it is still in its World."""
+    @property
+    def row(self) -> int:
+        """Its row now among its kind (the add order, the removed ones taken out); ValueError
+        once removed."""
+    def __eq__(self, other: object, /) -> bool: ...
+    def __hash__(self) -> int: ...
+    @property
+    def kind(self) -> str:
+        """ "ball", "revolute", "distance", "weld" or "prismatic"."""
+    @property
+    def a(self) -> SolidHandle | None:
+        """The first solid's handle."""
+    @property
+    def b(self) -> SolidHandle | None:
+        """The second solid's handle, or None: the world."""
+    @property
+    def anchor(self) -> npt.NDArray[np.float64]:
+        """The anchor as given when the joint was made (world coordinates then), m."""
+    @property
+    def anchor_b(self) -> npt.NDArray[np.float64] | None:
+        """The end on ``b`` as given (a distance joint's), or None."""
+    @property
+    def axis(self) -> npt.NDArray[np.float64] | None:
+        """The axis as given, or None."""
+    @property
+    def length(self) -> float | None:
+        """A distance joint's length as given (None: as made)."""
+    @property
+    def min_length(self) -> float | None: ...
+    @property
+    def max_length(self) -> float | None: ...
+    @property
+    def hertz(self) -> float:
+        """Softness, Hz (0: rigid)."""
+    @property
+    def damping_ratio(self) -> float: ...
+    @property
+    def collide(self) -> bool:
+        """Whether its two solids still collide."""
+    @property
+    def lower(self) -> float | None:
+        """The lower limit (rad, or m for a slider; None: none); assign a number or None."""
+    @lower.setter
+    def lower(self, value: float | None) -> None: ...
+    @property
+    def upper(self) -> float | None:
+        """The upper limit (None: none); assign a number or None."""
+    @upper.setter
+    def upper(self, value: float | None) -> None: ...
+    @property
+    def motor_speed(self) -> float:
+        """The motor's speed (rad/s, or m/s for a slider); assign to change it."""
+    @motor_speed.setter
+    def motor_speed(self, value: float) -> None: ...
+    @property
+    def max_motor(self) -> float:
+        """The motor's largest torque (N m) or force (N), >= 0; assign to change it."""
+    @max_motor.setter
+    def max_motor(self, value: float) -> None: ...
+
+@final
+class SolidSpringHandle:
+    """A handle to one spring between solids (what ``add_solid_spring`` returns)."""
+
+    @property
+    def id(self) -> int:
+        """The id in its World: never given to another of its kind in that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether it is still in its World."""
+    @property
+    def row(self) -> int:
+        """Its row now among its kind (the add order, the removed ones taken out); ValueError
+        once removed."""
+    def __eq__(self, other: object, /) -> bool: ...
+    def __hash__(self) -> int: ...
+    @property
+    def a(self) -> SolidHandle:
+        """The first solid's handle."""
+    @property
+    def b(self) -> SolidHandle | None:
+        """The second solid's handle, or None: a fixed point of the world."""
+    @property
+    def point_a(self) -> npt.NDArray[np.float64]:
+        """The end on ``a``, in its frame, m."""
+    @property
+    def point_b(self) -> npt.NDArray[np.float64]:
+        """The end on ``b`` in its frame, or the world point, m."""
+    @property
+    def stiffness(self) -> float:
+        """Stiffness, N/m; assign to change it (in [0, 1e12])."""
+    @stiffness.setter
+    def stiffness(self, value: float) -> None: ...
+    @property
+    def rest_length(self) -> float:
+        """Rest length, m; assign to change it."""
+    @rest_length.setter
+    def rest_length(self, value: float) -> None: ...
+    @property
+    def damping(self) -> float:
+        """Damping along the spring, N s/m; assign to change it."""
+    @damping.setter
+    def damping(self, value: float) -> None: ...
+
+@final
+class SolidForceHandle:
+    """A handle to one force from Python on a solid (what ``add_solid_force`` returns)."""
+
+    @property
+    def id(self) -> int:
+        """The id in its World: never given to another of its kind in that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether it is still in its World."""
+    @property
+    def row(self) -> int:
+        """Its row now among its kind (the add order, the removed ones taken out); ValueError
+        once removed."""
+    def __eq__(self, other: object, /) -> bool: ...
+    def __hash__(self) -> int: ...
+    @property
+    def name(self) -> str:
+        """The force's name."""
+    @property
+    def solid(self) -> SolidHandle:
+        """The handle of the solid it acts on."""
+
+@final
 class ForceHandle:
     """A handle to one force of a World, what every ``add_*`` of a force returns
     (``add_gravity``, ``add_spring``, ``add_drag``, ``add_central_gravity``,
@@ -698,10 +921,14 @@ class World:
         the current distance (``length``, m, when given, must equal it: ValueError); returns
         its handle."""
 
-    def remove(self, handle: ForceHandle) -> None:
+    def remove(
+        self, handle: ForceHandle | SolidHandle | JointHandle | SolidSpringHandle | SolidForceHandle
+    ) -> None:
         """Removes the force ``handle`` names; the World then steps bitwise as one that never
         had it, and the other handles stay valid. ValueError for a handle of a removed
-        force or of another World (not a copy or pickle of this one)."""
+        force or of another World (not a copy or pickle of this one). Also a solid, joint,
+        solid spring or force on a solid (a solid takes its joints, springs and forces with
+        it; docs: Contact, "Handles and removal")."""
 
     def force(self, handle: ForceHandle) -> ForceHandle:
         """This World's handle of the force ``handle`` names: a handle of the World this one
@@ -711,6 +938,20 @@ class World:
     @property
     def particles(self) -> Particles:
         """The particles as a sequence of views: ``w.particles[i].position = ...``."""
+
+    @property
+    def solids(self) -> Solids:
+        """The solids as a sequence of handles, each also the solid's view
+        (``w.solids[i].velocity = ...``), in row order: the order they were added, the
+        removed ones taken out."""
+
+    @property
+    def joints(self) -> list[JointHandle]:
+        """Handles of the joints, in row order."""
+
+    @property
+    def solid_springs(self) -> list[SolidSpringHandle]:
+        """Handles of the solid springs, in row order."""
 
     @property
     def bodies(self) -> Bodies:
@@ -1042,9 +1283,10 @@ class World:
         restitution: float | None = None,
         linear_damping: float | None = None,
         angular_damping: float | None = None,
-    ) -> int:
+    ) -> SolidHandle:
         """Adds a solid: a rigid body with a shape that collides with the other solids,
-        stepped by the contact solver (docs: Contact); returns its index among the solids.
+        stepped by the contact solver (docs: Contact); returns its :class:`SolidHandle`
+        (an index: its row now).
         ``shape``: :class:`Circle`, :class:`Box` (two half extents in 2D, three in 3D),
         :class:`Capsule`, :class:`Polygon`, :class:`Segment`, :class:`Plane` (static),
         :class:`Sphere` or :class:`Mesh` (static). ``position`` of the shape's origin (m,
@@ -1059,15 +1301,15 @@ class World:
 
     def add_solid_spring(
         self,
-        a: int,
+        a: int | SolidHandle,
         point_a: npt.ArrayLike,
-        b: int | None = None,
+        b: int | SolidHandle | None = None,
         point_b: npt.ArrayLike | None = None,
         *,
         stiffness: float,
         rest_length: float | None = None,
         damping: float | None = None,
-    ) -> int:
+    ) -> SolidSpringHandle:
         """Adds a spring between ``point_a`` of solid ``a`` and ``point_b`` of solid ``b``
         (each in its solid's frame, the frame its shape is given in, m), or, with ``b``
         None, the fixed world point ``point_b``: the force k (L - rest_length) + damping
@@ -1075,7 +1317,7 @@ class World:
         line between them, equal and opposite, and turns each solid about its centre;
         applied in each of the contact solver's substeps. ``stiffness`` N/m and ``damping``
         N s/m (default 0) >= 0; ``rest_length`` (m, >= 0) defaults to the distance between
-        the ends now (0: the linear spring k d). Returns its index among the solid springs.
+        the ends now (0: the linear spring k d). Returns its :class:`SolidSpringHandle`.
         ValueError naming the bad field; the world is then unchanged."""
 
     @property
@@ -1091,7 +1333,9 @@ class World:
         world's gravity (0 at the origin) and in the solid springs. What the exact motion of
         solids touching nothing, under gravity and undamped springs, conserves."""
 
-    def apply_solid_force(self, solid: int, force: npt.ArrayLike, point: npt.ArrayLike | None = None) -> None:
+    def apply_solid_force(
+        self, solid: int | SolidHandle, force: npt.ArrayLike, point: npt.ArrayLike | None = None
+    ) -> None:
         """Applies ``force`` (N, world frame: dim numbers) to solid ``solid`` for the next
         step, at the world point ``point`` (default its centre of mass), which also turns
         it. Loads add up until a step takes them, held constant over its substeps.
@@ -1099,13 +1343,13 @@ class World:
 
     def add_solid_force(
         self,
-        solid: int,
+        solid: int | SolidHandle,
         func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
         point: npt.ArrayLike | None = None,
         *,
         potential: Callable[[npt.NDArray[np.float64]], float] | None = None,
         name: str | None = None,
-    ) -> int:
+    ) -> SolidForceHandle:
         """Adds a force from Python at ``point`` of solid ``solid`` (its frame, the frame its
         shape is given in, m; default the origin of its shape): ``func(t, x, v)`` sees that
         point as one particle, its world position and velocity as (1, dim) arrays, and
@@ -1114,13 +1358,13 @@ class World:
         solver's substeps. ``potential(x)`` (J) keeps :meth:`energy` known; ``name`` names it
         in errors (default the function's). An exception raised inside propagates unchanged,
         and a result that is not finite is a ValueError naming the force; the step is
-        rolled back either way. Returns the force's index among the solid forces."""
+        rolled back either way. Returns its :class:`SolidForceHandle`."""
 
     @property
     def solid_force_count(self) -> int:
         """Number of forces from Python on solids."""
 
-    def apply_solid_torque(self, solid: int, torque: float | npt.ArrayLike) -> None:
+    def apply_solid_torque(self, solid: int | SolidHandle, torque: float | npt.ArrayLike) -> None:
         """Applies ``torque`` (N m: one number in 2D, a world-frame vector in 3D) to solid
         ``solid`` for the next step. ValueError naming the bad field."""
 
@@ -1172,8 +1416,8 @@ class World:
     def add_joint(
         self,
         kind: str,
-        a: int,
-        b: int | None = None,
+        a: int | SolidHandle,
+        b: int | SolidHandle | None = None,
         *,
         anchor: npt.ArrayLike,
         anchor_b: npt.ArrayLike | None = None,
@@ -1188,10 +1432,10 @@ class World:
         motor_speed: float | None = None,
         max_motor: float | None = None,
         collide: bool = False,
-    ) -> int:
-        """Adds a joint between solids ``a`` and ``b`` (indices from :meth:`add_solid`;
-        ``b`` None: the world, fixed), solved with the contacts; returns its index among the
-        joints. ``kind``: "ball" (a shared point), "revolute" (a hinge: the point, turning
+    ) -> JointHandle:
+        """Adds a joint between solids ``a`` and ``b`` (handles or indices from
+        :meth:`add_solid`; ``b`` None: the world, fixed), solved with the contacts; returns
+        its :class:`JointHandle`. ``kind``: "ball" (a shared point), "revolute" (a hinge: the point, turning
         only about ``axis`` in 3D; limits ``lower``/``upper`` in rad, a motor ``motor_speed``
         rad/s of at most ``max_motor`` N m), "distance" (the anchors ``length`` apart,
         default as made: rigid with ``hertz`` 0, else a spring of ``hertz`` and

@@ -35,6 +35,8 @@ pub(crate) fn whole(o: &Bound<'_, PyAny>, field: &str, lo: i64, hi: i64) -> PyRe
     }
     match o.extract::<i64>() {
         Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        // A handle's `__index__` refusing (its entity was removed) says so itself.
+        Err(e) if e.is_instance_of::<pyo3::exceptions::PyValueError>(o.py()) => Err(e),
         _ => Err(invalid(field, o, &expected())),
     }
 }

@@ -5,7 +5,8 @@
 //! (`simulate`), `views` (zero-copy `positions` and `velocities`), `world` (`World`; `world_build`, `world_state`, `world_bodies`, `world_constraints` hold its
 //! methods by concern), `shapes` (rigid-body shapes and their mass properties), `scene_file` (TOML scene files in
 //! and out), `force_handle` (what an `add_*` of a force returns), `entity_views`
-//! (`w.particles[i]`, `w.bodies[b]`). Nothing
+//! (`w.particles[i]`, `w.bodies[b]`), `solid_handles` (what `add_solid`, `add_joint`,
+//! `add_solid_spring`, `add_solid_force` return; `w.solids[i]`). Nothing
 //! panics across the boundary: every engine call returns a `Result`, and every bad argument
 //! is a `ValueError` that names it.
 
@@ -22,6 +23,7 @@ mod record;
 mod registry;
 mod scene_file;
 mod shapes;
+mod solid_handles;
 mod views;
 mod world;
 mod world_balls;
@@ -49,6 +51,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<entity_views::Particle>()?;
     m.add_class::<entity_views::Bodies>()?;
     m.add_class::<entity_views::Body>()?;
+    m.add_class::<solid_handles::SolidHandle>()?;
+    m.add_class::<solid_handles::JointHandle>()?;
+    m.add_class::<solid_handles::SolidSpringHandle>()?;
+    m.add_class::<solid_handles::SolidForceHandle>()?;
+    m.add_class::<solid_handles::Solids>()?;
     m.add_class::<shapes::Shape>()?;
     m.add_class::<shapes::Sphere>()?;
     m.add_class::<shapes::BoxShape>()?;

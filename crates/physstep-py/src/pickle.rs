@@ -12,7 +12,9 @@
 //! `solid_forces` (`(solid, point, spec)`; absent from older pickles), `flow` (a Python
 //! flow's spec, or None), and `family`, `force_ids`, `next_force_id` (the World's family
 //! token and its forces' ids, so handles taken before pickling reach the same forces after;
-//! absent from pickles written before handles, whose forces get ids in order).
+//! absent from pickles written before handles, whose forces get ids in order), and
+//! `contact_ids` (the ids of the solids, joints, solid springs and forces on solids with
+//! their counters; absent from older pickles).
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
@@ -84,6 +86,15 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
     d.set_item("family", g.family)?;
     d.set_item("force_ids", w.force_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
     d.set_item("next_force_id", w.next_force_id().0)?;
+    // The contact side's ids: solids, joints, solid springs, forces on solids, with their
+    // counters (absent from older pickles: the ids in order).
+    let contact_ids: [Vec<u64>; 4] = [
+        w.solid_ids().iter().map(|i| i.0).collect(),
+        w.joint_ids().iter().map(|i| i.0).collect(),
+        w.solid_spring_ids().iter().map(|i| i.0).collect(),
+        w.solid_force_ids().iter().map(|i| i.0).collect(),
+    ];
+    d.set_item("contact_ids", (contact_ids, w.next_solid_ids()))?;
     d.set_item("forces", forces)?;
     d.set_item("body_forces", body_forces)?;
     d.set_item("solid_forces", solid_forces)?;
@@ -157,6 +168,10 @@ pub(crate) fn _world_from_scene(
         let ids: Vec<u64> = ids.extract()?;
         let ids: Vec<ForceId> = ids.into_iter().map(ForceId).collect();
         engine.set_force_ids(&ids, next.extract()?).map_err(py_err)?;
+    }
+    if let Some(ids) = parts.get_item("contact_ids")? {
+        let (ids, next): ([Vec<u64>; 4], [u64; 4]) = ids.extract()?;
+        engine.set_solid_ids([&ids[0], &ids[1], &ids[2], &ids[3]], next).map_err(py_err)?;
     }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let world = World::with_parts(engine, slot, user, flow_spec);

@@ -239,7 +239,12 @@ impl World {
     /// Removes what `handle` names (a force: what `add_gravity`, `add_spring`, `add_drag`,
     /// `add_central_gravity`, `add_nbody_gravity`, `add_rod` and `add_force` return); the
     /// World then steps bitwise as one that never had it. The other handles stay valid.
+    /// Also a solid, joint, solid spring or force on a solid (their handles; a solid takes
+    /// its joints, springs and forces with it: docs/contact.md).
     fn remove(&self, handle: &Bound<'_, PyAny>) -> PyResult<()> {
+        if crate::solid_handles::remove_solid_like(self, handle)? {
+            return Ok(());
+        }
         let h = handle.cast::<ForceHandle>().map_err(|_| {
             crate::convert::invalid("handle", handle, "a ForceHandle (what an add_* of a force returns)")
         })?;

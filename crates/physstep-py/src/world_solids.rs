@@ -6,6 +6,7 @@
 use crate::convert::{array, float, invalid, matrix, text};
 use crate::handle::World;
 use crate::py_err;
+use crate::solid_handles::{solid_arg, JointHandle, SolidForceHandle, SolidHandle, SolidSpringHandle};
 use numpy::{IntoPyArray, PyArray2};
 use physstep::contact::{JointKind, JointParams, Kind, Shape, SolidParams, SolidSpring, SOLVERS};
 use physstep::rigid::inertia::Shape as BodyShape;
@@ -149,7 +150,8 @@ fn numbers(o: Option<&Bound<'_, PyAny>>, field: &str) -> PyResult<Option<Vec<f64
 #[pymethods]
 impl World {
     /// Adds a solid: a rigid body with a shape that collides with the other solids, stepped
-    /// by the contact solver (docs/contact.md); returns its index among the solids.
+    /// by the contact solver (docs/contact.md); returns its `SolidHandle` (an index: its row
+    /// now).
     ///
     /// `shape`: physstep.Circle, Box (two half extents in 2D, three in 3D), Capsule,
     /// Polygon, Segment, Plane (static), Sphere or Mesh (static). `position` of the shape's
@@ -164,7 +166,7 @@ impl World {
     #[pyo3(signature = (shape, *, position=None, orientation=None, velocity=None, angular_velocity=None, kind=None, density=None, friction=None, restitution=None, linear_damping=None, angular_damping=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_solid(
-        &self,
+        slf: &Bound<'_, Self>,
         shape: &Bound<'_, PyAny>,
         position: Option<&Bound<'_, PyAny>>,
         orientation: Option<&Bound<'_, PyAny>>,
@@ -176,7 +178,7 @@ impl World {
         restitution: Option<&Bound<'_, PyAny>>,
         linear_damping: Option<&Bound<'_, PyAny>>,
         angular_damping: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
+    ) -> PyResult<SolidHandle> {
         let shape = solid_shape(shape)?;
         let given = |o: Option<&Bound<'_, PyAny>>, field: &str, default: f64| -> PyResult<f64> {
             o.filter(|o| !o.is_none()).map_or(Ok(default), |o| float(o, field))
@@ -185,7 +187,7 @@ impl World {
             Some(k) => Kind::by_name(&text(k, "kind")?).map_err(py_err)?,
             None => Kind::Dynamic,
         };
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         let dim = g.engine.dim();
         let mut p = SolidParams::new(shape, &vec![0.0; dim]);
         p.kind = kind;
@@ -206,7 +208,8 @@ impl World {
         p.restitution = given(restitution, "restitution", p.restitution)?;
         p.linear_damping = given(linear_damping, "linear_damping", 0.0)?;
         p.angular_damping = given(angular_damping, "angular_damping", 0.0)?;
-        g.grow()?.add_solid(p).map_err(py_err)
+        let row = g.grow()?.add_solid(p).map_err(py_err)?;
+        Ok(SolidHandle::of_row(slf, &g.engine, g.family, row))
     }
 
     /// Adds a spring between `point_a` of solid `a` and `point_b` of solid `b` (each in its
@@ -216,12 +219,12 @@ impl World {
     /// opposite, and turns each solid about its centre; applied in each of the contact
     /// solver's substeps. `stiffness` N/m and `damping` N s/m (default 0) >= 0;
     /// `rest_length` (m, >= 0) defaults to the distance between the ends now (0: the linear
-    /// spring k d). Returns its index among the solid springs. ValueError naming the bad
-    /// field; the world is then unchanged.
+    /// spring k d). Returns its `SolidSpringHandle`. ValueError naming the bad field; the
+    /// world is then unchanged.
     #[pyo3(signature = (a, point_a, b=None, point_b=None, *, stiffness, rest_length=None, damping=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_solid_spring(
-        &self,
+        slf: &Bound<'_, Self>,
         a: &Bound<'_, PyAny>,
         point_a: &Bound<'_, PyAny>,
         b: Option<&Bound<'_, PyAny>>,
@@ -229,11 +232,11 @@ impl World {
         stiffness: &Bound<'_, PyAny>,
         rest_length: Option<&Bound<'_, PyAny>>,
         damping: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let a = crate::convert::index(a, "a")?;
-        let b = b.filter(|o| !o.is_none()).map(|o| crate::convert::index(o, "b")).transpose()?;
+    ) -> PyResult<SolidSpringHandle> {
+        let a = solid_arg(slf.get(), a, "a")?;
+        let b = b.filter(|o| !o.is_none()).map(|o| solid_arg(slf.get(), o, "b")).transpose()?;
         let point_a = numbers(Some(point_a), "point_a")?.unwrap_or_default();
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         let dim = g.engine.dim();
         let point_b = numbers(point_b, "point_b")?.unwrap_or_else(|| vec![0.0; dim]);
         let spring = SolidSpring {
@@ -245,7 +248,8 @@ impl World {
             rest_length: rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?,
             damping: damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?,
         };
-        g.flush()?.add_solid_spring(spring).map_err(py_err)
+        let row = g.flush()?.add_solid_spring(spring).map_err(py_err)?;
+        Ok(crate::solid_handles::spring_handle(slf, &g.engine, g.family, row))
     }
 
     /// Number of solid springs.
@@ -284,7 +288,7 @@ impl World {
         force: &Bound<'_, PyAny>,
         point: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let solid = crate::convert::index(solid, "solid")?;
+        let solid = solid_arg(self, solid, "solid")?;
         let force = numbers(Some(force), "force")?.unwrap_or_default();
         let at = numbers(point, "point")?;
         let mut g = self.lock()?;
@@ -299,18 +303,18 @@ impl World {
     /// substeps. `potential(x)` (J) keeps World.energy() known; `name` names it in errors
     /// (default the function's). An exception raised inside propagates unchanged, and a
     /// result that is not finite is a ValueError naming the force; the step is rolled
-    /// back either way. Returns the force's index among the solid forces.
+    /// back either way. Returns its `SolidForceHandle`.
     #[pyo3(signature = (solid, func, point=None, *, potential=None, name=None))]
     fn add_solid_force(
-        &self,
+        slf: &Bound<'_, Self>,
         py: Python<'_>,
         solid: &Bound<'_, PyAny>,
         func: &Bound<'_, PyAny>,
         point: Option<&Bound<'_, PyAny>>,
         potential: Option<&Bound<'_, PyAny>>,
         name: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let solid = crate::convert::index(solid, "solid")?;
+    ) -> PyResult<SolidForceHandle> {
+        let solid = solid_arg(slf.get(), solid, "solid")?;
         if !func.is_callable() {
             return Err(invalid("func", func, "callable"));
         }
@@ -326,7 +330,7 @@ impl World {
                 .and_then(|n| n.extract::<String>())
                 .unwrap_or_else(|_| "solid force".into()),
         };
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         let dim = g.engine.dim();
         let point = numbers(point, "point")?.unwrap_or_else(|| vec![0.0; dim]);
         // Evaluated once a step: whether it reads v changes nothing, so it is taken to.
@@ -336,7 +340,8 @@ impl World {
             .unbind();
         g.flush()?;
         let crate::handle::Inner { engine, solid_forces, slot, .. } = &mut *g;
-        add_force(py, engine, solid_forces, solid, point, spec, slot)
+        let row = add_force(py, engine, solid_forces, solid, point, spec, slot)?;
+        Ok(crate::solid_handles::force_handle(slf, &g.engine, g.family, row, name))
     }
 
     /// Number of forces from Python on solids.
@@ -348,14 +353,14 @@ impl World {
     /// Applies `torque` (N m: one number in 2D, a world-frame vector in 3D) to solid
     /// `solid` for the next step. ValueError naming the bad field.
     fn apply_solid_torque(&self, solid: &Bound<'_, PyAny>, torque: &Bound<'_, PyAny>) -> PyResult<()> {
-        let solid = crate::convert::index(solid, "solid")?;
+        let solid = solid_arg(self, solid, "solid")?;
         let torque = numbers(Some(torque), "torque")?.unwrap_or_default();
         let mut g = self.lock()?;
         g.flush()?.apply_solid_torque(solid, &torque).map_err(py_err)
     }
 
-    /// Adds a joint between solids `a` and `b` (indices from add_solid; `b` None: the world,
-    /// fixed), solved with the contacts; returns its index among the joints.
+    /// Adds a joint between solids `a` and `b` (handles or indices from add_solid; `b` None:
+    /// the world, fixed), solved with the contacts; returns its `JointHandle`.
     ///
     /// `kind`: "ball" (a shared point), "revolute" (a hinge: the point, turning only about
     /// `axis` in 3D; limits `lower`/`upper` in rad, a motor `motor_speed` rad/s of at most
@@ -370,7 +375,7 @@ impl World {
     #[pyo3(signature = (kind, a, b=None, *, anchor, anchor_b=None, axis=None, length=None, min_length=None, max_length=None, hertz=None, damping_ratio=None, lower=None, upper=None, motor_speed=None, max_motor=None, collide=false))]
     #[allow(clippy::too_many_arguments)]
     fn add_joint(
-        &self,
+        slf: &Bound<'_, Self>,
         kind: &Bound<'_, PyAny>,
         a: &Bound<'_, PyAny>,
         b: Option<&Bound<'_, PyAny>>,
@@ -387,9 +392,12 @@ impl World {
         motor_speed: Option<&Bound<'_, PyAny>>,
         max_motor: Option<&Bound<'_, PyAny>>,
         collide: bool,
-    ) -> PyResult<usize> {
+    ) -> PyResult<JointHandle> {
         let kind = JointKind::by_name(&text(kind, "kind")?).map_err(py_err)?;
         let index = |o: &Bound<'_, PyAny>, field: &str| -> PyResult<usize> {
+            if o.is_instance_of::<SolidHandle>() {
+                return solid_arg(slf.get(), o, field);
+            }
             crate::convert::whole(o, field, 0, u32::MAX as i64).map(|i| i as usize)
         };
         let a = index(a, "a")?;
@@ -413,7 +421,9 @@ impl World {
         p.motor_speed = maybe(motor_speed, "motor_speed")?.unwrap_or(p.motor_speed);
         p.max_motor = maybe(max_motor, "max_motor")?.unwrap_or(p.max_motor);
         p.collide = collide;
-        self.lock()?.grow()?.add_joint(p).map_err(py_err)
+        let mut g = slf.get().lock()?;
+        let row = g.grow()?.add_joint(p).map_err(py_err)?;
+        Ok(crate::solid_handles::joint_handle(slf, &g.engine, g.family, row))
     }
 
     /// Number of joints.

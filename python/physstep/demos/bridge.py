@@ -95,14 +95,14 @@ class BridgeDemo(Demo):
     def drop(self, w: physstep.World, at: np.ndarray, kind: str) -> int:
         """Drops a solid of ``kind`` (box, ball or heavy) at rest at ``at``; its index."""
         if kind == "ball":
-            i = w.add_solid(physstep.Circle(BALL_RADIUS), position=at)
+            i = w.add_solid(physstep.Circle(BALL_RADIUS), position=at).row
             self.dropped.append(("ball", (BALL_RADIUS,)))
         elif kind == "heavy":
             box = physstep.Box(HEAVY_HALF, HEAVY_HALF)
-            i = w.add_solid(box, position=at, density=HEAVY_DENSITY, orientation=0.2)
+            i = w.add_solid(box, position=at, density=HEAVY_DENSITY, orientation=0.2).row
             self.dropped.append(("heavy", (HEAVY_HALF,)))
         else:
-            i = w.add_solid(physstep.Box(BOX_HALF, BOX_HALF), position=at, orientation=0.3)
+            i = w.add_solid(physstep.Box(BOX_HALF, BOX_HALF), position=at, orientation=0.3).row
             self.dropped.append(("box", (BOX_HALF,)))
         return i
 
@@ -125,7 +125,7 @@ class BridgeDemo(Demo):
             self.dropped.append((kind, sizes))
             return w.add_solid(
                 shape, position=at, orientation=turn, angular_velocity=spin, density=DOLL_DENSITY
-            )
+            ).row
 
         def capsule(
             at: list[float], half_height: float, radius: float, turn: float = 0.0, spin: float = 0.0

@@ -265,6 +265,56 @@ impl<S: Space> Forces<S> {
         Ok(self.springs.len() - 1)
     }
 
+    /// Takes solid `k` out: its drag and loads, the springs and user forces on it (their
+    /// rows returned as masks: springs, users), the others renumbered.
+    pub(crate) fn remove_solid(&mut self, k: usize) -> (Vec<bool>, Vec<bool>) {
+        self.damping.remove(k);
+        self.any_damping = self.damping.iter().any(|(l, a)| *l != 0.0 || *a != 0.0);
+        for v in [&mut self.applied, &mut self.load] {
+            if !v.is_empty() {
+                v.remove(k);
+            }
+        }
+        let springs: Vec<bool> = self.springs.iter().map(|s| s.a == k || s.b == Some(k)).collect();
+        super::ids::retain_by(&mut self.springs, &springs);
+        super::ids::retain_by(&mut self.spring_params, &springs);
+        for (s, p) in self.springs.iter_mut().zip(&mut self.spring_params) {
+            s.a = super::ids::shift(s.a, k);
+            s.b = s.b.map(|b| super::ids::shift(b, k));
+            p.a = s.a;
+            p.b = s.b;
+        }
+        let users: Vec<bool> = self.users.iter().map(|u| u.solid == k).collect();
+        super::ids::retain_by(&mut self.users, &users);
+        for u in &mut self.users {
+            u.solid = super::ids::shift(u.solid, k);
+        }
+        (springs, users)
+    }
+
+    /// Sets spring `k`'s stiffness, rest length and damping, checked as when it was added.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `stiffness`, `rest_length` or `damping`; unchanged.
+    pub(crate) fn set_spring(
+        &mut self,
+        k: usize,
+        stiffness: f64,
+        rest_length: f64,
+        damping: f64,
+    ) -> Result<()> {
+        for (field, v) in [("stiffness", stiffness), ("rest_length", rest_length), ("damping", damping)] {
+            if !(v.is_finite() && (0.0..=PARAM_MAX).contains(&v)) {
+                return Err(Error::invalid(field, num(v), "a number in [0, 1e12]"));
+            }
+        }
+        let s = &mut self.springs[k];
+        (s.k, s.rest, s.c) = (stiffness, rest_length, damping);
+        let p = &mut self.spring_params[k];
+        (p.stiffness, p.rest_length, p.damping) = (stiffness, Some(rest_length), damping);
+        Ok(())
+    }
+
     /// Each spring's two ends now, world coordinates, flat (`a`'s end, then `b`'s).
     pub(crate) fn ends(&self, bodies: &[Body<S>]) -> Vec<f64> {
         let mut out = Vec::with_capacity(self.springs.len() * 2 * S::DIM);

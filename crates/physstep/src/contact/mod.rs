@@ -15,16 +15,20 @@
 
 pub mod broad;
 mod forces;
+mod ids;
 pub mod joint;
 mod params;
+mod remove;
 mod settings;
 mod shape;
 pub mod solver;
 pub mod space;
 
 pub use forces::SolidSpring;
+pub use ids::{JointId, SolidForceId, SolidId, SolidSpringId};
 pub use joint::{JointKind, JointParams, JOINT_KINDS};
 pub use params::{Kind, SolidParams};
+pub use remove::SolidMotion;
 pub use settings::{Info, Settings, SOLVERS};
 pub use shape::Shape;
 pub use space::{Plane, Space, Space3, Touch, Vect};
@@ -95,7 +99,15 @@ pub struct Solids<S: Space> {
     pub(crate) no_collide: Vec<(u32, u32)>,
     /// Drag, springs and loads ([`forces`]).
     pub(crate) forces: forces::Forces<S>,
+    /// The ids of the solids, joints, springs and user forces, beside their rows ([`ids`]).
+    pub(crate) ids: [ids::Ids; 4],
 }
+
+/// Which of [`Solids::ids`].
+pub(crate) const SOLID: usize = 0;
+pub(crate) const JOINT: usize = 1;
+pub(crate) const SPRING: usize = 2;
+pub(crate) const FORCE: usize = 3;
 
 impl<S: Space> Default for Solids<S> {
     fn default() -> Self {
@@ -109,6 +121,7 @@ impl<S: Space> Default for Solids<S> {
             joint_params: Vec::new(),
             no_collide: Vec::new(),
             forces: forces::Forces::default(),
+            ids: Default::default(),
         }
     }
 }
@@ -236,6 +249,7 @@ impl<S: Space> Solids<S> {
         self.shapes.push(shape);
         self.forces.push_solid(p.linear_damping, p.angular_damping);
         self.params.push(p);
+        self.ids[SOLID].push();
         Ok(self.bodies.len() - 1)
     }
 
@@ -254,6 +268,7 @@ impl<S: Space> Solids<S> {
         }
         self.joints.push(j);
         self.joint_params.push(p);
+        self.ids[JOINT].push();
         Ok(self.joints.len() - 1)
     }
 
@@ -285,7 +300,9 @@ impl<S: Space> Solids<S> {
     /// `point_a`, `point_b` of the wrong length or not finite, `stiffness`, `damping`,
     /// `rest_length` negative or not finite) and the value; the solids are unchanged.
     pub fn add_spring(&mut self, p: SolidSpring) -> Result<usize> {
-        self.forces.add_spring(p, &self.bodies)
+        let k = self.forces.add_spring(p, &self.bodies)?;
+        self.ids[SPRING].push();
+        Ok(k)
     }
 
     /// Each solid spring as it was made (its rest length resolved).
@@ -373,7 +390,9 @@ impl<S: Space> Solids<S> {
         point: &[f64],
         generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
     ) -> Result<usize> {
-        self.forces.add_user(solid, point, generator, &self.bodies)
+        let k = self.forces.add_user(solid, point, generator, &self.bodies)?;
+        self.ids[FORCE].push();
+        Ok(k)
     }
 
     /// Number of user forces on the solids.
@@ -525,6 +544,10 @@ impl<S: Space> Solids<S> {
         if !self.joints.is_empty() {
             joint::write(&self.joints, &mut out);
         }
+        // Once something was removed, the ids (a world with others is another world).
+        if !self.ids_implicit() {
+            self.write_ids(&mut out);
+        }
         out
     }
 
@@ -553,12 +576,28 @@ impl<S: Space> Solids<S> {
                 rest.len()
             }
         });
-        let (rest, joints) = rest.split_at(warm_len);
-        let impulses = if self.joints.is_empty() && joints.is_empty() {
-            Vec::new()
-        } else {
-            joint::read(&self.joints, joints)?
+        let (rest, after) = rest.split_at(warm_len);
+        // The joints' impulses (their count first), then the ids once something was removed.
+        let joints_len = match after.first() {
+            Some(&c) if !self.joints.is_empty() && c >= 0.0 && c.fract() == 0.0 => {
+                (1 + c as usize * joint::Impulses::<S>::width()).min(after.len())
+            }
+            _ if self.joints.is_empty() => 0,
+            _ => after.len(),
         };
+        let (joints, ids) = after.split_at(joints_len);
+        let impulses = if self.joints.is_empty() { Vec::new() } else { joint::read(&self.joints, joints)? };
+        let mut own = Vec::new();
+        if !self.ids_implicit() {
+            self.write_ids(&mut own);
+        }
+        if ids.len() != own.len() || ids.iter().zip(&own).any(|(a, b)| a.to_bits() != b.to_bits()) {
+            return Err(if ids.is_empty() || own.is_empty() {
+                "the snapshot was taken of other solids, joints or springs than this world's (one of the two had some removed)".to_string()
+            } else {
+                "the snapshot was taken of other solids, joints or springs than this world's (their ids differ)".to_string()
+            });
+        }
         let warm = self.solver.read_warm(rest, self.len())?;
         for (b, c) in self.bodies.iter_mut().zip(bodies.chunks_exact(per)) {
             b.c = S::V::read(&c[..d]);

@@ -259,6 +259,35 @@ impl<S: Space> State<S> {
         self.touching.clear();
     }
 
+    /// Takes solid `k` out: its warm starts and latest contacts dropped, the others' kept
+    /// and renumbered (their order stays sorted: the renumbering keeps it), the broad phase's
+    /// order renumbered; the passes' scratch forgotten (the next step finds it again).
+    pub(crate) fn remove_solid(&mut self, k: usize) {
+        let k32 = k as u32;
+        let s = |i: u32| if i > k32 { i - 1 } else { i };
+        self.warm.retain(|w| w.key.0 != k32 && w.key.1 != k32);
+        for w in &mut self.warm {
+            w.key = (s(w.key.0), s(w.key.1), w.key.2);
+        }
+        self.contacts.retain(|c| c.a != k32 && c.b != k32);
+        for c in &mut self.contacts {
+            (c.a, c.b) = (s(c.a), s(c.b));
+        }
+        self.order.retain(|&i| i != k32);
+        for i in &mut self.order {
+            *i = s(*i);
+        }
+        self.points.clear();
+        self.touching.clear();
+    }
+
+    /// Forgets the warm starts of solid `k`'s contacts (it was moved by hand: last step's
+    /// impulses and friction anchors no longer fit where it is).
+    pub(crate) fn forget(&mut self, k: usize) {
+        let k = k as u32;
+        self.warm.retain(|w| w.key.0 != k && w.key.1 != k);
+    }
+
     /// Copies what the next step and the reports read into `into`: the contacts, the warm
     /// starts and the broad phase's order (the passes' points are scratch, found again by
     /// the next step, and not kept).

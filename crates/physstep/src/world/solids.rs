@@ -6,7 +6,8 @@
 use super::step::StepContext;
 use super::World;
 use crate::contact::{
-    ContactReport, JointParams, Plane, Settings, SolidParams, SolidSpring, Solids, Space, Space3, Vect,
+    ContactReport, JointId, JointParams, Plane, Settings, SolidForceId, SolidId, SolidMotion, SolidParams,
+    SolidSpring, SolidSpringId, Solids, Space, Space3, Vect,
 };
 use crate::error::{Error, Result};
 use crate::forces::Force;
@@ -177,6 +178,234 @@ impl World {
         let i = each!(&mut self.solids, s => s.add_joint(params), Err(Error::invalid("dim", dim, "2 or 3 (joints join solids)")))?;
         self.derivative = super::Derivative::Stale;
         Ok(i)
+    }
+
+    /// The solids' ids ([`SolidId`]: given by [`World::add_solid`], never given again by this
+    /// world), in their rows' order: the add order with the removed ones taken out.
+    #[must_use]
+    pub fn solid_ids(&self) -> Vec<SolidId> {
+        each!(&self.solids, s => s.solid_ids(), Vec::new())
+    }
+
+    /// The joints' ids, in their rows' order.
+    #[must_use]
+    pub fn joint_ids(&self) -> Vec<JointId> {
+        each!(&self.solids, s => s.joint_ids(), Vec::new())
+    }
+
+    /// The solid springs' ids, in their rows' order.
+    #[must_use]
+    pub fn solid_spring_ids(&self) -> Vec<SolidSpringId> {
+        each!(&self.solids, s => s.spring_ids(), Vec::new())
+    }
+
+    /// The user forces on solids: their ids, in their rows' order.
+    #[must_use]
+    pub fn solid_force_ids(&self) -> Vec<SolidForceId> {
+        each!(&self.solids, s => s.force_ids(), Vec::new())
+    }
+
+    /// The ids the next solid, joint, solid spring and user force on a solid get.
+    #[must_use]
+    pub fn next_solid_ids(&self) -> [u64; 4] {
+        each!(&self.solids, s => s.next_ids(), [0; 4])
+    }
+
+    /// Sets the ids of the solids, joints, solid springs and user forces on solids with their
+    /// counters (what a copy or pickle of a world carries), checked whole first.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid_ids`, `joint_ids`, `spring_ids` or
+    /// `solid_force_ids`; the world is unchanged.
+    pub fn set_solid_ids(&mut self, ids: [&[u64]; 4], next: [u64; 4]) -> Result<()> {
+        let none = ids.iter().all(|i| i.is_empty()) && next == [0; 4];
+        each!(&mut self.solids, s => s.set_ids(ids, next), if none { Ok(()) } else { Err(Error::invalid("solid_ids", "given", "none in a world without solids")) })
+    }
+
+    /// The row of solid `id` now (its index in [`World::solid_positions`] and the rest),
+    /// `None` once removed.
+    #[must_use]
+    pub fn solid_row(&self, id: SolidId) -> Option<usize> {
+        each!(&self.solids, s => s.solid_row(id), None)
+    }
+
+    /// The row of joint `id` now, `None` once removed.
+    #[must_use]
+    pub fn joint_row(&self, id: JointId) -> Option<usize> {
+        each!(&self.solids, s => s.joint_row(id), None)
+    }
+
+    /// The row of solid spring `id` now, `None` once removed.
+    #[must_use]
+    pub fn solid_spring_row(&self, id: SolidSpringId) -> Option<usize> {
+        each!(&self.solids, s => s.spring_row(id), None)
+    }
+
+    /// The row of user force `id` on a solid now, `None` once removed.
+    #[must_use]
+    pub fn solid_force_row(&self, id: SolidForceId) -> Option<usize> {
+        each!(&self.solids, s => s.force_row(id), None)
+    }
+
+    /// What follows a change of the solids' structure by hand: the derivative and the
+    /// frame's kept poses are no longer this world's.
+    fn solids_changed(&mut self) {
+        self.derivative = super::Derivative::Stale;
+        self.prev_solids.clear();
+    }
+
+    /// Removes solid `id`, and with it the joints, solid springs and user forces that have it
+    /// at one end (as Box2D's `b2DestroyBody` destroys a body's joints). The others keep their
+    /// ids and their order; the rows after it move up one. Contacts' warm starts between
+    /// the other solids are kept. Removed before any step, the world steps bitwise as one
+    /// built without it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` when `id` is no solid of this world (removed,
+    /// or never added); the world is unchanged.
+    pub fn remove_solid(&mut self, id: SolidId) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "solid",
+                id,
+                "the id of a solid of this world (it was removed, or never added here)",
+            )
+        };
+        each!(&mut self.solids, s => s.remove_solid(id), Err(no()))?;
+        self.solids_changed();
+        Ok(())
+    }
+
+    /// Removes joint `id`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `joint` when `id` is no joint of this world; the world
+    /// is unchanged.
+    pub fn remove_joint(&mut self, id: JointId) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "joint",
+                id,
+                "the id of a joint of this world (it was removed, or never added here)",
+            )
+        };
+        each!(&mut self.solids, s => s.remove_joint(id), Err(no()))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(())
+    }
+
+    /// Removes solid spring `id`.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `spring` when `id` is no solid spring of this world; the
+    /// world is unchanged.
+    pub fn remove_solid_spring(&mut self, id: SolidSpringId) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "spring",
+                id,
+                "the id of a solid spring of this world (it was removed, or never added here)",
+            )
+        };
+        each!(&mut self.solids, s => s.remove_spring(id), Err(no()))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(())
+    }
+
+    /// Removes user force `id` from its solid; returns the row it had among the solid forces.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `force` when `id` is no user force on a solid of this
+    /// world; the world is unchanged.
+    pub fn remove_solid_force(&mut self, id: SolidForceId) -> Result<usize> {
+        let no = || {
+            Error::invalid(
+                "force",
+                id,
+                "the id of a force on a solid of this world (it was removed, or never added here)",
+            )
+        };
+        let k = each!(&mut self.solids, s => s.remove_force(id), Err(no()))?;
+        self.derivative = super::Derivative::Stale;
+        Ok(k)
+    }
+
+    /// Sets solid `id`'s position, orientation, velocity or angular velocity (the parts
+    /// given; see [`SolidMotion`]), checked as [`World::add_solid`] checks them. A new pose
+    /// forgets its contacts' warm starts and the frame's kept poses (render interpolation
+    /// draws it where it is).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `solid` or the bad part and the value; the world is
+    /// unchanged.
+    pub fn set_solid_motion(&mut self, id: SolidId, motion: &SolidMotion) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "solid",
+                id,
+                "the id of a solid of this world (it was removed, or never added here)",
+            )
+        };
+        each!(&mut self.solids, s => s.set_motion(id, motion), Err(no()))?;
+        if motion.position.is_some() || motion.orientation.is_some() {
+            self.prev_solids.clear();
+        }
+        self.derivative = super::Derivative::Stale;
+        Ok(())
+    }
+
+    /// Sets joint `id`'s motor: speed (rad/s, or m/s for a slider) and the largest torque or
+    /// force it applies (>= 0), checked as [`World::add_joint`] checks them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `joint`, `motor_speed` or `max_motor`; unchanged.
+    pub fn set_joint_motor(&mut self, id: JointId, speed: f64, max_motor: f64) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "joint",
+                id,
+                "the id of a joint of this world (it was removed, or never added here)",
+            )
+        };
+        each!(&mut self.solids, s => s.set_joint_motor(id, speed, max_motor), Err(no()))
+    }
+
+    /// Sets joint `id`'s limits (rad for a hinge, m for a slider; `None`: none that side).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `joint`, `lower` or `upper`; unchanged.
+    pub fn set_joint_limits(&mut self, id: JointId, lower: Option<f64>, upper: Option<f64>) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "joint",
+                id,
+                "the id of a joint of this world (it was removed, or never added here)",
+            )
+        };
+        each!(&mut self.solids, s => s.set_joint_limits(id, lower, upper), Err(no()))
+    }
+
+    /// Sets solid spring `id`'s stiffness (N/m), rest length (m) and damping (N s/m), each in
+    /// [0, 1e12].
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `spring`, `stiffness`, `rest_length` or `damping`;
+    /// unchanged.
+    pub fn set_solid_spring(
+        &mut self,
+        id: SolidSpringId,
+        stiffness: f64,
+        rest_length: f64,
+        damping: f64,
+    ) -> Result<()> {
+        let no = || {
+            Error::invalid(
+                "spring",
+                id,
+                "the id of a solid spring of this world (it was removed, or never added here)",
+            )
+        };
+        each!(&mut self.solids, s => s.set_spring(id, stiffness, rest_length, damping), Err(no()))
     }
 
     /// Number of joints.

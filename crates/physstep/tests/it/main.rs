@@ -30,6 +30,7 @@ mod scene_files;
 mod scene_fuzz;
 mod scenes;
 mod solid_forces;
+mod solid_handles;
 mod spring_at_zero_length;
 mod stiff;
 mod user_forces;

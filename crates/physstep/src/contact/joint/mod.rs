@@ -178,7 +178,7 @@ impl<S: Space> Default for Impulses<S> {
 
 impl<S: Space> Impulses<S> {
     /// The number of values [`Impulses::write`] writes.
-    fn width() -> usize {
+    pub(crate) fn width() -> usize {
         S::DIM + if S::DIM == 3 { 3 } else { 1 } + 6
     }
 
@@ -416,6 +416,49 @@ impl<S: Space> Joint<S> {
             (false, Some(a)) => Some((a.min(self.b) as u32, a.max(self.b) as u32)),
             _ => None,
         }
+    }
+
+    /// Whether solid `k` is one of its ends.
+    pub(crate) fn joins(&self, k: usize) -> bool {
+        self.a == Some(k) || self.b == k
+    }
+
+    /// Its ends renumbered after solid `k` (not one of them) was removed.
+    pub(crate) fn shift(&mut self, k: usize) {
+        self.a = self.a.map(|a| super::ids::shift(a, k));
+        self.b = super::ids::shift(self.b, k);
+    }
+
+    /// Sets the motor (speed, largest force or torque), checked as [`Joint::new`] checks them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `motor_speed` or `max_motor`; the joint is unchanged.
+    pub(crate) fn set_motor(&mut self, speed: f64, max: f64) -> Result<()> {
+        if !speed.is_finite() {
+            return Err(Error::invalid("motor_speed", num(speed), "finite"));
+        }
+        if !(max.is_finite() && max >= 0.0) {
+            return Err(Error::invalid("max_motor", num(max), "finite and >= 0"));
+        }
+        self.motor_speed = speed;
+        self.max_motor = max;
+        Ok(())
+    }
+
+    /// Sets the limits (`None`: none on that side), checked as [`Joint::new`] checks them.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `lower` or `upper`; the joint is unchanged.
+    pub(crate) fn set_limits(&mut self, lower: Option<f64>, upper: Option<f64>) -> Result<()> {
+        optional("lower", lower)?;
+        optional("upper", upper)?;
+        let (lower, upper) = (lower.unwrap_or(f64::NEG_INFINITY), upper.unwrap_or(f64::INFINITY));
+        if lower > upper {
+            return Err(Error::invalid("lower", num(lower), format!("<= upper ({})", num(upper))));
+        }
+        self.lower = lower;
+        self.upper = upper;
+        Ok(())
     }
 
     fn ends(&self, world: usize) -> (u32, u32) {
