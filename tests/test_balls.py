@@ -70,7 +70,7 @@ def test_add_balls_in_a_box() -> None:
     w = physstep.World(2)
     w.add_walls([0, 0], [10, 10])
     idx = w.add_balls([[1, 1], [3, 1], [5, 1]], radii=0.5, velocities=[[1, 0], [0, 0], [-1, 0]])
-    np.testing.assert_array_equal(idx, [0, 1, 2])
+    np.testing.assert_array_equal(np.asarray(idx), [0, 1, 2])
     w.add_particle([9, 9])
     np.testing.assert_array_equal(w.radii, [0.5, 0.5, 0.5, 0.0])
     lo, hi = w.walls

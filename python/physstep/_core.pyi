@@ -322,7 +322,8 @@ class Particle:
 
     @property
     def index(self) -> int:
-        """The particle's index in the World (its row of ``World.positions``)."""
+        """The particle's index in the World (its row of ``World.positions``; for a view
+        taken by handle, its current row: ValueError once the particle is removed)."""
     @property
     def position(self) -> npt.NDArray[np.float64]:
         """Position (dim,), m; assign to move the particle."""
@@ -348,10 +349,13 @@ class Particle:
 class Particles:
     """The particles of a World as a sequence of :class:`Particle` views:
     ``len(w.particles)``, ``w.particles[i]`` (negative from the end; IndexError past the
-    end), iteration. Rows in the order the particles were added (none is removed)."""
+    end), iteration. Rows in the order the particles were added, removed ones taken out.
+    A view taken by a :class:`ParticleHandle` (``w.particles[h]``) follows that particle
+    while others are removed (ValueError once it is removed itself); one taken by an int
+    names the row."""
 
     def __len__(self) -> int: ...
-    def __getitem__(self, key: int, /) -> Particle: ...
+    def __getitem__(self, key: int | ParticleHandle, /) -> Particle: ...
     def __iter__(self) -> Iterator[Particle]: ...
 
 @final
@@ -411,6 +415,119 @@ class Bodies:
     @property
     def angular_velocities(self) -> npt.NDArray[np.float64]:
         """Angular velocities (nb, 3), rad/s, world frame."""
+
+@final
+class ParticleHandle:
+    """A handle to one particle (or ball) of a World, what ``add_particle`` and ``add_ball``
+    return. It names the particle by an id its World never gives again, so it stays that
+    particle's while others are removed. ``operator.index(h)`` is the particle's current row,
+    so ``w.positions[h]``, ``w.particles[h]`` and every call that takes a particle index
+    (``add_spring(h, k, ...)``) take the handle; ValueError once the particle is removed.
+    ``World.remove(h)`` removes it. A copy or a pickle of the World takes the handles of the
+    World it came from. Handles are not ints: ``h + 1`` is a TypeError (``int(h)`` is the row).
+    """
+
+    @property
+    def id(self) -> int:
+        """The particle's id in its World: never given to another particle of that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the particle is still in its World."""
+    def __index__(self) -> int:
+        """The particle's current row; ValueError once it is removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same particle of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
+
+@final
+class ParticleHandles:
+    """The particles one ``add_particles`` or ``add_balls`` call added, as one handle: a
+    sequence of :class:`ParticleHandle` (``hs[k]``, negative from the end; iteration) that
+    costs O(1) however many there are. ``np.asarray(hs)`` (or ``hs.rows``) is their current
+    rows, so ``w.positions[np.asarray(hs)]`` reads them; ``World.remove(hs)`` removes them
+    all."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: int, /) -> ParticleHandle: ...
+    def __iter__(self) -> Iterator[ParticleHandle]: ...
+    def __array__(self, dtype: Any = None, copy: Any = None) -> npt.NDArray[np.int64]:
+        """The current rows (as ``rows``)."""
+    @property
+    def ids(self) -> npt.NDArray[np.int64]:
+        """The particles' ids (consecutive)."""
+    @property
+    def rows(self) -> npt.NDArray[np.int64]:
+        """The particles' current rows; ValueError naming the first removed one."""
+    @property
+    def alive(self) -> bool:
+        """Whether every one of the particles is still in its World."""
+    @property
+    def world(self) -> World:
+        """The World the handles came from."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal when they name the same particles of the same World."""
+    def __hash__(self) -> int: ...
+
+@final
+class ConstraintHandle:
+    """A handle to one position constraint of a World, what ``add_distance_constraint``,
+    ``add_pin``, ``add_rope``, ``add_distance_limit`` and ``add_plane`` return. It names the
+    constraint by an id its World never gives again. Its parameters read through it
+    (read-only: remove it and add another to change one); a parameter its kind has not
+    raises AttributeError, a removed constraint ValueError. ``operator.index(h)`` is its
+    place among the World's constraints; ``World.remove(h)`` removes it. A constraint is
+    also removed with a particle it names."""
+
+    @property
+    def id(self) -> int:
+        """The constraint's id in its World: never given to another constraint of it."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the constraint is still in its World."""
+    @property
+    def kind(self) -> str:
+        """``distance``, ``limit`` (a rope or a distance limit), ``pin`` or ``plane``."""
+    def __index__(self) -> int:
+        """The constraint's place among the World's constraints (the sweep order)."""
+    @property
+    def i(self) -> int:
+        """The (first) particle's current row (distance, limit, pin)."""
+    @property
+    def j(self) -> int | None:
+        """The other particle's current row, or None for a fixed point (distance, limit)."""
+    @property
+    def anchor(self) -> npt.NDArray[np.float64] | None:
+        """The fixed point (dim,), m, or None when the other end is a particle."""
+    @property
+    def length(self) -> float:
+        """A distance constraint's length, m."""
+    @property
+    def compliance(self) -> float:
+        """A distance constraint's compliance, m/N (0: rigid)."""
+    @property
+    def min_length(self) -> float:
+        """A limit's shortest distance, m (0 for a rope)."""
+    @property
+    def max_length(self) -> float:
+        """A limit's longest distance, m."""
+    @property
+    def point(self) -> npt.NDArray[np.float64]:
+        """A pin's point (dim,), m."""
+    @property
+    def normal(self) -> npt.NDArray[np.float64]:
+        """A plane's unit normal (dim,)."""
+    @property
+    def offset(self) -> float:
+        """A plane's offset along its normal, m."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same constraint of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
 
 @final
 class ForceHandle:
@@ -601,9 +718,10 @@ class World:
     def dt(self, dt: float) -> None: ...
     def add_particle(
         self, position: Any, velocity: Any = None, mass: float | None = None, static: bool | None = None
-    ) -> int:
+    ) -> ParticleHandle:
         """Adds a particle at ``position`` (dim numbers, m) with ``velocity`` (m/s, default 0)
-        and ``mass`` (kg, default 1; ``inf`` or ``static=True``: immovable); returns its index.
+        and ``mass`` (kg, default 1; ``inf`` or ``static=True``: immovable); returns its
+        handle (``w.positions[h]``, ``w.remove(h)``).
 
         Raises ValueError naming the bad field.
         """
@@ -614,16 +732,16 @@ class World:
         velocities: npt.ArrayLike | None = None,
         masses: npt.ArrayLike | None = None,
         static: bool | None = None,
-    ) -> npt.NDArray[np.int64]:
+    ) -> ParticleHandles:
         """Adds ``positions`` (k, dim; m) with optional ``velocities`` (k, dim; m/s) and
-        ``masses`` (k,; kg); returns their indices. ValueError for a bad shape or value."""
+        ``masses`` (k,; kg); returns their handles as one ``ParticleHandles``. ValueError for a bad shape or value."""
 
     def add_ball(
         self, position: Any, velocity: Any = None, radius: float | None = None, mass: float | None = None
-    ) -> int:
+    ) -> ParticleHandle:
         """Adds a ball: a particle of ``radius`` (m, default 1) at ``position`` (dim numbers, m)
         with ``velocity`` (m/s, default 0) and ``mass`` (kg, default 1; ``inf``: immovable) that
-        collides with the other balls and the walls at its time of impact. Returns its index.
+        collides with the other balls and the walls at its time of impact. Returns its handle.
 
         Raises ValueError naming the field: a radius not finite and > 0, a ball that would
         overlap another (touching is allowed) or stick out of the walls; the world is unchanged.
@@ -635,9 +753,9 @@ class World:
         radii: float | npt.ArrayLike,
         velocities: npt.ArrayLike | None = None,
         masses: npt.ArrayLike | None = None,
-    ) -> npt.NDArray[np.int64]:
+    ) -> ParticleHandles:
         """Adds balls at ``positions`` (k, dim; m) of ``radii`` (one number, or (k,); m) with
-        optional ``velocities`` (k, dim; m/s) and ``masses`` (k,; kg); returns their indices.
+        optional ``velocities`` (k, dim; m/s) and ``masses`` (k,; kg); returns their handles.
         ValueError as :meth:`add_ball`, naming the first bad entry."""
 
     def add_walls(self, lo: npt.ArrayLike, hi: npt.ArrayLike) -> None:
@@ -670,7 +788,7 @@ class World:
 
     def add_spring(
         self,
-        i: int,
+        i: int | ParticleHandle,
         j_or_anchor: Any,
         stiffness: float,
         rest_length: float | None = None,
@@ -693,15 +811,19 @@ class World:
         """Adds mutual gravity between all particles (constant ``g``, default 1; ``softening``
         length, m); returns its handle."""
 
-    def add_rod(self, i: int, j_or_anchor: Any, length: float | None = None) -> ForceHandle:
+    def add_rod(self, i: int | ParticleHandle, j_or_anchor: Any, length: float | None = None) -> ForceHandle:
         """Adds a force-based rod from particle ``i`` to a particle or an anchor point holding
         the current distance (``length``, m, when given, must equal it: ValueError); returns
         its handle."""
 
-    def remove(self, handle: ForceHandle) -> None:
-        """Removes the force ``handle`` names; the World then steps bitwise as one that never
-        had it, and the other handles stay valid. ValueError for a handle of a removed
-        force or of another World (not a copy or pickle of this one)."""
+    def remove(self, handle: ForceHandle | ParticleHandle | ParticleHandles | ConstraintHandle) -> None:
+        """Removes what ``handle`` names (a force, a particle or ball, the particles of one
+        ``add_particles``, a constraint); the World then steps bitwise as one that never had
+        it, and the other handles stay valid. A particle takes with it the springs, rods,
+        body springs and constraints with an end on it (their handles are no longer alive);
+        the particles after it move up a row, in their order, and a method that carries
+        memory restarts (as assigning ``positions`` does). ValueError for a handle of a
+        removed entity or of another World (not a copy or pickle of this one)."""
 
     def force(self, handle: ForceHandle) -> ForceHandle:
         """This World's handle of the force ``handle`` names: a handle of the World this one
@@ -723,31 +845,33 @@ class World:
         order they act in), then the Python forces in the order they were added."""
 
     def add_distance_constraint(
-        self, i: int, j: Any, length: float | None = None, compliance: float | None = None
-    ) -> int:
+        self, i: int | ParticleHandle, j: Any, length: float | None = None, compliance: float | None = None
+    ) -> ConstraintHandle:
         """Adds the position constraint |x_i - x_j| = ``length`` (m; default the current
         distance) between particle ``i`` and particle ``j`` or an anchor point (dim numbers,
         m). ``compliance`` (m/N, default 0): 0 is rigid (SHAKE/RATTLE under velocity-verlet
-        and leapfrog, projection otherwise), above 0 soft (XPBD). Returns its index.
+        and leapfrog, projection otherwise), above 0 soft (XPBD). Returns its handle.
         ValueError naming the field for a missing particle, ``j == i``, a length that is not
         > 0 or a compliance that is not >= 0."""
 
-    def add_pin(self, i: int, point: Any) -> int:
+    def add_pin(self, i: int | ParticleHandle, point: Any) -> ConstraintHandle:
         """Holds particle ``i`` at ``point`` (dim numbers, m); other constraints see it as
-        fixed. Returns the constraint's index. ValueError naming the field."""
+        fixed. Returns its handle. ValueError naming the field."""
 
-    def add_rope(self, i: int, j: Any, max_length: float) -> int:
+    def add_rope(self, i: int | ParticleHandle, j: Any, max_length: float) -> ConstraintHandle:
         """A rope of ``max_length`` (m, > 0) from particle ``i`` to particle ``j`` or an anchor
-        point: the distance may shrink, not grow past it. Returns the constraint's index."""
+        point: the distance may shrink, not grow past it. Returns its handle."""
 
-    def add_distance_limit(self, i: int, j: Any, min_length: float, max_length: float) -> int:
+    def add_distance_limit(
+        self, i: int | ParticleHandle, j: Any, min_length: float, max_length: float
+    ) -> ConstraintHandle:
         """A joint limit ``min_length`` <= |x_i - x_j| <= ``max_length`` (m). Returns its
-        index."""
+        handle."""
 
-    def add_plane(self, normal: Any, offset: float | None = None) -> int:
+    def add_plane(self, normal: Any, offset: float | None = None) -> ConstraintHandle:
         """Keeps every particle in the half-space normal . x >= ``offset`` (m, default 0): a
         ground (normal (0, 1)) or a wall of a box. ``normal`` (dim numbers, nonzero) points
-        into the allowed side and is made unit. Returns the constraint's index."""
+        into the allowed side and is made unit. Returns its handle."""
 
     @property
     def constraint_iterations(self) -> int:

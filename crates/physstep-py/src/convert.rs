@@ -35,6 +35,10 @@ pub(crate) fn whole(o: &Bound<'_, PyAny>, field: &str, lo: i64, hi: i64) -> PyRe
     }
     match o.extract::<i64>() {
         Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        // A handle of a removed entity (or another World's) says so, naming it.
+        Err(_) if crate::entity_handle::handle_error(o).is_some() => {
+            Err(crate::entity_handle::handle_error(o).unwrap_or_else(|| invalid(field, o, &expected())))
+        }
         _ => Err(invalid(field, o, &expected())),
     }
 }

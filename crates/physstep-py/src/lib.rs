@@ -10,6 +10,7 @@
 //! is a `ValueError` that names it.
 
 mod convert;
+mod entity_handle;
 mod entity_views;
 mod errors;
 mod force;
@@ -45,6 +46,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_file::scene_file_text, m)?)?;
     m.add_class::<handle::World>()?;
     m.add_class::<force_handle::ForceHandle>()?;
+    m.add_class::<entity_handle::ParticleHandle>()?;
+    m.add_class::<entity_handle::ParticleHandles>()?;
+    m.add_class::<entity_handle::ConstraintHandle>()?;
+    m.add_class::<entity_handle::BodyHandle>()?;
     m.add_class::<entity_views::Particles>()?;
     m.add_class::<entity_views::Particle>()?;
     m.add_class::<entity_views::Bodies>()?;

@@ -12,7 +12,10 @@
 //! `solid_forces` (`(solid, point, spec)`; absent from older pickles), `flow` (a Python
 //! flow's spec, or None), and `family`, `force_ids`, `next_force_id` (the World's family
 //! token and its forces' ids, so handles taken before pickling reach the same forces after;
-//! absent from pickles written before handles, whose forces get ids in order).
+//! absent from pickles written before handles, whose forces get ids in order), and
+//! `particle_ids`, `body_ids`, `constraint_ids`, `next_entity_ids` (the entities' ids and
+//! counters, so handles of particles and constraints reach the same ones after a removal;
+//! absent from older pickles, whose entities get ids in order).
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
@@ -21,7 +24,7 @@ use crate::py_err;
 use physstep::clock::LoopMode;
 use physstep::flows::Flow;
 use physstep::forces::ForceId;
-use physstep::world::{World as Engine, WorldParams};
+use physstep::world::{BodyId, ConstraintId, ParticleId, World as Engine, WorldParams};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
@@ -84,6 +87,11 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
     d.set_item("family", g.family)?;
     d.set_item("force_ids", w.force_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
     d.set_item("next_force_id", w.next_force_id().0)?;
+    d.set_item("particle_ids", w.particle_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("body_ids", w.body_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("constraint_ids", w.constraint_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    let next = [w.next_particle_id().0, w.next_body_id().0, w.next_constraint_id().0];
+    d.set_item("next_entity_ids", next.to_vec())?;
     d.set_item("forces", forces)?;
     d.set_item("body_forces", body_forces)?;
     d.set_item("solid_forces", solid_forces)?;
@@ -157,6 +165,15 @@ pub(crate) fn _world_from_scene(
         let ids: Vec<u64> = ids.extract()?;
         let ids: Vec<ForceId> = ids.into_iter().map(ForceId).collect();
         engine.set_force_ids(&ids, next.extract()?).map_err(py_err)?;
+    }
+    // The entities' ids likewise (the snapshot checks them once one was removed).
+    if let Some(next) = parts.get_item("next_entity_ids")? {
+        let next: [u64; 3] = next.extract()?;
+        let ids = |k: &str| -> PyResult<Vec<u64>> { get(k)?.extract() };
+        let p: Vec<ParticleId> = ids("particle_ids")?.into_iter().map(ParticleId).collect();
+        let b: Vec<BodyId> = ids("body_ids")?.into_iter().map(BodyId).collect();
+        let c: Vec<ConstraintId> = ids("constraint_ids")?.into_iter().map(ConstraintId).collect();
+        engine.set_entity_ids(&p, &b, &c, next).map_err(py_err)?;
     }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let world = World::with_parts(engine, slot, user, flow_spec);

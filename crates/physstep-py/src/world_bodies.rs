@@ -104,7 +104,7 @@ impl World {
     }
 
     /// Adds a rigid body of `shape` (a physstep.Sphere, Box, Cylinder, Capsule or Mesh) in a
-    /// 3D world; returns its index. `mass` (kg) or `density` (kg/m^3), at most one (neither:
+    /// 3D world; returns its handle (a `BodyHandle`: `w.bodies[h]`, `w.remove(h)`). `mass` (kg) or `density` (kg/m^3), at most one (neither:
     /// density 1); `position` of the shape's origin (m, default the origin), `orientation`
     /// of the shape's frame as a quaternion (w, x, y, z) (normalised; default the identity),
     /// `velocity` of the centre of mass (m/s), `angular_velocity` (rad/s, world frame);
@@ -115,7 +115,7 @@ impl World {
     #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None, velocity=None, angular_velocity=None, pivot=None, angular_drag=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
-        &self,
+        slf: &Bound<'_, Self>,
         shape: &Bound<'_, PyAny>,
         mass: Option<&Bound<'_, PyAny>>,
         density: Option<&Bound<'_, PyAny>>,
@@ -125,7 +125,7 @@ impl World {
         angular_velocity: Option<&Bound<'_, PyAny>>,
         pivot: Option<&Bound<'_, PyAny>>,
         angular_drag: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
+    ) -> PyResult<crate::entity_handle::BodyHandle> {
         let shape = crate::shapes::from_py(shape, "shape")?;
         let mass = mass.filter(|m| !m.is_none()).map(|m| float(m, "mass")).transpose()?;
         let density = density.filter(|d| !d.is_none()).map(|d| float(d, "density")).transpose()?;
@@ -150,8 +150,11 @@ impl World {
             pivot,
             angular_drag: angular_drag.unwrap_or(0.0),
         };
-        let mut g = self.lock()?;
-        g.grow()?.add_body(&p).map_err(py_err)
+        let mut g = slf.get().lock()?;
+        let w = g.grow()?;
+        let id = w.next_body_id().0;
+        w.add_body(&p).map_err(py_err)?;
+        Ok(crate::entity_handle::BodyHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Number of rigid bodies.
@@ -265,12 +268,13 @@ impl World {
     ) -> PyResult<()> {
         let b = crate::convert::body(body, "body")?;
         let point = vector(point, "point", 3)?;
-        let other = crate::world_build::endpoint(other, "other", 3)?;
         let stiffness = float(stiffness, "stiffness")?;
         let rest_length =
             rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
         let damping = damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?;
         let mut g = self.lock()?;
+        g.flush()?;
+        let other = crate::world_build::endpoint(other, "other", &g)?;
         g.flush()?.add_body_spring(b, point, other, stiffness, rest_length, damping).map_err(py_err)
     }
 

@@ -147,6 +147,7 @@ impl World {
         self.state.y.extend_from_slice(&vb);
         self.state.f.resize(self.state.y.len(), 0.0);
         self.body_params.push(p.clone());
+        self.ids.bodies.push(1);
         self.touch();
         Ok(self.bodies.len() - 1)
     }

@@ -24,6 +24,7 @@ mod kepler_solution;
 mod kernels;
 mod parts;
 mod refused_inputs;
+mod removal;
 mod registry;
 mod restore_and_rollback;
 mod scene_files;
