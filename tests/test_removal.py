@@ -225,3 +225,39 @@ def test_bad_removals_are_one_line_and_change_nothing() -> None:
     with pytest.raises(ValueError):
         _ = w.positions[h[1]]
     assert (_bits(w), w.state_hash()) == kept
+
+
+def test_bodies_by_handle_and_their_removal() -> None:
+    def build(with_first: bool) -> tuple[physstep.World, list[physstep.BodyHandle]]:
+        w = physstep.World(3, method="velocity-verlet", dt=0.01)
+        p = w.add_particle([0.0, 2.0, 0.0], velocity=[0.1, 0.0, 0.0])
+        w.add_gravity([0.0, -9.81, 0.0])
+        hs = []
+        if with_first:
+            hs.append(w.add_body(physstep.Box(0.5, 0.3, 0.2), mass=2.0, position=[-1.0, 0.0, 0.0]))
+            w.add_body_spring(hs[0], [0.5, 0.0, 0.0], p, 20.0, damping=0.1)
+        hs.append(
+            w.add_body(physstep.Box(0.5, 0.3, 0.2), mass=3.0, position=[1.0, 0.0, 0.0], angular_velocity=[1, 2, 0])
+        )
+        w.add_body_spring(hs[-1], [0.0, 0.3, 0.0], [1.0, 2.0, 0.0], 30.0, rest_length=0.5)
+        return w, hs
+
+    a, (b0, b1) = build(True)
+    assert isinstance(b1, physstep.BodyHandle) and operator.index(b1) == 1
+    view = a.bodies[b1]
+    a.remove(b0)
+    assert (b0.alive, b1.alive, operator.index(b1), view.index, view.mass) == (False, True, 0, 0, 3.0)
+    with pytest.raises(ValueError) as e:
+        a.apply_force(b0, [1.0, 0.0, 0.0])
+    assert _one_line(e) == "invalid body = BodyHandle(id=0): it was removed from its World"
+    ref, _ = build(False)
+    a.step(30)
+    ref.step(30)
+    assert _bits(a) == _bits(ref)
+    assert a.bodies.positions.tobytes() == ref.bodies.positions.tobytes()
+    assert a.bodies.orientations.tobytes() == ref.bodies.orientations.tobytes()
+    p = pickle.loads(pickle.dumps(a))
+    assert p.state_hash() == a.state_hash() and p.bodies[b1].mass == 3.0
+    p.step(10)
+    a.step(10)
+    assert p.state_hash() == a.state_hash()

@@ -398,10 +398,11 @@ class Body:
 class Bodies:
     """The rigid bodies of a World as a sequence of :class:`Body` views (``len``,
     ``w.bodies[b]``, iteration) with their state as arrays, copies with one row per body in
-    the order they were added (none is removed)."""
+    the order they were added, removed ones taken out. A view taken by a
+    :class:`BodyHandle` follows that body."""
 
     def __len__(self) -> int: ...
-    def __getitem__(self, key: int, /) -> Body: ...
+    def __getitem__(self, key: int | BodyHandle, /) -> Body: ...
     def __iter__(self) -> Iterator[Body]: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]:
@@ -469,6 +470,29 @@ class ParticleHandles:
         """The World the handles came from."""
     def __eq__(self, value: object, /) -> bool:
         """Equal when they name the same particles of the same World."""
+    def __hash__(self) -> int: ...
+
+@final
+class BodyHandle:
+    """A handle to one rigid body of a World, what ``add_body`` returns. It names the body by
+    an id its World never gives again. ``operator.index(h)`` is the body's current row, so
+    ``w.bodies[h]``, ``apply_force(h, ...)``, ``add_body_spring(h, ...)`` take it; ValueError
+    once the body is removed. ``World.remove(h)`` removes it with the body springs and
+    forces at its points."""
+
+    @property
+    def id(self) -> int:
+        """The body's id in its World: never given to another body of that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the body is still in its World."""
+    def __index__(self) -> int:
+        """The body's current row; ValueError once it is removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same body of the same World (or its copies)."""
     def __hash__(self) -> int: ...
 
 @final
@@ -816,9 +840,12 @@ class World:
         the current distance (``length``, m, when given, must equal it: ValueError); returns
         its handle."""
 
-    def remove(self, handle: ForceHandle | ParticleHandle | ParticleHandles | ConstraintHandle) -> None:
+    def remove(
+        self, handle: ForceHandle | ParticleHandle | ParticleHandles | ConstraintHandle | BodyHandle
+    ) -> None:
         """Removes what ``handle`` names (a force, a particle or ball, the particles of one
-        ``add_particles``, a constraint); the World then steps bitwise as one that never had
+        ``add_particles``, a constraint, a rigid body with the springs and forces at its
+        points); the World then steps bitwise as one that never had
         it, and the other handles stay valid. A particle takes with it the springs, rods,
         body springs and constraints with an end on it (their handles are no longer alive);
         the particles after it move up a row, in their order, and a method that carries
@@ -1061,8 +1088,8 @@ class World:
         angular_velocity: npt.ArrayLike | None = None,
         pivot: npt.ArrayLike | None = None,
         angular_drag: float | None = None,
-    ) -> int:
-        """Adds a rigid body of ``shape`` and returns its index. ``mass`` (kg) or ``density``
+    ) -> BodyHandle:
+        """Adds a rigid body of ``shape`` and returns its handle (a :class:`BodyHandle`). ``mass`` (kg) or ``density``
         (kg/m^3), at most one (neither: density 1); ``position`` of the shape's origin (m,
         default the origin); ``orientation`` of the shape's frame, a quaternion (w, x, y, z),
         normalised (default the identity); ``velocity`` of the centre of mass (m/s);

@@ -234,3 +234,54 @@ fn snapshots_and_hashes_cover_the_ids() {
     let msg = e.set_entity_ids(&bad, &[], &[], [5, 0, 0]).unwrap_err().to_string();
     assert!(msg.starts_with("invalid particle_ids = 1: "), "{msg}");
 }
+
+/// Two bodies and a particle in 3D, body 0 on a spring to the particle and body 1 on one to
+/// an anchor; `without`: body 0 never added.
+fn bodies_world(method: &str, without: bool) -> World {
+    use physstep::rigid::inertia::Shape;
+    use physstep::world::BodyParams;
+    let mut w = world(method, 3);
+    w.add_particle(&[0.0, 2.0, 0.0], &[0.1, 0.0, 0.0], 1.0, false).unwrap();
+    w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+    let body = |x: f64, spin: f64| BodyParams {
+        shape: Shape::Box { half_extents: [0.5, 0.3, 0.2] },
+        mass: Some(2.0),
+        position: [x, 0.0, 0.0],
+        angular_velocity: [spin, 1.0, 0.2],
+        velocity: [0.0, 0.5, 0.0],
+        ..BodyParams::default()
+    };
+    if !without {
+        w.add_body(&body(-1.0, 3.0)).unwrap();
+        w.add_body_spring(0, [0.5, 0.0, 0.0], Endpoint::Particle(0), 20.0, None, 0.1).unwrap();
+    }
+    let b = w.add_body(&body(1.0, -2.0)).unwrap();
+    w.add_body_spring(b, [0.0, 0.3, 0.0], Endpoint::Anchor([1.0, 2.0, 0.0]), 30.0, Some(0.5), 0.2).unwrap();
+    w
+}
+
+#[test]
+fn a_removed_body_takes_its_springs_and_the_world_steps_as_one_without_it() {
+    use physstep::world::BodyId;
+    for method in ["symplectic-euler", "velocity-verlet", "rk4"] {
+        let mut a = bodies_world(method, false);
+        assert_eq!(a.body_ids(), [BodyId(0), BodyId(1)]);
+        assert_eq!(a.remove_body(BodyId(0)).unwrap(), (1, 0));
+        assert_eq!((a.bodies().len(), a.body_row(BodyId(1))), (1, Some(0)));
+        let mut b = bodies_world(method, true);
+        a.step(50).unwrap();
+        b.step(50).unwrap();
+        assert_eq!(bits(a.positions()), bits(b.positions()), "{method}");
+        assert_eq!(a.body_position(0).unwrap(), b.body_position(0).unwrap(), "{method}");
+        assert_eq!(a.body_orientation(0).unwrap(), b.body_orientation(0).unwrap(), "{method}");
+        assert_eq!(a.body_angular_velocity(0).unwrap(), b.body_angular_velocity(0).unwrap(), "{method}");
+        let e = a.remove_body(BodyId(0)).unwrap_err().to_string();
+        assert!(e.starts_with("invalid body = 0: must be the id of a body of this world"), "{e}");
+        // Removing a particle takes the body spring that ended on it.
+        assert_eq!(a.remove_particle(ParticleId(0)).unwrap().body_springs, 0);
+        let mut c = bodies_world(method, false);
+        assert_eq!(c.remove_particle(ParticleId(0)).unwrap().body_springs, 1);
+        c.step(5).unwrap();
+        assert_eq!(c.len(), 0);
+    }
+}
