@@ -31,7 +31,9 @@ from physstep import _constraints, _core
 from physstep._core import (
     Bodies,
     Body,
+    BodyForceHandle,
     BodyHandle,
+    BodySpringHandle,
     Box,
     Capsule,
     Circle,
@@ -65,7 +67,9 @@ from physstep._scenefile import SceneFile, export_scene, load_scene, scene_text
 __all__ = [
     "Bodies",
     "Body",
+    "BodyForceHandle",
     "BodyHandle",
+    "BodySpringHandle",
     "Box",
     "Capsule",
     "Circle",

@@ -496,6 +496,48 @@ class BodyHandle:
     def __hash__(self) -> int: ...
 
 @final
+class BodySpringHandle:
+    """A handle to one body spring, what ``add_body_spring`` returns: ``id``, ``alive``;
+    ``operator.index(h)`` is its place among the body springs. ``World.remove(h)`` removes
+    it; it also goes with its body or the particle it ends on."""
+
+    @property
+    def id(self) -> int:
+        """The spring's id in its World: never given to another body spring of it."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the spring is still in its World."""
+    def __index__(self) -> int:
+        """Its place among the body springs; ValueError once removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same spring of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
+
+@final
+class BodyForceHandle:
+    """A handle to one Python force at a body point, what ``add_body_force`` returns:
+    ``id``, ``alive``; ``operator.index(h)`` is its place among the body forces.
+    ``World.remove(h)`` removes it; it also goes with its body."""
+
+    @property
+    def id(self) -> int:
+        """The force's id in its World: never given to another body force of it."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the force is still in its World."""
+    def __index__(self) -> int:
+        """Its place among the body forces; ValueError once removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same force of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
+
+@final
 class ConstraintHandle:
     """A handle to one position constraint of a World, what ``add_distance_constraint``,
     ``add_pin``, ``add_rope``, ``add_distance_limit`` and ``add_plane`` return. It names the
@@ -758,7 +800,8 @@ class World:
         static: bool | None = None,
     ) -> ParticleHandles:
         """Adds ``positions`` (k, dim; m) with optional ``velocities`` (k, dim; m/s) and
-        ``masses`` (k,; kg); returns their handles as one ``ParticleHandles``. ValueError for a bad shape or value."""
+        ``masses`` (k,; kg); returns their handles as one ``ParticleHandles``. ValueError for
+        a bad shape or value."""
 
     def add_ball(
         self, position: Any, velocity: Any = None, radius: float | None = None, mass: float | None = None
@@ -841,11 +884,18 @@ class World:
         its handle."""
 
     def remove(
-        self, handle: ForceHandle | ParticleHandle | ParticleHandles | ConstraintHandle | BodyHandle
+        self,
+        handle: ForceHandle
+        | ParticleHandle
+        | ParticleHandles
+        | ConstraintHandle
+        | BodyHandle
+        | BodySpringHandle
+        | BodyForceHandle,
     ) -> None:
         """Removes what ``handle`` names (a force, a particle or ball, the particles of one
         ``add_particles``, a constraint, a rigid body with the springs and forces at its
-        points); the World then steps bitwise as one that never had
+        points, a body spring, a force at a body point); the World then steps bitwise as one that never had
         it, and the other handles stay valid. A particle takes with it the springs, rods,
         body springs and constraints with an end on it (their handles are no longer alive);
         the particles after it move up a row, in their order, and a method that carries
@@ -1089,15 +1139,14 @@ class World:
         pivot: npt.ArrayLike | None = None,
         angular_drag: float | None = None,
     ) -> BodyHandle:
-        """Adds a rigid body of ``shape`` and returns its handle (a :class:`BodyHandle`). ``mass`` (kg) or ``density``
-        (kg/m^3), at most one (neither: density 1); ``position`` of the shape's origin (m,
-        default the origin); ``orientation`` of the shape's frame, a quaternion (w, x, y, z),
-        normalised (default the identity); ``velocity`` of the centre of mass (m/s);
-        ``angular_velocity`` (rad/s, world frame); ``pivot``, a point of the shape (shape
-        frame, m) pinned to the world where it starts (a top on its tip; ``velocity`` must
-        then be zero); ``angular_drag``, a torque ``-c omega`` (N m s, default 0). ValueError
-        naming the bad field (``dim`` in a world that is not 3D); the world is then
-        unchanged."""
+        """Adds a rigid body of ``shape`` and returns its handle (a :class:`BodyHandle`). ``mass`` (kg)
+        or ``density`` (kg/m^3), at most one (neither: density 1); ``position`` of the shape's
+        origin (m, default the origin); ``orientation`` of the shape's frame, a quaternion (w, x, y,
+        z), normalised (default the identity); ``velocity`` of the centre of mass (m/s);
+        ``angular_velocity`` (rad/s, world frame); ``pivot``, a point of the shape (shape frame, m)
+        pinned to the world where it starts (a top on its tip; ``velocity`` must then be zero);
+        ``angular_drag``, a torque ``-c omega`` (N m s, default 0). ValueError naming the bad field
+        (``dim`` in a world that is not 3D); the world is then unchanged."""
 
     @property
     def body_count(self) -> int:
@@ -1150,34 +1199,35 @@ class World:
     def angular_form(self, name: str) -> None: ...
     def add_body_force(
         self,
-        body: int,
+        body: int | BodyHandle,
         func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
         *,
         point: npt.ArrayLike | None = None,
         potential: Callable[[npt.NDArray[np.float64]], float] | None = None,
         velocity_dependent: bool | None = None,
         name: str | None = None,
-    ) -> int:
+    ) -> BodyForceHandle:
         """Adds a force written in Python acting at ``point`` of ``body`` (shape frame, m;
         default the shape's origin): ``func(t, x, v)`` gets the point's world position and
         velocity as (1, 3) arrays and returns the force on it (1, 3), N, which also turns the
         body. ``potential(x)`` (J) keeps the energy known; ``velocity_dependent=False`` saves
         re-evaluations. An exception raised inside propagates unchanged, with the step rolled
-        back. Returns the force's index among the body forces."""
+        back. Returns its handle (``w.remove(h)``); it goes with its body."""
 
     def add_body_spring(
         self,
-        body: int,
+        body: int | BodyHandle,
         point: npt.ArrayLike,
         other: Any,
         stiffness: float,
         rest_length: float | None = None,
         damping: float | None = None,
-    ) -> None:
+    ) -> BodySpringHandle:
         """Adds a damped spring (``stiffness`` N/m, ``damping`` N s/m) from ``point`` of
-        ``body`` (shape frame, m) to ``other``, a particle index or an anchor point (3 numbers,
-        m); ``rest_length`` (m) defaults to the current distance. ValueError naming the bad
-        field."""
+        ``body`` (shape frame, m) to ``other``, a particle (index or handle) or an anchor point
+        (3 numbers, m); ``rest_length`` (m) defaults to the current distance. Returns its
+        handle (``w.remove(h)``); it goes with its body or its particle. ValueError naming the
+        bad field."""
 
     def add_solid(
         self,

@@ -50,12 +50,24 @@ pub(crate) fn count(o: &Bound<'_, PyAny>, field: &str) -> PyResult<u64> {
 
 /// A particle index.
 pub(crate) fn index(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
-    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|_| invalid(field, o, "a particle index >= 0"))
+    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|e| {
+        if crate::entity_handle::is_handle(o) {
+            e
+        } else {
+            invalid(field, o, "a particle index >= 0")
+        }
+    })
 }
 
 /// A body index (`field` is `body` and the like); the engine checks it against the count.
 pub(crate) fn body(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
-    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|_| invalid(field, o, "a body index >= 0"))
+    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|e| {
+        if crate::entity_handle::is_handle(o) {
+            e
+        } else {
+            invalid(field, o, "a body index >= 0")
+        }
+    })
 }
 
 /// A flag (bool or numpy bool).

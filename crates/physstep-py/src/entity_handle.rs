@@ -80,12 +80,14 @@ impl ParticleHandle {
     /// Whether the particle is still in its World.
     #[getter]
     fn alive(&self) -> PyResult<bool> {
-        Ok(particle_row(&self.world.get().lock()?, self.id).is_some())
+        let g = self.world.get().lock()?;
+        Ok(particle_row(&g, self.id).is_some())
     }
 
     /// The particle's current row (its index in `World.positions`); ValueError once removed.
     fn __index__(&self) -> PyResult<usize> {
-        self.row_in(&self.world.get().lock()?, "particle")
+        let g = self.world.get().lock()?;
+        self.row_in(&g, "particle")
     }
 
     fn __repr__(&self) -> String {
@@ -166,7 +168,8 @@ impl ParticleHandles {
     /// The particles' current rows, int64 (ValueError naming the first removed one).
     #[getter]
     fn rows<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let rows = self.rows_in(&self.world.get().lock()?)?;
+        let g = self.world.get().lock()?;
+        let rows = self.rows_in(&g)?;
         Ok(PyArray1::from_vec(py, rows.into_iter().map(|r| r as i64).collect()))
     }
 
@@ -458,7 +461,8 @@ impl BodyHandle {
 
     /// The body's current row (its index in `World.bodies`); ValueError once removed.
     fn __index__(&self) -> PyResult<usize> {
-        self.row_in(&self.world.get().lock()?, "body")
+        let g = self.world.get().lock()?;
+        self.row_in(&g, "body")
     }
 
     fn __repr__(&self) -> String {
@@ -475,15 +479,104 @@ impl BodyHandle {
     }
 }
 
+/// Whether `o` is a handle whose `__index__` is an entity's row.
+pub(crate) fn is_handle(o: &Bound<'_, PyAny>) -> bool {
+    o.is_instance_of::<ParticleHandle>() || o.is_instance_of::<BodyHandle>() || o.is_instance_of::<ConstraintHandle>()
+}
+
 /// The error an entity handle's `__index__` raises (removed, another World's), when `o` is
 /// one: what an index argument reports for it instead of a generic "must be an index".
 pub(crate) fn handle_error(o: &Bound<'_, PyAny>) -> Option<PyErr> {
-    let handle = o.is_instance_of::<ParticleHandle>()
-        || o.is_instance_of::<BodyHandle>()
-        || o.is_instance_of::<ConstraintHandle>();
-    if handle {
+    if is_handle(o) {
         o.call_method0("__index__").err()
     } else {
         None
     }
 }
+
+/// A handle of a body link (a body spring or a Python force at a body point): id, alive,
+/// its place among its kind by `__index__`.
+macro_rules! link_handle {
+    ($(#[$doc:meta])* $name:ident, $what:literal, $row:ident, $id:ident) => {
+        $(#[$doc])*
+        #[pyclass(module = "physstep._core", frozen)]
+        pub struct $name {
+            pub(crate) world: Py<World>,
+            pub(crate) family: u64,
+            pub(crate) id: u64,
+        }
+
+        impl $name {
+            fn text(&self) -> String {
+                format!("{}(id={})", stringify!($name), self.id)
+            }
+
+            /// The id, checked to be of the World whose state `g` is.
+            pub(crate) fn id_in(&self, g: &Inner) -> PyResult<physstep::world::$id> {
+                if self.family != g.family {
+                    return Err(foreign($what, &self.text()));
+                }
+                Ok(physstep::world::$id(self.id))
+            }
+        }
+
+        #[pymethods]
+        impl $name {
+            /// The id in its World: never given to another of its kind in that World.
+            #[getter]
+            fn id(&self) -> u64 {
+                self.id
+            }
+
+            /// The World the handle came from.
+            #[getter]
+            fn world(&self, py: Python<'_>) -> Py<World> {
+                self.world.clone_ref(py)
+            }
+
+            /// Whether it is still in its World (it goes with its body, or with the
+            /// particle a body spring ends on).
+            #[getter]
+            fn alive(&self) -> PyResult<bool> {
+                let g = self.world.get().lock()?;
+                Ok(g.engine.$row(physstep::world::$id(self.id)).is_some())
+            }
+
+            /// Its place among its kind in the World; ValueError once removed.
+            fn __index__(&self) -> PyResult<usize> {
+                let g = self.world.get().lock()?;
+                g.engine.$row(physstep::world::$id(self.id)).ok_or_else(|| removed($what, &self.text()))
+            }
+
+            fn __repr__(&self) -> String {
+                self.text()
+            }
+
+            /// Equal handles name the same one of the same World family.
+            fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+                other.cast::<$name>().is_ok_and(|o| o.get().id == self.id && o.get().family == self.family)
+            }
+
+            fn __hash__(&self) -> u64 {
+                self.id ^ self.family.rotate_left(31)
+            }
+        }
+    };
+}
+
+link_handle!(
+    /// A handle to one body spring (what `add_body_spring` returns); `World.remove(h)`
+    /// removes it.
+    BodySpringHandle,
+    "body_spring",
+    body_spring_row,
+    BodySpringId
+);
+link_handle!(
+    /// A handle to one Python force at a body point (what `add_body_force` returns);
+    /// `World.remove(h)` removes it.
+    BodyForceHandle,
+    "body_force",
+    body_force_row,
+    BodyForceId
+);

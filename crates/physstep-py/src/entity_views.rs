@@ -53,7 +53,8 @@ impl Particles {
     fn __getitem__(&self, py: Python<'_>, i: &Bound<'_, PyAny>) -> PyResult<Particle> {
         if let Ok(h) = i.cast::<crate::entity_handle::ParticleHandle>() {
             // Checked now (another World's, or removed: one line), looked up at each use.
-            h.get().row_in(&self.world.get().lock()?, "particle")?;
+            let g = self.world.get().lock()?;
+            h.get().row_in(&g, "particle")?;
             return Ok(Particle { world: self.world.clone_ref(py), index: 0, id: Some(h.get().id) });
         }
         let n = self.world.get().lock()?.count();
@@ -108,7 +109,8 @@ impl Particle {
     /// handle, its current row).
     #[getter]
     fn index(&self) -> PyResult<usize> {
-        self.row(&mut self.world.get().lock()?)
+        let mut g = self.world.get().lock()?;
+        self.row(&mut g)
     }
 
     /// Position (dim,), m (a copy); assign to move the particle (validated as
@@ -200,7 +202,8 @@ impl Bodies {
 
     fn __getitem__(&self, py: Python<'_>, i: &Bound<'_, PyAny>) -> PyResult<Body> {
         if let Ok(h) = i.cast::<crate::entity_handle::BodyHandle>() {
-            h.get().row_in(&self.world.get().lock()?, "body")?;
+            let g = self.world.get().lock()?;
+            h.get().row_in(&g, "body")?;
             return Ok(Body { world: self.world.clone_ref(py), index: 0, id: Some(h.get().id) });
         }
         let n = self.__len__()?;
@@ -289,7 +292,8 @@ impl Body {
     /// by handle, its current row).
     #[getter]
     fn index(&self) -> PyResult<usize> {
-        self.row(&self.world.get().lock()?)
+        let g = self.world.get().lock()?;
+        self.row(&g)
     }
 
     /// Centre of mass (3,), m (a copy); assign to move the body (validated as `add_body`;

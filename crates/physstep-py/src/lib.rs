@@ -50,6 +50,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<entity_handle::ParticleHandles>()?;
     m.add_class::<entity_handle::ConstraintHandle>()?;
     m.add_class::<entity_handle::BodyHandle>()?;
+    m.add_class::<entity_handle::BodySpringHandle>()?;
+    m.add_class::<entity_handle::BodyForceHandle>()?;
     m.add_class::<entity_views::Particles>()?;
     m.add_class::<entity_views::Particle>()?;
     m.add_class::<entity_views::Bodies>()?;

@@ -24,7 +24,9 @@ use crate::py_err;
 use physstep::clock::LoopMode;
 use physstep::flows::Flow;
 use physstep::forces::ForceId;
-use physstep::world::{BodyId, ConstraintId, ParticleId, World as Engine, WorldParams};
+use physstep::world::{
+    BodyForceId, BodyId, BodySpringId, ConstraintId, ParticleId, World as Engine, WorldParams,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
@@ -92,6 +94,9 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
     d.set_item("constraint_ids", w.constraint_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
     let next = [w.next_particle_id().0, w.next_body_id().0, w.next_constraint_id().0];
     d.set_item("next_entity_ids", next.to_vec())?;
+    d.set_item("body_spring_ids", w.body_spring_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("body_force_ids", w.body_force_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("next_body_link_ids", w.next_body_link_ids().to_vec())?;
     d.set_item("forces", forces)?;
     d.set_item("body_forces", body_forces)?;
     d.set_item("solid_forces", solid_forces)?;
@@ -174,6 +179,14 @@ pub(crate) fn _world_from_scene(
         let b: Vec<BodyId> = ids("body_ids")?.into_iter().map(BodyId).collect();
         let c: Vec<ConstraintId> = ids("constraint_ids")?.into_iter().map(ConstraintId).collect();
         engine.set_entity_ids(&p, &b, &c, next).map_err(py_err)?;
+    }
+    if let Some(next) = parts.get_item("next_body_link_ids")? {
+        let next: [u64; 2] = next.extract()?;
+        let springs: Vec<u64> = get("body_spring_ids")?.extract()?;
+        let forces: Vec<u64> = get("body_force_ids")?.extract()?;
+        let springs: Vec<BodySpringId> = springs.into_iter().map(BodySpringId).collect();
+        let forces: Vec<BodyForceId> = forces.into_iter().map(BodyForceId).collect();
+        engine.set_body_link_ids(&springs, &forces, next).map_err(py_err)?;
     }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let world = World::with_parts(engine, slot, user, flow_spec);

@@ -250,8 +250,9 @@ impl World {
     /// `add_central_gravity`, `add_nbody_gravity`, `add_rod` and `add_force` return), a
     /// particle or ball (`add_particle`, `add_ball`; `add_particles` and `add_balls` return
     /// `ParticleHandles`, removed all at once), or a constraint (`add_distance_constraint`,
-    /// `add_pin`, `add_rope`, `add_distance_limit`, `add_plane`), or a rigid body (`add_body`:
-    /// with the body springs and forces at its points). The World then steps
+    /// `add_pin`, `add_rope`, `add_distance_limit`, `add_plane`), a rigid body (`add_body`:
+    /// with the body springs and forces at its points), a body spring (`add_body_spring`) or
+    /// a force at a body point (`add_body_force`). The World then steps
     /// bitwise as one that never had it. A particle takes with it the springs, rods, body
     /// springs and constraints with an end on it (their handles are no longer alive); the
     /// particles after it move up a row, in their order. The other handles stay valid.
@@ -280,14 +281,28 @@ impl World {
             g.grow()?;
             let b = h.get().row_in(&g, "body")?;
             let id = g.engine.body_id(b).ok_or_else(|| PyValueError::new_err("invalid body"))?;
-            g.engine.remove_body(id).map_err(py_err)?;
+            let (gone, _) = g.engine.remove_body(id).map_err(py_err)?;
             // The Python forces at its points went with it; the others' bodies move up.
-            g.body_forces.retain(|f| f.0 != b);
+            for k in gone.into_iter().rev() {
+                g.body_forces.remove(k);
+            }
             for f in &mut g.body_forces {
                 if f.0 > b {
                     f.0 -= 1;
                 }
             }
+            return Ok(());
+        }
+        if let Ok(h) = handle.cast::<crate::entity_handle::BodySpringHandle>() {
+            let mut g = self.lock()?;
+            let id = h.get().id_in(&g)?;
+            return g.flush()?.remove_body_spring(id).map_err(py_err);
+        }
+        if let Ok(h) = handle.cast::<crate::entity_handle::BodyForceHandle>() {
+            let mut g = self.lock()?;
+            let id = h.get().id_in(&g)?;
+            let k = g.flush()?.remove_body_force(id).map_err(py_err)?;
+            g.body_forces.remove(k);
             return Ok(());
         }
         if let Ok(h) = handle.cast::<ConstraintHandle>() {
@@ -299,7 +314,7 @@ impl World {
             crate::convert::invalid(
                 "handle",
                 handle,
-                "a ForceHandle, ParticleHandle, ParticleHandles, ConstraintHandle or BodyHandle (what an add_* returns)",
+                "a ForceHandle, ParticleHandle, ParticleHandles, ConstraintHandle, BodyHandle, BodySpringHandle or BodyForceHandle (what an add_* returns)",
             )
         })?;
         let mut g = self.lock()?;

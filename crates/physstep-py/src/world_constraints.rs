@@ -38,8 +38,8 @@ impl World {
         let mut g = slf.get().lock()?;
         g.flush()?;
         let i = particle(i, "i", &g)?;
+        let j = endpoint(j, "j", &g)?;
         let w = &mut g.engine;
-        let j = endpoint(j, "j", w.dim())?;
         let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
         let compliance = compliance.map_or(Ok(0.0), |c| float(c, "compliance"))?;
         let k = w.add_distance_constraint(i, j, length, compliance).map_err(py_err)?;
@@ -69,8 +69,8 @@ impl World {
         let mut g = slf.get().lock()?;
         g.flush()?;
         let i = particle(i, "i", &g)?;
+        let j = endpoint(j, "j", &g)?;
         let w = &mut g.engine;
-        let j = endpoint(j, "j", w.dim())?;
         let max_length = float(max_length, "max_length")?;
         let k = w.add_rope(i, j, max_length).map_err(py_err)?;
         added(slf, g, k)
@@ -87,8 +87,8 @@ impl World {
         let mut g = slf.get().lock()?;
         g.flush()?;
         let i = particle(i, "i", &g)?;
+        let j = endpoint(j, "j", &g)?;
         let w = &mut g.engine;
-        let j = endpoint(j, "j", w.dim())?;
         let (lo, hi) = (float(min_length, "min_length")?, float(max_length, "max_length")?);
         let k = w.add_distance_limit(i, j, lo, hi).map_err(py_err)?;
         added(slf, g, k)

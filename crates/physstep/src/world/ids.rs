@@ -45,6 +45,17 @@ id_type!(
     ConstraintId
 );
 
+id_type!(
+    /// A body spring's id in its world ([`World::add_body_spring`]);
+    /// [`World::body_spring_row`] finds its place among the body springs.
+    BodySpringId
+);
+id_type!(
+    /// A user force at a body point: its id in its world ([`World::add_body_force`]);
+    /// [`World::body_force_row`] finds its place among the body forces.
+    BodyForceId
+);
+
 /// The ids of one kind of entity, parallel to its rows, increasing, and the counter.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub(crate) struct Ids {
@@ -121,13 +132,15 @@ pub(crate) struct EntityIds {
     pub(crate) particles: Ids,
     pub(crate) bodies: Ids,
     pub(crate) constraints: Ids,
+    pub(crate) body_springs: Ids,
+    pub(crate) body_forces: Ids,
 }
 
 impl EntityIds {
     /// A fingerprint of every kind's ids and counter, `None` while every kind is dense
     /// (nothing ever removed): snapshots and state hashes then carry nothing of them.
     pub(crate) fn fingerprint(&self) -> Option<u64> {
-        let kinds = [&self.particles, &self.bodies, &self.constraints];
+        let kinds = [&self.particles, &self.bodies, &self.constraints, &self.body_springs, &self.body_forces];
         if kinds.iter().all(|k| k.dense()) {
             return None;
         }
@@ -146,7 +159,8 @@ impl EntityIds {
 
 /// `invalid {what} = {id}: must be the id of a {what} of this world ...`.
 pub(crate) fn unknown(what: &str, id: u64) -> Error {
-    Error::invalid(what, id, format!("the id of a {what} of this world (it was removed, or never added here)"))
+    let noun = what.replace('_', " ");
+    Error::invalid(what, id, format!("the id of a {noun} of this world (it was removed, or never added here)"))
 }
 
 impl World {
@@ -224,6 +238,57 @@ impl World {
         ConstraintId(self.ids.constraints.next())
     }
 
+    /// The ids of the body springs, in the order they act (increasing).
+    #[must_use]
+    pub fn body_spring_ids(&self) -> Vec<BodySpringId> {
+        self.ids.body_springs.all().iter().map(|&i| BodySpringId(i)).collect()
+    }
+
+    /// The place of body spring `id` among the body springs, `None` when there is none.
+    #[must_use]
+    pub fn body_spring_row(&self, id: BodySpringId) -> Option<usize> {
+        self.ids.body_springs.row(id.0)
+    }
+
+    /// The ids of the user forces at body points, in the order they act (increasing).
+    #[must_use]
+    pub fn body_force_ids(&self) -> Vec<BodyForceId> {
+        self.ids.body_forces.all().iter().map(|&i| BodyForceId(i)).collect()
+    }
+
+    /// The place of body force `id` among the body forces, `None` when there is none.
+    #[must_use]
+    pub fn body_force_row(&self, id: BodyForceId) -> Option<usize> {
+        self.ids.body_forces.row(id.0)
+    }
+
+    /// The ids the next body spring and the next body force will get.
+    #[must_use]
+    pub fn next_body_link_ids(&self) -> [u64; 2] {
+        [self.ids.body_springs.next(), self.ids.body_forces.next()]
+    }
+
+    /// Gives the body springs and body forces the ids `springs` and `forces` with their
+    /// counters `next`, as [`World::set_entity_ids`] does for the other kinds.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `len(body_spring_ids)`, `body_spring_ids`,
+    /// `len(body_force_ids)` or `body_force_ids`; the world is unchanged.
+    pub fn set_body_link_ids(
+        &mut self,
+        springs: &[BodySpringId],
+        forces: &[BodyForceId],
+        next: [u64; 2],
+    ) -> Result<()> {
+        let mut ids = self.ids.clone();
+        let s: Vec<u64> = springs.iter().map(|i| i.0).collect();
+        let f: Vec<u64> = forces.iter().map(|i| i.0).collect();
+        ids.body_springs.set("body_spring", &s, next[0])?;
+        ids.body_forces.set("body_force", &f, next[1])?;
+        self.ids = ids;
+        Ok(())
+    }
+
     /// Gives the particles, bodies and constraints the ids `particles`, `bodies` and
     /// `constraints` (row by row, increasing) with their counters `next` (particles, bodies,
     /// constraints): how a face that rebuilds a world from scene text, which carries no ids,
@@ -242,10 +307,12 @@ impl World {
         next: [u64; 3],
     ) -> Result<()> {
         let mut ids = self.ids.clone();
-        let raw = |v: Vec<u64>| v;
-        ids.particles.set("particle", &raw(particles.iter().map(|i| i.0).collect()), next[0])?;
-        ids.bodies.set("body", &raw(bodies.iter().map(|i| i.0).collect()), next[1])?;
-        ids.constraints.set("constraint", &raw(constraints.iter().map(|i| i.0).collect()), next[2])?;
+        let p: Vec<u64> = particles.iter().map(|i| i.0).collect();
+        let b: Vec<u64> = bodies.iter().map(|i| i.0).collect();
+        let c: Vec<u64> = constraints.iter().map(|i| i.0).collect();
+        ids.particles.set("particle", &p, next[0])?;
+        ids.bodies.set("body", &b, next[1])?;
+        ids.constraints.set("constraint", &c, next[2])?;
         self.ids = ids;
         Ok(())
     }

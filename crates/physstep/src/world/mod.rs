@@ -36,7 +36,7 @@ mod tiles;
 
 pub use crate::simd::set_vector_paths;
 pub use bodies::BodyParams;
-pub use ids::{BodyId, ConstraintId, ParticleId};
+pub use ids::{BodyForceId, BodyId, BodySpringId, ConstraintId, ParticleId};
 pub(crate) use kernel::Row;
 pub use model::Model;
 pub use removal::Removed;

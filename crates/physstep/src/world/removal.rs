@@ -9,7 +9,7 @@
 //! derivative is evaluated again before the next step, so the world then steps bitwise as one
 //! built without the entity from the start.
 
-use super::ids::{unknown, BodyId, ConstraintId, ParticleId};
+use super::ids::{unknown, BodyForceId, BodyId, BodySpringId, ConstraintId, ParticleId};
 use super::World;
 use crate::dynamics::SecondOrder;
 use crate::error::Result;
@@ -22,8 +22,8 @@ pub struct Removed {
     pub forces: Vec<ForceId>,
     /// The constraints that named it.
     pub constraints: Vec<ConstraintId>,
-    /// How many body springs ended on it (in the order they were added).
-    pub body_springs: usize,
+    /// The body springs that ended on it.
+    pub body_springs: Vec<BodySpringId>,
 }
 
 /// `p` with the row `gone` taken out of the numbering.
@@ -72,9 +72,17 @@ impl World {
         self.model.mass.remove(row);
         self.model.inv_mass.remove(row);
         let forces = self.model.forces.remove_particle(row);
-        let before = self.bodies.springs.len();
-        self.bodies.springs.retain(|s| s.other != Endpoint::Particle(row));
-        let body_springs = before - self.bodies.springs.len();
+        let mut body_springs = Vec::new();
+        let mut k = 0;
+        while k < self.bodies.springs.len() {
+            if self.bodies.springs[k].other == Endpoint::Particle(row) {
+                self.bodies.springs.remove(k);
+                body_springs.push(BodySpringId(self.ids.body_springs.id(k).unwrap_or_default()));
+                self.ids.body_springs.remove(k);
+            } else {
+                k += 1;
+            }
+        }
         for s in &mut self.bodies.springs {
             s.other = shifted_end(s.other, row);
         }
@@ -121,16 +129,17 @@ impl World {
         dropped
     }
 
-    /// Removes body `id`, and with it the body springs and user forces at its points (in
-    /// the order they were added, the others keep theirs). The bodies after it move up one
-    /// row, keeping their order and ids. A method that carries memory restarts; the world
-    /// then steps bitwise as one built without the body from that state. Returns how many
-    /// body springs and body forces went with it.
+    /// Removes body `id`, and with it the body springs and user forces at its points (the
+    /// others keep their order and ids). The bodies after it move up one row, keeping their
+    /// order and ids. A method that carries memory restarts; the world then steps bitwise as
+    /// one built without the body from that state. Returns the rows the body forces that
+    /// went with it had (before the removal, ascending: a face that keeps something per body
+    /// force drops the same ones) and the ids of the body springs that went.
     ///
     /// # Errors
     /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body` when the world holds
     /// no body of that id; the world is unchanged.
-    pub fn remove_body(&mut self, id: BodyId) -> Result<(usize, usize)> {
+    pub fn remove_body(&mut self, id: BodyId) -> Result<(Vec<usize>, Vec<BodySpringId>)> {
         use crate::rigid::body::{V_LEN, X_LEN};
         let b = self.ids.bodies.row(id.0).ok_or_else(|| unknown("body", id.0))?;
         let (coords, nx, nb) = (self.model.len(), self.nx(), self.bodies.len());
@@ -150,13 +159,21 @@ impl World {
         bodies.reference.remove(b);
         bodies.force.remove(b);
         bodies.torque.remove(b);
-        let springs = bodies.springs.len();
-        bodies.springs.retain(|s| s.body != b);
-        let springs = springs - bodies.springs.len();
+        let mut springs = Vec::new();
+        for k in (0..bodies.springs.len()).rev() {
+            if bodies.springs[k].body == b {
+                bodies.springs.remove(k);
+                springs.push(BodySpringId(self.ids.body_springs.id(k).unwrap_or_default()));
+                self.ids.body_springs.remove(k);
+            }
+        }
+        springs.reverse();
         bodies.springs.iter_mut().for_each(|s| s.body = shifted(s.body, b));
-        let forces = bodies.forces.len();
-        bodies.forces.retain(|f| f.body != b);
-        let forces = forces - bodies.forces.len();
+        let forces: Vec<usize> = (0..bodies.forces.len()).filter(|&k| bodies.forces[k].body == b).collect();
+        for &k in forces.iter().rev() {
+            bodies.forces.remove(k);
+            self.ids.body_forces.remove(k);
+        }
         bodies.forces.iter_mut().for_each(|f| f.body = shifted(f.body, b));
         self.body_params.remove(b);
         if self.prev_q.len() == nb {
@@ -167,6 +184,42 @@ impl World {
         self.ids.bodies.remove(b);
         self.touch();
         Ok((springs, forces))
+    }
+
+    /// Removes body spring `id`; the others keep their order and ids. The world then steps
+    /// bitwise as one that never had it (a method that carries memory restarts).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body_spring` when the
+    /// world holds no body spring of that id; the world is unchanged.
+    pub fn remove_body_spring(&mut self, id: BodySpringId) -> Result<()> {
+        let k = self.ids.body_springs.row(id.0).ok_or_else(|| unknown("body_spring", id.0))?;
+        self.bodies.springs.remove(k);
+        self.ids.body_springs.remove(k);
+        self.touch();
+        Ok(())
+    }
+
+    /// Removes the user force at a body point of id `id`; returns the place it had among the
+    /// body forces (a face keeping something per body force drops it there). The world
+    /// then steps bitwise as one that never had it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body_force` when the world
+    /// holds no body force of that id; the world is unchanged.
+    pub fn remove_body_force(&mut self, id: BodyForceId) -> Result<usize> {
+        let k = self.ids.body_forces.row(id.0).ok_or_else(|| unknown("body_force", id.0))?;
+        self.bodies.forces.remove(k);
+        self.ids.body_forces.remove(k);
+        self.touch();
+        Ok(k)
+    }
+
+    /// Body spring `id` as the world holds it (its point from the body's reference point in
+    /// the principal frame), `None` when there is none.
+    #[must_use]
+    pub fn body_spring(&self, id: BodySpringId) -> Option<crate::rigid::body::BodySpring> {
+        self.body_spring_row(id).map(|k| self.bodies.springs[k])
     }
 
     /// Removes constraint `id`; the others keep their order (the sweep order) and ids. The

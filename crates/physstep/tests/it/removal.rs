@@ -262,11 +262,12 @@ fn bodies_world(method: &str, without: bool) -> World {
 
 #[test]
 fn a_removed_body_takes_its_springs_and_the_world_steps_as_one_without_it() {
-    use physstep::world::BodyId;
+    use physstep::world::{BodyId, BodySpringId};
     for method in ["symplectic-euler", "velocity-verlet", "rk4"] {
         let mut a = bodies_world(method, false);
         assert_eq!(a.body_ids(), [BodyId(0), BodyId(1)]);
-        assert_eq!(a.remove_body(BodyId(0)).unwrap(), (1, 0));
+        assert_eq!(a.remove_body(BodyId(0)).unwrap(), (vec![], vec![BodySpringId(0)]));
+        assert_eq!(a.body_spring_ids(), [BodySpringId(1)]);
         assert_eq!((a.bodies().len(), a.body_row(BodyId(1))), (1, Some(0)));
         let mut b = bodies_world(method, true);
         a.step(50).unwrap();
@@ -278,10 +279,15 @@ fn a_removed_body_takes_its_springs_and_the_world_steps_as_one_without_it() {
         let e = a.remove_body(BodyId(0)).unwrap_err().to_string();
         assert!(e.starts_with("invalid body = 0: must be the id of a body of this world"), "{e}");
         // Removing a particle takes the body spring that ended on it.
-        assert_eq!(a.remove_particle(ParticleId(0)).unwrap().body_springs, 0);
+        assert_eq!(a.remove_particle(ParticleId(0)).unwrap().body_springs, []);
         let mut c = bodies_world(method, false);
-        assert_eq!(c.remove_particle(ParticleId(0)).unwrap().body_springs, 1);
+        assert_eq!(c.remove_particle(ParticleId(0)).unwrap().body_springs, [BodySpringId(0)]);
         c.step(5).unwrap();
         assert_eq!(c.len(), 0);
+        // A body spring by id: the other keeps its id; a second removal is one line.
+        c.remove_body_spring(BodySpringId(1)).unwrap();
+        assert!(c.body_spring(BodySpringId(1)).is_none() && c.body_spring_ids().is_empty());
+        let e = c.remove_body_spring(BodySpringId(1)).unwrap_err().to_string();
+        assert!(e.starts_with("invalid body_spring = 1: must be the id of a body spring of this world"), "{e}");
     }
 }
