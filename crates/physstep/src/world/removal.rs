@@ -183,7 +183,7 @@ impl World {
         }
         self.ids.bodies.remove(b);
         self.touch();
-        Ok((springs, forces))
+        Ok((forces, springs))
     }
 
     /// Removes body spring `id`; the others keep their order and ids. The world then steps
