@@ -252,7 +252,8 @@ impl ConstraintHandle {
 
     fn get(&self) -> PyResult<(Constraint, usize)> {
         let g = self.world.get().lock()?;
-        let c = g.engine.constraint(ConstraintId(self.id)).ok_or_else(|| removed("constraint", &self.text()))?;
+        let c =
+            g.engine.constraint(ConstraintId(self.id)).ok_or_else(|| removed("constraint", &self.text()))?;
         Ok((c, g.engine.dim()))
     }
 
@@ -481,7 +482,9 @@ impl BodyHandle {
 
 /// Whether `o` is a handle whose `__index__` is an entity's row.
 pub(crate) fn is_handle(o: &Bound<'_, PyAny>) -> bool {
-    o.is_instance_of::<ParticleHandle>() || o.is_instance_of::<BodyHandle>() || o.is_instance_of::<ConstraintHandle>()
+    o.is_instance_of::<ParticleHandle>()
+        || o.is_instance_of::<BodyHandle>()
+        || o.is_instance_of::<ConstraintHandle>()
 }
 
 /// The error an entity handle's `__index__` raises (removed, another World's), when `o` is

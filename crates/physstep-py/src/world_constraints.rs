@@ -48,7 +48,11 @@ impl World {
 
     /// Holds particle `i` at `point` (dim numbers, m); other constraints see it as fixed.
     /// Returns its handle (a `ConstraintHandle`).
-    fn add_pin(slf: &Bound<'_, Self>, i: &Bound<'_, PyAny>, point: &Bound<'_, PyAny>) -> PyResult<ConstraintHandle> {
+    fn add_pin(
+        slf: &Bound<'_, Self>,
+        i: &Bound<'_, PyAny>,
+        point: &Bound<'_, PyAny>,
+    ) -> PyResult<ConstraintHandle> {
         let mut g = slf.get().lock()?;
         g.flush()?;
         let i = particle(i, "i", &g)?;

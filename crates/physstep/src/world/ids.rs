@@ -160,7 +160,11 @@ impl EntityIds {
 /// `invalid {what} = {id}: must be the id of a {what} of this world ...`.
 pub(crate) fn unknown(what: &str, id: u64) -> Error {
     let noun = what.replace('_', " ");
-    Error::invalid(what, id, format!("the id of a {noun} of this world (it was removed, or never added here)"))
+    Error::invalid(
+        what,
+        id,
+        format!("the id of a {noun} of this world (it was removed, or never added here)"),
+    )
 }
 
 impl World {

@@ -260,13 +260,9 @@ impl crate::forces::ForceSet {
             self.remove(*id);
         }
         self.renumber(|f| match f {
-            Force::Spring { i, j, stiffness, rest_length, damping } => Force::Spring {
-                i: shifted(i, row),
-                j: shifted_end(j, row),
-                stiffness,
-                rest_length,
-                damping,
-            },
+            Force::Spring { i, j, stiffness, rest_length, damping } => {
+                Force::Spring { i: shifted(i, row), j: shifted_end(j, row), stiffness, rest_length, damping }
+            }
             Force::Rod { i, j, length } => Force::Rod { i: shifted(i, row), j: shifted_end(j, row), length },
             other => other,
         });

@@ -108,7 +108,10 @@ fn a_removed_particle_leaves_the_world_stepping_bitwise_as_one_built_without_it(
         let removed = a.remove_particle(ParticleId(1)).unwrap();
         assert_eq!(removed.forces.len(), 3, "{method}: the springs and the rod on particle 1");
         let mut b = forces_world(method, true);
-        assert_eq!(a.model().forces().iter().collect::<Vec<_>>(), b.model().forces().iter().collect::<Vec<_>>());
+        assert_eq!(
+            a.model().forces().iter().collect::<Vec<_>>(),
+            b.model().forces().iter().collect::<Vec<_>>()
+        );
         a.step(40).unwrap();
         b.step(40).unwrap();
         assert_eq!(bits(a.positions()), bits(b.positions()), "{method}");
@@ -288,6 +291,9 @@ fn a_removed_body_takes_its_springs_and_the_world_steps_as_one_without_it() {
         c.remove_body_spring(BodySpringId(1)).unwrap();
         assert!(c.body_spring(BodySpringId(1)).is_none() && c.body_spring_ids().is_empty());
         let e = c.remove_body_spring(BodySpringId(1)).unwrap_err().to_string();
-        assert!(e.starts_with("invalid body_spring = 1: must be the id of a body spring of this world"), "{e}");
+        assert!(
+            e.starts_with("invalid body_spring = 1: must be the id of a body spring of this world"),
+            "{e}"
+        );
     }
 }
