@@ -207,13 +207,13 @@ def test_particles_added_one_by_one_match_a_bulk_add() -> None:
 
 def test_add_particle_checks_at_once_and_mixes_with_bulk_adds() -> None:
     w = physstep.World(2)
-    assert w.add_particle([0.0, 0.0]) == 0
+    assert int(w.add_particle([0.0, 0.0])) == 0
     with pytest.raises(ValueError, match=r"invalid mass = -1"):
         w.add_particle([1.0, 0.0], mass=-1.0)
-    assert w.add_particles(np.ones((2, 2))).tolist() == [1, 2]
-    assert w.add_particle([3.0, 0.0]) == 3
+    assert w.add_particles(np.ones((2, 2))).rows.tolist() == [1, 2]
+    assert int(w.add_particle([3.0, 0.0])) == 3
     w.add_nbody_gravity()
-    assert w.add_particle([4.0, 0.0]) == 4
+    assert int(w.add_particle([4.0, 0.0])) == 4
     with pytest.raises(ValueError, match=r"invalid mass\[5\] = inf: must be finite when n-body"):
         w.add_particle([5.0, 0.0], mass=float("inf"))
     assert len(w) == 5 and w.positions[:, 0].tolist() == [0.0, 1.0, 1.0, 3.0, 4.0]

@@ -213,7 +213,7 @@ def test_bad_removals_are_one_line_and_change_nothing() -> None:
         (foreign, "invalid particle = ParticleHandle(id=0): must be a handle of this World's particles"),
         (
             3,
-            "invalid handle = 3: must be a ForceHandle, ParticleHandle, ParticleHandles, ConstraintHandle or",
+            "invalid handle = 3: must be a ForceHandle, ParticleHandle, ParticleHandles, ConstraintHandle,",
         ),
     ]:
         with pytest.raises(ValueError) as e:
