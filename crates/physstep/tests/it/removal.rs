@@ -122,8 +122,8 @@ fn a_removed_particle_leaves_the_world_stepping_bitwise_as_one_built_without_it(
         a.step(25).unwrap();
         a.remove_particle(ParticleId(1)).unwrap();
         let mut b = forces_world(method, true);
-        b.set_positions(&a.positions().to_vec()).unwrap();
-        b.set_velocities(&a.velocities().to_vec()).unwrap();
+        b.set_positions(a.positions()).unwrap();
+        b.set_velocities(a.velocities()).unwrap();
         a.step(30).unwrap();
         b.step(30).unwrap();
         assert_eq!(bits(a.positions()), bits(b.positions()), "{method} after steps");
