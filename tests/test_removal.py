@@ -230,6 +230,31 @@ def test_bad_removals_are_one_line_and_change_nothing() -> None:
     assert (_bits(w), w.state_hash()) == kept
 
 
+def test_a_handle_of_another_kind_is_not_an_index_of_this_one() -> None:
+    w = physstep.World(3)
+    p = [w.add_particle([float(k), 0.0, 0.0]) for k in range(3)]
+    pin = w.add_pin(p[2], [2.0, 0.0, 0.0])
+    body = w.add_body(physstep.Sphere(0.1))
+    kept = (_bits(w), w.state_hash())
+    for call, expected in [
+        (
+            lambda: w.add_spring(p[0], pin, 1.0),
+            "invalid j_or_anchor = ConstraintHandle(id=0): must be a particle",
+        ),
+        (lambda: w.add_rope(body, p[1], 1.0), "invalid i = BodyHandle(id=0): must be a particle index or"),
+        (lambda: w.particles[pin], "invalid index = ConstraintHandle(id=0): must be a particle index or"),
+        (
+            lambda: w.bodies[p[0]],
+            "invalid index = ParticleHandle(id=0): must be a body index or a BodyHandle",
+        ),
+        (lambda: w.apply_force(p[0], [1.0, 0.0, 0.0]), "invalid body = ParticleHandle(id=0): must be a body"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            call()
+        assert _one_line(e).startswith(expected)
+    assert (_bits(w), w.state_hash()) == kept
+
+
 def lift(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
     """A module-level force at a body point (picklable)."""
     return np.array([[0.0, 5.0, 0.0]])

@@ -223,6 +223,10 @@ impl ParticleHandles {
 pub(crate) fn particle(o: &Bound<'_, PyAny>, field: &str, g: &Inner) -> PyResult<usize> {
     match o.cast::<ParticleHandle>() {
         Ok(h) => h.get().row_in(g, field),
+        // Another kind's handle is not a particle, whatever its row.
+        Err(_) if is_handle(o) => {
+            Err(crate::convert::invalid(field, o, "a particle index or a ParticleHandle"))
+        }
         Err(_) => crate::convert::index(o, field),
     }
 }

@@ -57,6 +57,9 @@ impl Particles {
             h.get().row_in(&g, "particle")?;
             return Ok(Particle { world: self.world.clone_ref(py), index: 0, id: Some(h.get().id) });
         }
+        if crate::entity_handle::is_handle(i) {
+            return Err(crate::convert::invalid("index", i, "a particle index or a ParticleHandle"));
+        }
         let n = self.world.get().lock()?.count();
         let index = position_of(i, n, "particle")?;
         Ok(Particle { world: self.world.clone_ref(py), index, id: None })
@@ -205,6 +208,9 @@ impl Bodies {
             let g = self.world.get().lock()?;
             h.get().row_in(&g, "body")?;
             return Ok(Body { world: self.world.clone_ref(py), index: 0, id: Some(h.get().id) });
+        }
+        if crate::entity_handle::is_handle(i) {
+            return Err(crate::convert::invalid("index", i, "a body index or a BodyHandle"));
         }
         let n = self.__len__()?;
         let index = position_of(i, n, "body")?;

@@ -14,7 +14,7 @@ use pyo3::prelude::*;
 /// A `ParticleHandle` of the World whose state `g` is stands for the particle's current row.
 pub(crate) fn endpoint(o: &Bound<'_, PyAny>, field: &str, g: &Inner) -> PyResult<Endpoint> {
     let dim = g.engine.dim();
-    if o.is_instance_of::<ParticleHandle>() {
+    if crate::entity_handle::is_handle(o) {
         return Ok(Endpoint::Particle(particle(o, field, g)?));
     }
     if o.extract::<i64>().is_ok() && !o.is_instance_of::<pyo3::types::PyBool>() {
