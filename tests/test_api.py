@@ -65,7 +65,7 @@ def test_world_api_names() -> None:
     w = physstep.World(2, method="velocity-verlet", dt=0.01)
     i = w.add_particle([0.0, 1.0], velocity=[1.0, 0.0], mass=2.0)
     idx = w.add_particles(np.zeros((3, 2)) + [[2.0, 0.0]], masses=np.ones(3))
-    assert i == 0 and idx.tolist() == [1, 2, 3]
+    assert int(i) == 0 and np.asarray(idx).tolist() == [1, 2, 3] and idx.ids.tolist() == [1, 2, 3]
     w.add_gravity([0.0, -9.81])
     w.add_spring(0, 1, stiffness=10.0)
     w.add_spring(2, [5.0, 5.0], 1.0, rest_length=0.5, damping=0.1)
@@ -144,7 +144,7 @@ def test_bulk_add_is_vectorised() -> None:
     w = physstep.World(3, method="symplectic-euler", dt=0.01)
     rng = np.random.default_rng(1)
     idx = w.add_particles(rng.random((n, 3)), rng.random((n, 3)), np.full(n, 2.0))
-    assert idx[-1] == n - 1 and len(w) == n
+    assert int(idx[-1]) == n - 1 and len(idx) == n and len(w) == n
     w.add_gravity([0.0, 0.0, -9.81])
     w.step(2)
     assert w.positions.shape == (n, 3)
@@ -192,7 +192,7 @@ def test_particles_added_one_by_one_match_a_bulk_add() -> None:
     x, v, m = rng.random((500, 2)), rng.random((500, 2)), 1.0 + rng.random(500)
     one = physstep.World(2, method="leapfrog", dt=0.01)
     ids = [one.add_particle(x[i], velocity=v[i], mass=m[i], static=(i % 97 == 0)) for i in range(500)]
-    assert ids == list(range(500)) and len(one) == 500
+    assert [h.id for h in ids] == [int(h) for h in ids] == list(range(500)) and len(one) == 500
     bulk = physstep.World(2, method="leapfrog", dt=0.01)
     for start in range(0, 500, 97):
         bulk.add_particles(x[start : start + 1], v[start : start + 1], m[start : start + 1], static=True)
@@ -207,13 +207,13 @@ def test_particles_added_one_by_one_match_a_bulk_add() -> None:
 
 def test_add_particle_checks_at_once_and_mixes_with_bulk_adds() -> None:
     w = physstep.World(2)
-    assert w.add_particle([0.0, 0.0]) == 0
+    assert int(w.add_particle([0.0, 0.0])) == 0
     with pytest.raises(ValueError, match=r"invalid mass = -1"):
         w.add_particle([1.0, 0.0], mass=-1.0)
-    assert w.add_particles(np.ones((2, 2))).tolist() == [1, 2]
-    assert w.add_particle([3.0, 0.0]) == 3
+    assert w.add_particles(np.ones((2, 2))).rows.tolist() == [1, 2]
+    assert int(w.add_particle([3.0, 0.0])) == 3
     w.add_nbody_gravity()
-    assert w.add_particle([4.0, 0.0]) == 4
+    assert int(w.add_particle([4.0, 0.0])) == 4
     with pytest.raises(ValueError, match=r"invalid mass\[5\] = inf: must be finite when n-body"):
         w.add_particle([5.0, 0.0], mass=float("inf"))
     assert len(w) == 5 and w.positions[:, 0].tolist() == [0.0, 1.0, 1.0, 3.0, 4.0]

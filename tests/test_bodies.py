@@ -154,7 +154,7 @@ def test_add_body_reads_back_what_was_given_with_the_orientation_normalised() ->
         angular_velocity=(0.3, -1.2, 2.0),
     )
     j = w.add_body(physstep.Sphere(0.2))
-    assert (i, j) == (0, 1) and w.body_count == 2 and len(w) == 1
+    assert (int(i), int(j)) == (0, 1) and w.body_count == 2 and len(w) == 1
     assert_allclose(w.body_positions(), [[1.0, 2.0, 3.0], [0.0, 0.0, 0.0]], atol=1e-15)
     assert_allclose(w.body_orientations(), [q / np.linalg.norm(q), [1, 0, 0, 0]], atol=1e-15)
     assert_allclose(np.linalg.norm(w.body_orientations(), axis=1), 1.0, rtol=1e-15)

@@ -27,12 +27,12 @@ def test_constraints_are_added_and_held() -> None:
     w = _pair()
     assert w.constraint_count == 0
     assert w.constraint_violation() == 0.0
-    assert w.add_pin(0, [0.0, 0.0]) == 0
-    assert w.add_distance_constraint(1, 0) == 1
-    assert w.add_rope(2, 1, 1.5) == 2
-    assert w.add_plane([0.0, 2.0], -5.0) == 3
-    assert w.add_distance_limit(2, 0, 0.5, 3.0) == 4
-    assert w.add_distance_constraint(2, [3.0, 0.0], length=1.2, compliance=1e-4) == 5
+    assert int(w.add_pin(0, [0.0, 0.0])) == 0
+    assert int(w.add_distance_constraint(1, 0)) == 1
+    assert int(w.add_rope(2, 1, 1.5)) == 2
+    assert int(w.add_plane([0.0, 2.0], -5.0)) == 3
+    assert int(w.add_distance_limit(2, 0, 0.5, 3.0)) == 4
+    assert int(w.add_distance_constraint(2, [3.0, 0.0], length=1.2, compliance=1e-4)) == 5
     assert w.constraint_count == 6
     assert w.constraint_iterations == 16
     w.constraint_iterations = 40

@@ -15,9 +15,13 @@ from typing_extensions import disjoint_base
 __all__ = [
     "Bodies",
     "Body",
+    "BodyForceHandle",
+    "BodyHandle",
+    "BodySpringHandle",
     "Box",
     "Capsule",
     "Circle",
+    "ConstraintHandle",
     "ConstraintWarning",
     "ConvergenceError",
     "Cylinder",
@@ -27,6 +31,8 @@ __all__ = [
     "MassProperties",
     "Mesh",
     "Particle",
+    "ParticleHandle",
+    "ParticleHandles",
     "Particles",
     "Plane",
     "Polygon",
@@ -327,7 +333,8 @@ class Particle:
 
     @property
     def index(self) -> int:
-        """The particle's index in the World (its row of ``World.positions``)."""
+        """The particle's index in the World (its row of ``World.positions``; for a view
+        taken by handle, its current row: ValueError once the particle is removed)."""
     @property
     def position(self) -> npt.NDArray[np.float64]:
         """Position (dim,), m; assign to move the particle."""
@@ -353,10 +360,13 @@ class Particle:
 class Particles:
     """The particles of a World as a sequence of :class:`Particle` views:
     ``len(w.particles)``, ``w.particles[i]`` (negative from the end; IndexError past the
-    end), iteration. Rows in the order the particles were added (none is removed)."""
+    end), iteration. Rows in the order the particles were added, removed ones taken out.
+    A view taken by a :class:`ParticleHandle` (``w.particles[h]``) follows that particle
+    while others are removed (ValueError once it is removed itself); one taken by an int
+    names the row."""
 
     def __len__(self) -> int: ...
-    def __getitem__(self, key: int, /) -> Particle: ...
+    def __getitem__(self, key: int | ParticleHandle, /) -> Particle: ...
     def __iter__(self) -> Iterator[Particle]: ...
 
 @final
@@ -399,10 +409,11 @@ class Body:
 class Bodies:
     """The rigid bodies of a World as a sequence of :class:`Body` views (``len``,
     ``w.bodies[b]``, iteration) with their state as arrays, copies with one row per body in
-    the order they were added (none is removed)."""
+    the order they were added, removed ones taken out. A view taken by a
+    :class:`BodyHandle` follows that body."""
 
     def __len__(self) -> int: ...
-    def __getitem__(self, key: int, /) -> Body: ...
+    def __getitem__(self, key: int | BodyHandle, /) -> Body: ...
     def __iter__(self) -> Iterator[Body]: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]:
@@ -416,6 +427,184 @@ class Bodies:
     @property
     def angular_velocities(self) -> npt.NDArray[np.float64]:
         """Angular velocities (nb, 3), rad/s, world frame."""
+
+@final
+class ParticleHandle:
+    """A handle to one particle (or ball) of a World, what ``add_particle`` and ``add_ball``
+    return. It names the particle by an id its World never gives again, so it stays that
+    particle's while others are removed. ``operator.index(h)`` is the particle's current row,
+    so ``w.positions[h]``, ``w.particles[h]`` and every call that takes a particle index
+    (``add_spring(h, k, ...)``) take the handle; ValueError once the particle is removed.
+    ``World.remove(h)`` removes it. A copy or a pickle of the World takes the handles of the
+    World it came from. Handles are not ints: ``h + 1`` is a TypeError (``int(h)`` is the row).
+    """
+
+    @property
+    def id(self) -> int:
+        """The particle's id in its World: never given to another particle of that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the particle is still in its World."""
+    def __index__(self) -> int:
+        """The particle's current row; ValueError once it is removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same particle of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
+
+@final
+class ParticleHandles:
+    """The particles one ``add_particles`` or ``add_balls`` call added, as one handle: a
+    sequence of :class:`ParticleHandle` (``hs[k]``, negative from the end; iteration) that
+    costs O(1) however many there are. ``np.asarray(hs)`` (or ``hs.rows``) is their current
+    rows, so ``w.positions[np.asarray(hs)]`` reads them; ``World.remove(hs)`` removes them
+    all."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, key: int, /) -> ParticleHandle: ...
+    def __iter__(self) -> Iterator[ParticleHandle]: ...
+    def __array__(self, dtype: Any = None, copy: Any = None) -> npt.NDArray[np.int64]:
+        """The current rows (as ``rows``)."""
+    @property
+    def ids(self) -> npt.NDArray[np.int64]:
+        """The particles' ids (consecutive)."""
+    @property
+    def rows(self) -> npt.NDArray[np.int64]:
+        """The particles' current rows; ValueError naming the first removed one."""
+    @property
+    def alive(self) -> bool:
+        """Whether every one of the particles is still in its World."""
+    @property
+    def world(self) -> World:
+        """The World the handles came from."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal when they name the same particles of the same World."""
+    def __hash__(self) -> int: ...
+
+@final
+class BodyHandle:
+    """A handle to one rigid body of a World, what ``add_body`` returns. It names the body by
+    an id its World never gives again. ``operator.index(h)`` is the body's current row, so
+    ``w.bodies[h]``, ``apply_force(h, ...)``, ``add_body_spring(h, ...)`` take it; ValueError
+    once the body is removed. ``World.remove(h)`` removes it with the body springs and
+    forces at its points."""
+
+    @property
+    def id(self) -> int:
+        """The body's id in its World: never given to another body of that World."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the body is still in its World."""
+    def __index__(self) -> int:
+        """The body's current row; ValueError once it is removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same body of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
+
+@final
+class BodySpringHandle:
+    """A handle to one body spring, what ``add_body_spring`` returns: ``id``, ``alive``;
+    ``operator.index(h)`` is its place among the body springs. ``World.remove(h)`` removes
+    it; it also goes with its body or the particle it ends on."""
+
+    @property
+    def id(self) -> int:
+        """The spring's id in its World: never given to another body spring of it."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the spring is still in its World."""
+    def __index__(self) -> int:
+        """Its place among the body springs; ValueError once removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same spring of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
+
+@final
+class BodyForceHandle:
+    """A handle to one Python force at a body point, what ``add_body_force`` returns:
+    ``id``, ``alive``; ``operator.index(h)`` is its place among the body forces.
+    ``World.remove(h)`` removes it; it also goes with its body."""
+
+    @property
+    def id(self) -> int:
+        """The force's id in its World: never given to another body force of it."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the force is still in its World."""
+    def __index__(self) -> int:
+        """Its place among the body forces; ValueError once removed."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same force of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
+
+@final
+class ConstraintHandle:
+    """A handle to one position constraint of a World, what ``add_distance_constraint``,
+    ``add_pin``, ``add_rope``, ``add_distance_limit`` and ``add_plane`` return. It names the
+    constraint by an id its World never gives again. Its parameters read through it
+    (read-only: remove it and add another to change one); a parameter its kind has not
+    raises AttributeError, a removed constraint ValueError. ``operator.index(h)`` is its
+    place among the World's constraints; ``World.remove(h)`` removes it. A constraint is
+    also removed with a particle it names."""
+
+    @property
+    def id(self) -> int:
+        """The constraint's id in its World: never given to another constraint of it."""
+    @property
+    def world(self) -> World:
+        """The World the handle came from."""
+    @property
+    def alive(self) -> bool:
+        """Whether the constraint is still in its World."""
+    @property
+    def kind(self) -> str:
+        """``distance``, ``limit`` (a rope or a distance limit), ``pin`` or ``plane``."""
+    def __index__(self) -> int:
+        """The constraint's place among the World's constraints (the sweep order)."""
+    @property
+    def i(self) -> int:
+        """The (first) particle's current row (distance, limit, pin)."""
+    @property
+    def j(self) -> int | None:
+        """The other particle's current row, or None for a fixed point (distance, limit)."""
+    @property
+    def anchor(self) -> npt.NDArray[np.float64] | None:
+        """The fixed point (dim,), m, or None when the other end is a particle."""
+    @property
+    def length(self) -> float:
+        """A distance constraint's length, m."""
+    @property
+    def compliance(self) -> float:
+        """A distance constraint's compliance, m/N (0: rigid)."""
+    @property
+    def min_length(self) -> float:
+        """A limit's shortest distance, m (0 for a rope)."""
+    @property
+    def max_length(self) -> float:
+        """A limit's longest distance, m."""
+    @property
+    def point(self) -> npt.NDArray[np.float64]:
+        """A pin's point (dim,), m."""
+    @property
+    def normal(self) -> npt.NDArray[np.float64]:
+        """A plane's unit normal (dim,)."""
+    @property
+    def offset(self) -> float:
+        """A plane's offset along its normal, m."""
+    def __eq__(self, value: object, /) -> bool:
+        """Equal handles name the same constraint of the same World (or its copies)."""
+    def __hash__(self) -> int: ...
 
 @final
 class SolidHandle:
@@ -824,9 +1013,10 @@ class World:
     def dt(self, dt: float) -> None: ...
     def add_particle(
         self, position: Any, velocity: Any = None, mass: float | None = None, static: bool | None = None
-    ) -> int:
+    ) -> ParticleHandle:
         """Adds a particle at ``position`` (dim numbers, m) with ``velocity`` (m/s, default 0)
-        and ``mass`` (kg, default 1; ``inf`` or ``static=True``: immovable); returns its index.
+        and ``mass`` (kg, default 1; ``inf`` or ``static=True``: immovable); returns its
+        handle (``w.positions[h]``, ``w.remove(h)``).
 
         Raises ValueError naming the bad field.
         """
@@ -837,16 +1027,17 @@ class World:
         velocities: npt.ArrayLike | None = None,
         masses: npt.ArrayLike | None = None,
         static: bool | None = None,
-    ) -> npt.NDArray[np.int64]:
+    ) -> ParticleHandles:
         """Adds ``positions`` (k, dim; m) with optional ``velocities`` (k, dim; m/s) and
-        ``masses`` (k,; kg); returns their indices. ValueError for a bad shape or value."""
+        ``masses`` (k,; kg); returns their handles as one ``ParticleHandles``. ValueError for
+        a bad shape or value."""
 
     def add_ball(
         self, position: Any, velocity: Any = None, radius: float | None = None, mass: float | None = None
-    ) -> int:
+    ) -> ParticleHandle:
         """Adds a ball: a particle of ``radius`` (m, default 1) at ``position`` (dim numbers, m)
         with ``velocity`` (m/s, default 0) and ``mass`` (kg, default 1; ``inf``: immovable) that
-        collides with the other balls and the walls at its time of impact. Returns its index.
+        collides with the other balls and the walls at its time of impact. Returns its handle.
 
         Raises ValueError naming the field: a radius not finite and > 0, a ball that would
         overlap another (touching is allowed) or stick out of the walls; the world is unchanged.
@@ -858,9 +1049,9 @@ class World:
         radii: float | npt.ArrayLike,
         velocities: npt.ArrayLike | None = None,
         masses: npt.ArrayLike | None = None,
-    ) -> npt.NDArray[np.int64]:
+    ) -> ParticleHandles:
         """Adds balls at ``positions`` (k, dim; m) of ``radii`` (one number, or (k,); m) with
-        optional ``velocities`` (k, dim; m/s) and ``masses`` (k,; kg); returns their indices.
+        optional ``velocities`` (k, dim; m/s) and ``masses`` (k,; kg); returns their handles.
         ValueError as :meth:`add_ball`, naming the first bad entry."""
 
     def add_walls(self, lo: npt.ArrayLike, hi: npt.ArrayLike) -> None:
@@ -893,7 +1084,7 @@ class World:
 
     def add_spring(
         self,
-        i: int,
+        i: int | ParticleHandle,
         j_or_anchor: Any,
         stiffness: float,
         rest_length: float | None = None,
@@ -916,19 +1107,35 @@ class World:
         """Adds mutual gravity between all particles (constant ``g``, default 1; ``softening``
         length, m); returns its handle."""
 
-    def add_rod(self, i: int, j_or_anchor: Any, length: float | None = None) -> ForceHandle:
+    def add_rod(self, i: int | ParticleHandle, j_or_anchor: Any, length: float | None = None) -> ForceHandle:
         """Adds a force-based rod from particle ``i`` to a particle or an anchor point holding
         the current distance (``length``, m, when given, must equal it: ValueError); returns
         its handle."""
 
     def remove(
-        self, handle: ForceHandle | SolidHandle | JointHandle | SolidSpringHandle | SolidForceHandle
+        self,
+        handle: ForceHandle
+        | ParticleHandle
+        | ParticleHandles
+        | ConstraintHandle
+        | BodyHandle
+        | BodySpringHandle
+        | BodyForceHandle
+        | SolidHandle
+        | JointHandle
+        | SolidSpringHandle
+        | SolidForceHandle,
     ) -> None:
-        """Removes the force ``handle`` names; the World then steps bitwise as one that never
-        had it, and the other handles stay valid. ValueError for a handle of a removed
-        force or of another World (not a copy or pickle of this one). Also a solid, joint,
-        solid spring or force on a solid (a solid takes its joints, springs and forces with
-        it; docs: Contact, "Handles and removal")."""
+        """Removes what ``handle`` names (a force, a particle or ball, the particles of one
+        ``add_particles``, a constraint, a rigid body with the springs and forces at its
+        points, a body spring, a force at a body point, a solid, a joint, a solid spring or a
+        force on a solid); the World then steps bitwise as one that never had it, and the
+        other handles stay valid. A particle takes with it the springs, rods, body springs
+        and constraints with an end on it, a solid its joints, springs and forces (their
+        handles are no longer alive; docs: Contact, "Handles and removal"); the rows after
+        it move up a row, in their order, and a method that carries memory restarts (as
+        assigning ``positions`` does). ValueError for a handle of a removed entity or of
+        another World (not a copy or pickle of this one)."""
 
     def force(self, handle: ForceHandle) -> ForceHandle:
         """This World's handle of the force ``handle`` names: a handle of the World this one
@@ -964,31 +1171,33 @@ class World:
         order they act in), then the Python forces in the order they were added."""
 
     def add_distance_constraint(
-        self, i: int, j: Any, length: float | None = None, compliance: float | None = None
-    ) -> int:
+        self, i: int | ParticleHandle, j: Any, length: float | None = None, compliance: float | None = None
+    ) -> ConstraintHandle:
         """Adds the position constraint |x_i - x_j| = ``length`` (m; default the current
         distance) between particle ``i`` and particle ``j`` or an anchor point (dim numbers,
         m). ``compliance`` (m/N, default 0): 0 is rigid (SHAKE/RATTLE under velocity-verlet
-        and leapfrog, projection otherwise), above 0 soft (XPBD). Returns its index.
+        and leapfrog, projection otherwise), above 0 soft (XPBD). Returns its handle.
         ValueError naming the field for a missing particle, ``j == i``, a length that is not
         > 0 or a compliance that is not >= 0."""
 
-    def add_pin(self, i: int, point: Any) -> int:
+    def add_pin(self, i: int | ParticleHandle, point: Any) -> ConstraintHandle:
         """Holds particle ``i`` at ``point`` (dim numbers, m); other constraints see it as
-        fixed. Returns the constraint's index. ValueError naming the field."""
+        fixed. Returns its handle. ValueError naming the field."""
 
-    def add_rope(self, i: int, j: Any, max_length: float) -> int:
+    def add_rope(self, i: int | ParticleHandle, j: Any, max_length: float) -> ConstraintHandle:
         """A rope of ``max_length`` (m, > 0) from particle ``i`` to particle ``j`` or an anchor
-        point: the distance may shrink, not grow past it. Returns the constraint's index."""
+        point: the distance may shrink, not grow past it. Returns its handle."""
 
-    def add_distance_limit(self, i: int, j: Any, min_length: float, max_length: float) -> int:
+    def add_distance_limit(
+        self, i: int | ParticleHandle, j: Any, min_length: float, max_length: float
+    ) -> ConstraintHandle:
         """A joint limit ``min_length`` <= |x_i - x_j| <= ``max_length`` (m). Returns its
-        index."""
+        handle."""
 
-    def add_plane(self, normal: Any, offset: float | None = None) -> int:
+    def add_plane(self, normal: Any, offset: float | None = None) -> ConstraintHandle:
         """Keeps every particle in the half-space normal . x >= ``offset`` (m, default 0): a
         ground (normal (0, 1)) or a wall of a box. ``normal`` (dim numbers, nonzero) points
-        into the allowed side and is made unit. Returns the constraint's index."""
+        into the allowed side and is made unit. Returns its handle."""
 
     @property
     def constraint_iterations(self) -> int:
@@ -1178,16 +1387,15 @@ class World:
         angular_velocity: npt.ArrayLike | None = None,
         pivot: npt.ArrayLike | None = None,
         angular_drag: float | None = None,
-    ) -> int:
-        """Adds a rigid body of ``shape`` and returns its index. ``mass`` (kg) or ``density``
-        (kg/m^3), at most one (neither: density 1); ``position`` of the shape's origin (m,
-        default the origin); ``orientation`` of the shape's frame, a quaternion (w, x, y, z),
-        normalised (default the identity); ``velocity`` of the centre of mass (m/s);
-        ``angular_velocity`` (rad/s, world frame); ``pivot``, a point of the shape (shape
-        frame, m) pinned to the world where it starts (a top on its tip; ``velocity`` must
-        then be zero); ``angular_drag``, a torque ``-c omega`` (N m s, default 0). ValueError
-        naming the bad field (``dim`` in a world that is not 3D); the world is then
-        unchanged."""
+    ) -> BodyHandle:
+        """Adds a rigid body of ``shape`` and returns its handle (a :class:`BodyHandle`). ``mass`` (kg)
+        or ``density`` (kg/m^3), at most one (neither: density 1); ``position`` of the shape's
+        origin (m, default the origin); ``orientation`` of the shape's frame, a quaternion (w, x, y,
+        z), normalised (default the identity); ``velocity`` of the centre of mass (m/s);
+        ``angular_velocity`` (rad/s, world frame); ``pivot``, a point of the shape (shape frame, m)
+        pinned to the world where it starts (a top on its tip; ``velocity`` must then be zero);
+        ``angular_drag``, a torque ``-c omega`` (N m s, default 0). ValueError naming the bad field
+        (``dim`` in a world that is not 3D); the world is then unchanged."""
 
     @property
     def body_count(self) -> int:
@@ -1240,34 +1448,35 @@ class World:
     def angular_form(self, name: str) -> None: ...
     def add_body_force(
         self,
-        body: int,
+        body: int | BodyHandle,
         func: Callable[[float, npt.NDArray[np.float64], npt.NDArray[np.float64]], npt.ArrayLike],
         *,
         point: npt.ArrayLike | None = None,
         potential: Callable[[npt.NDArray[np.float64]], float] | None = None,
         velocity_dependent: bool | None = None,
         name: str | None = None,
-    ) -> int:
+    ) -> BodyForceHandle:
         """Adds a force written in Python acting at ``point`` of ``body`` (shape frame, m;
         default the shape's origin): ``func(t, x, v)`` gets the point's world position and
         velocity as (1, 3) arrays and returns the force on it (1, 3), N, which also turns the
         body. ``potential(x)`` (J) keeps the energy known; ``velocity_dependent=False`` saves
         re-evaluations. An exception raised inside propagates unchanged, with the step rolled
-        back. Returns the force's index among the body forces."""
+        back. Returns its handle (``w.remove(h)``); it goes with its body."""
 
     def add_body_spring(
         self,
-        body: int,
+        body: int | BodyHandle,
         point: npt.ArrayLike,
         other: Any,
         stiffness: float,
         rest_length: float | None = None,
         damping: float | None = None,
-    ) -> None:
+    ) -> BodySpringHandle:
         """Adds a damped spring (``stiffness`` N/m, ``damping`` N s/m) from ``point`` of
-        ``body`` (shape frame, m) to ``other``, a particle index or an anchor point (3 numbers,
-        m); ``rest_length`` (m) defaults to the current distance. ValueError naming the bad
-        field."""
+        ``body`` (shape frame, m) to ``other``, a particle (index or handle) or an anchor point
+        (3 numbers, m); ``rest_length`` (m) defaults to the current distance. Returns its
+        handle (``w.remove(h)``); it goes with its body or its particle. ValueError naming the
+        bad field."""
 
     def add_solid(
         self,

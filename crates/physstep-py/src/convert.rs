@@ -35,6 +35,10 @@ pub(crate) fn whole(o: &Bound<'_, PyAny>, field: &str, lo: i64, hi: i64) -> PyRe
     }
     match o.extract::<i64>() {
         Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        // A handle of a removed entity (or another World's) says so, naming it.
+        Err(_) if crate::entity_handle::handle_error(o).is_some() => {
+            Err(crate::entity_handle::handle_error(o).unwrap_or_else(|| invalid(field, o, &expected())))
+        }
         // A handle's `__index__` refusing (its entity was removed) says so itself.
         Err(e) if e.is_instance_of::<pyo3::exceptions::PyValueError>(o.py()) => Err(e),
         _ => Err(invalid(field, o, &expected())),
@@ -48,12 +52,28 @@ pub(crate) fn count(o: &Bound<'_, PyAny>, field: &str) -> PyResult<u64> {
 
 /// A particle index.
 pub(crate) fn index(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
-    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|_| invalid(field, o, "a particle index >= 0"))
+    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|e| {
+        if crate::entity_handle::is_handle(o) {
+            e
+        } else {
+            invalid(field, o, "a particle index >= 0")
+        }
+    })
 }
 
-/// A body index (`field` is `body` and the like); the engine checks it against the count.
+/// A body index (`field` is `body` and the like) or a `BodyHandle`; the engine checks it
+/// against the count. Another kind's handle is refused, whatever its row.
 pub(crate) fn body(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
-    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|_| invalid(field, o, "a body index >= 0"))
+    if crate::entity_handle::is_handle(o) && !o.is_instance_of::<crate::entity_handle::BodyHandle>() {
+        return Err(invalid(field, o, "a body index or a BodyHandle"));
+    }
+    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|e| {
+        if crate::entity_handle::is_handle(o) {
+            e
+        } else {
+            invalid(field, o, "a body index >= 0")
+        }
+    })
 }
 
 /// A flag (bool or numpy bool).

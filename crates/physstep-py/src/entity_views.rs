@@ -2,9 +2,10 @@
 //! `w.particles[i].position = ...`, `w.bodies[b].velocity`, read and written through the
 //! World (each read a copy, each write validated as the add call and applied at once).
 //!
-//! A view names its entity by index: particles, bodies and solids are never removed in this
-//! release, so an index stays the entity's. (When removal comes, a view will carry the
-//! entity's id, as a `ForceHandle` does, and look its index up at each use.)
+//! A particle view taken by handle (`w.particles[h]`, `h` a `ParticleHandle`) carries the
+//! particle's id and looks its row up at each use: it stays that particle's while others are
+//! removed, and refuses in one line once it is removed itself. A view taken by an int names
+//! the row (after a removal, the particle that moved into it). Body views likewise.
 
 use crate::convert::{array, whole};
 use crate::handle::World;
@@ -39,6 +40,8 @@ pub struct Particles {
 pub struct Particle {
     world: Py<World>,
     index: usize,
+    /// The particle's id when the view was taken by handle (then `index` is unused).
+    id: Option<u64>,
 }
 
 #[pymethods]
@@ -48,15 +51,24 @@ impl Particles {
     }
 
     fn __getitem__(&self, py: Python<'_>, i: &Bound<'_, PyAny>) -> PyResult<Particle> {
+        if let Ok(h) = i.cast::<crate::entity_handle::ParticleHandle>() {
+            // Checked now (another World's, or removed: one line), looked up at each use.
+            let g = self.world.get().lock()?;
+            h.get().row_in(&g, "particle")?;
+            return Ok(Particle { world: self.world.clone_ref(py), index: 0, id: Some(h.get().id) });
+        }
+        if crate::entity_handle::is_handle(i) {
+            return Err(crate::convert::invalid("index", i, "a particle index or a ParticleHandle"));
+        }
         let n = self.world.get().lock()?.count();
         let index = position_of(i, n, "particle")?;
-        Ok(Particle { world: self.world.clone_ref(py), index })
+        Ok(Particle { world: self.world.clone_ref(py), index, id: None })
     }
 
     fn __iter__(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         let n = self.world.get().lock()?.count();
         let views: Vec<Particle> =
-            (0..n).map(|index| Particle { world: self.world.clone_ref(py), index }).collect();
+            (0..n).map(|index| Particle { world: self.world.clone_ref(py), index, id: None }).collect();
         Ok(pyo3::types::PyList::new(py, views)?.try_iter()?.into_any().unbind())
     }
 
@@ -66,20 +78,42 @@ impl Particles {
 }
 
 impl Particle {
+    /// The particle's row in the flushed World `g`: its id's row for a view taken by handle.
+    fn row(&self, g: &mut crate::handle::Inner) -> PyResult<usize> {
+        g.flush()?;
+        match self.id {
+            // Rows move up after a removal: a view by index past the end says so.
+            None if self.index >= g.engine.len() => Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "invalid particle = {}: must be an index below {}",
+                self.index,
+                g.engine.len()
+            ))),
+            None => Ok(self.index),
+            Some(id) => crate::entity_handle::particle_row(g, id).ok_or_else(|| {
+                pyo3::exceptions::PyValueError::new_err(format!(
+                    "invalid particle = ParticleHandle(id={id}): it was removed from its World"
+                ))
+            }),
+        }
+    }
+
     /// `read(engine, i, dim)` on the flushed engine.
     fn read<T>(&self, read: impl FnOnce(&Engine, usize, usize) -> T) -> PyResult<T> {
         let mut g = self.world.get().lock()?;
-        let w = g.flush()?;
-        Ok(read(w, self.index, w.dim()))
+        let i = self.row(&mut g)?;
+        let w = &g.engine;
+        Ok(read(w, i, w.dim()))
     }
 }
 
 #[pymethods]
 impl Particle {
-    /// The particle's index in the World (the row of `World.positions`).
+    /// The particle's index in the World (the row of `World.positions`; for a view taken by
+    /// handle, its current row).
     #[getter]
-    fn index(&self) -> usize {
-        self.index
+    fn index(&self) -> PyResult<usize> {
+        let mut g = self.world.get().lock()?;
+        self.row(&mut g)
     }
 
     /// Position (dim,), m (a copy); assign to move the particle (validated as
@@ -94,9 +128,9 @@ impl Particle {
     #[setter]
     fn set_position(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let mut g = self.world.get().lock()?;
-        let w = g.flush()?;
-        let x = array(value, "position", Some(w.dim()), None)?;
-        w.set_particle(self.index, Some(&x), None).map_err(py_err)
+        let i = self.row(&mut g)?;
+        let x = array(value, "position", Some(g.engine.dim()), None)?;
+        g.engine.set_particle(i, Some(&x), None).map_err(py_err)
     }
 
     /// Velocity (dim,), m/s (a copy); assign to set it (validated as `add_particle`; a
@@ -110,9 +144,9 @@ impl Particle {
     #[setter]
     fn set_velocity(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let mut g = self.world.get().lock()?;
-        let w = g.flush()?;
-        let v = array(value, "velocity", Some(w.dim()), None)?;
-        w.set_particle(self.index, None, Some(&v)).map_err(py_err)
+        let i = self.row(&mut g)?;
+        let v = array(value, "velocity", Some(g.engine.dim()), None)?;
+        g.engine.set_particle(i, None, Some(&v)).map_err(py_err)
     }
 
     /// Mass, kg (inf for a particle added with mass inf); assign to change it (validated as
@@ -127,7 +161,8 @@ impl Particle {
     fn set_mass(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let m = crate::convert::float(value, "mass")?;
         let mut g = self.world.get().lock()?;
-        g.flush()?.set_mass(self.index, m).map_err(py_err)
+        let i = self.row(&mut g)?;
+        g.engine.set_mass(i, m).map_err(py_err)
     }
 
     /// Whether the particle is static (immovable).
@@ -137,7 +172,10 @@ impl Particle {
     }
 
     fn __repr__(&self) -> String {
-        format!("<particle {}>", self.index)
+        match self.id {
+            None => format!("<particle {}>", self.index),
+            Some(id) => format!("<particle id={id}>"),
+        }
     }
 }
 
@@ -155,6 +193,8 @@ pub struct Bodies {
 pub struct Body {
     world: Py<World>,
     index: usize,
+    /// The body's id when the view was taken by handle (then `index` is unused).
+    id: Option<u64>,
 }
 
 #[pymethods]
@@ -164,14 +204,23 @@ impl Bodies {
     }
 
     fn __getitem__(&self, py: Python<'_>, i: &Bound<'_, PyAny>) -> PyResult<Body> {
+        if let Ok(h) = i.cast::<crate::entity_handle::BodyHandle>() {
+            let g = self.world.get().lock()?;
+            h.get().row_in(&g, "body")?;
+            return Ok(Body { world: self.world.clone_ref(py), index: 0, id: Some(h.get().id) });
+        }
+        if crate::entity_handle::is_handle(i) {
+            return Err(crate::convert::invalid("index", i, "a body index or a BodyHandle"));
+        }
         let n = self.__len__()?;
         let index = position_of(i, n, "body")?;
-        Ok(Body { world: self.world.clone_ref(py), index })
+        Ok(Body { world: self.world.clone_ref(py), index, id: None })
     }
 
     fn __iter__(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         let n = self.__len__()?;
-        let views: Vec<Body> = (0..n).map(|index| Body { world: self.world.clone_ref(py), index }).collect();
+        let views: Vec<Body> =
+            (0..n).map(|index| Body { world: self.world.clone_ref(py), index, id: None }).collect();
         Ok(pyo3::types::PyList::new(py, views)?.try_iter()?.into_any().unbind())
     }
 
@@ -207,20 +256,33 @@ impl Bodies {
 type BodyState = (Option<[f64; 3]>, Option<[f64; 3]>, Option<[f64; 4]>, Option<[f64; 3]>);
 
 impl Body {
+    /// The body's row: its id's row for a view taken by handle.
+    fn row(&self, g: &crate::handle::Inner) -> PyResult<usize> {
+        match self.id {
+            None => Ok(self.index),
+            Some(id) => g.engine.body_row(physstep::world::BodyId(id)).ok_or_else(|| {
+                pyo3::exceptions::PyValueError::new_err(format!(
+                    "invalid body = BodyHandle(id={id}): it was removed from its World"
+                ))
+            }),
+        }
+    }
+
     fn read<const N: usize>(
         &self,
         py: Python<'_>,
         read: fn(&Engine, usize) -> physstep::Result<[f64; N]>,
     ) -> PyResult<Py<PyArray1<f64>>> {
         let g = self.world.get().lock()?;
-        let v = read(&g.engine, self.index).map_err(py_err)?;
+        let v = read(&g.engine, self.row(&g)?).map_err(py_err)?;
         Ok(PyArray1::from_slice(py, &v).unbind())
     }
 
     fn write(&self, state: BodyState) -> PyResult<()> {
         let (x, v, q, w) = state;
         let mut g = self.world.get().lock()?;
-        g.flush()?.set_body_state(self.index, x, v, q, w).map_err(py_err)
+        let b = self.row(&g)?;
+        g.flush()?.set_body_state(b, x, v, q, w).map_err(py_err)
     }
 }
 
@@ -232,10 +294,12 @@ fn three(value: &Bound<'_, PyAny>, field: &str) -> PyResult<[f64; 3]> {
 
 #[pymethods]
 impl Body {
-    /// The body's index in the World (the row of `World.bodies.positions`).
+    /// The body's index in the World (the row of `World.bodies.positions`; for a view taken
+    /// by handle, its current row).
     #[getter]
-    fn index(&self) -> usize {
-        self.index
+    fn index(&self) -> PyResult<usize> {
+        let g = self.world.get().lock()?;
+        self.row(&g)
     }
 
     /// Centre of mass (3,), m (a copy); assign to move the body (validated as `add_body`;
@@ -290,11 +354,18 @@ impl Body {
     /// Mass, kg.
     #[getter]
     fn mass(&self) -> PyResult<f64> {
-        Ok(self.world.get().lock()?.engine.bodies().mass()[self.index])
+        let g = self.world.get().lock()?;
+        let (b, n) = (self.row(&g)?, g.engine.bodies().len());
+        g.engine.bodies().mass().get(b).copied().ok_or_else(|| {
+            pyo3::exceptions::PyValueError::new_err(format!("invalid body = {b}: must be an index below {n}"))
+        })
     }
 
     fn __repr__(&self) -> String {
-        format!("<body {}>", self.index)
+        match self.id {
+            None => format!("<body {}>", self.index),
+            Some(id) => format!("<body id={id}>"),
+        }
     }
 }
 

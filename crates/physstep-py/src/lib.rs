@@ -11,6 +11,7 @@
 //! is a `ValueError` that names it.
 
 mod convert;
+mod entity_handle;
 mod entity_views;
 mod errors;
 mod force;
@@ -47,6 +48,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_file::scene_file_text, m)?)?;
     m.add_class::<handle::World>()?;
     m.add_class::<force_handle::ForceHandle>()?;
+    m.add_class::<entity_handle::ParticleHandle>()?;
+    m.add_class::<entity_handle::ParticleHandles>()?;
+    m.add_class::<entity_handle::ConstraintHandle>()?;
+    m.add_class::<entity_handle::BodyHandle>()?;
+    m.add_class::<entity_handle::BodySpringHandle>()?;
+    m.add_class::<entity_handle::BodyForceHandle>()?;
     m.add_class::<entity_views::Particles>()?;
     m.add_class::<entity_views::Particle>()?;
     m.add_class::<entity_views::Bodies>()?;

@@ -14,7 +14,10 @@
 //! token and its forces' ids, so handles taken before pickling reach the same forces after;
 //! absent from pickles written before handles, whose forces get ids in order), and
 //! `contact_ids` (the ids of the solids, joints, solid springs and forces on solids with
-//! their counters; absent from older pickles).
+//! their counters; absent from older pickles), and
+//! `particle_ids`, `body_ids`, `constraint_ids`, `next_entity_ids` (the entities' ids and
+//! counters, so handles of particles and constraints reach the same ones after a removal;
+//! absent from older pickles, whose entities get ids in order).
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
@@ -23,7 +26,9 @@ use crate::py_err;
 use physstep::clock::LoopMode;
 use physstep::flows::Flow;
 use physstep::forces::ForceId;
-use physstep::world::{World as Engine, WorldParams};
+use physstep::world::{
+    BodyForceId, BodyId, BodySpringId, ConstraintId, ParticleId, World as Engine, WorldParams,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
@@ -95,6 +100,14 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
         w.solid_force_ids().iter().map(|i| i.0).collect(),
     ];
     d.set_item("contact_ids", (contact_ids, w.next_solid_ids()))?;
+    d.set_item("particle_ids", w.particle_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("body_ids", w.body_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("constraint_ids", w.constraint_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    let next = [w.next_particle_id().0, w.next_body_id().0, w.next_constraint_id().0];
+    d.set_item("next_entity_ids", next.to_vec())?;
+    d.set_item("body_spring_ids", w.body_spring_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("body_force_ids", w.body_force_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
+    d.set_item("next_body_link_ids", w.next_body_link_ids().to_vec())?;
     d.set_item("forces", forces)?;
     d.set_item("body_forces", body_forces)?;
     d.set_item("solid_forces", solid_forces)?;
@@ -172,6 +185,23 @@ pub(crate) fn _world_from_scene(
     if let Some(ids) = parts.get_item("contact_ids")? {
         let (ids, next): ([Vec<u64>; 4], [u64; 4]) = ids.extract()?;
         engine.set_solid_ids([&ids[0], &ids[1], &ids[2], &ids[3]], next).map_err(py_err)?;
+    }
+    // The entities' ids likewise (the snapshot checks them once one was removed).
+    if let Some(next) = parts.get_item("next_entity_ids")? {
+        let next: [u64; 3] = next.extract()?;
+        let ids = |k: &str| -> PyResult<Vec<u64>> { get(k)?.extract() };
+        let p: Vec<ParticleId> = ids("particle_ids")?.into_iter().map(ParticleId).collect();
+        let b: Vec<BodyId> = ids("body_ids")?.into_iter().map(BodyId).collect();
+        let c: Vec<ConstraintId> = ids("constraint_ids")?.into_iter().map(ConstraintId).collect();
+        engine.set_entity_ids(&p, &b, &c, next).map_err(py_err)?;
+    }
+    if let Some(next) = parts.get_item("next_body_link_ids")? {
+        let next: [u64; 2] = next.extract()?;
+        let springs: Vec<u64> = get("body_spring_ids")?.extract()?;
+        let forces: Vec<u64> = get("body_force_ids")?.extract()?;
+        let springs: Vec<BodySpringId> = springs.into_iter().map(BodySpringId).collect();
+        let forces: Vec<BodyForceId> = forces.into_iter().map(BodyForceId).collect();
+        engine.set_body_link_ids(&springs, &forces, next).map_err(py_err)?;
     }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let world = World::with_parts(engine, slot, user, flow_spec);

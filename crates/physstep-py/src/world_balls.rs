@@ -12,16 +12,16 @@ use pyo3::types::{PyDict, PyTuple};
 impl World {
     /// Adds a ball: a particle of `radius` (m, default 1) at `position` (dim numbers, m) with
     /// `velocity` (m/s, default 0) and `mass` (kg, default 1; `inf` makes it immovable) that
-    /// collides with the other balls and the walls. Returns its particle index.
+    /// collides with the other balls and the walls. Returns its handle (a `ParticleHandle`).
     #[pyo3(signature = (position, velocity=None, radius=None, mass=None))]
     fn add_ball(
-        &self,
+        slf: &Bound<'_, Self>,
         position: &Bound<'_, PyAny>,
         velocity: Option<&Bound<'_, PyAny>>,
         radius: Option<&Bound<'_, PyAny>>,
         mass: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let mut g = self.lock()?;
+    ) -> PyResult<crate::entity_handle::ParticleHandle> {
+        let mut g = slf.get().lock()?;
         let d = g.flush()?.dim();
         let position = vector(position, "position", d)?;
         let velocity = match velocity.filter(|v| !v.is_none()) {
@@ -31,21 +31,23 @@ impl World {
         let radius = radius.map_or(Ok(1.0), |r| float(r, "radius"))?;
         let mass = mass.map_or(Ok(1.0), |m| float(m, "mass"))?;
         let w = g.grow()?;
-        w.add_ball(&position[..d], &velocity[..d], radius, mass).map_err(py_err)
+        let id = w.next_particle_id().0;
+        w.add_ball(&position[..d], &velocity[..d], radius, mass).map_err(py_err)?;
+        Ok(crate::entity_handle::ParticleHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Adds many balls: `positions` (k, dim), `radii` (one number for all, or (k,)),
-    /// optional `velocities` (k, dim) and `masses` (k,). Returns their indices.
+    /// optional `velocities` (k, dim) and `masses` (k,). Returns their handles as one
+    /// `ParticleHandles`.
     #[pyo3(signature = (positions, radii, velocities=None, masses=None))]
     fn add_balls<'py>(
-        &self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         positions: &Bound<'py, PyAny>,
         radii: &Bound<'py, PyAny>,
         velocities: Option<&Bound<'py, PyAny>>,
         masses: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let mut g = self.lock()?;
+    ) -> PyResult<crate::entity_handle::ParticleHandles> {
+        let mut g = slf.get().lock()?;
         let w = g.grow()?;
         let d = w.dim();
         let x = array(positions, "positions", None, Some(d))?;
@@ -59,8 +61,10 @@ impl World {
             .map(|v| array(v, "velocities", Some(k), Some(d)))
             .transpose()?;
         let m = masses.filter(|m| !m.is_none()).map(|m| array(m, "masses", Some(k), None)).transpose()?;
-        let first = w.add_balls(&x, v.as_deref(), &r, m.as_deref()).map_err(py_err)?;
-        Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
+        let first = w.next_particle_id().0;
+        w.add_balls(&x, v.as_deref(), &r, m.as_deref()).map_err(py_err)?;
+        let (world, family, len) = (slf.clone().unbind(), g.family, k as u64);
+        Ok(crate::entity_handle::ParticleHandles { world, family, first, len })
     }
 
     /// Puts the balls in the axis-aligned box `lo`..`hi` (dim numbers each, m), replacing any

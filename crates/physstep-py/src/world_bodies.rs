@@ -60,11 +60,11 @@ impl World {
     /// velocity as (1, 3) arrays and returns the force on it (1, 3), N, which also turns the
     /// body. `potential(x)` (J) keeps the energy known; `velocity_dependent=False` saves
     /// re-evaluations. An exception raised inside propagates unchanged, with the step rolled
-    /// back. Returns the force's index among the body forces.
+    /// back. Returns its handle (a `BodyForceHandle`: `w.remove(h)`).
     #[pyo3(signature = (body, func, *, point=None, potential=None, velocity_dependent=None, name=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body_force(
-        &self,
+        slf: &Bound<'_, Self>,
         py: Python<'_>,
         body: &Bound<'_, PyAny>,
         func: &Bound<'_, PyAny>,
@@ -72,7 +72,7 @@ impl World {
         potential: Option<&Bound<'_, PyAny>>,
         velocity_dependent: Option<&Bound<'_, PyAny>>,
         name: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
+    ) -> PyResult<crate::entity_handle::BodyForceHandle> {
         let body = crate::convert::index(body, "body")?;
         if !func.is_callable() {
             return Err(crate::convert::invalid("func", func, "callable"));
@@ -97,14 +97,16 @@ impl World {
                 .into_pyobject(py)?
                 .into_any()
                 .unbind();
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         g.flush()?;
+        let id = g.engine.next_body_link_ids()[1];
         let crate::handle::Inner { engine, body_forces, slot, .. } = &mut *g;
-        add_force(py, engine, body_forces, body, point, spec, slot)
+        add_force(py, engine, body_forces, body, point, spec, slot)?;
+        Ok(crate::entity_handle::BodyForceHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Adds a rigid body of `shape` (a physstep.Sphere, Box, Cylinder, Capsule or Mesh) in a
-    /// 3D world; returns its index. `mass` (kg) or `density` (kg/m^3), at most one (neither:
+    /// 3D world; returns its handle (a `BodyHandle`: `w.bodies[h]`, `w.remove(h)`). `mass` (kg) or `density` (kg/m^3), at most one (neither:
     /// density 1); `position` of the shape's origin (m, default the origin), `orientation`
     /// of the shape's frame as a quaternion (w, x, y, z) (normalised; default the identity),
     /// `velocity` of the centre of mass (m/s), `angular_velocity` (rad/s, world frame);
@@ -115,7 +117,7 @@ impl World {
     #[pyo3(signature = (shape, *, mass=None, density=None, position=None, orientation=None, velocity=None, angular_velocity=None, pivot=None, angular_drag=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_body(
-        &self,
+        slf: &Bound<'_, Self>,
         shape: &Bound<'_, PyAny>,
         mass: Option<&Bound<'_, PyAny>>,
         density: Option<&Bound<'_, PyAny>>,
@@ -125,7 +127,7 @@ impl World {
         angular_velocity: Option<&Bound<'_, PyAny>>,
         pivot: Option<&Bound<'_, PyAny>>,
         angular_drag: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
+    ) -> PyResult<crate::entity_handle::BodyHandle> {
         let shape = crate::shapes::from_py(shape, "shape")?;
         let mass = mass.filter(|m| !m.is_none()).map(|m| float(m, "mass")).transpose()?;
         let density = density.filter(|d| !d.is_none()).map(|d| float(d, "density")).transpose()?;
@@ -150,8 +152,11 @@ impl World {
             pivot,
             angular_drag: angular_drag.unwrap_or(0.0),
         };
-        let mut g = self.lock()?;
-        g.grow()?.add_body(&p).map_err(py_err)
+        let mut g = slf.get().lock()?;
+        let w = g.grow()?;
+        let id = w.next_body_id().0;
+        w.add_body(&p).map_err(py_err)?;
+        Ok(crate::entity_handle::BodyHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Number of rigid bodies.
@@ -255,23 +260,26 @@ impl World {
     /// `rest_length` (m) defaults to the current distance. ValueError naming the bad field.
     #[pyo3(signature = (body, point, other, stiffness, rest_length=None, damping=None))]
     fn add_body_spring(
-        &self,
+        slf: &Bound<'_, Self>,
         body: &Bound<'_, PyAny>,
         point: &Bound<'_, PyAny>,
         other: &Bound<'_, PyAny>,
         stiffness: &Bound<'_, PyAny>,
         rest_length: Option<&Bound<'_, PyAny>>,
         damping: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
+    ) -> PyResult<crate::entity_handle::BodySpringHandle> {
         let b = crate::convert::body(body, "body")?;
         let point = vector(point, "point", 3)?;
-        let other = crate::world_build::endpoint(other, "other", 3)?;
         let stiffness = float(stiffness, "stiffness")?;
         let rest_length =
             rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
         let damping = damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?;
-        let mut g = self.lock()?;
-        g.flush()?.add_body_spring(b, point, other, stiffness, rest_length, damping).map_err(py_err)
+        let mut g = slf.get().lock()?;
+        g.flush()?;
+        let other = crate::world_build::endpoint(other, "other", &g)?;
+        let id = g.engine.next_body_link_ids()[0];
+        g.engine.add_body_spring(b, point, other, stiffness, rest_length, damping).map_err(py_err)?;
+        Ok(crate::entity_handle::BodySpringHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Body orientations to draw (nb, 4), (w, x, y, z): slerped by `alpha` between the

@@ -1,17 +1,22 @@
 //! `World`'s methods that build it: particles, the built-in forces, Python forces.
 
 use crate::convert::{array, float, index, text, vector};
+use crate::entity_handle::{particle, ConstraintHandle, ParticleHandle, ParticleHandles};
 use crate::force::PyForce;
 use crate::force_handle::{ForceHandle, PYTHON};
 use crate::handle::{Inner, World};
 use crate::py_err;
-use numpy::PyArray1;
 use physstep::forces::{Endpoint, Force, ForceId};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 /// The other end of a spring or rod: a particle index or an anchor point.
-pub(crate) fn endpoint(o: &Bound<'_, PyAny>, field: &str, dim: usize) -> PyResult<Endpoint> {
+/// A `ParticleHandle` of the World whose state `g` is stands for the particle's current row.
+pub(crate) fn endpoint(o: &Bound<'_, PyAny>, field: &str, g: &Inner) -> PyResult<Endpoint> {
+    let dim = g.engine.dim();
+    if crate::entity_handle::is_handle(o) {
+        return Ok(Endpoint::Particle(particle(o, field, g)?));
+    }
     if o.extract::<i64>().is_ok() && !o.is_instance_of::<pyo3::types::PyBool>() {
         return Ok(Endpoint::Particle(index(o, field)?));
     }
@@ -31,18 +36,18 @@ fn handle_of(world: &Bound<'_, World>, g: &Inner, id: ForceId) -> ForceHandle {
 #[pymethods]
 impl World {
     /// Adds one particle at `position` (dim numbers, m) with `velocity` (m/s, default 0) and
-    /// `mass` (kg, default 1; `inf` or `static=True` makes it immovable). Returns its index.
-    /// Checked at once (ValueError naming the field); added in a batch before the world is
+    /// `mass` (kg, default 1; `inf` or `static=True` makes it immovable). Returns its handle
+    /// (a `ParticleHandle`: `w.positions[h]`, `w.remove(h)`). Checked at once (ValueError naming the field); added in a batch before the world is
     /// next read or stepped, so spawn loops cost O(1) per particle.
     #[pyo3(signature = (position, velocity=None, mass=None, r#static=None))]
     fn add_particle(
-        &self,
+        slf: &Bound<'_, Self>,
         position: &Bound<'_, PyAny>,
         velocity: Option<&Bound<'_, PyAny>>,
         mass: Option<&Bound<'_, PyAny>>,
         r#static: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let mut g = self.lock()?;
+    ) -> PyResult<ParticleHandle> {
+        let mut g = slf.get().lock()?;
         let d = g.engine.dim();
         let position = vector(position, "position", d)?;
         let velocity = match velocity.filter(|v| !v.is_none()) {
@@ -52,22 +57,24 @@ impl World {
         let mass = mass.map_or(Ok(1.0), |m| float(m, "mass"))?;
         let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
         let Inner { engine, pending, .. } = &mut *g;
-        let i = pending.push(engine, &position[..d], &velocity[..d], mass, fixed).map_err(py_err)?;
-        Ok(i)
+        pending.push(engine, &position[..d], &velocity[..d], mass, fixed).map_err(py_err)?;
+        // The waiting particles get their ids in order when they are added.
+        let id = g.engine.next_particle_id().0 + g.pending.len() as u64 - 1;
+        Ok(ParticleHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Adds many particles: `positions` (k, dim), optional `velocities` (k, dim) and
-    /// `masses` (k,). Returns their indices.
+    /// `masses` (k,). Returns their handles as one `ParticleHandles` (a sequence of
+    /// `ParticleHandle`s; `np.asarray` of it is their rows).
     #[pyo3(signature = (positions, velocities=None, masses=None, r#static=None))]
     fn add_particles<'py>(
-        &self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         positions: &Bound<'py, PyAny>,
         velocities: Option<&Bound<'py, PyAny>>,
         masses: Option<&Bound<'py, PyAny>>,
         r#static: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray1<i64>>> {
-        let mut g = self.lock()?;
+    ) -> PyResult<ParticleHandles> {
+        let mut g = slf.get().lock()?;
         let w = g.grow()?;
         let d = w.dim();
         let fixed = r#static.map_or(Ok(false), |s| crate::convert::flag(s, "static"))?;
@@ -78,8 +85,9 @@ impl World {
             .map(|v| array(v, "velocities", Some(k), Some(d)))
             .transpose()?;
         let m = masses.filter(|m| !m.is_none()).map(|m| array(m, "masses", Some(k), None)).transpose()?;
-        let first = w.add_particles(&x, v.as_deref(), m.as_deref(), fixed).map_err(py_err)?;
-        Ok(PyArray1::from_vec(py, (first as i64..(first + k) as i64).collect()))
+        let first = w.next_particle_id().0;
+        w.add_particles(&x, v.as_deref(), m.as_deref(), fixed).map_err(py_err)?;
+        Ok(ParticleHandles { world: slf.clone().unbind(), family: g.family, first, len: k as u64 })
     }
 
     /// Adds uniform gravity `g` (dim numbers, m/s^2) on every dynamic particle; returns its
@@ -106,9 +114,10 @@ impl World {
         damping: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<ForceHandle> {
         let mut guard = slf.get().lock()?;
-        let w = guard.flush()?;
-        let i = index(i, "i")?;
-        let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
+        guard.flush()?;
+        let i = particle(i, "i", &guard)?;
+        let j = endpoint(j_or_anchor, "j_or_anchor", &guard)?;
+        let w = &mut guard.engine;
         let stiffness = float(stiffness, "stiffness")?;
         let rest_length =
             rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
@@ -173,9 +182,10 @@ impl World {
         length: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<ForceHandle> {
         let mut guard = slf.get().lock()?;
-        let w = guard.flush()?;
-        let i = index(i, "i")?;
-        let j = endpoint(j_or_anchor, "j_or_anchor", w.dim())?;
+        guard.flush()?;
+        let i = particle(i, "i", &guard)?;
+        let j = endpoint(j_or_anchor, "j_or_anchor", &guard)?;
+        let w = &mut guard.engine;
         let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
         let id = w.add_rod(i, j, length).map_err(py_err)?;
         Ok(handle_of(slf, &guard, id))
@@ -236,17 +246,82 @@ impl World {
         Ok(ForceHandle::new(slf, g.family, id, PYTHON))
     }
 
-    /// Removes what `handle` names (a force: what `add_gravity`, `add_spring`, `add_drag`,
-    /// `add_central_gravity`, `add_nbody_gravity`, `add_rod` and `add_force` return); the
-    /// World then steps bitwise as one that never had it. The other handles stay valid.
+    /// Removes what `handle` names: a force (what `add_gravity`, `add_spring`, `add_drag`,
+    /// `add_central_gravity`, `add_nbody_gravity`, `add_rod` and `add_force` return), a
+    /// particle or ball (`add_particle`, `add_ball`; `add_particles` and `add_balls` return
+    /// `ParticleHandles`, removed all at once), or a constraint (`add_distance_constraint`,
+    /// `add_pin`, `add_rope`, `add_distance_limit`, `add_plane`), a rigid body (`add_body`:
+    /// with the body springs and forces at its points), a body spring (`add_body_spring`) or
+    /// a force at a body point (`add_body_force`). The World then steps
+    /// bitwise as one that never had it. A particle takes with it the springs, rods, body
+    /// springs and constraints with an end on it (their handles are no longer alive); the
+    /// particles after it move up a row, in their order. The other handles stay valid.
+    ///
     /// Also a solid, joint, solid spring or force on a solid (their handles; a solid takes
     /// its joints, springs and forces with it: docs/contact.md).
     fn remove(&self, handle: &Bound<'_, PyAny>) -> PyResult<()> {
         if crate::solid_handles::remove_solid_like(self, handle)? {
             return Ok(());
         }
+        if let Ok(h) = handle.cast::<ParticleHandle>() {
+            let mut g = self.lock()?;
+            g.grow()?;
+            let row = h.get().row_in(&g, "particle")?;
+            let id = g.engine.particle_id(row).ok_or_else(|| PyValueError::new_err("invalid particle"))?;
+            g.engine.remove_particle(id).map_err(py_err)?;
+            return Ok(());
+        }
+        if let Ok(h) = handle.cast::<ParticleHandles>() {
+            let mut g = self.lock()?;
+            g.grow()?;
+            // Every one checked before any goes: the World unchanged on an error.
+            let rows = h.get().rows_in(&g)?;
+            let ids: Vec<_> = rows.iter().filter_map(|&r| g.engine.particle_id(r)).collect();
+            for id in ids {
+                g.engine.remove_particle(id).map_err(py_err)?;
+            }
+            return Ok(());
+        }
+        if let Ok(h) = handle.cast::<crate::entity_handle::BodyHandle>() {
+            let mut g = self.lock()?;
+            g.grow()?;
+            let b = h.get().row_in(&g, "body")?;
+            let id = g.engine.body_id(b).ok_or_else(|| PyValueError::new_err("invalid body"))?;
+            let (gone, _) = g.engine.remove_body(id).map_err(py_err)?;
+            // The Python forces at its points went with it; the others' bodies move up.
+            for k in gone.into_iter().rev() {
+                g.body_forces.remove(k);
+            }
+            for f in &mut g.body_forces {
+                if f.0 > b {
+                    f.0 -= 1;
+                }
+            }
+            return Ok(());
+        }
+        if let Ok(h) = handle.cast::<crate::entity_handle::BodySpringHandle>() {
+            let mut g = self.lock()?;
+            let id = h.get().id_in(&g)?;
+            return g.flush()?.remove_body_spring(id).map_err(py_err);
+        }
+        if let Ok(h) = handle.cast::<crate::entity_handle::BodyForceHandle>() {
+            let mut g = self.lock()?;
+            let id = h.get().id_in(&g)?;
+            let k = g.flush()?.remove_body_force(id).map_err(py_err)?;
+            g.body_forces.remove(k);
+            return Ok(());
+        }
+        if let Ok(h) = handle.cast::<ConstraintHandle>() {
+            let mut g = self.lock()?;
+            let id = h.get().id_in(&g)?;
+            return g.flush()?.remove_constraint(id).map_err(py_err);
+        }
         let h = handle.cast::<ForceHandle>().map_err(|_| {
-            crate::convert::invalid("handle", handle, "a ForceHandle (what an add_* of a force returns)")
+            crate::convert::invalid(
+                "handle",
+                handle,
+                "a ForceHandle, ParticleHandle, ParticleHandles, ConstraintHandle, BodyHandle, BodySpringHandle, BodyForceHandle, SolidHandle, JointHandle, SolidSpringHandle or SolidForceHandle (what an add_* returns)",
+            )
         })?;
         let mut g = self.lock()?;
         let id = h.get().id_in(g.family)?;

@@ -1,20 +1,23 @@
 //! `World`'s position constraints: adding them, the sweep count and the violation.
 
-use crate::convert::{array, float, index, whole};
+use crate::convert::{array, float, whole};
+use crate::entity_handle::{particle, ConstraintHandle};
 use crate::handle::World;
 use crate::py_err;
 use crate::world_build::endpoint;
 use pyo3::prelude::*;
 
 /// After constraint `k` was added: the World unlocked, then a `ConstraintWarning` for each
-/// conflict it makes (the constraint stays). Returns `k`.
-fn added(g: crate::handle::Guard<'_>, k: usize) -> PyResult<usize> {
+/// conflict it makes (the constraint stays). Returns its handle.
+fn added(slf: &Bound<'_, World>, g: crate::handle::Guard<'_>, k: usize) -> PyResult<ConstraintHandle> {
     let conflicts = g.engine.constraint_conflicts_of(k);
+    let id = g.engine.constraint_id(k).map_or(u64::MAX, |id| id.0);
+    let family = g.family;
     drop(g);
     if !conflicts.is_empty() {
         Python::attach(|py| crate::errors::warn_conflicts(py, conflicts))?;
     }
-    Ok(k)
+    Ok(ConstraintHandle { world: slf.clone().unbind(), family, id })
 }
 
 #[pymethods]
@@ -23,81 +26,93 @@ impl World {
     /// (or a fixed point: `j` may be an anchor of dim numbers); `length` defaults to the
     /// current distance. `compliance` (m/N, default 0) 0 is rigid (SHAKE/RATTLE under
     /// velocity-verlet and leapfrog, projection otherwise); above 0 the link is soft (XPBD).
-    /// Returns the constraint's index.
+    /// Returns its handle (a `ConstraintHandle`).
     #[pyo3(signature = (i, j, length=None, compliance=None))]
     fn add_distance_constraint(
-        &self,
+        slf: &Bound<'_, Self>,
         i: &Bound<'_, PyAny>,
         j: &Bound<'_, PyAny>,
         length: Option<&Bound<'_, PyAny>>,
         compliance: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let i = index(i, "i")?;
-        let j = endpoint(j, "j", w.dim())?;
+    ) -> PyResult<ConstraintHandle> {
+        let mut g = slf.get().lock()?;
+        g.flush()?;
+        let i = particle(i, "i", &g)?;
+        let j = endpoint(j, "j", &g)?;
+        let w = &mut g.engine;
         let length = length.filter(|l| !l.is_none()).map(|l| float(l, "length")).transpose()?;
         let compliance = compliance.map_or(Ok(0.0), |c| float(c, "compliance"))?;
         let k = w.add_distance_constraint(i, j, length, compliance).map_err(py_err)?;
-        added(g, k)
+        added(slf, g, k)
     }
 
     /// Holds particle `i` at `point` (dim numbers, m); other constraints see it as fixed.
-    /// Returns the constraint's index.
-    fn add_pin(&self, i: &Bound<'_, PyAny>, point: &Bound<'_, PyAny>) -> PyResult<usize> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let i = index(i, "i")?;
+    /// Returns its handle (a `ConstraintHandle`).
+    fn add_pin(
+        slf: &Bound<'_, Self>,
+        i: &Bound<'_, PyAny>,
+        point: &Bound<'_, PyAny>,
+    ) -> PyResult<ConstraintHandle> {
+        let mut g = slf.get().lock()?;
+        g.flush()?;
+        let i = particle(i, "i", &g)?;
+        let w = &mut g.engine;
         let point = array(point, "point", Some(w.dim()), None)?;
         let k = w.add_pin(i, &point).map_err(py_err)?;
-        added(g, k)
+        added(slf, g, k)
     }
 
     /// A rope of `max_length` (m) from particle `i` to particle (or anchor point) `j`: the
-    /// distance may shrink, not grow past it. Returns the constraint's index.
+    /// distance may shrink, not grow past it. Returns its handle (a `ConstraintHandle`).
     fn add_rope(
-        &self,
+        slf: &Bound<'_, Self>,
         i: &Bound<'_, PyAny>,
         j: &Bound<'_, PyAny>,
         max_length: &Bound<'_, PyAny>,
-    ) -> PyResult<usize> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let i = index(i, "i")?;
-        let j = endpoint(j, "j", w.dim())?;
+    ) -> PyResult<ConstraintHandle> {
+        let mut g = slf.get().lock()?;
+        g.flush()?;
+        let i = particle(i, "i", &g)?;
+        let j = endpoint(j, "j", &g)?;
+        let w = &mut g.engine;
         let max_length = float(max_length, "max_length")?;
         let k = w.add_rope(i, j, max_length).map_err(py_err)?;
-        added(g, k)
+        added(slf, g, k)
     }
 
-    /// A joint limit: min_length <= |x_i - x_j| <= max_length (m). Returns its index.
+    /// A joint limit: min_length <= |x_i - x_j| <= max_length (m). Returns its handle.
     fn add_distance_limit(
-        &self,
+        slf: &Bound<'_, Self>,
         i: &Bound<'_, PyAny>,
         j: &Bound<'_, PyAny>,
         min_length: &Bound<'_, PyAny>,
         max_length: &Bound<'_, PyAny>,
-    ) -> PyResult<usize> {
-        let mut g = self.lock()?;
-        let w = g.flush()?;
-        let i = index(i, "i")?;
-        let j = endpoint(j, "j", w.dim())?;
+    ) -> PyResult<ConstraintHandle> {
+        let mut g = slf.get().lock()?;
+        g.flush()?;
+        let i = particle(i, "i", &g)?;
+        let j = endpoint(j, "j", &g)?;
+        let w = &mut g.engine;
         let (lo, hi) = (float(min_length, "min_length")?, float(max_length, "max_length")?);
         let k = w.add_distance_limit(i, j, lo, hi).map_err(py_err)?;
-        added(g, k)
+        added(slf, g, k)
     }
 
     /// Keeps every particle in the half-space normal . x >= offset (m): a ground (normal
     /// (0, 1), offset 0 is y >= 0) or one wall of a box. `normal` (dim numbers, nonzero)
-    /// points into the allowed side and is made unit. Returns the constraint's index.
+    /// points into the allowed side and is made unit. Returns its handle (a `ConstraintHandle`).
     #[pyo3(signature = (normal, offset=None))]
-    fn add_plane(&self, normal: &Bound<'_, PyAny>, offset: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
-        let mut g = self.lock()?;
+    fn add_plane(
+        slf: &Bound<'_, Self>,
+        normal: &Bound<'_, PyAny>,
+        offset: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<ConstraintHandle> {
+        let mut g = slf.get().lock()?;
         let w = g.flush()?;
         let normal = array(normal, "normal", Some(w.dim()), None)?;
         let offset = offset.map_or(Ok(0.0), |o| float(o, "offset"))?;
         let k = w.add_plane(&normal, offset).map_err(py_err)?;
-        added(g, k)
+        added(slf, g, k)
     }
 
     /// Relaxation sweeps per step (default 16), at most: the sweeps stop once every

@@ -210,6 +210,16 @@ impl ForceSet {
         Ok(())
     }
 
+    /// Every force mapped by `f` (particle ends renumbered after a removal, keeping every
+    /// comparison of the keys, so the order stays canonical), the derived forces gathered
+    /// again.
+    pub(crate) fn renumber(&mut self, f: impl Fn(Force) -> Force) {
+        for force in &mut self.forces {
+            *force = f(*force);
+        }
+        self.rebuild();
+    }
+
     /// The kinds and per-particle forces gathered again over the whole set, in canonical
     /// order (what adding the forces one by one gives: the same sums, in the same order).
     fn rebuild(&mut self) {

@@ -147,6 +147,7 @@ impl World {
         self.state.y.extend_from_slice(&vb);
         self.state.f.resize(self.state.y.len(), 0.0);
         self.body_params.push(p.clone());
+        self.ids.bodies.push(1);
         self.touch();
         Ok(self.bodies.len() - 1)
     }
@@ -466,6 +467,7 @@ impl World {
         }
         spring.rest_length = rest;
         self.bodies.springs.push(spring);
+        self.ids.body_springs.push(1);
         self.touch();
         Ok(())
     }
@@ -506,6 +508,7 @@ impl World {
         let arm = self.bodies.arm(body, point);
         let generator = crate::forces::UserForce(generator);
         self.bodies.forces.push(crate::rigid::body::BodyForce { body, point: arm, generator });
+        self.ids.body_forces.push(1);
         self.touch();
         Ok(self.bodies.forces.len() - 1)
     }

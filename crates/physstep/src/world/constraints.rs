@@ -20,6 +20,7 @@ impl World {
         self.refuse_flow("a constraint")?;
         let c = constraint.checked(self.len(), self.dim())?;
         self.constraints.list.push(c);
+        self.ids.constraints.push(1);
         Ok(self.constraints.list.len() - 1)
     }
 

@@ -18,11 +18,13 @@ mod balls;
 mod bodies;
 mod constraints;
 mod flat;
+mod ids;
 mod interpolate;
 mod kernel;
 mod model;
 mod particles;
 mod parts;
+mod removal;
 mod rollback;
 mod rules;
 mod small;
@@ -34,8 +36,10 @@ mod tiles;
 
 pub use crate::simd::set_vector_paths;
 pub use bodies::BodyParams;
+pub use ids::{BodyForceId, BodyId, BodySpringId, ConstraintId, ParticleId};
 pub(crate) use kernel::Row;
 pub use model::Model;
+pub use removal::Removed;
 pub use rules::ParticleBatch;
 pub use solids::Contacts;
 
@@ -128,6 +132,9 @@ pub struct World {
     /// Solids (rigid bodies with shapes that touch), their contacts and the contact solver
     /// (the Contact stage).
     solids: solids::SolidSet,
+    /// The stable ids of the particles, bodies and constraints, parallel to their rows
+    /// (`ids.rs`).
+    ids: ids::EntityIds,
 }
 
 /// What the derivative `state.f` holds against the state `state.y`: the one cache of a
@@ -186,6 +193,7 @@ impl World {
             constraints: crate::constraints::Constraints::default(),
             balls: crate::collide::Balls::default(),
             solids: solids::SolidSet::for_dim(params.dim),
+            ids: ids::EntityIds::default(),
         })
     }
 

@@ -64,6 +64,7 @@ impl World {
         let at = self.nx() + n_old;
         self.state.y.splice(at..at, vel);
         self.state.f.resize(self.state.y.len(), 0.0);
+        self.ids.particles.push(k);
         self.touch();
         Ok(first)
     }

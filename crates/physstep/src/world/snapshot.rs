@@ -5,7 +5,8 @@
 //! epoch (time, steps, dt), the memory length, `[x; v]`, the integrator's memory, the
 //! previous positions and the static mask (1 for a static particle); in a world with balls
 //! their block ([`World::balls_block`]: restitution, walls, contact statistics, radii); with
-//! constraints, their fingerprint (a u64); and last an FNV-1a checksum of everything before
+//! constraints, their fingerprint (a u64); once an entity was removed, its ids' fingerprint
+//! (a u64, `ids.rs`); and last an FNV-1a checksum of everything before
 //! it. [`World::restore`] checks all of it before it changes
 //! anything.
 
@@ -75,6 +76,10 @@ impl World {
         if !self.constraints.is_empty() {
             out.extend_from_slice(&self.constraints.fingerprint().to_le_bytes());
         }
+        // A world that removed an entity ends with its ids' fingerprint: a restore checks it.
+        if let Some(print) = self.ids.fingerprint() {
+            out.extend_from_slice(&print.to_le_bytes());
+        }
         let sum = fnv1a(FNV_START, &out);
         out.extend_from_slice(&sum.to_le_bytes());
         out
@@ -100,6 +105,7 @@ impl World {
         if fnv1a(fnv1a(FNV_START, MAGIC), body) != sum {
             return Err(corrupt("checksum mismatch: the bytes were damaged or edited"));
         }
+        let body = self.ids_checked(body)?;
         let body = self.constraints_checked(body)?;
         let (body, solids) = self.solids_split(body)?;
         let word = |i: usize| -> Result<u64> {
@@ -231,6 +237,22 @@ impl World {
         Ok((&body[..start], Some(block)))
     }
 
+    /// `body` without its trailing ids' fingerprint, which must be this world's, when this
+    /// world removed an entity (its ids are no longer `0..n`).
+    fn ids_checked<'a>(&self, body: &'a [u8]) -> Result<&'a [u8]> {
+        let Some(ours) = self.ids.fingerprint() else {
+            return Ok(body);
+        };
+        let split = body.len().checked_sub(8).ok_or_else(|| corrupt("truncated"))?;
+        let (rest, tail) = body.split_at(split);
+        if u64::from_le_bytes(tail.try_into().map_err(|_| corrupt("truncated"))?) != ours {
+            return Err(corrupt(
+                "the snapshot was taken with other particles, bodies or constraints than this world's (one was removed or added since): a snapshot restores only into a world with the same entities",
+            ));
+        }
+        Ok(rest)
+    }
+
     /// `body` without its trailing constraint fingerprint, which must be this world's, when
     /// the world has constraints.
     fn constraints_checked<'a>(&self, body: &'a [u8]) -> Result<&'a [u8]> {
@@ -269,6 +291,10 @@ impl World {
         // leave the hash as it was before they existed).
         if !self.constraints.is_empty() {
             h = fnv1a(h, &self.constraints.fingerprint().to_le_bytes());
+        }
+        // The entities' ids once one was removed (never: the hash as before ids existed).
+        if let Some(print) = self.ids.fingerprint() {
+            h = fnv1a(h, &print.to_le_bytes());
         }
         h
     }

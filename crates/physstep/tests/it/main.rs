@@ -25,6 +25,7 @@ mod kernels;
 mod parts;
 mod refused_inputs;
 mod registry;
+mod removal;
 mod restore_and_rollback;
 mod scene_files;
 mod scene_fuzz;

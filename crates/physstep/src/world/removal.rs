@@ -1,0 +1,271 @@
+//! Removing particles, bodies and constraints from a [`World`] by id ([`super::ids`]).
+//!
+//! A removal deletes the entity's rows keeping the order of the rest (so the arrays hold the
+//! add order with the removed rows taken out), removes what hangs on it, as Box2D's
+//! `b2DestroyBody` destroys the joints on a body (for a particle: the springs and rods with
+//! an end on it, the body springs to it, the constraints that name it), and remaps the
+//! particle indices stored in what stays (spring and rod ends, constraint ends, the balls'
+//! radii). Like a write of the positions, it restarts a method that carries memory and the
+//! derivative is evaluated again before the next step, so the world then steps bitwise as one
+//! built without the entity from the start.
+
+use super::ids::{unknown, BodyForceId, BodyId, BodySpringId, ConstraintId, ParticleId};
+use super::World;
+use crate::dynamics::SecondOrder;
+use crate::error::Result;
+use crate::forces::{Endpoint, ForceId};
+
+/// What a particle removal took with it.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Removed {
+    /// The forces (springs and rods) that had an end on the particle.
+    pub forces: Vec<ForceId>,
+    /// The constraints that named it.
+    pub constraints: Vec<ConstraintId>,
+    /// The body springs that ended on it.
+    pub body_springs: Vec<BodySpringId>,
+}
+
+/// `p` with the row `gone` taken out of the numbering.
+fn shifted(p: usize, gone: usize) -> usize {
+    if p > gone {
+        p - 1
+    } else {
+        p
+    }
+}
+
+/// An end with the row `gone` taken out of the numbering.
+fn shifted_end(j: Endpoint, gone: usize) -> Endpoint {
+    match j {
+        Endpoint::Particle(p) => Endpoint::Particle(shifted(p, gone)),
+        anchor @ Endpoint::Anchor(_) => anchor,
+    }
+}
+
+impl World {
+    /// Removes particle `id` (a ball with its radius), and with it the springs and rods with
+    /// an end on it, the body springs to it and the constraints that name it (their ids are
+    /// never given again). The particles after it move up one row, keeping their order and
+    /// their ids; indices stored elsewhere (spring, rod and constraint ends) follow. A method
+    /// that carries memory restarts, as after [`World::set_positions`]; the world then steps
+    /// bitwise as one built without the particle (and what hung on it) from the start.
+    /// User forces ([`World::add_force_generator`]) stay, and see one particle fewer.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `particle` when the world
+    /// holds no particle of that id (removed already, or never added here); the world is
+    /// unchanged.
+    pub fn remove_particle(&mut self, id: ParticleId) -> Result<Removed> {
+        let row = self.ids.particles.row(id.0).ok_or_else(|| unknown("particle", id.0))?;
+        let d = self.dim();
+        let (coords, nx) = (self.model.len(), self.nx());
+        // y = [x, bodies' X; v, bodies' V]: the velocity first (it sits after the position).
+        self.state.y.drain(nx + row * d..nx + (row + 1) * d);
+        self.state.y.drain(row * d..(row + 1) * d);
+        self.state.f.truncate(self.state.y.len());
+        if self.prev_x.len() == coords {
+            self.prev_x.drain(row * d..(row + 1) * d);
+        } else {
+            self.prev_x.clear();
+        }
+        self.model.mass.remove(row);
+        self.model.inv_mass.remove(row);
+        let forces = self.model.forces.remove_particle(row);
+        let mut body_springs = Vec::new();
+        let mut k = 0;
+        while k < self.bodies.springs.len() {
+            if self.bodies.springs[k].other == Endpoint::Particle(row) {
+                self.bodies.springs.remove(k);
+                body_springs.push(BodySpringId(self.ids.body_springs.id(k).unwrap_or_default()));
+                self.ids.body_springs.remove(k);
+            } else {
+                k += 1;
+            }
+        }
+        for s in &mut self.bodies.springs {
+            s.other = shifted_end(s.other, row);
+        }
+        let constraints = self.constraints_without(row);
+        if row < self.balls.radius.len() {
+            self.balls.radius.remove(row);
+        }
+        self.balls.index.retain(|&p| p != row);
+        for p in &mut self.balls.index {
+            *p = shifted(*p, row);
+        }
+        self.ids.particles.remove(row);
+        self.touch();
+        Ok(Removed { forces, constraints, body_springs })
+    }
+
+    /// Drops the constraints that name particle `row` and renumbers the rest; returns the
+    /// ids of the dropped ones.
+    fn constraints_without(&mut self, row: usize) -> Vec<ConstraintId> {
+        use crate::constraints::Constraint;
+        let mut dropped = Vec::new();
+        let mut k = 0;
+        while k < self.constraints.list.len() {
+            if self.constraints.list[k].particles().contains(&Some(row)) {
+                self.constraints.list.remove(k);
+                dropped.push(ConstraintId(self.ids.constraints.id(k).unwrap_or_default()));
+                self.ids.constraints.remove(k);
+            } else {
+                k += 1;
+            }
+        }
+        for c in &mut self.constraints.list {
+            *c = match *c {
+                Constraint::Distance { i, j, length, compliance } => {
+                    Constraint::Distance { i: shifted(i, row), j: shifted_end(j, row), length, compliance }
+                }
+                Constraint::Limit { i, j, min, max } => {
+                    Constraint::Limit { i: shifted(i, row), j: shifted_end(j, row), min, max }
+                }
+                Constraint::Pin { i, point } => Constraint::Pin { i: shifted(i, row), point },
+                plane @ Constraint::Plane { .. } => plane,
+            };
+        }
+        dropped
+    }
+
+    /// Removes body `id`, and with it the body springs and user forces at its points (the
+    /// others keep their order and ids). The bodies after it move up one row, keeping their
+    /// order and ids. A method that carries memory restarts; the world then steps bitwise as
+    /// one built without the body from that state. Returns the rows the body forces that
+    /// went with it had (before the removal, ascending: a face that keeps something per body
+    /// force drops the same ones) and the ids of the body springs that went.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body` when the world holds
+    /// no body of that id; the world is unchanged.
+    pub fn remove_body(&mut self, id: BodyId) -> Result<(Vec<usize>, Vec<BodySpringId>)> {
+        use crate::rigid::body::{V_LEN, X_LEN};
+        let b = self.ids.bodies.row(id.0).ok_or_else(|| unknown("body", id.0))?;
+        let (coords, nx, nb) = (self.model.len(), self.nx(), self.bodies.len());
+        let v_at = nx + coords + b * V_LEN;
+        self.state.y.drain(v_at..v_at + V_LEN);
+        let x_at = coords + b * X_LEN;
+        self.state.y.drain(x_at..x_at + X_LEN);
+        self.state.f.truncate(self.state.y.len());
+        let bodies = &mut self.bodies;
+        bodies.mass.remove(b);
+        bodies.inertia.remove(b);
+        bodies.inv_inertia.remove(b);
+        bodies.frame.remove(b);
+        bodies.offset.remove(b);
+        bodies.pinned.remove(b);
+        bodies.angular_drag.remove(b);
+        bodies.reference.remove(b);
+        bodies.force.remove(b);
+        bodies.torque.remove(b);
+        let mut springs = Vec::new();
+        for k in (0..bodies.springs.len()).rev() {
+            if bodies.springs[k].body == b {
+                bodies.springs.remove(k);
+                springs.push(BodySpringId(self.ids.body_springs.id(k).unwrap_or_default()));
+                self.ids.body_springs.remove(k);
+            }
+        }
+        springs.reverse();
+        bodies.springs.iter_mut().for_each(|s| s.body = shifted(s.body, b));
+        let forces: Vec<usize> = (0..bodies.forces.len()).filter(|&k| bodies.forces[k].body == b).collect();
+        for &k in forces.iter().rev() {
+            bodies.forces.remove(k);
+            self.ids.body_forces.remove(k);
+        }
+        bodies.forces.iter_mut().for_each(|f| f.body = shifted(f.body, b));
+        self.body_params.remove(b);
+        if self.prev_q.len() == nb {
+            self.prev_q.remove(b);
+        } else {
+            self.prev_q.clear();
+        }
+        self.ids.bodies.remove(b);
+        self.touch();
+        Ok((forces, springs))
+    }
+
+    /// Removes body spring `id`; the others keep their order and ids. The world then steps
+    /// bitwise as one that never had it (a method that carries memory restarts).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body_spring` when the
+    /// world holds no body spring of that id; the world is unchanged.
+    pub fn remove_body_spring(&mut self, id: BodySpringId) -> Result<()> {
+        let k = self.ids.body_springs.row(id.0).ok_or_else(|| unknown("body_spring", id.0))?;
+        self.bodies.springs.remove(k);
+        self.ids.body_springs.remove(k);
+        self.touch();
+        Ok(())
+    }
+
+    /// Removes the user force at a body point of id `id`; returns the place it had among the
+    /// body forces (a face keeping something per body force drops it there). The world
+    /// then steps bitwise as one that never had it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body_force` when the world
+    /// holds no body force of that id; the world is unchanged.
+    pub fn remove_body_force(&mut self, id: BodyForceId) -> Result<usize> {
+        let k = self.ids.body_forces.row(id.0).ok_or_else(|| unknown("body_force", id.0))?;
+        self.bodies.forces.remove(k);
+        self.ids.body_forces.remove(k);
+        self.touch();
+        Ok(k)
+    }
+
+    /// Body spring `id` as the world holds it (its point from the body's reference point in
+    /// the principal frame), `None` when there is none.
+    #[must_use]
+    pub fn body_spring(&self, id: BodySpringId) -> Option<crate::rigid::body::BodySpring> {
+        self.body_spring_row(id).map(|k| self.bodies.springs[k])
+    }
+
+    /// Removes constraint `id`; the others keep their order (the sweep order) and ids. The
+    /// next step relaxes without it.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `constraint` when the
+    /// world holds no constraint of that id; the world is unchanged.
+    pub fn remove_constraint(&mut self, id: ConstraintId) -> Result<()> {
+        let k = self.ids.constraints.row(id.0).ok_or_else(|| unknown("constraint", id.0))?;
+        self.constraints.list.remove(k);
+        self.ids.constraints.remove(k);
+        // A method whose memory a relaxation resynced restarts, as after adding one.
+        self.touch();
+        Ok(())
+    }
+
+    /// The constraint of id `id` as the world holds it, `None` when there is none.
+    #[must_use]
+    pub fn constraint(&self, id: ConstraintId) -> Option<crate::constraints::Constraint> {
+        self.constraint_row(id).map(|k| self.constraints.list[k])
+    }
+}
+
+/// A particle removal in the force set.
+impl crate::forces::ForceSet {
+    /// Removes the forces with an end on particle `row` and renumbers the other ends; returns
+    /// the ids removed. The order stays canonical (the renumbering keeps every comparison of
+    /// the keys), so the set steps as one built without that particle.
+    pub(crate) fn remove_particle(&mut self, row: usize) -> Vec<ForceId> {
+        use crate::forces::Force;
+        let touches = |f: &Force| match *f {
+            Force::Spring { i, j, .. } | Force::Rod { i, j, .. } => i == row || j == Endpoint::Particle(row),
+            _ => false,
+        };
+        let gone: Vec<ForceId> = self.iter_ids().filter(|(_, f)| touches(f)).map(|(id, _)| id).collect();
+        for id in &gone {
+            self.remove(*id);
+        }
+        self.renumber(|f| match f {
+            Force::Spring { i, j, stiffness, rest_length, damping } => {
+                Force::Spring { i: shifted(i, row), j: shifted_end(j, row), stiffness, rest_length, damping }
+            }
+            Force::Rod { i, j, length } => Force::Rod { i: shifted(i, row), j: shifted_end(j, row), length },
+            other => other,
+        });
+        gone
+    }
+}
