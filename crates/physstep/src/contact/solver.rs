@@ -532,14 +532,18 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     // Continuous collision: fast solids put back to where they first met a static or
     // kinematic solid (toi.rs).
     let touching = &st.touching;
-    st.sweeps.advance(
-        &mut solids.bodies,
-        &solids.shapes,
-        &solids.no_collide,
-        set.speculative_distance,
-        gravity * dt,
-        |a, b| touching.binary_search_by(|p| (p.a, p.b).cmp(&(a, b))).is_ok(),
-    );
+    if set.continuous {
+        st.sweeps.advance(
+            &mut solids.bodies,
+            &solids.shapes,
+            &solids.no_collide,
+            set.speculative_distance,
+            dt,
+            gravity,
+            |i| joints.iter().any(|j| j.joins(i)),
+            |a, b| touching.binary_search_by(|p| (p.a, p.b).cmp(&(a, b))).is_ok(),
+        );
+    }
     let rolled = &st.sweeps.rolled;
     for &i in rolled {
         st.motion[i as usize].dp = st.sweeps.moved(i as usize, solids.bodies[i as usize].c);

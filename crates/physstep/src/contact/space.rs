@@ -202,8 +202,6 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     /// thickness a fast motion must not cross (a box's smallest half extent, a ball's radius),
     /// and the radius of the ball about `com` that holds it.
     fn extents(shape: &Self::Shape, com: Self::V) -> (f64, f64);
-    /// The angle (rad) the rotation from `q0` to `q1` turns through.
-    fn angle_between(q0: Self::Rot, q1: Self::Rot) -> f64;
     /// The orientation a fraction `t` of the way from `q0` to `q1` as a sweep takes it (the
     /// normalised linear interpolation, Box2D's and parry's).
     fn sweep_rotation(q0: Self::Rot, q1: Self::Rot, t: f64) -> Self::Rot;
@@ -282,7 +280,8 @@ macro_rules! sweep_toi {
                         .fold(f64::INFINITY, f64::min);
                     deepest - n.dot(xp.translation) - target
                 };
-                if !(gap(0.0) > 0.0) {
+                let start = gap(0.0);
+                if start.is_nan() || start <= 0.0 {
                     return 0.0;
                 }
                 if gap(max) > 0.0 {
@@ -592,9 +591,6 @@ impl Space for Plane {
         let ball = shape.compute_local_bounding_sphere();
         (shape.ccd_thickness(), (ball.center - com).length() + ball.radius)
     }
-    fn angle_between(q0: f64, q1: f64) -> f64 {
-        (q1 - q0).abs()
-    }
     fn sweep_rotation(q0: f64, q1: f64, t: f64) -> f64 {
         // The unit complex numbers of the two angles, interpolated and normalised; the angle
         // counted from `q0` (unwrapped).
@@ -803,10 +799,6 @@ impl Space for Space3 {
     fn extents(shape: &Self::Shape, com: DVec3) -> (f64, f64) {
         let ball = shape.compute_local_bounding_sphere();
         (shape.ccd_thickness(), (ball.center - com).length() + ball.radius)
-    }
-    fn angle_between(q0: DQuat, q1: DQuat) -> f64 {
-        let r = q1 * q0.conjugate();
-        2.0 * r.xyz().length().atan2(r.w.abs())
     }
     fn sweep_rotation(q0: DQuat, q1: DQuat, t: f64) -> DQuat {
         let q0 = if q0.dot(q1) < 0.0 { -q0 } else { q0 };

@@ -50,6 +50,7 @@ fn depth3(body: Body, p: DVec3, q: DQuat) -> f64 {
 /// ground's top over 10 s, and its height and speed at the end.
 fn throw2(ground: Ground, body: Body, speed: f64) -> (f64, f64, f64) {
     let mut s = Solids::<Plane>::new();
+    s.settings.continuous = true;
     let mut g = match ground {
         Ground::Slab => SolidParams::new(Shape::Box { half: vec![50.0, 1.0] }, &[0.0, -1.0]),
         Ground::Half => SolidParams::new(Shape::Plane { normal: vec![0.0, 1.0] }, &[0.0, 0.0]),
@@ -79,6 +80,7 @@ fn throw2(ground: Ground, body: Body, speed: f64) -> (f64, f64, f64) {
 
 fn throw3(ground: Ground, body: Body, speed: f64) -> (f64, f64, f64) {
     let mut s = Solids::<Space3>::new();
+    s.settings.continuous = true;
     let mut g = match ground {
         Ground::Slab => SolidParams::new(Shape::Box { half: vec![50.0, 1.0, 50.0] }, &[0.0, -1.0, 0.0]),
         Ground::Half => SolidParams::new(Shape::Plane { normal: vec![0.0, 1.0, 0.0] }, &[0.0, 0.0, 0.0]),
@@ -144,6 +146,7 @@ fn a_solid_thrown_at_the_ground_stops_on_it_at_any_speed_in_space() {
 /// near face is at x = 1: the largest x its centre reached over 1 s.
 fn shoot2(speed: f64) -> f64 {
     let mut s = Solids::<Plane>::new();
+    s.settings.continuous = true;
     let mut wall = SolidParams::new(Shape::Box { half: vec![0.01, 1.0] }, &[1.01, 0.0]);
     wall.kind = Kind::Static;
     s.add(wall).unwrap();
@@ -160,6 +163,7 @@ fn shoot2(speed: f64) -> f64 {
 
 fn shoot3(speed: f64) -> f64 {
     let mut s = Solids::<Space3>::new();
+    s.settings.continuous = true;
     let mut wall = SolidParams::new(Shape::Box { half: vec![0.01, 1.0, 1.0] }, &[1.01, 0.0, 0.0]);
     wall.kind = Kind::Static;
     s.add(wall).unwrap();
@@ -195,6 +199,7 @@ fn a_fast_solid_passing_near_a_static_box_keeps_its_line_and_speed_to_the_bit() 
     // sweep meets nothing, and the motion is exactly a free flight's.
     let build = |block_at: f64| {
         let mut s = Solids::<Plane>::new();
+        s.settings.continuous = true;
         let mut block = SolidParams::new(Shape::Box { half: vec![0.5, 0.5] }, &[0.0, block_at]);
         block.kind = Kind::Static;
         s.add(block).unwrap();
