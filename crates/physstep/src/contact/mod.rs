@@ -23,6 +23,7 @@ mod settings;
 mod shape;
 pub mod solver;
 pub mod space;
+mod toi;
 
 pub use forces::SolidSpring;
 pub use ids::{JointId, SolidForceId, SolidId, SolidSpringId};
@@ -31,7 +32,7 @@ pub use params::{Kind, SolidParams};
 pub use remove::SolidMotion;
 pub use settings::{Info, Settings, SOLVERS};
 pub use shape::Shape;
-pub use space::{Plane, Space, Space3, Touch, Vect};
+pub use space::{Plane, Space, Space3, Swept, Touch, Vect};
 
 use crate::error::{num, Error, Result};
 
@@ -58,6 +59,11 @@ pub(crate) struct Body<S: Space> {
     pub com: S::V,
     /// Dynamic, static or kinematic.
     pub kind: Kind,
+    /// The shape's smallest extent (a box's smallest half extent, a ball's radius) and the
+    /// radius about the centre of mass that holds it ([`Space::extents`]): what continuous
+    /// collision measures a motion by.
+    pub min_extent: f64,
+    pub max_extent: f64,
 }
 
 impl<S: Space> Body<S> {
@@ -234,6 +240,7 @@ impl<S: Space> Solids<S> {
         }
         let q = S::read_rot(&p.orientation);
         let origin = S::V::read(&p.position);
+        let (min_extent, max_extent) = S::extents(&shape, com);
         let body = Body::<S> {
             c: origin + S::rotate(q, com),
             q,
@@ -244,6 +251,8 @@ impl<S: Space> Solids<S> {
             i_local: if dynamic { S::inertia(inv_i) } else { S::no_inertia() },
             com,
             kind: p.kind,
+            min_extent,
+            max_extent,
         };
         self.bodies.push(body);
         self.shapes.push(shape);

@@ -19,10 +19,13 @@
 //! restitution the normal speed set to -e times the fastest it closed at before the contact
 //!             acted (where that was faster than `restitution_threshold`)
 //! project     optionally (`joint_projection`), jointed solids moved back together
+//! continuous  a dynamic solid that moved farther than the speculative distance swept from
+//!             its start pose against the static and kinematic solids, and put back to its
+//!             time of impact (toi.rs)
 //! ```
 //!
 //! A point that is apart is speculative: it lets the bodies close the gap in one step and no
-//! more, so nothing tunnels at game speeds.
+//! more; what moves farther than the speculative distance in a step is continuous collision's.
 
 use super::space::{Space, Touch, Vect};
 use super::{broad, joint, ContactReport, Kind, Solids};
@@ -178,6 +181,8 @@ pub(crate) struct State<S: Space> {
     pairs: Vec<(u32, u32)>,
     touches: Vec<Touch<S::V>>,
     motion: Vec<Motion<S>>,
+    /// Continuous collision's poses of the step's start (toi.rs).
+    sweeps: super::toi::Sweeps<S>,
 }
 
 impl<S: Space> Default for State<S> {
@@ -195,6 +200,7 @@ impl<S: Space> Default for State<S> {
             pairs: Vec::new(),
             touches: Vec::new(),
             motion: Vec::new(),
+            sweeps: super::toi::Sweeps::default(),
         }
     }
 }
@@ -471,6 +477,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     let joints = &mut solids.joints;
 
     let st = &mut solids.solver;
+    st.sweeps.record(&solids.bodies);
     st.motion.clear();
     for b in &solids.bodies {
         st.motion.push(Motion {
@@ -551,15 +558,36 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         b.w = m.w;
     }
     solids.bodies = bodies;
+    // Continuous collision: fast solids put back to where they first met a static or
+    // kinematic solid (toi.rs).
+    let touching = &st.touching;
+    if set.continuous {
+        st.sweeps.advance(
+            &mut solids.bodies,
+            &solids.shapes,
+            &solids.no_collide,
+            set.speculative_distance,
+            dt,
+            gravity,
+            |i| joints.iter().any(|j| j.joins(i)),
+            |a, b| touching.binary_search_by(|p| (p.a, p.b).cmp(&(a, b))).is_ok(),
+        );
+    }
+    let rolled = &st.sweeps.rolled;
+    for &i in rolled {
+        st.motion[i as usize].dp = st.sweeps.moved(i as usize, solids.bodies[i as usize].c);
+    }
     st.warm.clear();
     for pair in &st.touching {
         let range = pair.start as usize..pair.end as usize;
         for (p, c) in st.points[range.clone()].iter().zip(&mut st.contacts[range]) {
             let t = p.tangent_impulse;
             let sliding = S::friction_size(t) >= 0.999 * pair.friction * p.normal_impulse;
-            if sliding || p.normal_impulse == 0.0 {
-                // Sliding (or not pressed): static friction lets go, and takes hold again
-                // where the point is now.
+            let put_back = !rolled.is_empty()
+                && (rolled.binary_search(&c.a).is_ok() || rolled.binary_search(&c.b).is_ok());
+            if sliding || p.normal_impulse == 0.0 || put_back {
+                // Sliding (or not pressed, or put back by continuous collision): static
+                // friction lets go, and takes hold again where the point is now.
                 let (ba, bb) = (&solids.bodies[c.a as usize], &solids.bodies[c.b as usize]);
                 let at = c.at + (st.motion[c.a as usize].dp + st.motion[c.b as usize].dp) * 0.5;
                 (c.anchor_a, c.anchor_b) = (S::unrotate(ba.q, at - ba.c), S::unrotate(bb.q, at - bb.c));

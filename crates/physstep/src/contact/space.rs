@@ -198,6 +198,27 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     fn mass_properties(shape: &Self::Shape, density: f64) -> (f64, Self::V, Self::InvI);
     /// The axis-aligned box around the shape placed at `(p, q)`, widened by `margin`.
     fn aabb(shape: &Self::Shape, p: Self::V, q: Self::Rot, margin: f64) -> ([f64; 3], [f64; 3]);
+    /// A shape's smallest and largest extents about `com` (a point in its frame): the
+    /// thickness a fast motion must not cross (a box's smallest half extent, a ball's radius),
+    /// and the radius of the ball about `com` that holds it.
+    fn extents(shape: &Self::Shape, com: Self::V) -> (f64, f64);
+    /// The orientation a fraction `t` of the way from `q0` to `q1` as a sweep takes it (the
+    /// normalised linear interpolation, Box2D's and parry's).
+    fn sweep_rotation(q0: Self::Rot, q1: Self::Rot, t: f64) -> Self::Rot;
+    /// Continuous collision: the earliest fraction of the step in (0, `max`) at which `fast`,
+    /// moving from its start pose to its end pose, comes within `slop` of `other` (parry's
+    /// time of impact of endpoint-interpolated sweeps, Box2D's conservative advancement);
+    /// `None` when it does not. Where the two overlap at the start, or where `core_only` says
+    /// they were in contact then, only the solid's core (a ball of a quarter of its smallest
+    /// extent about its centre of mass) is swept: it hits only a solid it would pass through.
+    fn time_of_impact(
+        fast: &Swept<'_, Self>,
+        min_extent: f64,
+        other: &Swept<'_, Self>,
+        core_only: bool,
+        slop: f64,
+        max: f64,
+    ) -> Option<f64>;
     /// The contact points of two shapes placed at their poses that are closer than
     /// `prediction`, appended to `out`.
     fn touches(
@@ -206,6 +227,155 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
         prediction: f64,
         out: &mut Vec<Touch<Self::V>>,
     );
+}
+
+/// A solid's motion over a step as continuous collision sweeps it: its shape, its centre of
+/// mass in the shape's frame, and the shape's poses (origin, orientation) at the step's start
+/// and end.
+#[derive(Clone, Copy)]
+pub struct Swept<'a, S: Space> {
+    /// The shape.
+    pub shape: &'a S::Shape,
+    /// The centre of mass in the shape's frame.
+    pub com: S::V,
+    /// Origin and orientation when the step began.
+    pub start: (S::V, S::Rot),
+    /// Origin and orientation now.
+    pub end: (S::V, S::Rot),
+}
+
+/// The fraction of a solid's smallest extent its core (the ball swept where it already
+/// touches) has for radius: Box2D's `B2_CORE_FRACTION`.
+const CORE_FRACTION: f64 = 0.25;
+
+/// The time of impact of a fast solid's sweep against another's (one text for both of parry's
+/// crates). Half-spaces have no proxy in parry's sweeps: against one, the fraction is the first
+/// at which the proxy's deepest point comes within the target, found by bisection (a half-space
+/// cannot be passed through, so where the end is clear of it nothing was crossed).
+macro_rules! sweep_toi {
+    ($parry:ident, $pose:expr, $fast:expr, $min_extent:expr, $other:expr, $core_only:expr, $slop:expr, $max:expr) => {{
+        use $parry::query::{
+            contact, sweep_time_of_impact, sweep_time_of_impact_composite, Sweep, SweepCompositeFastShape,
+            ToiProxy,
+        };
+        let (fast, other, slop, max) = ($fast, $other, $slop, $max);
+        let pose = $pose;
+        let fast_sweep = Sweep::from_poses(&pose(fast.start), &pose(fast.end), fast.com);
+        let other_sweep = Sweep::from_poses(&pose(other.start), &pose(other.end), other.com);
+        let core = ToiProxy::point(fast.com, CORE_FRACTION * $min_extent);
+        let whole = if $core_only { None } else { ToiProxy::from_shape(fast.shape.as_ref()) };
+        let hit = |f: f64| (f > 0.0 && f < max).then_some(f);
+        let swept = if let Some(plane) = other.shape.as_halfspace() {
+            let normal = plane.normal;
+            let fraction = |proxy: &ToiProxy| {
+                // The surfaces `slop` apart (for a ball, its centre `radius + slop` away).
+                let target = proxy.radius + slop;
+                let gap = |t: f64| {
+                    let (xf, xp) = (fast_sweep.transform_at(t), other_sweep.transform_at(t));
+                    let n = xp.transform_vector(normal);
+                    let deepest = proxy
+                        .points()
+                        .iter()
+                        .map(|p| n.dot(xf.transform_point(*p)))
+                        .fold(f64::INFINITY, f64::min);
+                    deepest - n.dot(xp.translation) - target
+                };
+                let start = gap(0.0);
+                if start.is_nan() || start <= 0.0 {
+                    return 0.0;
+                }
+                if gap(max) > 0.0 {
+                    return max;
+                }
+                let (mut lo, mut hi) = (0.0, max);
+                for _ in 0..50 {
+                    let mid = 0.5 * (lo + hi);
+                    if gap(mid) > 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                lo
+            };
+            let f = whole.as_ref().map_or(0.0, |w| fraction(w));
+            hit(if f == 0.0 { fraction(&core) } else { f })
+        } else if let Some(proxy) = ToiProxy::from_shape(other.shape.as_ref()) {
+            let cast =
+                |p: &ToiProxy| sweep_time_of_impact(&proxy, &other_sweep, p, &fast_sweep, max, slop).fraction;
+            // parry stops rounded shapes `slop` deep (its target is the sum of the radii less
+            // the slop): a solid's rounding grown by twice the slop stops them `slop` apart,
+            // as it does shapes with corners.
+            let grown = whole
+                .as_ref()
+                .filter(|w| w.radius + proxy.radius > 0.0)
+                .map(|w| ToiProxy::from_points(w.points(), w.radius + 2.0 * slop));
+            let f = grown.as_ref().or(whole.as_ref()).map_or(0.0, |w| cast(w));
+            hit(if f == 0.0 { cast(&core) } else { f })
+        } else if other.start == other.end {
+            // A mesh (static: parry sweeps against a composite that does not move), with its own
+            // fallback to a ball where the solid starts in contact.
+            let grown = whole
+                .as_ref()
+                .filter(|w| w.radius > 0.0)
+                .map(|w| ToiProxy::from_points(w.points(), w.radius + 2.0 * slop));
+            let proxy = grown.as_ref().or(whole.as_ref()).unwrap_or(&core);
+            let shape = SweepCompositeFastShape {
+                proxy,
+                sweep: &fast_sweep,
+                local_centroid: fast.com,
+                min_extent: $min_extent,
+            };
+            sweep_time_of_impact_composite(
+                other.shape.as_ref(),
+                &pose(other.start),
+                shape,
+                false,
+                false,
+                max,
+                slop,
+            )
+            .and_then(|o| hit(o.fraction))
+        } else {
+            None
+        };
+        // A pair in contact when the step began: the solver held the points it found, but a
+        // part of the solid that was farther than the speculative distance (the far corner of
+        // a box tumbling onto the ground) may have turned deep into the other. Where the end of
+        // the sweep is more than `slop` deep and its start was not, the solid is put back to
+        // where it was half `slop` deep (found by bisection on parry's penetration depth).
+        let turned = if $core_only {
+            let depth = |t: f64| {
+                let (a, b) = (fast_sweep.transform_at(t), other_sweep.transform_at(t));
+                // The other first: parry 0.31's contact of a shape with a half-space second
+                // takes the half-space's pose the wrong way round.
+                contact(&b, other.shape.as_ref(), &a, fast.shape.as_ref(), 0.0)
+                    .ok()
+                    .flatten()
+                    .map_or(0.0, |c| -c.dist)
+            };
+            if depth(max) > slop && depth(0.0) < 0.5 * slop {
+                let (mut lo, mut hi) = (0.0, max);
+                for _ in 0..30 {
+                    let mid = 0.5 * (lo + hi);
+                    if depth(mid) > 0.5 * slop {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                hit(lo)
+            } else {
+                None
+            }
+        } else {
+            None
+        };
+        match (swept, turned) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }};
 }
 
 /// The plane: an angle, a scalar inertia.
@@ -417,6 +587,38 @@ impl Space for Plane {
         ([b.mins.x - margin, b.mins.y - margin, 0.0], [b.maxs.x + margin, b.maxs.y + margin, 0.0])
     }
 
+    fn extents(shape: &Self::Shape, com: DVec2) -> (f64, f64) {
+        let ball = shape.compute_local_bounding_sphere();
+        (shape.ccd_thickness(), (ball.center - com).length() + ball.radius)
+    }
+    fn sweep_rotation(q0: f64, q1: f64, t: f64) -> f64 {
+        // The unit complex numbers of the two angles, interpolated and normalised; the angle
+        // counted from `q0` (unwrapped).
+        let ((s0, c0), (s1, c1)) = (q0.sin_cos(), q1.sin_cos());
+        let (c, s) = (c0 + (c1 - c0) * t, s0 + (s1 - s0) * t);
+        q0 + (c0 * s - s0 * c).atan2(c0 * c + s0 * s)
+    }
+    fn time_of_impact(
+        fast: &Swept<'_, Self>,
+        min_extent: f64,
+        other: &Swept<'_, Self>,
+        core_only: bool,
+        slop: f64,
+        max: f64,
+    ) -> Option<f64> {
+        use parry2d_f64::math::Pose;
+        sweep_toi!(
+            parry2d_f64,
+            |(p, q): (DVec2, f64)| Pose::new(p, q),
+            fast,
+            min_extent,
+            other,
+            core_only,
+            slop,
+            max
+        )
+    }
+
     fn touches(
         a: (&Self::Shape, DVec2, f64),
         b: (&Self::Shape, DVec2, f64),
@@ -591,6 +793,35 @@ impl Space for Space3 {
         (
             [b.mins.x - margin, b.mins.y - margin, b.mins.z - margin],
             [b.maxs.x + margin, b.maxs.y + margin, b.maxs.z + margin],
+        )
+    }
+
+    fn extents(shape: &Self::Shape, com: DVec3) -> (f64, f64) {
+        let ball = shape.compute_local_bounding_sphere();
+        (shape.ccd_thickness(), (ball.center - com).length() + ball.radius)
+    }
+    fn sweep_rotation(q0: DQuat, q1: DQuat, t: f64) -> DQuat {
+        let q0 = if q0.dot(q1) < 0.0 { -q0 } else { q0 };
+        (q0 * (1.0 - t) + q1 * t).normalize()
+    }
+    fn time_of_impact(
+        fast: &Swept<'_, Self>,
+        min_extent: f64,
+        other: &Swept<'_, Self>,
+        core_only: bool,
+        slop: f64,
+        max: f64,
+    ) -> Option<f64> {
+        use parry3d_f64::math::Pose;
+        sweep_toi!(
+            parry3d_f64,
+            |(p, q): (DVec3, DQuat)| Pose::from_parts(p, q),
+            fast,
+            min_extent,
+            other,
+            core_only,
+            slop,
+            max
         )
     }
 

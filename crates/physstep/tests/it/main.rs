@@ -3,6 +3,7 @@
 //! where a binary a file linked them about thirty times.
 
 mod bodies;
+mod ccd;
 mod collisions;
 mod common;
 mod constraints;

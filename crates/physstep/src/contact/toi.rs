@@ -1,0 +1,173 @@
+//! Continuous collision of fast solids against static and kinematic ones (Box2D v3's, after
+//! its `b2SolveContinuous`).
+//!
+//! Off by default (`Settings::continuous`): an elastic ball on a plane loses 0.13% of its
+//! bounce height a bounce with it, and jammed circles put back against a wall overlap their
+//! neighbours (docs/contact.md).
+//!
+//! A contact is found only between solids closer than the speculative distance when a step
+//! begins, so a solid that moves farther than that in a step can start it clear of the ground
+//! and end it deep inside (or past a thin wall). After the substeps, each dynamic solid not held
+//! by a joint that would move farther than the speculative distance in a step at the
+//! velocities it ends this one with (its speed plus its spin times its largest extent) is
+//! swept from its pose at the step's start to its pose
+//! now against the static and kinematic solids whose boxes its swept box meets, in index
+//! order, by parry's time of impact ([`Space::time_of_impact`]). If it meets one, it is put
+//! where the sweep first comes within the slop of it (1% of its smallest extent), with its
+//! velocity less gravity's share of the rest of the step (so a falling solid does not gain
+//! the height it is put back by); the next step's contact stops it. A pair that was in
+//! contact when the step began was the solver's: only the solid's core is swept against it
+//! (it hits only what the solid would pass through), and where the solid ended the step more
+//! than the slop deep in it (a box's far corner turned into the ground) it is put back to
+//! where it was half the slop deep. Solids that moved less than the speculative distance cost
+//! one comparison.
+
+use super::space::{Space, Swept, Vect};
+use super::{Body, Kind};
+
+/// Where a solid was when the step began.
+#[derive(Debug, Clone, Copy)]
+struct Start<S: Space> {
+    c: S::V,
+    q: S::Rot,
+}
+
+/// Continuous collision's memory of a step: the solids' poses when it began, and scratch.
+#[derive(Debug, Clone)]
+pub(crate) struct Sweeps<S: Space> {
+    start: Vec<Start<S>>,
+    /// The static and kinematic solids, by index.
+    fixed: Vec<u32>,
+    /// The solids this step put back, by index, in order.
+    pub(crate) rolled: Vec<u32>,
+}
+
+impl<S: Space> Default for Sweeps<S> {
+    fn default() -> Self {
+        Self { start: Vec::new(), fixed: Vec::new(), rolled: Vec::new() }
+    }
+}
+
+/// The axis-aligned box of `shape` at `(origin, q)` widened by `margin`.
+fn aabb<S: Space>(shape: &S::Shape, origin: S::V, q: S::Rot, margin: f64) -> ([f64; 3], [f64; 3]) {
+    S::aabb(shape, origin, q, margin)
+}
+
+fn union(a: ([f64; 3], [f64; 3]), b: ([f64; 3], [f64; 3])) -> ([f64; 3], [f64; 3]) {
+    let mut out = a;
+    for k in 0..3 {
+        out.0[k] = a.0[k].min(b.0[k]);
+        out.1[k] = a.1[k].max(b.1[k]);
+    }
+    out
+}
+
+fn overlap(a: &([f64; 3], [f64; 3]), b: &([f64; 3], [f64; 3])) -> bool {
+    (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k])
+}
+
+impl<S: Space> Sweeps<S> {
+    /// Keeps the solids' poses as the step begins.
+    pub(crate) fn record(&mut self, bodies: &[Body<S>]) {
+        self.start.clear();
+        self.start.extend(bodies.iter().map(|b| Start { c: b.c, q: b.q }));
+        self.rolled.clear();
+    }
+
+    /// After the substeps: each fast dynamic solid swept against the static and kinematic
+    /// solids and put back to its time of impact. `in_contact(a, b)` says whether the pair
+    /// `a < b` was in contact when the step began; `spec` is the speculative distance and
+    /// `no_collide` the pairs that do not collide (sorted).
+    #[allow(clippy::too_many_arguments)] // the solver's parts it reads, each borrowed apart
+    pub(crate) fn advance(
+        &mut self,
+        bodies: &mut [Body<S>],
+        shapes: &[S::Shape],
+        no_collide: &[(u32, u32)],
+        spec: f64,
+        dt: f64,
+        gravity: S::V,
+        jointed: impl Fn(usize) -> bool,
+        in_contact: impl Fn(u32, u32) -> bool,
+    ) {
+        self.rolled.clear();
+        self.fixed.clear();
+        let mut fixed_ready = false;
+        for i in 0..bodies.len() {
+            let b = &bodies[i];
+            if b.kind != Kind::Dynamic {
+                continue;
+            }
+            // How far its farthest point goes in a step at the velocities it ends the step
+            // with (Box2D's measure: a soft contact's push, which the relax pass takes back,
+            // does not make a solid fast).
+            let speed = b.v.dot(b.v).sqrt() + b.w.dot(b.w).sqrt() * b.max_extent;
+            let motion = speed * dt;
+            // Slow (or not finite: the runaway check names it), or held by a joint (putting
+            // one end back would pull the joint apart): nothing to do.
+            if !(motion > spec && motion < crate::limits::PARAM_MAX) || jointed(i) {
+                continue;
+            }
+            let s = self.start[i];
+            let d = b.c - s.c;
+            if !fixed_ready {
+                self.fixed.extend(
+                    bodies.iter().enumerate().filter(|(_, o)| o.kind != Kind::Dynamic).map(|(j, _)| j as u32),
+                );
+                fixed_ready = true;
+            }
+            let origin = |c: S::V, q: S::Rot, com: S::V| c - S::rotate(q, com);
+            let fast = Swept::<S> {
+                shape: &shapes[i],
+                com: b.com,
+                start: (origin(s.c, s.q, b.com), s.q),
+                end: (origin(b.c, b.q, b.com), b.q),
+            };
+            let margin = 0.5 * spec;
+            let swept = union(
+                aabb::<S>(fast.shape, fast.start.0, fast.start.1, margin),
+                aabb::<S>(fast.shape, fast.end.0, fast.end.1, margin),
+            );
+            let slop = 0.01 * b.min_extent;
+            let mut best = 1.0;
+            for &j in &self.fixed {
+                let (o, so) = (&bodies[j as usize], self.start[j as usize]);
+                let pair = ((i as u32).min(j), (i as u32).max(j));
+                if !no_collide.is_empty() && no_collide.binary_search(&pair).is_ok() {
+                    continue;
+                }
+                let other = Swept::<S> {
+                    shape: &shapes[j as usize],
+                    com: o.com,
+                    start: (origin(so.c, so.q, o.com), so.q),
+                    end: (origin(o.c, o.q, o.com), o.q),
+                };
+                let mut its = aabb::<S>(other.shape, other.start.0, other.start.1, margin);
+                if o.kind == Kind::Kinematic {
+                    its = union(its, aabb::<S>(other.shape, other.end.0, other.end.1, margin));
+                }
+                if !overlap(&swept, &its) {
+                    continue;
+                }
+                let core_only = in_contact(pair.0, pair.1);
+                if let Some(t) = S::time_of_impact(&fast, b.min_extent, &other, core_only, slop, best) {
+                    best = t;
+                }
+            }
+            if best < 1.0 {
+                let b = &mut bodies[i];
+                b.c = s.c + d * best;
+                b.q = S::sweep_rotation(s.q, b.q, best);
+                // The velocity it had then: gravity's share of the rest of the step taken off
+                // (what a contact did to it in the step is kept).
+                b.v -= gravity * (dt * (1.0 - best));
+                self.rolled.push(i as u32);
+            }
+        }
+    }
+
+    /// How far solid `i` moved since the step began.
+    pub(crate) fn moved(&self, i: usize, c: S::V) -> S::V {
+        c - self.start[i].c
+    }
+}
