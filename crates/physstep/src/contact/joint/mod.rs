@@ -210,13 +210,6 @@ impl<S: Space> Impulses<S> {
     }
 }
 
-impl<S: Space> Joint<S> {
-    /// Whether solid `i` is one of the joint's ends.
-    pub(crate) fn joins(&self, i: usize) -> bool {
-        self.b == i || self.a == Some(i)
-    }
-}
-
 /// A joint as the solver keeps it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Joint<S: Space> {
