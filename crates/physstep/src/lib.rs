@@ -47,6 +47,7 @@ pub mod dynamics;
 pub mod error;
 pub mod flows;
 pub mod forces;
+pub(crate) mod ids;
 pub mod integrators;
 pub mod interrupt;
 pub mod limits;

@@ -276,18 +276,18 @@ impl<S: Space> Forces<S> {
             }
         }
         let springs: Vec<bool> = self.springs.iter().map(|s| s.a == k || s.b == Some(k)).collect();
-        super::ids::retain_by(&mut self.springs, &springs);
-        super::ids::retain_by(&mut self.spring_params, &springs);
+        crate::ids::retain_by(&mut self.springs, &springs);
+        crate::ids::retain_by(&mut self.spring_params, &springs);
         for (s, p) in self.springs.iter_mut().zip(&mut self.spring_params) {
-            s.a = super::ids::shift(s.a, k);
-            s.b = s.b.map(|b| super::ids::shift(b, k));
+            s.a = crate::ids::shift(s.a, k);
+            s.b = s.b.map(|b| crate::ids::shift(b, k));
             p.a = s.a;
             p.b = s.b;
         }
         let users: Vec<bool> = self.users.iter().map(|u| u.solid == k).collect();
-        super::ids::retain_by(&mut self.users, &users);
+        crate::ids::retain_by(&mut self.users, &users);
         for u in &mut self.users {
-            u.solid = super::ids::shift(u.solid, k);
+            u.solid = crate::ids::shift(u.solid, k);
         }
         (springs, users)
     }

@@ -106,7 +106,7 @@ pub struct Solids<S: Space> {
     /// Drag, springs and loads ([`forces`]).
     pub(crate) forces: forces::Forces<S>,
     /// The ids of the solids, joints, springs and user forces, beside their rows ([`ids`]).
-    pub(crate) ids: [ids::Ids; 4],
+    pub(crate) ids: [crate::ids::Ids; 4],
 }
 
 /// Which of [`Solids::ids`].
@@ -258,7 +258,7 @@ impl<S: Space> Solids<S> {
         self.shapes.push(shape);
         self.forces.push_solid(p.linear_damping, p.angular_damping);
         self.params.push(p);
-        self.ids[SOLID].push();
+        self.ids[SOLID].push(1);
         Ok(self.bodies.len() - 1)
     }
 
@@ -277,7 +277,7 @@ impl<S: Space> Solids<S> {
         }
         self.joints.push(j);
         self.joint_params.push(p);
-        self.ids[JOINT].push();
+        self.ids[JOINT].push(1);
         Ok(self.joints.len() - 1)
     }
 
@@ -310,7 +310,7 @@ impl<S: Space> Solids<S> {
     /// `rest_length` negative or not finite) and the value; the solids are unchanged.
     pub fn add_spring(&mut self, p: SolidSpring) -> Result<usize> {
         let k = self.forces.add_spring(p, &self.bodies)?;
-        self.ids[SPRING].push();
+        self.ids[SPRING].push(1);
         Ok(k)
     }
 
@@ -400,7 +400,7 @@ impl<S: Space> Solids<S> {
         generator: std::sync::Arc<dyn crate::forces::ForceGenerator>,
     ) -> Result<usize> {
         let k = self.forces.add_user(solid, point, generator, &self.bodies)?;
-        self.ids[FORCE].push();
+        self.ids[FORCE].push(1);
         Ok(k)
     }
 

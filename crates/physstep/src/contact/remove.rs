@@ -6,10 +6,10 @@
 //! and springs' ends, the pairs joints keep apart, the warm starts and latest contacts, the
 //! broad phase's order) are renumbered; the warm starts of the pairs without it are kept.
 
-use super::ids::{retain_by, shift, Ids};
 use super::{JointId, SolidForceId, SolidId, SolidSpringId, Solids, Space, Vect};
 use super::{FORCE, JOINT, SOLID, SPRING};
 use crate::error::{num, Error, Result};
+use crate::ids::{retain_by, shift, Ids};
 
 /// What a solid's motion is set to by hand ([`Solids::set_motion`]); `None` keeps a part.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -46,31 +46,31 @@ impl<S: Space> Solids<S> {
     /// The solids' ids, in their rows' order.
     #[must_use]
     pub fn solid_ids(&self) -> Vec<SolidId> {
-        self.ids[SOLID].ids.iter().map(|i| SolidId(*i)).collect()
+        self.ids[SOLID].all().iter().map(|i| SolidId(*i)).collect()
     }
 
     /// The joints' ids, in their rows' order.
     #[must_use]
     pub fn joint_ids(&self) -> Vec<JointId> {
-        self.ids[JOINT].ids.iter().map(|i| JointId(*i)).collect()
+        self.ids[JOINT].all().iter().map(|i| JointId(*i)).collect()
     }
 
     /// The solid springs' ids, in their rows' order.
     #[must_use]
     pub fn spring_ids(&self) -> Vec<SolidSpringId> {
-        self.ids[SPRING].ids.iter().map(|i| SolidSpringId(*i)).collect()
+        self.ids[SPRING].all().iter().map(|i| SolidSpringId(*i)).collect()
     }
 
     /// The user forces' ids, in their rows' order.
     #[must_use]
     pub fn force_ids(&self) -> Vec<SolidForceId> {
-        self.ids[FORCE].ids.iter().map(|i| SolidForceId(*i)).collect()
+        self.ids[FORCE].all().iter().map(|i| SolidForceId(*i)).collect()
     }
 
     /// The counters: the id the next solid, joint, spring and user force gets.
     #[must_use]
     pub fn next_ids(&self) -> [u64; 4] {
-        [0, 1, 2, 3].map(|k| self.ids[k].next)
+        [0, 1, 2, 3].map(|k| self.ids[k].next())
     }
 
     /// The row of solid `id` now, `None` once removed.
@@ -111,9 +111,14 @@ impl<S: Space> Solids<S> {
     /// ids are then unchanged.
     pub fn set_ids(&mut self, ids: [&[u64]; 4], next: [u64; 4]) -> Result<()> {
         let mut new = self.ids.clone();
-        for (k, field) in ["solid_ids", "joint_ids", "spring_ids", "solid_force_ids"].into_iter().enumerate()
-        {
-            new[k].set(field, ids[k], next[k])?;
+        let kinds = [
+            ("solid_ids", "solid"),
+            ("joint_ids", "joint"),
+            ("spring_ids", "solid spring"),
+            ("solid_force_ids", "force on a solid"),
+        ];
+        for (k, (field, per)) in kinds.into_iter().enumerate() {
+            new[k].set(field, per, ids[k], next[k])?;
         }
         self.ids = new;
         Ok(())
@@ -121,7 +126,7 @@ impl<S: Space> Solids<S> {
 
     /// Whether every kind's ids are its rows' indices (nothing was ever removed).
     pub(crate) fn ids_implicit(&self) -> bool {
-        self.ids.iter().all(Ids::implicit)
+        self.ids.iter().all(Ids::dense)
     }
 
     /// The ids of every kind with their counters, flat (a snapshot's tail, when not
@@ -143,7 +148,7 @@ impl<S: Space> Solids<S> {
         self.bodies.remove(k);
         self.shapes.remove(k);
         self.params.remove(k);
-        self.ids[SOLID].ids.remove(k);
+        self.ids[SOLID].remove(k);
         let joints: Vec<bool> = self.joints.iter().map(|j| j.joins(k)).collect();
         retain_by(&mut self.joints, &joints);
         retain_by(&mut self.joint_params, &joints);
@@ -179,7 +184,7 @@ impl<S: Space> Solids<S> {
         let k = self.joint_row(id).ok_or_else(|| no_such("joint", "joint", id.0))?;
         self.joints.remove(k);
         self.joint_params.remove(k);
-        self.ids[JOINT].ids.remove(k);
+        self.ids[JOINT].remove(k);
         self.rebuild_no_collide();
         Ok(())
     }
@@ -192,7 +197,7 @@ impl<S: Space> Solids<S> {
         let k = self.spring_row(id).ok_or_else(|| no_such("spring", "solid spring", id.0))?;
         self.forces.springs.remove(k);
         self.forces.spring_params.remove(k);
-        self.ids[SPRING].ids.remove(k);
+        self.ids[SPRING].remove(k);
         Ok(())
     }
 
@@ -204,7 +209,7 @@ impl<S: Space> Solids<S> {
     pub fn remove_force(&mut self, id: SolidForceId) -> Result<usize> {
         let k = self.force_row(id).ok_or_else(|| no_such("force", "force on a solid", id.0))?;
         self.forces.users.remove(k);
-        self.ids[FORCE].ids.remove(k);
+        self.ids[FORCE].remove(k);
         Ok(k)
     }
 

@@ -14,20 +14,7 @@
 
 use super::World;
 use crate::error::{Error, Result};
-
-macro_rules! id_type {
-    ($(#[$doc:meta])* $name:ident) => {
-        $(#[$doc])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-        pub struct $name(pub u64);
-
-        impl std::fmt::Display for $name {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                write!(f, "{}", self.0)
-            }
-        }
-    };
-}
+use crate::ids::{id_type, Ids};
 
 id_type!(
     /// A particle's id in its world (balls are particles): given when it is added, never
@@ -55,76 +42,6 @@ id_type!(
     /// [`World::body_force_row`] finds its place among the body forces.
     BodyForceId
 );
-
-/// The ids of one kind of entity, parallel to its rows, increasing, and the counter.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub(crate) struct Ids {
-    ids: Vec<u64>,
-    next: u64,
-}
-
-impl Ids {
-    /// Gives `k` new rows ids; returns the first.
-    pub(crate) fn push(&mut self, k: usize) -> u64 {
-        let first = self.next;
-        self.ids.extend(first..first + k as u64);
-        self.next += k as u64;
-        first
-    }
-
-    /// The row of `id`, if it is one of these.
-    pub(crate) fn row(&self, id: u64) -> Option<usize> {
-        self.ids.binary_search(&id).ok()
-    }
-
-    /// The id of `row`.
-    pub(crate) fn id(&self, row: usize) -> Option<u64> {
-        self.ids.get(row).copied()
-    }
-
-    /// Deletes `row`, keeping the order of the others.
-    pub(crate) fn remove(&mut self, row: usize) {
-        self.ids.remove(row);
-    }
-
-    /// Whether the ids are `0..len` (nothing was ever removed).
-    pub(crate) fn dense(&self) -> bool {
-        self.next == self.ids.len() as u64
-    }
-
-    pub(crate) fn all(&self) -> &[u64] {
-        &self.ids
-    }
-
-    pub(crate) fn next(&self) -> u64 {
-        self.next
-    }
-
-    /// Sets ids and counter, checked: one per row, increasing, below `next`.
-    fn set(&mut self, what: &str, ids: &[u64], next: u64) -> Result<()> {
-        if ids.len() != self.ids.len() {
-            return Err(Error::invalid(
-                format!("len({what}_ids)"),
-                ids.len(),
-                format!("{}, one per {what}", self.ids.len()),
-            ));
-        }
-        if let Some(w) = ids.windows(2).find(|w| w[0] >= w[1]) {
-            return Err(Error::invalid(format!("{what}_ids"), w[1], "ids in increasing order"));
-        }
-        if let Some(last) = ids.last().filter(|l| **l >= next) {
-            return Err(Error::invalid(format!("{what}_ids"), last, format!("ids below next = {next}")));
-        }
-        self.ids = ids.to_vec();
-        self.next = next;
-        Ok(())
-    }
-
-    /// FNV-1a words: the ids then the counter.
-    fn words(&self) -> impl Iterator<Item = u64> + '_ {
-        self.ids.iter().copied().chain([self.next])
-    }
-}
 
 /// The ids of a world's entities, by kind.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -287,8 +204,8 @@ impl World {
         let mut ids = self.ids.clone();
         let s: Vec<u64> = springs.iter().map(|i| i.0).collect();
         let f: Vec<u64> = forces.iter().map(|i| i.0).collect();
-        ids.body_springs.set("body_spring", &s, next[0])?;
-        ids.body_forces.set("body_force", &f, next[1])?;
+        ids.body_springs.set("body_spring_ids", "body spring", &s, next[0])?;
+        ids.body_forces.set("body_force_ids", "body force", &f, next[1])?;
         self.ids = ids;
         Ok(())
     }
@@ -314,9 +231,9 @@ impl World {
         let p: Vec<u64> = particles.iter().map(|i| i.0).collect();
         let b: Vec<u64> = bodies.iter().map(|i| i.0).collect();
         let c: Vec<u64> = constraints.iter().map(|i| i.0).collect();
-        ids.particles.set("particle", &p, next[0])?;
-        ids.bodies.set("body", &b, next[1])?;
-        ids.constraints.set("constraint", &c, next[2])?;
+        ids.particles.set("particle_ids", "particle", &p, next[0])?;
+        ids.bodies.set("body_ids", "body", &b, next[1])?;
+        ids.constraints.set("constraint_ids", "constraint", &c, next[2])?;
         self.ids = ids;
         Ok(())
     }

@@ -425,8 +425,8 @@ impl<S: Space> Joint<S> {
 
     /// Its ends renumbered after solid `k` (not one of them) was removed.
     pub(crate) fn shift(&mut self, k: usize) {
-        self.a = self.a.map(|a| super::ids::shift(a, k));
-        self.b = super::ids::shift(self.b, k);
+        self.a = self.a.map(|a| crate::ids::shift(a, k));
+        self.b = crate::ids::shift(self.b, k);
     }
 
     /// Sets the motor (speed, largest force or torque), checked as [`Joint::new`] checks them.
