@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 import operator
 import pickle
+from typing import Any
 
 import numpy as np
 import physstep
@@ -308,3 +309,33 @@ def test_bodies_by_handle_and_their_removal() -> None:
     with pytest.raises(ValueError) as e:
         a.remove(up)
     assert _one_line(e).startswith("invalid body_force = 1: must be the id of a body force of this world")
+
+
+def test_a_body_springs_parameters_read_and_write_through_its_handle() -> None:
+    def world(stiffness: float, rest: float, damping: float) -> tuple[physstep.World, Any]:
+        w = physstep.World(3, method="symplectic-euler", dt=0.01)
+        b = w.add_body(physstep.Box(0.5, 0.3, 0.2), mass=2.0, position=[0.0, 0.0, 0.0])
+        end = [2.0, 1.0, 0.0]
+        s = w.add_body_spring(b, [0.5, 0.0, 0.0], end, stiffness, rest_length=rest, damping=damping)
+        return w, s
+
+    changed, s = world(20.0, 0.5, 0.1)
+    assert (s.stiffness, s.rest_length, s.damping) == (20.0, 0.5, 0.1)
+    s.stiffness, s.rest_length, s.damping = 80.0, 1.5, 0.7
+    assert (s.stiffness, s.rest_length, s.damping) == (80.0, 1.5, 0.7)
+    built, _ = world(80.0, 1.5, 0.7)
+    changed.step(50)
+    built.step(50)
+    # A change is a new spring in the old one's place: bitwise the world built with it.
+    assert changed.state_hash() == built.state_hash()
+    old, _ = world(20.0, 0.5, 0.1)
+    old.step(50)
+    assert old.state_hash() != changed.state_hash()
+    for field, bad in [("stiffness", -1.0), ("rest_length", float("nan")), ("damping", float("inf"))]:
+        before = changed.state_hash()
+        with pytest.raises(ValueError, match=rf"^invalid {field} = .*: must be a number in \[0, 1e12\]$"):
+            setattr(s, field, bad)
+        assert changed.state_hash() == before
+    changed.remove(s)
+    with pytest.raises(ValueError, match="BodySpringHandle.*removed"):
+        _ = s.stiffness

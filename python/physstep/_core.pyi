@@ -509,9 +509,26 @@ class BodyHandle:
 @final
 class BodySpringHandle:
     """A handle to one body spring, what ``add_body_spring`` returns: ``id``, ``alive``;
+    ``stiffness``, ``rest_length`` and ``damping`` read and written (checked as
+    ``add_body_spring`` checks them; the next step sees a change);
     ``operator.index(h)`` is its place among the body springs. ``World.remove(h)`` removes
     it; it also goes with its body or the particle it ends on."""
 
+    @property
+    def stiffness(self) -> float:
+        """Stiffness, N/m (a number in [0, 1e12]); ValueError once removed."""
+    @stiffness.setter
+    def stiffness(self, value: float) -> None: ...
+    @property
+    def rest_length(self) -> float:
+        """Rest length, m (a number in [0, 1e12])."""
+    @rest_length.setter
+    def rest_length(self, value: float) -> None: ...
+    @property
+    def damping(self) -> float:
+        """Damping along the spring, N s/m (a number in [0, 1e12])."""
+    @damping.setter
+    def damping(self, value: float) -> None: ...
     @property
     def id(self) -> int:
         """The spring's id in its World: never given to another body spring of it."""

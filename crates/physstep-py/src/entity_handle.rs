@@ -587,3 +587,56 @@ link_handle!(
     body_force_row,
     BodyForceId
 );
+
+/// A body spring's parameters through its handle, read and written as `add_body_spring`
+/// takes them (a write is checked the same way; the next step sees it).
+#[pymethods]
+impl BodySpringHandle {
+    /// Stiffness, N/m.
+    #[getter]
+    fn stiffness(&self) -> PyResult<f64> {
+        Ok(self.spring()?.stiffness)
+    }
+
+    #[setter]
+    fn set_stiffness(&self, value: f64) -> PyResult<()> {
+        self.set(Some(value), None, None)
+    }
+
+    /// Rest length, m.
+    #[getter]
+    fn rest_length(&self) -> PyResult<f64> {
+        Ok(self.spring()?.rest_length)
+    }
+
+    #[setter]
+    fn set_rest_length(&self, value: f64) -> PyResult<()> {
+        self.set(None, Some(value), None)
+    }
+
+    /// Damping along the spring, N s/m.
+    #[getter]
+    fn damping(&self) -> PyResult<f64> {
+        Ok(self.spring()?.damping)
+    }
+
+    #[setter]
+    fn set_damping(&self, value: f64) -> PyResult<()> {
+        self.set(None, None, Some(value))
+    }
+}
+
+impl BodySpringHandle {
+    /// The spring as the World holds it, or the one-line error of a removed or foreign one.
+    fn spring(&self) -> PyResult<physstep::rigid::body::BodySpring> {
+        let g = self.world.get().lock()?;
+        let id = self.id_in(&g)?;
+        g.engine.body_spring(id).ok_or_else(|| removed("body_spring", &self.text()))
+    }
+
+    fn set(&self, stiffness: Option<f64>, rest: Option<f64>, damping: Option<f64>) -> PyResult<()> {
+        let mut g = self.world.get().lock()?;
+        let id = self.id_in(&g)?;
+        g.flush()?.set_body_spring(id, stiffness, rest, damping).map_err(crate::py_err)
+    }
+}

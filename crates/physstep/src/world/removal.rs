@@ -12,7 +12,7 @@
 use super::ids::{unknown, BodyForceId, BodyId, BodySpringId, ConstraintId, ParticleId};
 use super::World;
 use crate::dynamics::SecondOrder;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::forces::{Endpoint, ForceId};
 
 /// What a particle removal took with it.
@@ -196,6 +196,34 @@ impl World {
         let k = self.ids.body_springs.row(id.0).ok_or_else(|| unknown("body_spring", id.0))?;
         self.bodies.springs.remove(k);
         self.ids.body_springs.remove(k);
+        self.touch();
+        Ok(())
+    }
+
+    /// Changes body spring `id`'s stiffness, rest length or damping (`None` keeps one),
+    /// checked as [`World::add_body_spring`] checks them; the world then steps as one built
+    /// with the new values, and a method that carries memory restarts (as adding a spring).
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `body_spring` (no such spring), `stiffness`,
+    /// `rest_length` or `damping` (each a number in [0, 1e12]); the world is unchanged.
+    pub fn set_body_spring(
+        &mut self,
+        id: BodySpringId,
+        stiffness: Option<f64>,
+        rest_length: Option<f64>,
+        damping: Option<f64>,
+    ) -> Result<()> {
+        let k = self.ids.body_springs.row(id.0).ok_or_else(|| unknown("body_spring", id.0))?;
+        for (name, v) in [("stiffness", stiffness), ("rest_length", rest_length), ("damping", damping)] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && (0.0..=crate::limits::PARAM_MAX).contains(v))) {
+                return Err(Error::invalid(name, crate::error::num(v), "a number in [0, 1e12]"));
+            }
+        }
+        let s = &mut self.bodies.springs[k];
+        s.stiffness = stiffness.unwrap_or(s.stiffness);
+        s.rest_length = rest_length.unwrap_or(s.rest_length);
+        s.damping = damping.unwrap_or(s.damping);
         self.touch();
         Ok(())
     }

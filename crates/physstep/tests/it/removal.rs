@@ -297,3 +297,37 @@ fn a_removed_body_takes_its_springs_and_the_world_steps_as_one_without_it() {
         );
     }
 }
+
+#[test]
+fn a_body_springs_parameters_set_by_id_step_as_a_world_built_with_them() {
+    use physstep::world::BodySpringId;
+    let id = BodySpringId(0);
+    let mut a = bodies_world("velocity-verlet", true);
+    a.set_body_spring(id, Some(45.0), Some(0.8), Some(0.05)).unwrap();
+    let s = a.body_spring(id).unwrap();
+    assert_eq!((s.stiffness, s.rest_length, s.damping), (45.0, 0.8, 0.05));
+    // Built with the new values from the start: the same bits after the change.
+    let mut b = bodies_world("velocity-verlet", true);
+    b.remove_body_spring(id).unwrap();
+    b.add_body_spring(0, [0.0, 0.3, 0.0], Endpoint::Anchor([1.0, 2.0, 0.0]), 45.0, Some(0.8), 0.05).unwrap();
+    a.step(40).unwrap();
+    b.step(40).unwrap();
+    assert_eq!(a.body_position(0).unwrap(), b.body_position(0).unwrap());
+    assert_eq!(a.body_angular_velocity(0).unwrap(), b.body_angular_velocity(0).unwrap());
+    // Refused values name the field; the spring is unchanged. A removed spring is one line.
+    let before = a.state_hash();
+    for (k, v) in [(0, -1.0), (1, f64::NAN), (2, 2e12)] {
+        let mut p = [None; 3];
+        p[k] = Some(v);
+        let e = a.set_body_spring(id, p[0], p[1], p[2]).unwrap_err().to_string();
+        let field = ["stiffness", "rest_length", "damping"][k];
+        assert!(
+            e.starts_with(&format!("invalid {field} = ")) && e.ends_with("must be a number in [0, 1e12]"),
+            "{e}"
+        );
+    }
+    assert_eq!(a.state_hash(), before);
+    a.remove_body_spring(id).unwrap();
+    let e = a.set_body_spring(id, Some(1.0), None, None).unwrap_err().to_string();
+    assert!(e.starts_with("invalid body_spring = 0: must be the id of a body spring of this world"), "{e}");
+}
