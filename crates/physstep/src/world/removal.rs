@@ -53,7 +53,7 @@ impl World {
     /// User forces ([`World::add_force_generator`]) stay, and see one particle fewer.
     ///
     /// # Errors
-    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `particle` when the world
+    /// [`Error::InvalidValue`] naming `particle` when the world
     /// holds no particle of that id (removed already, or never added here); the world is
     /// unchanged.
     pub fn remove_particle(&mut self, id: ParticleId) -> Result<Removed> {
@@ -137,7 +137,7 @@ impl World {
     /// force drops the same ones) and the ids of the body springs that went.
     ///
     /// # Errors
-    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body` when the world holds
+    /// [`Error::InvalidValue`] naming `body` when the world holds
     /// no body of that id; the world is unchanged.
     pub fn remove_body(&mut self, id: BodyId) -> Result<(Vec<usize>, Vec<BodySpringId>)> {
         use crate::rigid::body::{V_LEN, X_LEN};
@@ -190,7 +190,7 @@ impl World {
     /// bitwise as one that never had it (a method that carries memory restarts).
     ///
     /// # Errors
-    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body_spring` when the
+    /// [`Error::InvalidValue`] naming `body_spring` when the
     /// world holds no body spring of that id; the world is unchanged.
     pub fn remove_body_spring(&mut self, id: BodySpringId) -> Result<()> {
         let k = self.ids.body_springs.row(id.0).ok_or_else(|| unknown("body_spring", id.0))?;
@@ -233,7 +233,7 @@ impl World {
     /// then steps bitwise as one that never had it.
     ///
     /// # Errors
-    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `body_force` when the world
+    /// [`Error::InvalidValue`] naming `body_force` when the world
     /// holds no body force of that id; the world is unchanged.
     pub fn remove_body_force(&mut self, id: BodyForceId) -> Result<usize> {
         let k = self.ids.body_forces.row(id.0).ok_or_else(|| unknown("body_force", id.0))?;
@@ -254,7 +254,7 @@ impl World {
     /// next step relaxes without it.
     ///
     /// # Errors
-    /// [`Error::InvalidValue`](crate::Error::InvalidValue) naming `constraint` when the
+    /// [`Error::InvalidValue`] naming `constraint` when the
     /// world holds no constraint of that id; the world is unchanged.
     pub fn remove_constraint(&mut self, id: ConstraintId) -> Result<()> {
         let k = self.ids.constraints.row(id.0).ok_or_else(|| unknown("constraint", id.0))?;
