@@ -6,15 +6,16 @@ Newton and conjugate-gradient iteration counts of every row.
 The `stiff-chain` scene (k = 1e5 N/m, 10 g particles: k / m dt^2 = 2800 at dt = 1/60 s,
 where symplectic Euler diverges within 30 steps) under backward Euler for 60 steps (1 s)
 from rest at each size, with the sparse solve (3 x 3 blocks, conjugate gradients
-preconditioned by block incomplete Cholesky, the default, and by block Jacobi) and, where
-it fits, the dense LU. Printed: ms per step, Newton updates and CG iterations per step, and
-the ratios measured in the same run.
+preconditioned by the complete sparse Cholesky factor, the default, by block incomplete
+Cholesky and by block Jacobi) and, where it fits, the dense LU. Printed: ms per step, Newton
+updates and CG iterations per step, and the ratios measured in the same run.
 
 Then `linearly-implicit-euler` on the `stiff-cloth` (k = 1e5 N/m, dt = 1/60 s; 32 x 32 and
-100 x 100) beside a scipy.sparse direct solve (SuperLU) of the same linear system, assembled
-from the same state with the same semidefinite spring blocks (scipy is a bench-only extra:
-`pip install -e .[bench]`; its rows are skipped without it), and backward Euler on the
-32 x 32 cloth's first steps.
+100 x 100) with the complete factor and with incomplete Cholesky, beside a scipy.sparse
+direct solve (SuperLU) of the same linear system, assembled from the same state with the
+same semidefinite spring blocks (scipy is a bench-only extra: `pip install -e .[bench]`;
+its rows are skipped without it), and backward Euler on the 32 x 32 cloth's first steps
+with both.
 
 Then the memory of the sparse solve on `stiff-cloth` grids up to 100 x 100 (10,000
 particles, 60,000 unknowns, whose dense Jacobian would take 28.8 GB): each size in a fresh
@@ -34,7 +35,7 @@ from common import in_subprocess, row
 STEPS = 60
 
 
-def run(n: int, dense: bool, preconditioner: str = "incomplete-cholesky") -> tuple[float, float, float]:
+def run(n: int, dense: bool, preconditioner: str = "cholesky") -> tuple[float, float, float]:
     """ms/step, Newton updates/step, CG iterations/step of `n` moving links."""
     w = physstep.World.from_scene("stiff-chain", "backward-euler", params={"n": n})
     w.set_implicit(dense_up_to=10**9 if dense else 0, cg_max_iter=100_000, preconditioner=preconditioner)
@@ -126,13 +127,18 @@ class ScipyStep:
 
 
 def cloth_lie(n: int, count: int) -> None:
-    """`linearly-implicit-euler` on the n x n stiff cloth: physstep's ms/step with its counts,
-    beside scipy's direct solve of the same system (the first `count` steps from rest)."""
+    """`linearly-implicit-euler` on the n x n stiff cloth: physstep's ms/step with its counts
+    (the complete Cholesky factor, the default, and incomplete Cholesky), beside scipy's
+    direct solve of the same system (the first `count` steps from rest)."""
     w = physstep.World.from_scene("stiff-cloth", "linearly-implicit-euler", params={"n": n})
     dt = w.dt
     x0, v0 = w.positions.copy(), w.velocities.copy()
     ms, newton, cg = steps(w, count)
     row(f"{n} x {n} linearly-implicit-euler ({newton:.0f} Newton, {cg:.0f} CG / step)", ms, "ms/step")
+    w = physstep.World.from_scene("stiff-cloth", "linearly-implicit-euler", params={"n": n})
+    w.set_implicit(preconditioner="incomplete-cholesky")
+    ms_ic, _, cg_ic = steps(w, count)
+    row(f"{'':4}incomplete Cholesky ({cg_ic:.0f} CG / step)", ms_ic, "ms/step", ms, "physstep")
     try:
         import scipy  # noqa: F401
     except ImportError:
@@ -202,20 +208,27 @@ def main() -> None:
     print(f"stiff-chain, backward Euler, dt = 1/60 s, {STEPS} steps from rest")
     for n in sizes:
         ms, newton, cg = run(n, dense=False)
-        label = f"n = {n:5d} IC ({newton:.1f} Newton, {cg:.1f} CG / step)"
+        label = f"n = {n:5d} Cholesky ({newton:.1f} Newton, {cg:.1f} CG / step)"
         if 4 * (n + 1) <= 1024:
             ms_dense, _, _ = run(n, dense=True)
             row(label, ms, "ms/step", ms_dense, "dense")
         else:
             row(label, ms, "ms/step")
-        ms_j, newton_j, cg_j = run(n, dense=False, preconditioner="block-jacobi")
-        row(f"{'':8} block Jacobi ({newton_j:.1f} Newton, {cg_j:.0f} CG / step)", ms_j, "ms/step", ms, "IC")
+        for name, pre in (("IC", "incomplete-cholesky"), ("block Jacobi", "block-jacobi")):
+            ms_p, newton_p, cg_p = run(n, dense=False, preconditioner=pre)
+            label = f"{'':8} {name} ({newton_p:.1f} Newton, {cg_p:.0f} CG / step)"
+            row(label, ms_p, "ms/step", ms, "Cholesky")
     print("stiff-cloth, k = 1e5 N/m, dt = 1/60 s, from rest")
     cloth_lie(32, 60 if a.quick else 300)
     cloth_lie(100, 5 if a.quick else 20)
     w = physstep.World.from_scene("stiff-cloth", "backward-euler", params={"n": 32})
     ms, newton, cg = steps(w, 10 if a.quick else 90)
     row(f"32 x 32 backward-euler ({newton:.1f} Newton, {cg:.0f} CG / step)", ms, "ms/step")
+    w = physstep.World.from_scene("stiff-cloth", "backward-euler", params={"n": 32})
+    w.set_implicit(preconditioner="incomplete-cholesky")
+    ms_ic, newton_ic, cg_ic = steps(w, 10 if a.quick else 90)
+    label = f"{'':4}incomplete Cholesky ({newton_ic:.1f} Newton, {cg_ic:.0f} CG / step)"
+    row(label, ms_ic, "ms/step", ms, "Cholesky")
     memory([25, 50] if a.quick else [25, 50, 100], steps=2)
 
 

@@ -1258,12 +1258,14 @@ class World:
     ) -> None:
         """Sets the implicit methods' solver: Newton's relative tolerance ``tol`` and cap
         ``max_iter``, the conjugate-gradient tolerance ``cg_tol`` and cap ``cg_max_iter`` of
-        the sparse solve and its ``preconditioner`` (``"incomplete-cholesky"``: block IC(0)
-        on the springs, exact on a chain; ``"block-jacobi"``: the particles' diagonal
-        blocks), and ``dense_up_to`` (systems of at most this many unknowns are solved
-        densely; 0 always sparse). Arguments left out keep their values; the defaults are
-        ``tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000,
-        preconditioner="incomplete-cholesky", dense_up_to=64``.
+        the sparse solve and its ``preconditioner`` (``"cholesky"``: the complete sparse
+        Cholesky factor in a minimum-degree order, the exact solve, made at a step's first
+        Newton update and kept for its next where that is cheaper; ``"incomplete-cholesky"``:
+        block IC(0) on the springs, exact on a chain; ``"block-jacobi"``: the particles'
+        diagonal blocks), and ``dense_up_to`` (systems of at most this many unknowns are
+        solved densely; 0 always sparse). Arguments left out keep their values; the defaults
+        are ``tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000,
+        preconditioner="cholesky", dense_up_to=64``.
         ``tol`` is relative to the terms Newton balances, stiffness included: on a stiff scene
         the default leaves a step's velocities about 1e-7 (relative) from the converged step's
         (docs/stiff.md); ``tol=1e-13`` gives the converged step."""

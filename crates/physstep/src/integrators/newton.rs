@@ -256,7 +256,7 @@ impl Newton {
         let dv = scratch(&mut self.dv, nx);
         guess(z, y0, c, f0, self.linear);
         let mut residual = f64::INFINITY;
-        let mut cg_total = 0;
+        let (mut cg_total, mut last_cg) = (0, 0);
         let mut previous = f64::INFINITY;
         let z_old = scratch(&mut self.z_old, n);
         let step = scratch(&mut self.step, n);
@@ -318,7 +318,12 @@ impl Newton {
             if iter > 0 && !flow.blocks(tau, z, &mut self.blocks) {
                 break;
             }
-            if !self.matrix.build(&self.blocks, c, self.params.cg.preconditioner) {
+            // A complete factor is made at a step's first update and kept for the next
+            // updates where it costs more than the conjugate-gradient iterations it then
+            // takes (a grid's factor, not a chain's), while they stay within REFACTOR_AFTER.
+            let keep = self.matrix.factor_cost_in_solves() > KEEP_FACTOR_ABOVE;
+            let refactor = iter == 0 || last_cg > REFACTOR_AFTER || !keep;
+            if !self.matrix.rebuild(&self.blocks, c, self.params.cg.preconditioner, refactor) {
                 break;
             }
             let (gx, gv) = g.split_at(nx);
@@ -357,6 +362,7 @@ impl Newton {
             params.tol = params.tol.max(FORCING.min(FORCING * rate));
             let solve = cg(&self.matrix, rhs, dv, params, &mut self.cg_work);
             cg_total += solve.iterations;
+            last_cg = solve.iterations;
             if !solve.converged {
                 return Err(Error::NotConverged {
                     method: method.into(),
@@ -410,6 +416,14 @@ fn slope(mass: &[f64], g: &[f64], d: &[f64], dim: usize) -> f64 {
 /// failed with one of them).
 const LINE_MIN: f64 = 0.1;
 const LINE_MAX: f64 = 4.0;
+
+/// Most conjugate-gradient iterations an update may take on a complete Cholesky factor kept
+/// from an earlier update before the next update factors its own matrix.
+const REFACTOR_AFTER: u32 = 8;
+
+/// A complete factor that costs more than this many solves is kept across updates (a
+/// chain's costs about 1, a 32 x 32 cloth's 8).
+const KEEP_FACTOR_ABOVE: f64 = 2.0;
 
 /// Largest relative tolerance of an update's conjugate-gradient solve.
 const FORCING: f64 = 0.1;

@@ -207,7 +207,7 @@ impl IncompleteCholesky {
 
 /// A pair's place in the upper pattern, `None` when an end does not move (its row is the
 /// identity) or it joins a particle to itself.
-fn key(i: usize, j: usize, free: &[bool]) -> Option<(usize, usize)> {
+pub(super) fn key(i: usize, j: usize, free: &[bool]) -> Option<(usize, usize)> {
     (free[i] && free[j] && i != j).then(|| (i.min(j), i.max(j)))
 }
 

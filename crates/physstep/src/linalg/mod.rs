@@ -34,10 +34,12 @@
 #![allow(clippy::needless_range_loop)]
 
 mod cg;
+mod cholesky;
 mod ic;
 pub mod vector;
 
 pub use cg::{cg, CgParams, CgResult, CgWork, Preconditioner};
+pub use cholesky::FILL_LIMIT;
 
 /// A 3 x 3 block, row-major (`dim < 3` uses its leading `dim x dim` part).
 pub type Block = [[f64; 3]; 3];
@@ -114,8 +116,14 @@ pub struct NewtonMatrix {
     pairs: Vec<(usize, usize, Block)>,
     /// The incomplete Cholesky factor, when it is the preconditioner.
     ic: ic::IncompleteCholesky,
+    /// The complete factor, when it is the preconditioner.
+    chol: cholesky::SparseCholesky,
     /// The preconditioner [`NewtonMatrix::precondition`] applies.
     used: Preconditioner,
+    /// Whether the latest complete factor is still the one `precondition` applies (it was
+    /// kept by a [`NewtonMatrix::build`] with `refactor == false`: the factor of an earlier
+    /// matrix, a preconditioner and no longer the exact solve).
+    stale: bool,
 }
 
 impl NewtonMatrix {
@@ -124,6 +132,14 @@ impl NewtonMatrix {
     /// `false` when a diagonal block cannot be inverted (a mass or a Jacobian that is not
     /// finite, or a block that is singular).
     pub fn build(&mut self, b: &Blocks, c: f64, pre: Preconditioner) -> bool {
+        self.rebuild(b, c, pre, true)
+    }
+
+    /// [`NewtonMatrix::build`], keeping the complete Cholesky factor of the latest build
+    /// when `refactor` is `false` and it has one (on the same springs): the factor of a
+    /// nearby matrix (the previous Newton update's) preconditions this one, and conjugate
+    /// gradients take a few iterations instead of a factorisation.
+    pub fn rebuild(&mut self, b: &Blocks, c: f64, pre: Preconditioner, refactor: bool) -> bool {
         let (n, c2) = (b.mass.len(), c * c);
         self.dim = b.dim;
         self.free.clear();
@@ -159,8 +175,19 @@ impl NewtonMatrix {
                 None => return false,
             }
         }
+        let keep = !refactor
+            && pre == Preconditioner::Cholesky
+            && self.used == Preconditioner::Cholesky
+            && self.chol.same_pattern(&self.pairs, &self.free);
+        self.stale = keep;
+        if keep {
+            return true;
+        }
         self.used = Preconditioner::BlockJacobi;
-        if pre == Preconditioner::IncompleteCholesky
+        if pre == Preconditioner::Cholesky && self.chol.factor(&self.diag, &self.pairs, &self.free, self.dim)
+        {
+            self.used = Preconditioner::Cholesky;
+        } else if pre != Preconditioner::BlockJacobi
             && self.ic.factor(&self.diag, &self.pairs, &self.free, self.dim)
         {
             self.used = Preconditioner::IncompleteCholesky;
@@ -217,6 +244,14 @@ impl NewtonMatrix {
     /// `z = P^-1 r` with the preconditioner built ([`NewtonMatrix::preconditioner`]).
     pub fn precondition(&self, r: &[f64], z: &mut [f64]) {
         let d = self.dim;
+        if self.used == Preconditioner::Cholesky {
+            match d {
+                1 => self.chol.solve::<1>(r, z),
+                2 => self.chol.solve::<2>(r, z),
+                _ => self.chol.solve::<3>(r, z),
+            }
+            return;
+        }
         if self.used == Preconditioner::IncompleteCholesky {
             match d {
                 1 => self.ic.solve::<1>(r, z),
@@ -227,6 +262,35 @@ impl NewtonMatrix {
         }
         for (p, (zp, rp)) in z.chunks_exact_mut(d).zip(r.chunks_exact(d)).enumerate() {
             mul_into(&self.inv[p], rp, zp, d);
+        }
+    }
+
+    /// How many preconditioned solves cost as much as making the complete Cholesky factor
+    /// of the latest build (0 without one): what keeping it across updates can save.
+    #[must_use]
+    pub fn factor_cost_in_solves(&self) -> f64 {
+        if self.used == Preconditioner::Cholesky {
+            self.chol.cost_in_solves()
+        } else {
+            0.0
+        }
+    }
+
+    /// Whether the preconditioner is a complete Cholesky factor kept from an earlier build
+    /// ([`NewtonMatrix::rebuild`]), not this matrix's.
+    #[must_use]
+    pub fn stale_factor(&self) -> bool {
+        self.stale
+    }
+
+    /// Blocks of the complete Cholesky factor held (its diagonal included; 0 unless
+    /// [`NewtonMatrix::preconditioner`] is [`Preconditioner::Cholesky`]).
+    #[must_use]
+    pub fn factor_blocks(&self) -> usize {
+        if self.used == Preconditioner::Cholesky {
+            self.chol.blocks()
+        } else {
+            0
         }
     }
 

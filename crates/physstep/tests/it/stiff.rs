@@ -278,18 +278,23 @@ fn cg_iterations_per_newton_update_grow_at_most_like_the_square_root_of_the_chai
 }
 
 #[test]
-fn block_jacobi_without_the_line_search_keeps_the_earlier_trajectories_bitwise() {
-    // The recorded hashes of stiff-chain and stiff-cloth (n = 6) before the incomplete
-    // Cholesky preconditioner and the line search became the default (tests/it/determinism.rs,
-    // 1,000 steps): block Jacobi with whole updates still gives those bits.
-    for (scene, params, want) in [
-        ("stiff-chain", [("n", 100.0)], 0xc243_32ff_08e0_15c0_u64),
-        ("stiff-cloth", [("n", 6.0)], 0xdc5a_56c5_afc9_ca06),
+fn the_earlier_preconditioners_keep_the_earlier_trajectories_bitwise() {
+    // The recorded hashes of stiff-chain and stiff-cloth (n = 6; tests/it/determinism.rs,
+    // 1,000 steps) before the incomplete Cholesky preconditioner and the line search became
+    // the default, given still by block Jacobi with whole updates; and before the complete
+    // Cholesky factor became the default, given still by incomplete Cholesky.
+    for (scene, params, jacobi, ic) in [
+        ("stiff-chain", [("n", 100.0)], 0xc243_32ff_08e0_15c0_u64, 0xb85d_f278_b95d_a399_u64),
+        ("stiff-cloth", [("n", 6.0)], 0xdc5a_56c5_afc9_ca06, 0xa2c4_f095_4767_846b),
     ] {
-        let mut w = scenes::build(scene, &params, "backward-euler", 1.0 / 60.0).unwrap().world;
-        let cg = CgParams { preconditioner: Preconditioner::BlockJacobi, ..CgParams::default() };
-        w.set_implicit(ImplicitParams { cg, line_search: false, ..ImplicitParams::default() }).unwrap();
-        w.step(1000).unwrap();
-        assert_eq!(w.state_hash(), want, "{scene}: {:#018x}", w.state_hash());
+        for (preconditioner, line_search, want) in
+            [(Preconditioner::BlockJacobi, false, jacobi), (Preconditioner::IncompleteCholesky, true, ic)]
+        {
+            let mut w = scenes::build(scene, &params, "backward-euler", 1.0 / 60.0).unwrap().world;
+            let cg = CgParams { preconditioner, ..CgParams::default() };
+            w.set_implicit(ImplicitParams { cg, line_search, ..ImplicitParams::default() }).unwrap();
+            w.step(1000).unwrap();
+            assert_eq!(w.state_hash(), want, "{scene}, {preconditioner:?}: {:#018x}", w.state_hash());
+        }
     }
 }
