@@ -21,6 +21,10 @@
 //! `false` and the caller preconditions otherwise.
 
 use super::Block;
+
+/// A block of `L` as the factorisation keeps it: 3 x 3 with each row padded to 4 (the
+/// fourth entry 0), so that a row is one 4-wide vector.
+type Wide = [[f64; 4]; 3];
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -51,11 +55,11 @@ pub(super) struct SparseCholesky {
     a_start: Vec<usize>,
     a_entry: Vec<(u32, u32)>,
     /// Numeric factor: the blocks of `L` (as `row`) and the inverses of its diagonal blocks.
-    l: Vec<Block>,
+    l: Vec<Wide>,
     dinv: Vec<Block>,
     /// Scratch of the factorisation: a dense block row, and the linked lists of the columns
     /// waiting on each row with where each has got to.
-    w: Vec<Block>,
+    w: Vec<Wide>,
     head: Vec<u32>,
     link: Vec<u32>,
     pos: Vec<usize>,
@@ -218,6 +222,23 @@ impl SparseCholesky {
         if !self.fits {
             return false;
         }
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::avx2() {
+            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+            // `target_feature` function. The same bits as the baseline path (crate::simd).
+            return unsafe { self.numeric_avx2(diag, pairs, dim) };
+        }
+        self.numeric_dim(diag, pairs, dim)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn numeric_avx2(&mut self, diag: &[Block], pairs: &[(usize, usize, Block)], dim: usize) -> bool {
+        self.numeric_dim(diag, pairs, dim)
+    }
+
+    #[inline(always)]
+    fn numeric_dim(&mut self, diag: &[Block], pairs: &[(usize, usize, Block)], dim: usize) -> bool {
         match dim {
             1 => self.numeric::<1>(diag, pairs),
             2 => self.numeric::<2>(diag, pairs),
@@ -225,10 +246,11 @@ impl SparseCholesky {
         }
     }
 
+    #[inline(always)]
     fn numeric<const D: usize>(&mut self, diag: &[Block], pairs: &[(usize, usize, Block)]) -> bool {
         let m = self.perm.len();
         self.w.clear();
-        self.w.resize(m, [[0.0; 3]; 3]);
+        self.w.resize(m, [[0.0; 4]; 3]);
         self.head.clear();
         self.head.resize(m, NONE);
         self.link.clear();
@@ -236,7 +258,7 @@ impl SparseCholesky {
         self.pos.clear();
         self.pos.resize(m, 0);
         self.l.clear();
-        self.l.resize(self.row.len(), [[0.0; 3]; 3]);
+        self.l.resize(self.row.len(), [[0.0; 4]; 3]);
         self.dinv.clear();
         for j in 0..m {
             let mut d = diag[self.perm[j] as usize];
@@ -250,9 +272,11 @@ impl SparseCholesky {
                 let next = self.link[ku];
                 let (p, end) = (self.pos[ku], self.start[ku + 1]);
                 let ljk = self.l[p];
-                sub_abt::<D>(&mut d, &ljk, &ljk);
-                for e in p + 1..end {
-                    sub_abt::<D>(&mut self.w[self.row[e] as usize], &self.l[e], &ljk);
+                sub_aat::<D>(&mut d, &ljk);
+                let lt = transpose(&ljk);
+                let w = &mut self.w;
+                for (&r, le) in self.row[p + 1..end].iter().zip(&self.l[p + 1..end]) {
+                    sub_at::<D>(&mut w[r as usize], le, &lt);
                 }
                 self.pos[ku] = p + 1;
                 if p + 1 < end {
@@ -268,7 +292,7 @@ impl SparseCholesky {
             for e in s..end {
                 let i = self.row[e] as usize;
                 self.l[e] = mul_abt::<D>(&self.w[i], &inv);
-                self.w[i] = [[0.0; 3]; 3];
+                self.w[i] = [[0.0; 4]; 3];
             }
             if s < end {
                 self.pos[j] = s;
@@ -280,8 +304,34 @@ impl SparseCholesky {
         true
     }
 
-    /// `z = A^-1 r` on `D`-dimensional particles (rows of particles that do not move: `z = r`).
-    pub(super) fn solve<const D: usize>(&self, r: &[f64], z: &mut [f64]) {
+    /// `z = A^-1 r` on `dim`-dimensional particles (rows of particles that do not move:
+    /// `z = r`).
+    pub(super) fn solve(&self, r: &[f64], z: &mut [f64], dim: usize) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::avx2() {
+            // SAFETY: as in `factor`.
+            return unsafe { self.solve_avx2(r, z, dim) };
+        }
+        self.solve_dim(r, z, dim);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn solve_avx2(&self, r: &[f64], z: &mut [f64], dim: usize) {
+        self.solve_dim(r, z, dim);
+    }
+
+    #[inline(always)]
+    fn solve_dim(&self, r: &[f64], z: &mut [f64], dim: usize) {
+        match dim {
+            1 => self.solve_d::<1>(r, z),
+            2 => self.solve_d::<2>(r, z),
+            _ => self.solve_d::<3>(r, z),
+        }
+    }
+
+    #[inline(always)]
+    fn solve_d<const D: usize>(&self, r: &[f64], z: &mut [f64]) {
         z.copy_from_slice(r);
         // Forward: L y = P r, column by column.
         for (j, &pj) in self.perm.iter().enumerate() {
@@ -328,7 +378,7 @@ impl SparseCholesky {
 
 /// `a -= b` on the leading `D x D` part.
 #[inline]
-fn sub<const D: usize>(a: &mut Block, b: &Block) {
+fn sub<const D: usize>(a: &mut Wide, b: &Block) {
     for r in 0..D {
         for c in 0..D {
             a[r][c] -= b[r][c];
@@ -336,24 +386,52 @@ fn sub<const D: usize>(a: &mut Block, b: &Block) {
     }
 }
 
-/// `a -= b c^T` on the leading `D x D` part.
+/// `a -= b b^T` on the leading `D x D` part, each entry `0 + b_r0 b_k0 + b_r1 b_k1 + ...`.
 #[inline]
-fn sub_abt<const D: usize>(a: &mut Block, b: &Block, c: &Block) {
+fn sub_aat<const D: usize>(a: &mut Block, b: &Wide) {
     for r in 0..D {
         for k in 0..D {
             let mut s = 0.0;
             for t in 0..D {
-                s += b[r][t] * c[k][t];
+                s += b[r][t] * b[k][t];
             }
             a[r][k] -= s;
         }
     }
 }
 
+/// `a -= b c^T` given `ct = c^T` (padded: its rows' fourth entries 0), each entry summed as
+/// [`sub_aat`] sums it (`0 + b_r0 c_k0 + b_r1 c_k1 + ...`), four at a time along a row.
+#[inline]
+fn sub_at<const D: usize>(a: &mut Wide, b: &Wide, ct: &Wide) {
+    for r in 0..D {
+        let mut s = [0.0; 4];
+        for t in 0..D {
+            let x = b[r][t];
+            for k in 0..4 {
+                s[k] += x * ct[t][k];
+            }
+        }
+        for k in 0..4 {
+            a[r][k] -= s[k];
+        }
+    }
+}
+
+fn transpose(b: &Wide) -> Wide {
+    let mut t = [[0.0; 4]; 3];
+    for r in 0..3 {
+        for k in 0..3 {
+            t[k][r] = b[r][k];
+        }
+    }
+    t
+}
+
 /// `a b^T` on the leading `D x D` part.
 #[inline]
-fn mul_abt<const D: usize>(a: &Block, b: &Block) -> Block {
-    let mut m = [[0.0; 3]; 3];
+fn mul_abt<const D: usize>(a: &Wide, b: &Block) -> Wide {
+    let mut m = [[0.0; 4]; 3];
     for r in 0..D {
         for k in 0..D {
             let mut s = 0.0;

@@ -245,11 +245,7 @@ impl NewtonMatrix {
     pub fn precondition(&self, r: &[f64], z: &mut [f64]) {
         let d = self.dim;
         if self.used == Preconditioner::Cholesky {
-            match d {
-                1 => self.chol.solve::<1>(r, z),
-                2 => self.chol.solve::<2>(r, z),
-                _ => self.chol.solve::<3>(r, z),
-            }
+            self.chol.solve(r, z, d);
             return;
         }
         if self.used == Preconditioner::IncompleteCholesky {

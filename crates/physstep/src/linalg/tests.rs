@@ -224,6 +224,26 @@ fn the_complete_cholesky_factor_solves_a_cloth_in_one_iteration() {
 }
 
 #[test]
+fn the_complete_cholesky_factor_takes_the_same_bits_on_either_vector_path() {
+    // The factorisation and its solve run AVX2 code where the CPU has it: the same IEEE
+    // operations in the same order as the baseline build, so the same bits (crate::simd).
+    let n = 20;
+    let b = network(n * n, &grid_links(n), 0);
+    let run = |vector: bool| {
+        crate::simd::set_vector_paths(vector);
+        let mut m = NewtonMatrix::default();
+        assert!(m.build(&b, 1.0 / 60.0, Preconditioner::Cholesky));
+        let rhs: Vec<f64> = (0..3 * n * n).map(|k| (k as f64 * 0.3).cos()).collect();
+        let mut z = vec![0.0; rhs.len()];
+        m.precondition(&rhs, &mut z);
+        z.iter().map(|v| v.to_bits()).collect::<Vec<u64>>()
+    };
+    let (plain, vector) = (run(false), run(true));
+    crate::simd::set_vector_paths(true);
+    assert_eq!(plain, vector);
+}
+
+#[test]
 fn the_complete_cholesky_factor_is_the_dense_solve() {
     // The 3-particle system of `blocks()` (2D, a static particle): the preconditioner itself
     // applied to b is A^-1 b to rounding, the static row passed through.
