@@ -470,6 +470,25 @@ impl World {
         g.grow()?.set_contact_settings(s).map_err(py_err)
     }
 
+    /// Continuous collision of fast solids (default True): a dynamic solid that moves farther
+    /// than the speculative distance (2 cm) in a step is swept against the static and
+    /// kinematic solids and put back to where it first touches one, so it neither sinks into
+    /// the ground nor passes through a thin wall. False: such a solid can end a step deep
+    /// inside (a 1 m box thrown at the ground at 20 m/s sinks 30 cm).
+    #[getter]
+    fn continuous_collision(&self) -> PyResult<bool> {
+        Ok(self.lock()?.engine.contact_settings().continuous)
+    }
+
+    #[setter]
+    fn set_continuous_collision(&self, on: &Bound<'_, PyAny>) -> PyResult<()> {
+        let on = crate::convert::flag(on, "continuous_collision")?;
+        let mut g = self.lock()?;
+        let mut s = g.engine.contact_settings();
+        s.continuous = on;
+        g.grow()?.set_contact_settings(s).map_err(py_err)
+    }
+
     /// Number of solids.
     #[getter]
     fn solid_count(&self) -> PyResult<usize> {

@@ -1,5 +1,5 @@
 //! Solids in scene files: `[contact]` (the contact solver, its substeps and iterations, and
-//! the contacts' and joints' tuning where it is not the default), `[[solids]]` (each solid as
+//! the contacts' and joints' tuning and `continuous` where not the default), `[[solids]]` (each solid as
 //! it was added: shape, kind, pose, velocities, density, friction, restitution) and
 //! `[[joints]]` (each joint as it was made: kind, the two solids, anchors, axis, lengths,
 //! limits, motor) and `[[solid_springs]]` (each spring between solids' points as made: the
@@ -61,6 +61,9 @@ pub(super) fn write(world: &World, s: &mut String) {
         if v != d {
             let _ = writeln!(s, "{key} = {}", num(v));
         }
+    }
+    if set.continuous != default.continuous {
+        let _ = writeln!(s, "continuous = {}", set.continuous);
     }
     for p in world.solid_params() {
         let _ = writeln!(
@@ -286,7 +289,7 @@ fn read_shape(doc: &Doc<'_>, t: Table<'_, '_>, dim: usize) -> Result<Shape> {
 pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
     if let Some((t, at)) = doc.table(top, "contact")? {
         let t = Table { table: t, at, path: "contact" };
-        let mut known = vec!["solver", "substeps", "iterations"];
+        let mut known = vec!["solver", "substeps", "iterations", "continuous"];
         known.extend(tuning(&Settings::default()).iter().map(|(k, _)| *k));
         doc.keys(t, &known)?;
         if let Some(name) = doc.str(t, "solver")? {
@@ -319,6 +322,9 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
                     set.joint_projection = v as u32;
                 }
             }
+        }
+        if let Some(on) = doc.bool(t, "continuous")? {
+            set.continuous = on;
         }
         w.set_contact_settings(set).map_err(|e| doc.engine(at, "contact", e))?;
     }
