@@ -201,7 +201,8 @@ impl<S: Space> Sweeps<S> {
                 let end = b.c;
                 b.c = s.c + d * best;
                 b.q = S::sweep_rotation(s.q, b.q, best);
-                b.v -= gravity * back_in_time(b.v, gravity, b.c - end, h).map_or(dt * (1.0 - best), |t| t.min(dt));
+                b.v -= gravity
+                    * back_in_time(b.v, gravity, b.c - end, h).map_or(dt * (1.0 - best), |t| t.min(dt));
                 self.rolled.push(i as u32);
             }
         }
