@@ -301,13 +301,36 @@ def test_continuous_collision_is_a_flag_kept_by_pickles_and_scene_files(tmp_path
     assert w.continuous_collision is True
     w.continuous_collision = False
     assert pickle.loads(pickle.dumps(w)).continuous_collision is False
-    text = physstep.scene_file_text(w, "off")
+    text = physstep.scene_text(w, "off")
     assert "continuous = false" in text
-    assert "continuous" not in physstep.scene_file_text(box_world(), "on")
+    assert "continuous" not in physstep.scene_text(box_world(), "on")
     path = tmp_path / "off.toml"
     path.write_text(text)
-    assert physstep.read_scene(str(path))[0].continuous_collision is False
+    assert physstep.load_scene(path).continuous_collision is False
     path.write_text(text.replace("continuous = false", 'continuous = "no"'))
     with pytest.raises(ValueError, match=r"contact\.continuous.*must be true or false") as e:
-        physstep.read_scene(str(path))
+        physstep.load_scene(path)
     assert "\n" not in str(e.value)
+
+
+def test_a_bullet_stops_at_a_dynamic_plank_that_a_plain_fast_ball_passes_through():
+    # Continuous collision sweeps a fast solid against static and kinematic solids; a bullet
+    # against dynamic ones too. The ball moves 1 m a step, the plank is 20 cm thick.
+    def shoot(bullet: bool) -> float:
+        w = physstep.World(dim=2, dt=1 / 60)
+        plank = w.add_solid(physstep.Box(0.1, 1.0), position=[2.0, 0.0], density=0.4)
+        ball = w.add_solid(physstep.Circle(0.05), position=[0.3, 0.0], velocity=[60.0, 0.0], bullet=bullet)
+        w.step(10)
+        x = w.solid_positions()
+        return float(x[ball][0] - x[plank][0])  # the ball's centre from the plank's
+
+    assert shoot(False) > 0.15  # past the plank's far face
+    assert shoot(True) < -0.15 + 0.005  # at its near face
+    w = physstep.World(dim=2)
+    with pytest.raises(ValueError, match="invalid bullet = true: must be false for a static solid"):
+        w.add_solid(physstep.Box(1.0, 1.0), kind="static", bullet=True)
+    with pytest.raises(ValueError, match="bullet"):
+        w.add_solid(physstep.Circle(0.1), bullet="yes")
+    assert w.solid_count == 0
+    w.add_solid(physstep.Circle(0.1), bullet=True)
+    assert "bullet = true" in physstep.scene_text(w)

@@ -1509,6 +1509,7 @@ class World:
         restitution: float | None = None,
         linear_damping: float | None = None,
         angular_damping: float | None = None,
+        bullet: bool | None = None,
     ) -> SolidHandle:
         """Adds a solid: a rigid body with a shape that collides with the other solids,
         stepped by the contact solver (docs: Contact); returns its :class:`SolidHandle`
@@ -1522,8 +1523,10 @@ class World:
         kg/m^3 in 3D; default 1); ``friction`` >= 0 (default 0.6; a pair: the geometric
         mean); ``restitution`` in [0, 1] (default 0; a pair: the larger);
         ``linear_damping`` and ``angular_damping``, drag in 1/s (>= 0, default 0: in each
-        substep v *= 1 / (1 + h c), so speed decays as exp(-c t)). ValueError naming the bad
-        field; the world is then unchanged."""
+        substep v *= 1 / (1 + h c), so speed decays as exp(-c t)); ``bullet`` (default
+        False): continuous collision sweeps a dynamic bullet against the dynamic solids that
+        are not bullets too (a small fast projectile then does not pass through a box).
+        ValueError naming the bad field; the world is then unchanged."""
 
     def add_solid_spring(
         self,

@@ -40,13 +40,15 @@ pub(crate) struct Sweeps<S: Space> {
     start: Vec<Start<S>>,
     /// The static and kinematic solids, by index.
     fixed: Vec<u32>,
+    /// What a bullet is swept against: those, then the dynamic solids that are not bullets.
+    targets: Vec<u32>,
     /// The solids this step put back, by index, in order.
     pub(crate) rolled: Vec<u32>,
 }
 
 impl<S: Space> Default for Sweeps<S> {
     fn default() -> Self {
-        Self { start: Vec::new(), fixed: Vec::new(), rolled: Vec::new() }
+        Self { start: Vec::new(), fixed: Vec::new(), targets: Vec::new(), rolled: Vec::new() }
     }
 }
 
@@ -126,10 +128,15 @@ impl<S: Space> Sweeps<S> {
     ) {
         self.rolled.clear();
         self.fixed.clear();
+        self.targets.clear();
         let mut fixed_ready = false;
-        for i in 0..bodies.len() {
+        let n = bodies.len();
+        // The solids that are not bullets, then the bullets (against where the others ended).
+        let bullets = bodies.iter().any(|b| b.bullet);
+        let order = (0..n).map(|i| (i, false)).chain((0..if bullets { n } else { 0 }).map(|i| (i, true)));
+        for (i, pass) in order {
             let b = &bodies[i];
-            if b.kind != Kind::Dynamic {
+            if b.kind != Kind::Dynamic || b.bullet != pass {
                 continue;
             }
             // How far its farthest point goes in a step at the velocities it ends the step
@@ -164,7 +171,18 @@ impl<S: Space> Sweeps<S> {
             );
             let slop = 0.01 * b.min_extent;
             let mut best = 1.0;
-            for &j in &self.fixed {
+            if pass && self.targets.is_empty() {
+                self.targets.extend_from_slice(&self.fixed);
+                self.targets.extend(
+                    bodies
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, o)| o.kind == Kind::Dynamic && !o.bullet)
+                        .map(|(j, _)| j as u32),
+                );
+            }
+            let targets = if pass { &self.targets } else { &self.fixed };
+            for &j in targets {
                 let (o, so) = (&bodies[j as usize], self.start[j as usize]);
                 let pair = ((i as u32).min(j), (i as u32).max(j));
                 if !no_collide.is_empty() && no_collide.binary_search(&pair).is_ok() {
@@ -177,7 +195,7 @@ impl<S: Space> Sweeps<S> {
                     end: (origin(o.c, o.q, o.com), o.q),
                 };
                 let mut its = aabb::<S>(other.shape, other.start.0, other.start.1, margin);
-                if o.kind == Kind::Kinematic {
+                if o.kind != Kind::Static {
                     its = union(its, aabb::<S>(other.shape, other.end.0, other.end.1, margin));
                 }
                 if !overlap(&swept, &its) {
@@ -205,6 +223,10 @@ impl<S: Space> Sweeps<S> {
                     * back_in_time(b.v, gravity, b.c - end, h).map_or(dt * (1.0 - best), |t| t.min(dt));
                 self.rolled.push(i as u32);
             }
+        }
+        if bullets {
+            // The solver looks the solids put back up by index.
+            self.rolled.sort_unstable();
         }
     }
 

@@ -342,3 +342,48 @@ fn continuous_collision_is_on_by_default_and_a_thrown_box_stops_on_the_ground() 
     assert!(on < 0.005, "{on} m into the ground");
     assert!(off > 0.1, "{off} m into the ground without it");
 }
+
+/// A 5 cm ball shot along x at 60 m/s (1 m a step, no gravity) from x = 0.3 at a dynamic
+/// plank 20 cm thick standing at x = 1.9 to 2.1 (20 times the ball's mass): the deepest the
+/// ball went past the plank's near face over 10 steps, where it ended up past the plank's
+/// far face, and the plank's velocity then.
+fn shoot_plank(bullet: bool) -> (f64, f64, f64) {
+    let mut s = Solids::<Plane>::new();
+    let mut plank = SolidParams::new(Shape::Box { half: vec![0.1, 1.0] }, &[2.0, 0.0]);
+    plank.density = 20.0 * std::f64::consts::PI * 0.05 * 0.05 / 0.4;
+    let p = s.add(plank).unwrap();
+    let mut ball = SolidParams::new(Shape::Circle { radius: 0.05 }, &[0.3, 0.0]);
+    ball.velocity = vec![60.0, 0.0];
+    ball.bullet = bullet;
+    let b = s.add(ball).unwrap();
+    let mut deepest = f64::NEG_INFINITY;
+    for _ in 0..10 {
+        s.step(DT, DVec2::ZERO).unwrap();
+        let x = s.positions();
+        deepest = deepest.max(x[2 * b] + 0.05 - (x[2 * p] - 0.1));
+    }
+    let x = s.positions();
+    (deepest, x[2 * b] - 0.05 - (x[2 * p] + 0.1), s.velocities()[2 * p])
+}
+
+#[test]
+fn a_bullet_does_not_pass_through_a_dynamic_solid_and_a_solid_that_is_not_one_does() {
+    // Continuous collision sweeps a fast solid against static and kinematic solids only: the
+    // ball, at 0.3, 1.3 and then 2.3 m, steps over the plank. A bullet is swept against the
+    // dynamic plank too, stops at its face and pushes it off: the ball's momentum shared,
+    // 60 m/s / 21 = 2.86 m/s (no bounce).
+    let (_, beyond, still) = shoot_plank(false);
+    assert!(beyond > 0.0, "the ball did not pass the plank: {beyond} m short of its far face");
+    assert_eq!(still, 0.0, "the plank was hit");
+    let (deepest, beyond, pushed) = shoot_plank(true);
+    assert!(deepest < 0.005, "the bullet went {deepest} m into the plank");
+    assert!(beyond < -0.2, "the bullet passed the plank: {beyond}");
+    assert!((pushed - 60.0 / 21.0).abs() < 0.05, "the plank moves at {pushed} m/s");
+    // Only a dynamic solid may be a bullet.
+    let mut s = Solids::<Plane>::new();
+    let mut wall = SolidParams::new(Shape::Box { half: vec![1.0, 1.0] }, &[0.0, 0.0]);
+    wall.kind = Kind::Static;
+    wall.bullet = true;
+    let e = s.add(wall).unwrap_err().to_string();
+    assert_eq!(e, "invalid bullet = true: must be false for a static solid");
+}

@@ -1,6 +1,7 @@
 //! Solids in scene files: `[contact]` (the contact solver, its substeps and iterations, and
 //! the contacts' and joints' tuning and `continuous` where not the default), `[[solids]]` (each solid as
-//! it was added: shape, kind, pose, velocities, density, friction, restitution) and
+//! it was added: shape, kind, pose, velocities, density, friction, restitution, drag,
+//! bullet) and
 //! `[[joints]]` (each joint as it was made: kind, the two solids, anchors, axis, lengths,
 //! limits, motor) and `[[solid_springs]]` (each spring between solids' points as made: the
 //! two ends, stiffness, rest length, damping).
@@ -83,6 +84,9 @@ pub(super) fn write(world: &World, s: &mut String) {
             if v != 0.0 {
                 let _ = writeln!(s, "{key} = {}", num(v));
             }
+        }
+        if p.bullet {
+            let _ = writeln!(s, "bullet = true");
         }
     }
     write_joints(world, s);
@@ -346,6 +350,7 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
                 "restitution",
                 "linear_damping",
                 "angular_damping",
+                "bullet",
             ],
         )?;
         let spath = format!("{path}.shape");
@@ -370,6 +375,7 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
         p.restitution = doc.f64(t, "restitution")?.unwrap_or(p.restitution);
         p.linear_damping = doc.f64(t, "linear_damping")?.unwrap_or(0.0);
         p.angular_damping = doc.f64(t, "angular_damping")?.unwrap_or(0.0);
+        p.bullet = doc.bool(t, "bullet")?.unwrap_or(false);
         w.add_solid(p).map_err(|e| doc.engine(at, &path, e))?;
     }
     read_joints(doc, top, w)?;
