@@ -17,7 +17,8 @@
 //! there has moved on since: put back into it, jammed circles overlapped 5.4 cm where they
 //! rest at 4.8), with the velocity a free fall under gravity has at the height it is put
 //! back to (`back_in_time`: neither gaining nor losing the height); the next step's contact
-//! stops it. A pair that was in
+//! stops it. A bullet ([`super::SolidParams::bullet`]) is swept after the others, against the
+//! dynamic solids that are not bullets too (where they ended the step). A pair that was in
 //! contact when the step began was the solver's: only the solid's core is swept against it
 //! (it hits only what the solid would pass through), and where the solid ended the step more
 //! than the slop deep in it (a box's far corner turned into the ground) it is put back to
