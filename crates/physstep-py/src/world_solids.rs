@@ -161,9 +161,11 @@ impl World {
     /// kg/m^3 in 3D; default 1); `friction` >= 0 (default 0.6; a pair: the geometric mean);
     /// `restitution` in [0, 1] (default 0; a pair: the larger); `linear_damping` and
     /// `angular_damping`, drag in 1/s (>= 0, default 0: in each substep v *= 1 / (1 + h c),
-    /// so speed decays as exp(-c t)). ValueError naming the bad field; the world is then
-    /// unchanged.
-    #[pyo3(signature = (shape, *, position=None, orientation=None, velocity=None, angular_velocity=None, kind=None, density=None, friction=None, restitution=None, linear_damping=None, angular_damping=None))]
+    /// so speed decays as exp(-c t)); `bullet` (default False): continuous collision sweeps a
+    /// dynamic bullet against the dynamic solids that are not bullets too (a small fast
+    /// projectile then does not pass through a box). ValueError naming the bad field; the
+    /// world is then unchanged.
+    #[pyo3(signature = (shape, *, position=None, orientation=None, velocity=None, angular_velocity=None, kind=None, density=None, friction=None, restitution=None, linear_damping=None, angular_damping=None, bullet=None))]
     #[allow(clippy::too_many_arguments)]
     fn add_solid(
         slf: &Bound<'_, Self>,
@@ -178,6 +180,7 @@ impl World {
         restitution: Option<&Bound<'_, PyAny>>,
         linear_damping: Option<&Bound<'_, PyAny>>,
         angular_damping: Option<&Bound<'_, PyAny>>,
+        bullet: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<SolidHandle> {
         let shape = solid_shape(shape)?;
         let given = |o: Option<&Bound<'_, PyAny>>, field: &str, default: f64| -> PyResult<f64> {
@@ -208,6 +211,9 @@ impl World {
         p.restitution = given(restitution, "restitution", p.restitution)?;
         p.linear_damping = given(linear_damping, "linear_damping", 0.0)?;
         p.angular_damping = given(angular_damping, "angular_damping", 0.0)?;
+        if let Some(b) = bullet.filter(|b| !b.is_none()) {
+            p.bullet = crate::convert::flag(b, "bullet")?;
+        }
         let row = g.grow()?.add_solid(p).map_err(py_err)?;
         Ok(SolidHandle::of_row(slf, &g.engine, g.family, row))
     }
@@ -467,6 +473,25 @@ impl World {
         let mut g = self.lock()?;
         let mut s = g.engine.contact_settings();
         s.joint_projection = n;
+        g.grow()?.set_contact_settings(s).map_err(py_err)
+    }
+
+    /// Continuous collision of fast solids (default True): a dynamic solid that moves farther
+    /// than the speculative distance (2 cm) in a step is swept against the static and
+    /// kinematic solids and put back to where it first touches one, so it neither sinks into
+    /// the ground nor passes through a thin wall. False: such a solid can end a step deep
+    /// inside (a 1 m box thrown at the ground at 20 m/s sinks 30 cm).
+    #[getter]
+    fn continuous_collision(&self) -> PyResult<bool> {
+        Ok(self.lock()?.engine.contact_settings().continuous)
+    }
+
+    #[setter]
+    fn set_continuous_collision(&self, on: &Bound<'_, PyAny>) -> PyResult<()> {
+        let on = crate::convert::flag(on, "continuous_collision")?;
+        let mut g = self.lock()?;
+        let mut s = g.engine.contact_settings();
+        s.continuous = on;
         g.grow()?.set_contact_settings(s).map_err(py_err)
     }
 

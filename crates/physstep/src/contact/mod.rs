@@ -64,6 +64,8 @@ pub(crate) struct Body<S: Space> {
     /// collision measures a motion by.
     pub min_extent: f64,
     pub max_extent: f64,
+    /// Swept by continuous collision against dynamic solids too ([`SolidParams::bullet`]).
+    pub bullet: bool,
 }
 
 impl<S: Space> Body<S> {
@@ -176,8 +178,8 @@ impl<S: Space> Solids<S> {
     ///
     /// # Errors
     /// [`Error::InvalidValue`] naming the field (`position`, `density`, `friction`,
-    /// `restitution`, `linear_damping`, `angular_damping`, `kind`, a size of the shape) and
-    /// the value.
+    /// `restitution`, `linear_damping`, `angular_damping`, `bullet`, `kind`, a size of the
+    /// shape) and the value.
     pub fn check(p: &SolidParams) -> Result<()> {
         let (d, r) = (S::DIM, S::ROT);
         let a = if d == 3 { 3 } else { 1 };
@@ -203,6 +205,9 @@ impl<S: Space> Solids<S> {
         }
         forces::check_damping("linear_damping", p.linear_damping)?;
         forces::check_damping("angular_damping", p.angular_damping)?;
+        if p.bullet && p.kind != Kind::Dynamic {
+            return Err(Error::invalid("bullet", "true", format!("false for a {} solid", p.kind.name())));
+        }
         if p.kind == Kind::Dynamic && p.shape.is_massless() {
             return Err(Error::invalid(
                 "kind",
@@ -253,6 +258,7 @@ impl<S: Space> Solids<S> {
             kind: p.kind,
             min_extent,
             max_extent,
+            bullet: p.bullet,
         };
         self.bodies.push(body);
         self.shapes.push(shape);

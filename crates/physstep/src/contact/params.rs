@@ -69,11 +69,15 @@ pub struct SolidParams {
     pub linear_damping: f64,
     /// Angular drag, 1/s (>= 0): in each substep `w *= 1 / (1 + h c)`.
     pub angular_damping: f64,
+    /// A bullet (Box2D's): continuous collision sweeps it against the dynamic solids that are
+    /// not bullets too, not only the static and kinematic ones, so a small fast solid does
+    /// not pass through a box that can move. Only a dynamic solid may be one.
+    pub bullet: bool,
 }
 
 impl SolidParams {
     /// A dynamic solid of `shape` at `position`, at rest, density 1, friction 0.6, no bounce,
-    /// no drag.
+    /// no drag, not a bullet.
     #[must_use]
     pub fn new(shape: Shape, position: &[f64]) -> Self {
         let dim = position.len();
@@ -89,6 +93,7 @@ impl SolidParams {
             restitution: 0.0,
             linear_damping: 0.0,
             angular_damping: 0.0,
+            bullet: false,
         }
     }
 }

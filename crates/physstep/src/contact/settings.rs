@@ -46,8 +46,8 @@ pub struct Settings {
     pub joint_damping_ratio: f64,
     /// Passes that move jointed solids' positions back together after a step (0: none).
     pub joint_projection: u32,
-    /// Continuous collision of fast solids against static and kinematic ones (off by
-    /// default: docs/contact.md says what it still breaks).
+    /// Continuous collision of fast solids against static and kinematic ones (on by
+    /// default; docs/contact.md, Fast solids).
     pub continuous: bool,
 }
 
@@ -65,7 +65,7 @@ impl Default for Settings {
             joint_hertz: 120.0,
             joint_damping_ratio: 2.0,
             joint_projection: 0,
-            continuous: false,
+            continuous: true,
         }
     }
 }

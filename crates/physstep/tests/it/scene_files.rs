@@ -148,3 +148,37 @@ fn a_bad_solid_in_a_file_is_refused_naming_its_table_and_field() {
     let m = err("dimension = 2\n[contact]\nsubsteps = 0\n");
     assert!(m.contains("contact.substeps: invalid substeps = 0: must be 1 to 1000"), "{m}");
 }
+
+#[test]
+fn continuous_collision_is_written_where_it_is_off_and_read_back() {
+    // On by default: a file without the key has it on; `continuous = false` turns it off,
+    // and a world with it off writes that line (so a pickle, the same text, keeps it).
+    let on = file::parse("dimension = 2\n[contact]\nsubsteps = 8\n", "on.toml").unwrap().world;
+    assert!(on.contact_settings().continuous);
+    let off = file::parse("dimension = 2\n[contact]\ncontinuous = false\n", "off.toml").unwrap().world;
+    assert!(!off.contact_settings().continuous);
+    let text = file::export(&off, "off", None).unwrap();
+    assert!(text.contains("\ncontinuous = false\n"), "{text}");
+    assert!(!file::parse(&text, "x").unwrap().world.contact_settings().continuous);
+    assert!(!file::export(&on, "on", None).unwrap().contains("continuous"));
+    let m = err("dimension = 2\n[contact]\ncontinuous = 1\n");
+    assert!(m.contains("contact.continuous: is integer: must be true or false"), "{m}");
+    assert!(!m.contains('\n'), "{m}");
+}
+
+#[test]
+fn a_bullet_is_written_and_read_back_and_refused_on_a_static_solid() {
+    let solid = "\n[[solids]]\nshape = { kind = \"circle\", radius = 0.05 }\nposition = [0.0, 0.0]\n";
+    let w = file::parse(&format!("dimension = 2{solid}bullet = true\n"), "b.toml").unwrap().world;
+    assert!(w.solid_params()[0].bullet);
+    let text = file::export(&w, "b", None).unwrap();
+    assert!(text.contains("\nbullet = true\n"), "{text}");
+    assert!(file::parse(&text, "x").unwrap().world.solid_params()[0].bullet);
+    let plain = file::parse(&format!("dimension = 2{solid}"), "p.toml").unwrap().world;
+    assert!(!plain.solid_params()[0].bullet);
+    assert!(!file::export(&plain, "p", None).unwrap().contains("bullet"));
+    let m = err(&format!("dimension = 2{solid}kind = \"static\"\nbullet = true\n"));
+    assert!(m.contains("solids[0]: invalid bullet = true: must be false for a static solid"), "{m}");
+    let m = err(&format!("dimension = 2{solid}bullet = \"yes\"\n"));
+    assert!(m.contains("solids[0].bullet: is string: must be true or false"), "{m}");
+}

@@ -1,6 +1,7 @@
 //! Solids in scene files: `[contact]` (the contact solver, its substeps and iterations, and
-//! the contacts' and joints' tuning where it is not the default), `[[solids]]` (each solid as
-//! it was added: shape, kind, pose, velocities, density, friction, restitution) and
+//! the contacts' and joints' tuning and `continuous` where not the default), `[[solids]]` (each solid as
+//! it was added: shape, kind, pose, velocities, density, friction, restitution, drag,
+//! bullet) and
 //! `[[joints]]` (each joint as it was made: kind, the two solids, anchors, axis, lengths,
 //! limits, motor) and `[[solid_springs]]` (each spring between solids' points as made: the
 //! two ends, stiffness, rest length, damping).
@@ -62,6 +63,9 @@ pub(super) fn write(world: &World, s: &mut String) {
             let _ = writeln!(s, "{key} = {}", num(v));
         }
     }
+    if set.continuous != default.continuous {
+        let _ = writeln!(s, "continuous = {}", set.continuous);
+    }
     for p in world.solid_params() {
         let _ = writeln!(
             s,
@@ -80,6 +84,9 @@ pub(super) fn write(world: &World, s: &mut String) {
             if v != 0.0 {
                 let _ = writeln!(s, "{key} = {}", num(v));
             }
+        }
+        if p.bullet {
+            let _ = writeln!(s, "bullet = true");
         }
     }
     write_joints(world, s);
@@ -286,7 +293,7 @@ fn read_shape(doc: &Doc<'_>, t: Table<'_, '_>, dim: usize) -> Result<Shape> {
 pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> {
     if let Some((t, at)) = doc.table(top, "contact")? {
         let t = Table { table: t, at, path: "contact" };
-        let mut known = vec!["solver", "substeps", "iterations"];
+        let mut known = vec!["solver", "substeps", "iterations", "continuous"];
         known.extend(tuning(&Settings::default()).iter().map(|(k, _)| *k));
         doc.keys(t, &known)?;
         if let Some(name) = doc.str(t, "solver")? {
@@ -320,6 +327,9 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
                 }
             }
         }
+        if let Some(on) = doc.bool(t, "continuous")? {
+            set.continuous = on;
+        }
         w.set_contact_settings(set).map_err(|e| doc.engine(at, "contact", e))?;
     }
     let dim = w.dim();
@@ -340,6 +350,7 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
                 "restitution",
                 "linear_damping",
                 "angular_damping",
+                "bullet",
             ],
         )?;
         let spath = format!("{path}.shape");
@@ -364,6 +375,7 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
         p.restitution = doc.f64(t, "restitution")?.unwrap_or(p.restitution);
         p.linear_damping = doc.f64(t, "linear_damping")?.unwrap_or(0.0);
         p.angular_damping = doc.f64(t, "angular_damping")?.unwrap_or(0.0);
+        p.bullet = doc.bool(t, "bullet")?.unwrap_or(false);
         w.add_solid(p).map_err(|e| doc.engine(at, &path, e))?;
     }
     read_joints(doc, top, w)?;
