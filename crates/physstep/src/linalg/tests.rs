@@ -244,6 +244,26 @@ fn the_complete_cholesky_factor_takes_the_same_bits_on_either_vector_path() {
 }
 
 #[test]
+fn the_complete_cholesky_factor_takes_the_same_bits_on_one_thread_and_on_two() {
+    // A 24 x 24 cloth's factorisation is past SPLIT_MIN: two subtrees of the elimination
+    // tree factored at once, then their ancestors in a fixed order.
+    let n = 24;
+    let b = network(n * n, &grid_links(n), 0);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut m = NewtonMatrix::default();
+            assert!(m.build(&b, 1.0 / 60.0, Preconditioner::Cholesky));
+            let rhs: Vec<f64> = (0..3 * n * n).map(|k| (k as f64 * 0.3).cos()).collect();
+            let mut z = vec![0.0; rhs.len()];
+            m.precondition(&rhs, &mut z);
+            z.iter().map(|v| v.to_bits()).collect::<Vec<u64>>()
+        })
+    };
+    assert_eq!(run(1), run(2));
+}
+
+#[test]
 fn the_complete_cholesky_factor_is_the_dense_solve() {
     // The 3-particle system of `blocks()` (2D, a static particle): the preconditioner itself
     // applied to b is A^-1 b to rounding, the static row passed through.
