@@ -495,11 +495,14 @@ def test_dice_throw_again_starts_the_next_seed() -> None:
     w = r.panels[0].world
     assert r.demo.seed == 2 and w.time == 0.0 and w.solid_count == x.shape[0]
     assert not np.array_equal(w.solid_positions(), x)
-    for _ in range(240):  # 4 s: the dice are at rest on the plane, on a face
+    for _ in range(240):  # 4 s: the dice are at rest on the plane
         r.update(1 / 60)
     w = r.panels[0].world
     assert w.kinetic_energy() < 1e-3 and w.max_penetration < 1e-3
-    assert np.all(np.abs(w.solid_positions()[1:, 1] - 0.1) < 2e-3)
+    # None below its face's height; all but one on a face (with this seed one die comes to
+    # rest on an edge, leaning on its neighbour: 0.138 m up, since continuous collision).
+    y = w.solid_positions()[1:, 1]
+    assert np.all(y > 0.1 - 2e-3) and np.sum(np.abs(y - 0.1) < 2e-3) >= len(y) - 1, y
 
 
 def test_pile_pours_drops_and_shakes_balls() -> None:
