@@ -257,6 +257,8 @@ impl Newton {
         guess(z, y0, c, f0, self.linear);
         let mut residual = f64::INFINITY;
         let (mut cg_total, mut last_cg) = (0, 0);
+        // |df/dz| of the latest blocks (made before the loop and at each update but the first).
+        let mut rate_norm = self.blocks.rate_norm();
         let mut previous = f64::INFINITY;
         let z_old = scratch(&mut self.z_old, n);
         let step = scratch(&mut self.step, n);
@@ -270,7 +272,7 @@ impl Newton {
             flow.deriv(tau, z, fz);
             // c |df/dz|, as the dense solve measures it (from the blocks at z's start).
             let mut scale;
-            (residual, scale) = measure(g, z, y0, fz, c, c * self.blocks.rate_norm());
+            (residual, scale) = measure(g, z, y0, fz, c, c * rate_norm);
             // A secant line search along the update: the slope of the incremental potential
             // (`M g_v . dv`, its gradient along the update) at the update's start and end,
             // interpolated to zero; the step taken to that point, within [LINE_MIN, LINE_MAX]
@@ -290,7 +292,7 @@ impl Newton {
                             z[k] = z_old[k] + alpha * step[k];
                         }
                         flow.deriv(tau, z, fz);
-                        (residual, scale) = measure(g, z, y0, fz, c, c * self.blocks.rate_norm());
+                        (residual, scale) = measure(g, z, y0, fz, c, c * rate_norm);
                     }
                 }
             }
@@ -315,8 +317,11 @@ impl Newton {
                 break;
             }
             // (M - c D - c^2 K) dv = -M g_v - c K g_x, then dx = c dv - g_x.
-            if iter > 0 && !flow.blocks(tau, z, &mut self.blocks) {
-                break;
+            if iter > 0 {
+                if !flow.blocks(tau, z, &mut self.blocks) {
+                    break;
+                }
+                rate_norm = self.blocks.rate_norm();
             }
             // A complete factor is made at a step's first update and kept for the next
             // updates where it costs more than the conjugate-gradient iterations it then

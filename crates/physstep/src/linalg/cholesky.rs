@@ -26,14 +26,15 @@
 //! `false` and the caller preconditions otherwise.
 
 use super::Block;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 
 /// A block of `L` as the factorisation keeps it: 3 x 3 with each row padded to 4 (the
 /// fourth entry 0), so that a row is one 4-wide vector.
 type Wide = [[f64; 4]; 3];
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
-/// Most blocks of `L` a moving particle may hold (a block is 72 bytes: 14 kB a particle).
+/// Most blocks of `L` a moving particle may hold (a block is kept in 96 bytes: 19 kB a
+/// particle).
 pub const FILL_LIMIT: usize = 200;
 
 const NONE: u32 = u32::MAX;
@@ -74,6 +75,8 @@ pub(super) struct SparseCholesky {
     /// the columns waiting on each row, per part; each column's link and where it has got to
     /// (by slot).
     w: [Vec<Wide>; 2],
+    /// Whether a dense row may hold a value (the latest factorisation broke down).
+    dirty: bool,
     head: [Vec<u32>; 3],
     link: Vec<u32>,
     pos: Vec<usize>,
@@ -356,22 +359,24 @@ impl SparseCholesky {
     fn numeric<const D: usize>(&mut self, diag: &[Block], pairs: &[(usize, usize, Block)]) -> bool {
         const ZERO: Wide = [[0.0; 4]; 3];
         let m = self.perm.len();
+        // The dense rows start at zero (a column leaves the rows it used at zero: only a
+        // factorisation that broke down leaves them dirty) and the lists empty. The factor's
+        // blocks, links and places are written before they are read: not cleared.
         for w in &mut self.w {
-            w.clear();
-            w.resize(m, ZERO);
+            if self.dirty || w.len() != m {
+                w.clear();
+                w.resize(m, ZERO);
+            }
         }
         for h in &mut self.head {
             h.clear();
             h.resize(m, NONE);
         }
-        self.link.clear();
         self.link.resize(m, NONE);
-        self.pos.clear();
         self.pos.resize(m, 0);
-        self.l.clear();
         self.l.resize(self.row.len(), ZERO);
-        self.dinv.clear();
         self.dinv.resize(m, [[0.0; 3]; 3]);
+        self.dirty = true;
         let sh = Shared {
             diag,
             pairs,
@@ -411,7 +416,7 @@ impl SparseCholesky {
                 (true, true)
             };
             if !(a && b) {
-                return false;
+                return false; // `dirty` stays set
             }
         }
         // Their common ancestors, each taking the first part's updates, the second's, then
@@ -426,7 +431,9 @@ impl SparseCholesky {
             head: h2,
             w: w0,
         };
-        run_part::<D>(&sh, &mut top, &self.parts[2], &[h0, h1])
+        let done = run_part::<D>(&sh, &mut top, &self.parts[2], &[h0, h1]);
+        self.dirty = !done;
+        done
     }
 
     /// `z = A^-1 r` on `dim`-dimensional particles (rows of particles that do not move:

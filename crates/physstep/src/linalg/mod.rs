@@ -120,10 +120,6 @@ pub struct NewtonMatrix {
     chol: cholesky::SparseCholesky,
     /// The preconditioner [`NewtonMatrix::precondition`] applies.
     used: Preconditioner,
-    /// Whether the latest complete factor is still the one `precondition` applies (it was
-    /// kept by a [`NewtonMatrix::build`] with `refactor == false`: the factor of an earlier
-    /// matrix, a preconditioner and no longer the exact solve).
-    stale: bool,
 }
 
 impl NewtonMatrix {
@@ -179,7 +175,6 @@ impl NewtonMatrix {
             && pre == Preconditioner::Cholesky
             && self.used == Preconditioner::Cholesky
             && self.chol.same_pattern(&self.pairs, &self.free);
-        self.stale = keep;
         if keep {
             return true;
         }
@@ -270,13 +265,6 @@ impl NewtonMatrix {
         } else {
             0.0
         }
-    }
-
-    /// Whether the preconditioner is a complete Cholesky factor kept from an earlier build
-    /// ([`NewtonMatrix::rebuild`]), not this matrix's.
-    #[must_use]
-    pub fn stale_factor(&self) -> bool {
-        self.stale
     }
 
     /// Blocks of the complete Cholesky factor held (its diagonal included; 0 unless

@@ -156,24 +156,9 @@ fn incomplete_cholesky_on_a_grid_with_shear_springs_converges_faster_than_block_
     // the elimination's fill is dropped, the factor is approximate, CG still converges to
     // the solution, in fewer iterations.
     let n = 12;
-    let id = |r: usize, c: usize| r * n + c;
-    let mut links = Vec::new();
-    for r in 0..n {
-        for c in 0..n {
-            if c + 1 < n {
-                links.push((id(r, c), id(r, c + 1)));
-            }
-            if r + 1 < n {
-                links.push((id(r + 1, c), id(r, c)));
-            }
-            if r + 1 < n && c + 1 < n {
-                links.push((id(r, c), id(r + 1, c + 1)));
-                links.push((id(r, c + 1), id(r + 1, c)));
-            }
-        }
-    }
-    links.push((id(3, 3), id(3, 4)));
-    let b = network(n * n, &links, id(n - 1, 0));
+    let mut links = grid_links(n);
+    links.push((3 * n + 3, 3 * n + 4));
+    let b = network(n * n, &links, (n - 1) * n);
     let (ic, used) = solve(&b, Preconditioner::IncompleteCholesky);
     assert_eq!(used, Preconditioner::IncompleteCholesky);
     let (jacobi, _) = solve(&b, Preconditioner::BlockJacobi);
