@@ -249,6 +249,29 @@ fn the_complete_cholesky_factor_takes_the_same_bits_on_one_thread_and_on_two() {
 }
 
 #[test]
+fn a_complete_factorisation_that_breaks_down_leaves_the_next_one_exact() {
+    // Springs of the wrong sign in the cloth's far corner make the matrix indefinite: the
+    // factorisation stops at a pivot that is not positive definite, partway, and that
+    // matrix is preconditioned otherwise; the next, positive definite, is factored afresh.
+    let n = 24;
+    let mut bad = network(n * n, &grid_links(n), 0);
+    let last = bad.pairs.len() - 1;
+    bad.pairs[last].2 = spring_block(0.5, -1e7, 0.0);
+    let mut m = NewtonMatrix::default();
+    assert!(m.build(&bad, 1.0 / 60.0, Preconditioner::Cholesky));
+    assert_ne!(m.preconditioner(), Preconditioner::Cholesky);
+    let good = network(n * n, &grid_links(n), 0);
+    assert!(m.build(&good, 1.0 / 60.0, Preconditioner::Cholesky));
+    assert_eq!(m.preconditioner(), Preconditioner::Cholesky);
+    let rhs: Vec<f64> =
+        (0..3 * n * n).map(|k| if m.free(k / 3) { (k as f64 * 0.7).sin() } else { 0.0 }).collect();
+    let mut x = vec![0.0; rhs.len()];
+    let params = CgParams { tol: 1e-12, max_iter: 10, preconditioner: Preconditioner::Cholesky };
+    let r = cg(&m, &rhs, &mut x, params, &mut CgWork::default());
+    assert!(r.converged && r.iterations <= 2, "{r:?}");
+}
+
+#[test]
 fn the_complete_cholesky_factor_is_the_dense_solve() {
     // The 3-particle system of `blocks()` (2D, a static particle): the preconditioner itself
     // applied to b is A^-1 b to rounding, the static row passed through.
