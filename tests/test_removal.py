@@ -225,7 +225,10 @@ def test_bad_removals_are_one_line_and_change_nothing() -> None:
     assert _one_line(e) == "invalid i = ParticleHandle(id=1): it was removed from its World"
     with pytest.raises(ValueError) as e:
         w.add_rope(h[0], foreign, 1.0)
-    assert _one_line(e).startswith("invalid j = ParticleHandle(id=0): must be a handle of this World's")
+    # The argument is named (j), the kind of handle it must be too (it read "this World's js").
+    assert _one_line(e).startswith(
+        "invalid j = ParticleHandle(id=0): must be a handle of this World's particles (it is another World's;"
+    )
     with pytest.raises(IndexError):
         _ = w.positions[h[1]]  # numpy turns the handle's ValueError into its own IndexError
     assert (_bits(w), w.state_hash()) == kept

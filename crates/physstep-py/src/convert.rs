@@ -35,11 +35,8 @@ pub(crate) fn whole(o: &Bound<'_, PyAny>, field: &str, lo: i64, hi: i64) -> PyRe
     }
     match o.extract::<i64>() {
         Ok(v) if (lo..=hi).contains(&v) => Ok(v),
-        // A handle of a removed entity (or another World's) says so, naming it.
-        Err(_) if crate::entity_handle::handle_error(o).is_some() => {
-            Err(crate::entity_handle::handle_error(o).unwrap_or_else(|| invalid(field, o, &expected())))
-        }
-        // A handle's `__index__` refusing (its entity was removed) says so itself.
+        // A handle's `__index__` refusing (its entity was removed, or it is another World's)
+        // says so itself, naming it.
         Err(e) if e.is_instance_of::<pyo3::exceptions::PyValueError>(o.py()) => Err(e),
         _ => Err(invalid(field, o, &expected())),
     }

@@ -29,9 +29,10 @@ pub(crate) fn particle_row(g: &Inner, id: u64) -> Option<usize> {
     (id >= next && id - next < g.pending.len() as u64).then(|| g.engine.len() + (id - next) as usize)
 }
 
-fn foreign(what: &str, text: &str) -> PyErr {
+/// `field`: the argument's name; `kind`: the handle's entities (`particle`, `body`, ...).
+fn foreign(field: &str, kind: &str, text: &str) -> PyErr {
     PyValueError::new_err(format!(
-        "invalid {what} = {text}: must be a handle of this World's {what}s (it is another World's; \
+        "invalid {field} = {text}: must be a handle of this World's {kind}s (it is another World's; \
          a copy or a pickle of a World takes the handles of the World it came from)"
     ))
 }
@@ -57,7 +58,7 @@ impl ParticleHandle {
     /// The particle's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
-            return Err(foreign(field, &self.text()));
+            return Err(foreign(field, "particle", &self.text()));
         }
         particle_row(g, self.id).ok_or_else(|| removed(field, &self.text()))
     }
@@ -124,7 +125,7 @@ impl ParticleHandles {
     pub(crate) fn rows_in(&self, g: &Inner) -> PyResult<Vec<usize>> {
         let text = || format!("ParticleHandles(ids {}..{})", self.first, self.first + self.len);
         if self.family != g.family {
-            return Err(foreign("particle", &text()));
+            return Err(foreign("particle", "particle", &text()));
         }
         (self.first..self.first + self.len)
             .map(|id| {
@@ -249,7 +250,7 @@ impl ConstraintHandle {
     /// The constraint's id, checked to be of the World whose state `g` is.
     pub(crate) fn id_in(&self, g: &Inner) -> PyResult<ConstraintId> {
         if self.family != g.family {
-            return Err(foreign("constraint", &self.text()));
+            return Err(foreign("constraint", "constraint", &self.text()));
         }
         Ok(ConstraintId(self.id))
     }
@@ -438,7 +439,7 @@ impl BodyHandle {
     /// The body's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
-            return Err(foreign(field, &self.text()));
+            return Err(foreign(field, "body", &self.text()));
         }
         g.engine.body_row(BodyId(self.id)).ok_or_else(|| removed(field, &self.text()))
     }
@@ -491,16 +492,6 @@ pub(crate) fn is_handle(o: &Bound<'_, PyAny>) -> bool {
         || o.is_instance_of::<ConstraintHandle>()
 }
 
-/// The error an entity handle's `__index__` raises (removed, another World's), when `o` is
-/// one: what an index argument reports for it instead of a generic "must be an index".
-pub(crate) fn handle_error(o: &Bound<'_, PyAny>) -> Option<PyErr> {
-    if is_handle(o) {
-        o.call_method0("__index__").err()
-    } else {
-        None
-    }
-}
-
 /// A handle of a body link (a body spring or a Python force at a body point): id, alive,
 /// its place among its kind by `__index__`.
 macro_rules! link_handle {
@@ -521,7 +512,7 @@ macro_rules! link_handle {
             /// The id, checked to be of the World whose state `g` is.
             pub(crate) fn id_in(&self, g: &Inner) -> PyResult<physstep::world::$id> {
                 if self.family != g.family {
-                    return Err(foreign($what, &self.text()));
+                    return Err(foreign($what, $what, &self.text()));
                 }
                 Ok(physstep::world::$id(self.id))
             }
