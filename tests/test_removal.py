@@ -252,6 +252,7 @@ def test_a_handle_of_another_kind_is_not_an_index_of_this_one() -> None:
             "invalid index = ParticleHandle(id=0): must be a body index or a BodyHandle",
         ),
         (lambda: w.apply_force(p[0], [1.0, 0.0, 0.0]), "invalid body = ParticleHandle(id=0): must be a body"),
+        (lambda: w.add_body_force(p[0], lift), "invalid body = ParticleHandle(id=0): must be a body"),
     ]:
         with pytest.raises(ValueError) as e:
             call()
@@ -293,6 +294,12 @@ def test_bodies_by_handle_and_their_removal() -> None:
     with pytest.raises(ValueError) as e:
         a.apply_force(b0, [1.0, 0.0, 0.0])
     assert _one_line(e) == "invalid body = BodyHandle(id=0): it was removed from its World"
+    other, _ = build(False)
+    with pytest.raises(ValueError) as e:
+        other.apply_force(b1, [1.0, 0.0, 0.0])
+    assert _one_line(e).startswith(
+        "invalid body = BodyHandle(id=1): must be a handle of this World's bodies ("
+    )
     ref, _ = build(False)
     a.step(30)
     ref.step(30)

@@ -58,21 +58,6 @@ pub(crate) fn index(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
     })
 }
 
-/// A body index (`field` is `body` and the like) or a `BodyHandle`; the engine checks it
-/// against the count. Another kind's handle is refused, whatever its row.
-pub(crate) fn body(o: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
-    if crate::entity_handle::is_handle(o) && !o.is_instance_of::<crate::entity_handle::BodyHandle>() {
-        return Err(invalid(field, o, "a body index or a BodyHandle"));
-    }
-    whole(o, field, 0, i64::MAX).map(|v| v as usize).map_err(|e| {
-        if crate::entity_handle::is_handle(o) {
-            e
-        } else {
-            invalid(field, o, "a body index >= 0")
-        }
-    })
-}
-
 /// A flag (bool or numpy bool).
 pub(crate) fn flag(o: &Bound<'_, PyAny>, field: &str) -> PyResult<bool> {
     o.extract::<bool>().map_err(|_| invalid(field, o, "True or False"))

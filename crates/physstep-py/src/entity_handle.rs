@@ -29,10 +29,10 @@ pub(crate) fn particle_row(g: &Inner, id: u64) -> Option<usize> {
     (id >= next && id - next < g.pending.len() as u64).then(|| g.engine.len() + (id - next) as usize)
 }
 
-/// `field`: the argument's name; `kind`: the handle's entities (`particle`, `body`, ...).
-fn foreign(field: &str, kind: &str, text: &str) -> PyErr {
+/// `field`: the argument's name; `kinds`: the handle's entities (`particles`, `bodies`, ...).
+fn foreign(field: &str, kinds: &str, text: &str) -> PyErr {
     PyValueError::new_err(format!(
-        "invalid {field} = {text}: must be a handle of this World's {kind}s (it is another World's; \
+        "invalid {field} = {text}: must be a handle of this World's {kinds} (it is another World's; \
          a copy or a pickle of a World takes the handles of the World it came from)"
     ))
 }
@@ -58,7 +58,7 @@ impl ParticleHandle {
     /// The particle's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
-            return Err(foreign(field, "particle", &self.text()));
+            return Err(foreign(field, "particles", &self.text()));
         }
         particle_row(g, self.id).ok_or_else(|| removed(field, &self.text()))
     }
@@ -125,7 +125,7 @@ impl ParticleHandles {
     pub(crate) fn rows_in(&self, g: &Inner) -> PyResult<Vec<usize>> {
         let text = || format!("ParticleHandles(ids {}..{})", self.first, self.first + self.len);
         if self.family != g.family {
-            return Err(foreign("particle", "particle", &text()));
+            return Err(foreign("particle", "particles", &text()));
         }
         (self.first..self.first + self.len)
             .map(|id| {
@@ -232,6 +232,19 @@ pub(crate) fn particle(o: &Bound<'_, PyAny>, field: &str, g: &Inner) -> PyResult
     }
 }
 
+/// A body argument (`field`): a `BodyHandle` of this World (its current row) or an index
+/// (the engine checks it against the count), resolved under the lock the caller holds.
+/// Another kind's handle is refused, whatever its row.
+pub(crate) fn body(o: &Bound<'_, PyAny>, field: &str, g: &Inner) -> PyResult<usize> {
+    match o.cast::<BodyHandle>() {
+        Ok(h) => h.get().row_in(g, field),
+        Err(_) if is_handle(o) => Err(crate::convert::invalid(field, o, "a body index or a BodyHandle")),
+        Err(_) => crate::convert::whole(o, field, 0, i64::MAX)
+            .map(|v| v as usize)
+            .map_err(|_| crate::convert::invalid(field, o, "a body index >= 0")),
+    }
+}
+
 /// A handle to one position constraint of a World: `id`, `alive`, `kind` and its parameters
 /// (read-only: remove it and add another to change it); `__index__` is its place among the
 /// World's constraints (the sweep order).
@@ -250,7 +263,7 @@ impl ConstraintHandle {
     /// The constraint's id, checked to be of the World whose state `g` is.
     pub(crate) fn id_in(&self, g: &Inner) -> PyResult<ConstraintId> {
         if self.family != g.family {
-            return Err(foreign("constraint", "constraint", &self.text()));
+            return Err(foreign("constraint", "constraints", &self.text()));
         }
         Ok(ConstraintId(self.id))
     }
@@ -439,7 +452,7 @@ impl BodyHandle {
     /// The body's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
-            return Err(foreign(field, "body", &self.text()));
+            return Err(foreign(field, "bodies", &self.text()));
         }
         g.engine.body_row(BodyId(self.id)).ok_or_else(|| removed(field, &self.text()))
     }
@@ -512,7 +525,7 @@ macro_rules! link_handle {
             /// The id, checked to be of the World whose state `g` is.
             pub(crate) fn id_in(&self, g: &Inner) -> PyResult<physstep::world::$id> {
                 if self.family != g.family {
-                    return Err(foreign($what, $what, &self.text()));
+                    return Err(foreign($what, concat!($what, "s"), &self.text()));
                 }
                 Ok(physstep::world::$id(self.id))
             }

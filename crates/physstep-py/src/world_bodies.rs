@@ -73,7 +73,8 @@ impl World {
         velocity_dependent: Option<&Bound<'_, PyAny>>,
         name: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<crate::entity_handle::BodyForceHandle> {
-        let body = crate::convert::index(body, "body")?;
+        // Resolved before the callable's name is read (Python code), under a lock of its own.
+        let body = crate::entity_handle::body(body, "body", &*slf.get().lock()?)?;
         if !func.is_callable() {
             return Err(crate::convert::invalid("func", func, "callable"));
         }
@@ -208,18 +209,20 @@ impl World {
         force: &Bound<'_, PyAny>,
         at: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let b = crate::convert::body(body, "body")?;
+        let mut g = self.lock()?;
+        let b = crate::entity_handle::body(body, "body", &g)?;
         let force = vector(force, "force", 3)?;
         let at = at.filter(|a| !a.is_none()).map(|a| vector(a, "at", 3)).transpose()?;
-        self.lock()?.engine.apply_force(b, force, at).map_err(py_err)
+        g.engine.apply_force(b, force, at).map_err(py_err)
     }
 
     /// Applies `torque` (N m, world frame) to body `body` for the next step. ValueError
     /// naming `body` or `torque`.
     fn apply_torque(&self, body: &Bound<'_, PyAny>, torque: &Bound<'_, PyAny>) -> PyResult<()> {
-        let b = crate::convert::body(body, "body")?;
+        let mut g = self.lock()?;
+        let b = crate::entity_handle::body(body, "body", &g)?;
         let torque = vector(torque, "torque", 3)?;
-        self.lock()?.engine.apply_torque(b, torque).map_err(py_err)
+        g.engine.apply_torque(b, torque).map_err(py_err)
     }
 
     /// How drifts move the bodies' orientations: "matrix", "quaternion", "exponential" or
@@ -268,13 +271,13 @@ impl World {
         rest_length: Option<&Bound<'_, PyAny>>,
         damping: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<crate::entity_handle::BodySpringHandle> {
-        let b = crate::convert::body(body, "body")?;
+        let mut g = slf.get().lock()?;
+        let b = crate::entity_handle::body(body, "body", &g)?;
         let point = vector(point, "point", 3)?;
         let stiffness = float(stiffness, "stiffness")?;
         let rest_length =
             rest_length.filter(|r| !r.is_none()).map(|r| float(r, "rest_length")).transpose()?;
         let damping = damping.filter(|c| !c.is_none()).map_or(Ok(0.0), |c| float(c, "damping"))?;
-        let mut g = slf.get().lock()?;
         g.flush()?;
         let other = crate::world_build::endpoint(other, "other", &g)?;
         let id = g.engine.next_body_link_ids()[0];
