@@ -260,6 +260,31 @@ def test_a_handle_of_another_kind_is_not_an_index_of_this_one() -> None:
     assert (_bits(w), w.state_hash()) == kept
 
 
+def test_a_solid_argument_refuses_another_kinds_handle_and_a_particle_one_a_solids() -> None:
+    # Both used to take the other kind's row through its __index__: silently another entity.
+    w = physstep.World(2)
+    p = w.add_particle([0.0, 5.0])
+    w.add_solid(physstep.Box(5.0, 0.5), kind="static")
+    box = w.add_solid(physstep.Box(0.5, 0.5), position=[0.0, 2.0])
+    kept = (_bits(w), w.state_hash(), w.solid_positions().tobytes())
+    for call, expected in [
+        (
+            lambda: w.add_joint("ball", p, box, anchor=[0.0, 2.0]),
+            "invalid a = ParticleHandle(id=0): must be a solid index or a SolidHandle",
+        ),
+        (
+            lambda: w.add_joint("ball", box, p, anchor=[0.0, 2.0]),
+            "invalid b = ParticleHandle(id=0): must be a solid index or a SolidHandle",
+        ),
+        (lambda: w.particles[box], "invalid index = SolidHandle(id=1): must be a particle index or"),
+        (lambda: w.add_spring(box, p, 1.0), "invalid i = SolidHandle(id=1): must be a particle index or"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            call()
+        assert _one_line(e).startswith(expected)
+    assert (_bits(w), w.state_hash(), w.solid_positions().tobytes()) == kept
+
+
 def lift(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
     """A module-level force at a body point (picklable)."""
     return np.array([[0.0, 5.0, 0.0]])

@@ -498,11 +498,15 @@ impl BodyHandle {
     }
 }
 
-/// Whether `o` is a handle whose `__index__` is an entity's row.
+/// Whether `o` is a handle whose `__index__` is an entity's row (of any kind: an argument
+/// that wants one kind refuses the others instead of taking their row as its index).
 pub(crate) fn is_handle(o: &Bound<'_, PyAny>) -> bool {
     o.is_instance_of::<ParticleHandle>()
         || o.is_instance_of::<BodyHandle>()
         || o.is_instance_of::<ConstraintHandle>()
+        || o.is_instance_of::<BodySpringHandle>()
+        || o.is_instance_of::<BodyForceHandle>()
+        || o.is_instance_of::<crate::solid_handles::SolidHandle>()
 }
 
 /// A handle of a body link (a body spring or a Python force at a body point): id, alive,

@@ -608,6 +608,10 @@ pub(crate) fn solid_arg(world: &World, o: &Bound<'_, PyAny>, field: &str) -> PyR
         let id = h.id_in(g.family)?;
         return g.engine.solid_row(SolidId(id)).ok_or_else(|| h.gone());
     }
+    // Another kind's handle is not a solid, whatever its row.
+    if crate::entity_handle::is_handle(o) {
+        return Err(crate::convert::invalid(field, o, "a solid index or a SolidHandle"));
+    }
     crate::convert::whole(o, field, 0, i64::MAX)
         .map(|v| v as usize)
         .map_err(|_| crate::convert::invalid(field, o, "a solid index >= 0 or a SolidHandle"))

@@ -400,17 +400,8 @@ impl World {
         collide: bool,
     ) -> PyResult<JointHandle> {
         let kind = JointKind::by_name(&text(kind, "kind")?).map_err(py_err)?;
-        let index = |o: &Bound<'_, PyAny>, field: &str| -> PyResult<usize> {
-            if o.is_instance_of::<SolidHandle>() {
-                return solid_arg(slf.get(), o, field);
-            }
-            crate::convert::whole(o, field, 0, u32::MAX as i64).map(|i| i as usize)
-        };
-        let a = index(a, "a")?;
-        let b = match b.filter(|o| !o.is_none()) {
-            Some(o) => Some(index(o, "b")?),
-            None => None,
-        };
+        let a = solid_arg(slf.get(), a, "a")?;
+        let b = b.filter(|o| !o.is_none()).map(|o| solid_arg(slf.get(), o, "b")).transpose()?;
         let maybe = |o: Option<&Bound<'_, PyAny>>, field: &str| -> PyResult<Option<f64>> {
             o.filter(|o| !o.is_none()).map(|o| float(o, field)).transpose()
         };

@@ -109,6 +109,31 @@ pub struct Solids<S: Space> {
     pub(crate) forces: forces::Forces<S>,
     /// The ids of the solids, joints, springs and user forces, beside their rows ([`ids`]).
     pub(crate) ids: [crate::ids::Ids; 4],
+    /// What the step in progress changes, as it was before it ([`Solids::step`] goes back to
+    /// it when the step runs away); scratch, its buffers reused from step to step.
+    before: Before<S>,
+}
+
+/// The solids' motion, the solver's memory ([`solver::State::save`]) and the joints before a
+/// step.
+#[derive(Debug)]
+struct Before<S: Space> {
+    bodies: Vec<Body<S>>,
+    solver: solver::State<S>,
+    joints: Vec<joint::Joint<S>>,
+}
+
+impl<S: Space> Default for Before<S> {
+    fn default() -> Self {
+        Self { bodies: Vec::new(), solver: solver::State::default(), joints: Vec::new() }
+    }
+}
+
+/// Scratch: a copy starts with empty buffers.
+impl<S: Space> Clone for Before<S> {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
 }
 
 /// Which of [`Solids::ids`].
@@ -130,6 +155,7 @@ impl<S: Space> Default for Solids<S> {
             no_collide: Vec::new(),
             forces: forces::Forces::default(),
             ids: Default::default(),
+            before: Before::default(),
         }
     }
 }
@@ -513,11 +539,17 @@ impl<S: Space> Solids<S> {
             return Err(Error::invalid("dt", num(dt), "finite and > 0"));
         }
         self.gather_loads(0.0)?;
-        let before = (self.bodies.clone(), self.solver.clone(), self.joints.clone());
+        let mut before = std::mem::take(&mut self.before);
+        before.bodies.clone_from(&self.bodies);
+        self.solver.save(&mut before.solver);
+        before.joints.clone_from(&self.joints);
         solver::step(self, dt, gravity);
         self.forces.load.clear();
         if let Some(b) = self.runaway() {
-            (self.bodies, self.solver, self.joints) = before;
+            std::mem::swap(&mut self.bodies, &mut before.bodies);
+            std::mem::swap(&mut self.joints, &mut before.joints);
+            self.solver.restore(&before.solver);
+            self.before = before;
             return Err(Error::Diverged {
                 method: self.settings.solver.to_string(),
                 step: 0,
@@ -528,6 +560,7 @@ impl<S: Space> Solids<S> {
                 solid: Some(b),
             });
         }
+        self.before = before;
         self.clear_applied();
         Ok(())
     }

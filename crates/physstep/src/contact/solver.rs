@@ -305,6 +305,11 @@ impl<S: Space> State<S> {
         into.order.clone_from(&self.order);
     }
 
+    /// Puts back what [`State::save`] kept in `from` (its buffers reused).
+    pub(crate) fn restore(&mut self, from: &State<S>) {
+        from.save(self);
+    }
+
     pub(crate) fn report(&self) -> Vec<ContactReport<S::V>> {
         self.contacts
             .iter()

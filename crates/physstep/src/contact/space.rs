@@ -492,6 +492,7 @@ impl Space for Plane {
     /// One tangent: `|t0|`, which is `sqrt(t0^2)` to the bit (in binary floating point the
     /// square root of a correctly rounded square is the number's size, while the square is
     /// a normal number), without a square root on the solver's critical path.
+    #[inline]
     fn friction_size(t: [f64; 2]) -> f64 {
         /// Out of line, so that the compiler does not take the square root anyway and select.
         #[cold]
