@@ -277,9 +277,7 @@ impl World {
             // Every one checked before any goes: the World unchanged on an error.
             let rows = h.get().rows_in(&g)?;
             let ids: Vec<_> = rows.iter().filter_map(|&r| g.engine.particle_id(r)).collect();
-            for id in ids {
-                g.engine.remove_particle(id).map_err(py_err)?;
-            }
+            g.engine.remove_particles(&ids).map_err(py_err)?;
             return Ok(());
         }
         if let Ok(h) = handle.cast::<crate::entity_handle::BodyHandle>() {

@@ -210,10 +210,13 @@ impl ForceSet {
         Ok(())
     }
 
-    /// Every force mapped by `f` (particle ends renumbered after a removal, keeping every
-    /// comparison of the keys, so the order stays canonical), the derived forces gathered
-    /// again.
-    pub(crate) fn renumber(&mut self, f: impl Fn(Force) -> Force) {
+    /// Keeps the forces `keep` says yes to (their order and ids with them), each mapped by
+    /// `f` (particle ends renumbered after a removal, keeping every comparison of the keys,
+    /// so the order stays canonical); the derived forces gathered again once.
+    pub(crate) fn retain_renumbered(&mut self, keep: impl Fn(&Force) -> bool, f: impl Fn(Force) -> Force) {
+        let gone: Vec<bool> = self.forces.iter().map(|force| !keep(force)).collect();
+        crate::ids::retain_by(&mut self.forces, &gone);
+        crate::ids::retain_by(&mut self.ids, &gone);
         for force in &mut self.forces {
             *force = f(*force);
         }

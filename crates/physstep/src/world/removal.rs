@@ -26,20 +26,46 @@ pub struct Removed {
     pub body_springs: Vec<BodySpringId>,
 }
 
-/// `p` with the row `gone` taken out of the numbering.
-fn shifted(p: usize, gone: usize) -> usize {
-    if p > gone {
-        p - 1
-    } else {
-        p
-    }
+/// The particle rows that stay after a removal, renumbered: `new[p]` is row `p`'s row after
+/// it (`None` for a removed row).
+struct Renumbering {
+    new: Vec<Option<usize>>,
 }
 
-/// An end with the row `gone` taken out of the numbering.
-fn shifted_end(j: Endpoint, gone: usize) -> Endpoint {
-    match j {
-        Endpoint::Particle(p) => Endpoint::Particle(shifted(p, gone)),
-        anchor @ Endpoint::Anchor(_) => anchor,
+impl Renumbering {
+    /// The rows `gone` marks taken out of `0..gone.len()`, the order of the rest kept.
+    fn of(gone: &[bool]) -> Self {
+        let mut next = 0;
+        let new = gone
+            .iter()
+            .map(|&g| {
+                (!g).then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        Self { new }
+    }
+
+    fn gone(&self, p: usize) -> bool {
+        self.new[p].is_none()
+    }
+
+    /// Row `p` (one that stays) after the removal.
+    fn row(&self, p: usize) -> usize {
+        self.new[p].unwrap_or(p)
+    }
+
+    fn end(&self, j: Endpoint) -> Endpoint {
+        match j {
+            Endpoint::Particle(p) => Endpoint::Particle(self.row(p)),
+            anchor @ Endpoint::Anchor(_) => anchor,
+        }
+    }
+
+    fn end_gone(&self, j: Endpoint) -> bool {
+        matches!(j, Endpoint::Particle(p) if self.gone(p))
     }
 }
 
@@ -57,76 +83,103 @@ impl World {
     /// holds no particle of that id (removed already, or never added here); the world is
     /// unchanged.
     pub fn remove_particle(&mut self, id: ParticleId) -> Result<Removed> {
-        let row = self.ids.particles.row(id.0).ok_or_else(|| unknown("particle", id.0))?;
+        self.remove_particles(&[id])
+    }
+
+    /// Removes the particles `ids` at once, as [`World::remove_particle`] removes one (the
+    /// world then is the one removing them one by one leaves, bitwise), in one pass over the
+    /// world's rows whatever their number.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `particle` when an id is not of a particle of this
+    /// world, or is listed twice; the world is unchanged.
+    pub fn remove_particles(&mut self, ids: &[ParticleId]) -> Result<Removed> {
+        let n = self.model.mass.len();
+        let mut gone = vec![false; n];
+        for id in ids {
+            let row = self.ids.particles.row(id.0).ok_or_else(|| unknown("particle", id.0))?;
+            if std::mem::replace(&mut gone[row], true) {
+                return Err(Error::invalid("particle", id.0, "listed once"));
+            }
+        }
+        let map = Renumbering::of(&gone);
         let d = self.dim();
         let (coords, nx) = (self.model.len(), self.nx());
-        // y = [x, bodies' X; v, bodies' V]: the velocity first (it sits after the position).
-        self.state.y.drain(nx + row * d..nx + (row + 1) * d);
-        self.state.y.drain(row * d..(row + 1) * d);
-        self.state.f.truncate(self.state.y.len());
+        // y = [x, bodies' X; v, bodies' V]: each half's particle rows compacted in place.
+        let y = &mut self.state.y;
+        let mut w = 0;
+        for r in 0..y.len() {
+            let i = if r < nx { r } else { r - nx };
+            if i >= coords || !gone[i / d] {
+                y[w] = y[r];
+                w += 1;
+            }
+        }
+        y.truncate(w);
+        self.state.f.truncate(w);
         if self.prev_x.len() == coords {
-            self.prev_x.drain(row * d..(row + 1) * d);
+            let mut row = 0;
+            self.prev_x.retain(|_| {
+                row += 1;
+                !gone[(row - 1) / d]
+            });
         } else {
             self.prev_x.clear();
         }
-        self.model.mass.remove(row);
-        self.model.inv_mass.remove(row);
-        let forces = self.model.forces.remove_particle(row);
-        let mut body_springs = Vec::new();
-        let mut k = 0;
-        while k < self.bodies.springs.len() {
-            if self.bodies.springs[k].other == Endpoint::Particle(row) {
-                self.bodies.springs.remove(k);
-                body_springs.push(BodySpringId(self.ids.body_springs.id(k).unwrap_or_default()));
-                self.ids.body_springs.remove(k);
-            } else {
-                k += 1;
-            }
-        }
+        crate::ids::retain_by(&mut self.model.mass, &gone);
+        crate::ids::retain_by(&mut self.model.inv_mass, &gone);
+        let forces = self.model.forces.remove_particles(&map);
+        let dropped: Vec<bool> = self.bodies.springs.iter().map(|s| map.end_gone(s.other)).collect();
+        let body_springs = (0..dropped.len())
+            .filter(|&k| dropped[k])
+            .map(|k| BodySpringId(self.ids.body_springs.id(k).unwrap_or_default()))
+            .collect();
+        crate::ids::retain_by(&mut self.bodies.springs, &dropped);
+        self.ids.body_springs.retain_rows(&dropped);
         for s in &mut self.bodies.springs {
-            s.other = shifted_end(s.other, row);
+            s.other = map.end(s.other);
         }
-        let constraints = self.constraints_without(row);
-        if row < self.balls.radius.len() {
-            self.balls.radius.remove(row);
-        }
-        self.balls.index.retain(|&p| p != row);
+        let constraints = self.constraints_without(&map);
+        let radii = self.balls.radius.len().min(n);
+        crate::ids::retain_by(&mut self.balls.radius, &gone[..radii]);
+        self.balls.index.retain(|&p| !map.gone(p));
         for p in &mut self.balls.index {
-            *p = shifted(*p, row);
+            *p = map.row(*p);
         }
-        self.ids.particles.remove(row);
+        self.ids.particles.retain_rows(&gone);
         self.touch();
         Ok(Removed { forces, constraints, body_springs })
     }
 
-    /// Drops the constraints that name particle `row` and renumbers the rest; returns the
-    /// ids of the dropped ones.
-    fn constraints_without(&mut self, row: usize) -> Vec<ConstraintId> {
+    /// Drops the constraints that name a removed particle and renumbers the rest; returns
+    /// the ids of the dropped ones.
+    fn constraints_without(&mut self, map: &Renumbering) -> Vec<ConstraintId> {
         use crate::constraints::Constraint;
-        let mut dropped = Vec::new();
-        let mut k = 0;
-        while k < self.constraints.list.len() {
-            if self.constraints.list[k].particles().contains(&Some(row)) {
-                self.constraints.list.remove(k);
-                dropped.push(ConstraintId(self.ids.constraints.id(k).unwrap_or_default()));
-                self.ids.constraints.remove(k);
-            } else {
-                k += 1;
-            }
-        }
+        let dropped: Vec<bool> = self
+            .constraints
+            .list
+            .iter()
+            .map(|c| c.particles().iter().any(|p| p.is_some_and(|p| map.gone(p))))
+            .collect();
+        let ids = (0..dropped.len())
+            .filter(|&k| dropped[k])
+            .map(|k| ConstraintId(self.ids.constraints.id(k).unwrap_or_default()))
+            .collect();
+        crate::ids::retain_by(&mut self.constraints.list, &dropped);
+        self.ids.constraints.retain_rows(&dropped);
         for c in &mut self.constraints.list {
             *c = match *c {
                 Constraint::Distance { i, j, length, compliance } => {
-                    Constraint::Distance { i: shifted(i, row), j: shifted_end(j, row), length, compliance }
+                    Constraint::Distance { i: map.row(i), j: map.end(j), length, compliance }
                 }
                 Constraint::Limit { i, j, min, max } => {
-                    Constraint::Limit { i: shifted(i, row), j: shifted_end(j, row), min, max }
+                    Constraint::Limit { i: map.row(i), j: map.end(j), min, max }
                 }
-                Constraint::Pin { i, point } => Constraint::Pin { i: shifted(i, row), point },
+                Constraint::Pin { i, point } => Constraint::Pin { i: map.row(i), point },
                 plane @ Constraint::Plane { .. } => plane,
             };
         }
-        dropped
+        ids
     }
 
     /// Removes body `id`, and with it the body springs and user forces at its points (the
@@ -168,13 +221,13 @@ impl World {
             }
         }
         springs.reverse();
-        bodies.springs.iter_mut().for_each(|s| s.body = shifted(s.body, b));
+        bodies.springs.iter_mut().for_each(|s| s.body = crate::ids::shift(s.body, b));
         let forces: Vec<usize> = (0..bodies.forces.len()).filter(|&k| bodies.forces[k].body == b).collect();
         for &k in forces.iter().rev() {
             bodies.forces.remove(k);
             self.ids.body_forces.remove(k);
         }
-        bodies.forces.iter_mut().for_each(|f| f.body = shifted(f.body, b));
+        bodies.forces.iter_mut().for_each(|f| f.body = crate::ids::shift(f.body, b));
         self.body_params.remove(b);
         if self.prev_q.len() == nb {
             self.prev_q.remove(b);
@@ -274,26 +327,27 @@ impl World {
 
 /// A particle removal in the force set.
 impl crate::forces::ForceSet {
-    /// Removes the forces with an end on particle `row` and renumbers the other ends; returns
-    /// the ids removed. The order stays canonical (the renumbering keeps every comparison of
-    /// the keys), so the set steps as one built without that particle.
-    pub(crate) fn remove_particle(&mut self, row: usize) -> Vec<ForceId> {
+    /// Removes the forces with an end on a removed particle and renumbers the other ends;
+    /// returns the ids removed, in the set's order. The order stays canonical (the
+    /// renumbering keeps every comparison of the keys), so the set steps as one built
+    /// without those particles.
+    fn remove_particles(&mut self, map: &Renumbering) -> Vec<ForceId> {
         use crate::forces::Force;
         let touches = |f: &Force| match *f {
-            Force::Spring { i, j, .. } | Force::Rod { i, j, .. } => i == row || j == Endpoint::Particle(row),
+            Force::Spring { i, j, .. } | Force::Rod { i, j, .. } => map.gone(i) || map.end_gone(j),
             _ => false,
         };
         let gone: Vec<ForceId> = self.iter_ids().filter(|(_, f)| touches(f)).map(|(id, _)| id).collect();
-        for id in &gone {
-            self.remove(*id);
-        }
-        self.renumber(|f| match f {
-            Force::Spring { i, j, stiffness, rest_length, damping } => {
-                Force::Spring { i: shifted(i, row), j: shifted_end(j, row), stiffness, rest_length, damping }
-            }
-            Force::Rod { i, j, length } => Force::Rod { i: shifted(i, row), j: shifted_end(j, row), length },
-            other => other,
-        });
+        self.retain_renumbered(
+            |f| !touches(f),
+            |f| match f {
+                Force::Spring { i, j, stiffness, rest_length, damping } => {
+                    Force::Spring { i: map.row(i), j: map.end(j), stiffness, rest_length, damping }
+                }
+                Force::Rod { i, j, length } => Force::Rod { i: map.row(i), j: map.end(j), length },
+                other => other,
+            },
+        );
         gone
     }
 }

@@ -331,3 +331,101 @@ fn a_body_springs_parameters_set_by_id_step_as_a_world_built_with_them() {
     let e = a.set_body_spring(id, Some(1.0), None, None).unwrap_err().to_string();
     assert!(e.starts_with("invalid body_spring = 0: must be the id of a body spring of this world"), "{e}");
 }
+
+/// Twelve particles (every third a ball) with gravity, a chain of springs, rods, an anchor
+/// spring and constraints between them: what a batch removal has to renumber.
+fn web() -> World {
+    let mut w = world("velocity-verlet", 2);
+    w.add_walls(&[-20.0, -20.0], &[20.0, 20.0]).unwrap();
+    for k in 0..12 {
+        let (x, v, m) = (
+            [k as f64 * 0.7, (k % 3) as f64 * 0.4],
+            [0.1 * (k % 2) as f64, -0.05 * k as f64],
+            1.0 + 0.1 * k as f64,
+        );
+        if k % 3 == 0 {
+            w.add_ball(&x, &v, 0.1, m).unwrap();
+        } else {
+            w.add_particle(&x, &v, m, false).unwrap();
+        }
+    }
+    w.add_force(Force::Gravity { g: [0.0, -9.81, 0.0] }).unwrap();
+    for k in 0..11 {
+        w.add_force(Force::Spring {
+            i: k,
+            j: Endpoint::Particle(k + 1),
+            stiffness: 30.0,
+            rest_length: 0.7,
+            damping: 0.1,
+        })
+        .unwrap();
+    }
+    for k in (0..10).step_by(3) {
+        w.add_rod(k, Endpoint::Particle(k + 2), None).unwrap();
+    }
+    w.add_force(Force::Spring {
+        i: 7,
+        j: Endpoint::Anchor([3.0, 3.0, 0.0]),
+        stiffness: 5.0,
+        rest_length: 1.0,
+        damping: 0.0,
+    })
+    .unwrap();
+    w.add_pin(0, &[0.0, 0.0]).unwrap();
+    w.add_distance_limit(4, Endpoint::Particle(9), 0.5, 6.0).unwrap();
+    w.add_rope(10, Endpoint::Particle(2), 7.0).unwrap();
+    w.add_plane(&[0.0, 1.0], -10.0).unwrap();
+    w
+}
+
+#[test]
+fn particles_removed_at_once_leave_the_world_one_by_one_leaves() {
+    for gone in [vec![5], vec![1, 4, 9], vec![11, 0, 6, 3, 7], (0..12).collect()] {
+        let ids: Vec<ParticleId> = gone.iter().map(|&k| ParticleId(k)).collect();
+        let (mut a, mut b) = (web(), web());
+        a.step(7).unwrap();
+        b.step(7).unwrap();
+        let at_once = a.remove_particles(&ids).unwrap();
+        let mut one_by_one = physstep::world::Removed::default();
+        for id in &ids {
+            let r = b.remove_particle(*id).unwrap();
+            one_by_one.forces.extend(r.forces);
+            one_by_one.constraints.extend(r.constraints);
+        }
+        let mut at_once = at_once;
+        for r in [&mut at_once, &mut one_by_one] {
+            r.forces.sort();
+            r.constraints.sort();
+        }
+        assert_eq!(at_once, one_by_one, "{gone:?}");
+        assert_eq!(a.len(), 12 - gone.len());
+        assert_eq!((a.state_hash(), a.particle_ids()), (b.state_hash(), b.particle_ids()), "{gone:?}");
+        assert_eq!(
+            a.model().forces().iter().collect::<Vec<_>>(),
+            b.model().forces().iter().collect::<Vec<_>>()
+        );
+        assert_eq!(a.radii(), b.radii());
+        a.step(50).unwrap();
+        b.step(50).unwrap();
+        assert_eq!(
+            (bits(a.positions()), bits(a.velocities())),
+            (bits(b.positions()), bits(b.velocities())),
+            "{gone:?}"
+        );
+    }
+}
+
+#[test]
+fn a_batch_with_a_missing_or_repeated_id_is_one_line_and_the_world_unchanged() {
+    let mut w = web();
+    w.remove_particle(ParticleId(2)).unwrap();
+    let hash = w.state_hash();
+    for (ids, expected) in [
+        (vec![1, 2, 3], "invalid particle = 2: must be the id of a particle of this world (it was removed, or never added here)"),
+        (vec![4, 5, 4], "invalid particle = 4: must be listed once"),
+    ] {
+        let ids: Vec<ParticleId> = ids.into_iter().map(ParticleId).collect();
+        assert_eq!(w.remove_particles(&ids).unwrap_err().to_string(), expected);
+        assert_eq!((w.len(), w.state_hash()), (11, hash));
+    }
+}
