@@ -64,6 +64,13 @@ impl Ids {
         retain_by(&mut self.ids, gone);
     }
 
+    /// [`Ids::retain_rows`], returning the ids of the rows deleted (in row order).
+    pub(crate) fn take_rows(&mut self, gone: &[bool]) -> Vec<u64> {
+        let taken = self.ids.iter().zip(gone).filter(|(_, &g)| g).map(|(&id, _)| id).collect();
+        self.retain_rows(gone);
+        taken
+    }
+
     /// Whether the ids are `0..len` (nothing was ever removed).
     pub(crate) fn dense(&self) -> bool {
         self.next == self.ids.len() as u64

@@ -130,12 +130,8 @@ impl World {
         crate::ids::retain_by(&mut self.model.inv_mass, &gone);
         let forces = self.model.forces.remove_particles(&map);
         let dropped: Vec<bool> = self.bodies.springs.iter().map(|s| map.end_gone(s.other)).collect();
-        let body_springs = (0..dropped.len())
-            .filter(|&k| dropped[k])
-            .map(|k| BodySpringId(self.ids.body_springs.id(k).unwrap_or_default()))
-            .collect();
         crate::ids::retain_by(&mut self.bodies.springs, &dropped);
-        self.ids.body_springs.retain_rows(&dropped);
+        let body_springs = self.ids.body_springs.take_rows(&dropped).into_iter().map(BodySpringId).collect();
         for s in &mut self.bodies.springs {
             s.other = map.end(s.other);
         }
@@ -161,12 +157,8 @@ impl World {
             .iter()
             .map(|c| c.particles().iter().any(|p| p.is_some_and(|p| map.gone(p))))
             .collect();
-        let ids = (0..dropped.len())
-            .filter(|&k| dropped[k])
-            .map(|k| ConstraintId(self.ids.constraints.id(k).unwrap_or_default()))
-            .collect();
         crate::ids::retain_by(&mut self.constraints.list, &dropped);
-        self.ids.constraints.retain_rows(&dropped);
+        let ids = self.ids.constraints.take_rows(&dropped).into_iter().map(ConstraintId).collect();
         for c in &mut self.constraints.list {
             *c = match *c {
                 Constraint::Distance { i, j, length, compliance } => {
