@@ -1,4 +1,4 @@
-//! The engine's kernels, timed by criterion: `cargo bench -p physstep`.
+//! The engine's kernels, timed by criterion: `cargo bench -p physstep-bench`.
 //!
 //! Particles under gravity and drag (the element-wise kernel; with quadratic drag, the
 //! recipe-on-tiles kernel), a one-particle spring (a small system's per-step cost), n-body
