@@ -429,3 +429,34 @@ fn a_batch_with_a_missing_or_repeated_id_is_one_line_and_the_world_unchanged() {
         assert_eq!((w.len(), w.state_hash()), (11, hash));
     }
 }
+
+#[test]
+fn an_empty_batch_changes_nothing_not_even_a_methods_memory() {
+    // The alternating symplectic Euler keeps its step's parity: a removal restarts it
+    // (after an odd number of steps, another trajectory); removing no particle must not.
+    let build = || {
+        let mut w = world("symplectic-euler-alternating", 2);
+        for (x, v, m) in P {
+            w.add_particle(&x, &v, m, false).unwrap();
+        }
+        w.add_force(Force::Spring {
+            i: 0,
+            j: Endpoint::Particle(2),
+            stiffness: 20.0,
+            rest_length: 1.0,
+            damping: 0.0,
+        })
+        .unwrap();
+        w.step(11).unwrap();
+        w
+    };
+    let (mut a, mut b, mut restarted) = (build(), build(), build());
+    assert_eq!(a.remove_particles(&[]).unwrap(), physstep::world::Removed::default());
+    let x = restarted.positions().to_vec();
+    restarted.set_positions(&x).unwrap();
+    for w in [&mut a, &mut b, &mut restarted] {
+        w.step(20).unwrap();
+    }
+    assert_eq!(bits(a.positions()), bits(b.positions()));
+    assert_ne!(bits(restarted.positions()), bits(b.positions()), "a restart shows in the bits");
+}
