@@ -9,11 +9,14 @@ step (a game loop calls the engine once per fixed step). Peers, called the same 
 step, from the same Python loop:
 
 - at 1e6 particles: numba's fused `prange` loop over the particles (one step a call) and the
-  memory floor (a `prange` read-modify-write of x and v, no physics); and, for the record,
-  ten steps per call against numba's ten;
+  memory floor (a `prange` read-modify-write of x and v, no physics); physstep with masses
+  that differ (1 to 2 kg: its kernel then reads an inverse mass a particle, where equal
+  masses are one number) against the floor; and, for the record, ten steps per call against
+  numba's ten;
 - at 1e3 and 1e5 particles: a serial numba loop (`njit`, no threads).
 
-Printed: ns per particle-step (median of repeats) and the ratios. Nothing is asserted: the
+Printed: ns per particle-step (median of repeats, the contenders timed in turn within each
+repeat, so a change of load falls on all alike) and the ratios. Nothing is asserted: the
 numbers vary with the machine, the ratios less.
 """
 
@@ -26,7 +29,7 @@ import numpy as np
 import physstep
 from bench_particles import C, G, H, acc, floor_kernel
 from bench_particles import se_kernel as se_parallel
-from common import median_time, row, write_json
+from common import median_times, row, write_json
 from numba import njit
 
 
@@ -50,9 +53,9 @@ def calls(fn, k: int):  # noqa: ANN001, ANN201
     return run
 
 
-def world(x0: np.ndarray, v0: np.ndarray) -> physstep.World:
+def world(x0: np.ndarray, v0: np.ndarray, masses: np.ndarray | None = None) -> physstep.World:
     w = physstep.World(3, method="symplectic-euler", dt=H)
-    w.add_particles(x0, v0, np.ones(len(x0)))
+    w.add_particles(x0, v0, np.ones(len(x0)) if masses is None else masses)
     w.add_gravity(list(G))
     w.add_drag(C)
     return w
@@ -74,22 +77,38 @@ def main() -> None:
     x0, v0 = rng.random((n, 3)), rng.random((n, 3))
     per = 1e9 / (k * n)
     x, v = x0.copy(), v0.copy()
-    floor_kernel(x, v, 1.0, 1)
-    floor = median_time(calls(lambda: floor_kernel(x, v, 1.0, 1), k), repeat) * per
-    se_parallel(x, v, s, G, H, 1)
     xn, vn = x0.copy(), v0.copy()
-    fused = median_time(calls(lambda: se_parallel(xn, vn, s, G, H, 1), k), repeat) * per
     w = world(x0, v0)
-    ours = median_time(calls(lambda: w.step(1), k), repeat) * per
+    # Masses that differ: the kernel then reads an inverse mass a particle (8 bytes more than
+    # the floor's 48 read and 48 written), where equal masses are one number.
+    mixed = world(x0, v0, 1.0 + rng.random(n))
+    t = median_times(
+        {
+            "floor": calls(lambda: floor_kernel(x, v, 1.0, 1), k),
+            "fused": calls(lambda: se_parallel(xn, vn, s, G, H, 1), k),
+            "ours": calls(lambda: w.step(1), k),
+            "unequal": calls(lambda: mixed.step(1), k),
+        },
+        repeat,
+    )
+    floor, fused, ours, unequal = (t[c] * per for c in ("floor", "fused", "ours", "unequal"))
     print(f"\nN = {n:,}, one step per call ({k} calls a repeat)")
     row("memory floor (numba prange, read + write x, v)", floor, "ns/particle-step")
     row("numba prange, one step a call", fused, "ns/particle-step")
     row("physstep World.step(1)", ours, "ns/particle-step", fused, "numba prange")
     print(f"{'':<44} {ours / floor:6.2f}x the memory floor   (targets: 1.0x numba, 1.15x floor)")
-    ten = median_time(lambda: w.step(10), repeat) * 1e9 / (10 * n)
-    ten_ref = median_time(lambda: se_parallel(xn, vn, s, G, H, 10), repeat) * 1e9 / (10 * n)
+    row("physstep World.step(1), masses 1-2 kg", unequal, "ns/particle-step", floor, "the memory floor")
+    t = median_times({"ten": lambda: w.step(10), "ten_ref": lambda: se_parallel(xn, vn, s, G, H, 10)}, repeat)
+    ten, ten_ref = (t[c] * 1e9 / (10 * n) for c in ("ten", "ten_ref"))
     row("physstep World.step(10)", ten, "ns/particle-step", ten_ref, "numba prange, 10 a call")
-    out["1e6"] = {"floor": floor, "numba_prange": fused, "physstep": ours, "ten": ten, "ten_numba": ten_ref}
+    out["1e6"] = {
+        "floor": floor,
+        "numba_prange": fused,
+        "physstep": ours,
+        "physstep_unequal_masses": unequal,
+        "ten": ten,
+        "ten_numba": ten_ref,
+    }
 
     for n, k in ((1_000, 2_000), (100_000, 100)):
         if a.quick:
@@ -97,10 +116,15 @@ def main() -> None:
         x0, v0 = rng.random((n, 3)), rng.random((n, 3))
         per = 1e9 / (k * n)
         xs, vs = x0.copy(), v0.copy()
-        se_serial(xs, vs, s, G, H, 1)
-        serial = median_time(calls(lambda xs=xs, vs=vs: se_serial(xs, vs, s, G, H, 1), k), repeat) * per
         w = world(x0, v0)
-        ours = median_time(calls(lambda w=w: w.step(1), k), repeat) * per
+        t = median_times(
+            {
+                "serial": calls(lambda xs=xs, vs=vs: se_serial(xs, vs, s, G, H, 1), k),
+                "ours": calls(lambda w=w: w.step(1), k),
+            },
+            repeat,
+        )
+        serial, ours = t["serial"] * per, t["ours"] * per
         print(f"\nN = {n:,}, one step per call ({k} calls a repeat)")
         row("numba serial, one step a call", serial, "ns/particle-step")
         row("physstep World.step(1)", ours, "ns/particle-step", serial, "numba serial")

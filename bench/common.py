@@ -29,6 +29,21 @@ def median_time(fn: Callable[[], object], repeat: int, warmup: int = 1) -> float
     return statistics.median(times)
 
 
+def median_times(fns: dict[str, Callable[[], object]], repeat: int, warmup: int = 1) -> dict[str, float]:
+    """Median wall time of each of `fns`, s, over `repeat` rounds that time each once in turn
+    (interleaved: a change of the machine's load falls on every contender alike)."""
+    for fn in fns.values():
+        for _ in range(warmup):
+            fn()
+    times: dict[str, list[float]] = {k: [] for k in fns}
+    for _ in range(repeat):
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            times[k].append(time.perf_counter() - t0)
+    return {k: statistics.median(v) for k, v in times.items()}
+
+
 def row(name: str, value: float, unit: str, ref: float | None = None, ref_name: str = "") -> str:
     """One printed line: `name  value unit  (x.xx x ref_name)`."""
     line = f"{name:<44} {value:10.3f} {unit}"

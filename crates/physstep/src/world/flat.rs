@@ -44,6 +44,33 @@ pub(super) fn evals<M: Method>(method: &M, velocity: bool) -> Option<u64> {
 /// element (`4 * CHUNK * dim` values) stay in L1 for all the steps of a run.
 const CHUNK: usize = 64;
 
+/// The inverse masses of a run's particles: one a particle, or, where every particle has the
+/// same, that one number (the kernel then reads no array for them).
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Masses<'a> {
+    Each(&'a [f64]),
+    /// The inverse mass of each of `n` particles.
+    All(f64, usize),
+}
+
+impl<'a> Masses<'a> {
+    /// How many particles.
+    pub(super) fn len(self) -> usize {
+        match self {
+            Self::Each(w) => w.len(),
+            Self::All(_, n) => n,
+        }
+    }
+
+    /// Those of particles `a..b`.
+    pub(super) fn range(self, a: usize, b: usize) -> Self {
+        match self {
+            Self::Each(w) => Self::Each(&w[a..b]),
+            Self::All(w, _) => Self::All(w, b - a),
+        }
+    }
+}
+
 /// `run.n` steps of `run.h` of particles (positions `x`, velocities `v`, flat, `D` per
 /// particle) by `method`'s element-wise form, chunk by chunk, the state at the start kept in
 /// `sx`, `sv` when `run.save`; returns the first step at which a new value or acceleration
@@ -55,34 +82,34 @@ pub(super) fn run<const D: usize, M: Method>(
     k: Flat,
     velocity: bool,
     run: Run,
-    inv_mass: &[f64],
+    masses: Masses<'_>,
     (x, v): (&mut [f64], &mut [f64]),
     (sx, sv): (&mut [f64], &mut [f64]),
 ) -> u64 {
     let (h, mut good) = (run.h, run.n);
     let c = CHUNK * D;
     let chunks = x.chunks_mut(c).zip(v.chunks_mut(c)).zip(sx.chunks_mut(c).zip(sv.chunks_mut(c)));
-    // Inverse mass and gravity per element (gravity 0 on a static particle), set per chunk.
+    // Inverse mass and gravity per element (gravity 0 on a static particle): set per chunk,
+    // or once where every particle has the same inverse mass.
     let (mut im, mut gm) = ([0.0; CHUNK * 3], [0.0; CHUNK * 3]);
-    for (((xc, vc), (sxc, svc)), ic) in chunks.zip(inv_mass.chunks(CHUNK)) {
+    let all_bounded = match masses {
+        Masses::All(w, _) => fill::<D>(k, std::iter::repeat_n(w, CHUNK), &mut im, &mut gm),
+        Masses::Each(_) => false,
+    };
+    for (q, ((xc, vc), (sxc, svc))) in chunks.enumerate() {
         if run.save {
             sxc.copy_from_slice(xc);
             svc.copy_from_slice(vc);
         }
-        for (p, &w) in ic.iter().enumerate() {
-            for c in 0..D {
-                im[p * D + c] = w;
-                gm[p * D + c] = if w > 0.0 { k.g[c] } else { 0.0 };
+        let bounded = match masses {
+            Masses::All(..) => all_bounded,
+            Masses::Each(w) => {
+                let ws = w[q * CHUNK..q * CHUNK + xc.len() / D].iter().copied();
+                fill::<D>(k, ws, &mut im, &mut gm)
             }
-        }
+        };
         let m = xc.len();
         let (im, gm) = (&im[..m], &gm[..m]);
-        // Where |s / m| <= 1/2 and |g| <= 1e90, |a| <= |v| / 2 + 1e90 stays finite and within
-        // the runaway limit whenever v does: the acceleration at the new state cannot fail the
-        // check, and a recipe that computes it only for the check (explicit or symplectic
-        // Euler, RK4: their last evaluation) does not compute it.
-        let w_max = ic.iter().fold(0.0f64, |a, &w| if w > a { w } else { a });
-        let bounded = k.s.abs() * w_max <= 0.5 && k.g.iter().all(|g| g.abs() <= 1e90);
         let steps = if bounded {
             chunk::<M, false>(method, k, velocity, h, good, (xc, vc), im, gm)
         } else {
@@ -91,6 +118,25 @@ pub(super) fn run<const D: usize, M: Method>(
         good = good.min(steps);
     }
     good
+}
+
+/// Sets the inverse mass and gravity per element (gravity 0 on a static particle) of the
+/// particles whose inverse masses are `ws`; whether the acceleration is bounded on them:
+/// where |s / m| <= 1/2 and |g| <= 1e90, |a| <= |v| / 2 + 1e90 stays finite and within the
+/// runaway limit whenever v does, so the acceleration at the new state cannot fail the check,
+/// and a recipe that computes it only for the check (explicit or symplectic Euler, RK4: their
+/// last evaluation) does not compute it.
+#[inline(always)]
+fn fill<const D: usize>(k: Flat, ws: impl Iterator<Item = f64>, im: &mut [f64], gm: &mut [f64]) -> bool {
+    let mut w_max = 0.0f64;
+    for (p, w) in ws.enumerate() {
+        for c in 0..D {
+            im[p * D + c] = w;
+            gm[p * D + c] = if w > 0.0 { k.g[c] } else { 0.0 };
+        }
+        w_max = if w > w_max { w } else { w_max };
+    }
+    k.s.abs() * w_max <= 0.5 && k.g.iter().all(|g| g.abs() <= 1e90)
 }
 
 /// Up to `n` steps of one chunk's elements; the first step that ran away (or `n`). With `A`

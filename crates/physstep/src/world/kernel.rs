@@ -15,7 +15,7 @@
 //! arithmetic, so the same bits) and takes step `k` the staged way, which fails the same way,
 //! rolls back, and names the particle (`World::run`).
 
-use super::flat::{self, Flat};
+use super::flat::{self, Flat, Masses};
 use super::small::{self, Elements};
 use super::step::StepContext;
 use super::tiles::{self, Forces, Run};
@@ -57,6 +57,8 @@ struct Fused<'a, const D: usize> {
     /// The element-wise forces, when they apply.
     flat: Option<Flat>,
     inv_mass: &'a [f64],
+    /// The same, as the element-wise kernel reads them.
+    masses: Masses<'a>,
     /// The state `[x; v]`.
     y: &'a mut [f64],
     /// Where the state at the start is kept (the call's rollback).
@@ -68,11 +70,11 @@ impl<const D: usize> Visit for Fused<'_, D> {
     type Out = (u64, u64);
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> (u64, u64) {
-        let Self { forces, flat, inv_mass, y, saved, run } = self;
+        let Self { forces, flat, inv_mass, masses, y, saved, run } = self;
         // The method's element-wise form where it has one and the forces are element-wise.
         match flat.zip(flat::evals(method, forces.velocity)) {
             Some((k, e)) => {
-                (tiles::elementwise::<D, M>(method, k, forces.velocity, inv_mass, y, saved, run), e)
+                (tiles::elementwise::<D, M>(method, k, forces.velocity, masses, y, saved, run), e)
             }
             None => tiles::recipe::<D, M>(method, forces, inv_mass, y, saved, run),
         }
@@ -169,6 +171,8 @@ impl World {
         run: Run,
         on_row: Option<&mut F>,
     ) -> ((u64, u64), bool) {
+        // Whether every particle has the same inverse mass (a scan after a change of masses).
+        let all = self.model.inv_mass.all();
         let model = &self.model;
         let local = model.forces.local();
         let forces = Forces { local, velocity: model.velocity_dependent() };
@@ -182,7 +186,8 @@ impl World {
             _ => {
                 let flat = local.element_wise().map(|(s, g)| Flat { s, g });
                 let inv_mass = &model.inv_mass;
-                (method.visit(Fused::<D> { forces, flat, inv_mass, y, saved, run }), false)
+                let masses = all.map_or(Masses::Each(inv_mass), |w| Masses::All(w, inv_mass.len()));
+                (method.visit(Fused::<D> { forces, flat, inv_mass, masses, y, saved, run }), false)
             }
         }
     }

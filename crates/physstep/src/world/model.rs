@@ -5,12 +5,74 @@ use crate::error::Error;
 use crate::forces::{ForceSet, UserForce};
 use crate::limits::RUNAWAY;
 
+/// Inverse masses, 1/kg (0 for static particles), one a particle, and whether they are all
+/// the same (then the fused kernel reads one number, not the array: worlds of equal particles
+/// are common, and the array is a stream of memory as long as a third of the state's). It
+/// reads as a slice; every change goes through its methods, which keep that answer true.
+#[derive(Debug, Clone, Default)]
+pub(super) struct InvMass {
+    values: Vec<f64>,
+    /// `Some(Some(w))`: every value is `w` (bitwise); `Some(None)`: they differ (or there are
+    /// none); `None`: not known since the last change.
+    all: Option<Option<f64>>,
+}
+
+impl std::ops::Deref for InvMass {
+    type Target = [f64];
+    #[inline]
+    fn deref(&self) -> &[f64] {
+        &self.values
+    }
+}
+
+impl<'a> IntoIterator for &'a InvMass {
+    type Item = &'a f64;
+    type IntoIter = std::slice::Iter<'a, f64>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.values.iter()
+    }
+}
+
+impl InvMass {
+    /// Appends one particle's.
+    pub(super) fn push(&mut self, w: f64) {
+        self.all = match self.all {
+            _ if self.values.is_empty() => Some(Some(w)),
+            Some(Some(u)) if u.to_bits() == w.to_bits() => Some(Some(w)),
+            Some(_) => Some(None),
+            None => None,
+        };
+        self.values.push(w);
+    }
+
+    /// Sets particle `i`'s.
+    pub(super) fn set(&mut self, i: usize, w: f64) {
+        self.values[i] = w;
+        self.all = None;
+    }
+
+    /// Keeps the particles not `gone`.
+    pub(super) fn retain_by(&mut self, gone: &[bool]) {
+        crate::ids::retain_by(&mut self.values, gone);
+        self.all = None;
+    }
+
+    /// The one value every particle has (bitwise), if they all have the same and there is at
+    /// least one; found by a scan after a change, then remembered.
+    pub(super) fn all(&mut self) -> Option<f64> {
+        *self.all.get_or_insert_with(|| {
+            let w = *self.values.first()?;
+            self.values.iter().all(|u| u.to_bits() == w.to_bits()).then_some(w)
+        })
+    }
+}
+
 /// The force model: what the integrators see as a [`SecondOrder`] system.
 #[derive(Debug, Clone, Default)]
 pub struct Model {
     pub(super) dim: usize,
     pub(super) mass: Vec<f64>,
-    pub(super) inv_mass: Vec<f64>,
+    pub(super) inv_mass: InvMass,
     pub(super) forces: ForceSet,
     /// The user's force generators, in the order they were added.
     pub(super) user: Vec<UserForce>,
@@ -223,5 +285,35 @@ impl Model {
             // u + k: IEEE addition commutes, the bits of k + u.
             *e += k;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::InvMass;
+
+    #[test]
+    fn the_one_inverse_mass_follows_every_change() {
+        let mut w = InvMass::default();
+        assert_eq!(w.all(), None, "no particle");
+        for _ in 0..3 {
+            w.push(0.5);
+        }
+        assert_eq!(w.all(), Some(0.5));
+        w.push(0.25);
+        assert_eq!(w.all(), None, "a different one added");
+        w.retain_by(&[false, false, false, true]);
+        assert_eq!(w.all(), Some(0.5), "it removed");
+        w.set(1, 0.0);
+        assert_eq!(w.all(), None, "one made static");
+        w.set(1, 0.5);
+        assert_eq!(w.all(), Some(0.5), "put back");
+        w.push(-0.0 + 0.5);
+        w.set(2, 0.0);
+        w.set(0, -0.0);
+        w.set(1, 0.0);
+        w.set(3, 0.0);
+        assert_eq!(w.all(), None, "-0 and 0 differ in bits");
+        assert_eq!(&*w, &[-0.0, 0.0, 0.0, 0.0]);
     }
 }

@@ -131,7 +131,7 @@ impl World {
             self.prev_x.clear();
         }
         crate::ids::retain_by(&mut self.model.mass, &gone);
-        crate::ids::retain_by(&mut self.model.inv_mass, &gone);
+        self.model.inv_mass.retain_by(&gone);
         let forces = self.model.forces.remove_particles(&map);
         let dropped: Vec<bool> = self.bodies.springs.iter().map(|s| map.end_gone(s.other)).collect();
         crate::ids::retain_by(&mut self.bodies.springs, &dropped);

@@ -182,7 +182,7 @@ impl World {
             ));
         }
         self.model.mass[i] = mass;
-        self.model.inv_mass[i] = if fixed { 0.0 } else { 1.0 / mass };
+        self.model.inv_mass.set(i, if fixed { 0.0 } else { 1.0 / mass });
         self.touch();
         Ok(())
     }

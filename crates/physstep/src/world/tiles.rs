@@ -12,7 +12,7 @@
 
 use rayon::prelude::*;
 
-use super::flat::{self, Flat};
+use super::flat::{self, Flat, Masses};
 use super::Epoch;
 use crate::dynamics::{Second, SecondOrder, Step};
 use crate::forces::local::{AnchorSpring, Local};
@@ -216,25 +216,25 @@ fn halves<'a, const D: usize>(y: &'a mut [f64], inv_mass: &[f64]) -> (&'a mut [f
     y.split_at_mut(inv_mass.len() * D)
 }
 
-/// Fixed tasks of [`TASK`] particles, in parallel: positions, velocities, their places in the
-/// checkpoint, inverse masses.
+/// Fixed tasks of [`TASK`] particles, in parallel: the task's index, its particles'
+/// positions, velocities and their places in the checkpoint (of `n` particles).
 #[allow(clippy::type_complexity)]
 fn tasks<'a, const D: usize>(
-    inv_mass: &'a [f64],
+    n: usize,
     y: &'a mut [f64],
     saved: &'a mut [f64],
-) -> impl IndexedParallelIterator<Item = (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64], &'a [f64])>
+) -> impl IndexedParallelIterator<Item = (usize, (&'a mut [f64], &'a mut [f64], &'a mut [f64], &'a mut [f64]))>
 {
-    let ((x, v), (sx, sv)) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
+    let ((x, v), (sx, sv)) = (y.split_at_mut(n * D), saved.split_at_mut(n * D));
     let c = TASK * D;
-    (
-        x.par_chunks_mut(c),
-        v.par_chunks_mut(c),
-        sx.par_chunks_mut(c),
-        sv.par_chunks_mut(c),
-        inv_mass.par_chunks(TASK),
-    )
+    (x.par_chunks_mut(c), v.par_chunks_mut(c), sx.par_chunks_mut(c), sv.par_chunks_mut(c))
         .into_par_iter()
+        .enumerate()
+}
+
+/// Particles `k * TASK..` of `n`, up to a task's.
+fn task_range(k: usize, n: usize) -> (usize, usize) {
+    (k * TASK, ((k + 1) * TASK).min(n))
 }
 
 /// A run of every particle (state `y = [x; v]`) through `method`'s own recipe, the state at
@@ -263,9 +263,14 @@ pub(super) fn recipe<const D: usize, M: Method + Clone + Send + Sync>(
         return task(method, 0, inv_mass, (x, v), (sx, sv));
     }
     let proto = &*method;
-    tasks::<D>(inv_mass, y, saved)
-        .enumerate()
-        .map_init(|| proto.clone(), |m, (k, (x, v, sx, sv, im))| task(m, k * TASK, im, (x, v), (sx, sv)))
+    tasks::<D>(inv_mass.len(), y, saved)
+        .map_init(
+            || proto.clone(),
+            |m, (k, (x, v, sx, sv))| {
+                let (a, b) = task_range(k, inv_mass.len());
+                task(m, a, &inv_mass[a..b], (x, v), (sx, sv))
+            },
+        )
         .reduce(|| (run.n, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)))
 }
 
@@ -292,12 +297,12 @@ pub(super) fn elementwise<const D: usize, M: Method + Sync>(
     method: &M,
     k: Flat,
     velocity: bool,
-    inv_mass: &[f64],
+    masses: Masses<'_>,
     y: &mut [f64],
     saved: &mut [f64],
     run: Run,
 ) -> u64 {
-    let task = |im: &[f64], xv: (&mut [f64], &mut [f64]), s: (&mut [f64], &mut [f64])| {
+    let task = |im: Masses<'_>, xv: (&mut [f64], &mut [f64]), s: (&mut [f64], &mut [f64])| {
         #[cfg(target_arch = "x86_64")]
         if avx2() {
             // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
@@ -306,12 +311,16 @@ pub(super) fn elementwise<const D: usize, M: Method + Sync>(
         }
         flat::run::<D, M>(method, k, velocity, run, im, xv, s)
     };
-    if inv_mass.len() < PARALLEL_MIN {
-        let ((x, v), (sx, sv)) = (halves::<D>(y, inv_mass), halves::<D>(saved, inv_mass));
-        return task(inv_mass, (x, v), (sx, sv));
+    let n = masses.len();
+    if n < PARALLEL_MIN {
+        let ((x, v), (sx, sv)) = (y.split_at_mut(n * D), saved.split_at_mut(n * D));
+        return task(masses, (x, v), (sx, sv));
     }
-    tasks::<D>(inv_mass, y, saved)
-        .map(|(x, v, sx, sv, im)| task(im, (x, v), (sx, sv)))
+    tasks::<D>(n, y, saved)
+        .map(|(k, (x, v, sx, sv))| {
+            let (a, b) = task_range(k, n);
+            task(masses.range(a, b), (x, v), (sx, sv))
+        })
         .reduce(|| run.n, u64::min)
 }
 
@@ -323,9 +332,9 @@ unsafe fn elementwise_avx2<const D: usize, M: Method>(
     k: Flat,
     velocity: bool,
     run: Run,
-    inv_mass: &[f64],
+    masses: Masses<'_>,
     xv: (&mut [f64], &mut [f64]),
     saved: (&mut [f64], &mut [f64]),
 ) -> u64 {
-    flat::run::<D, M>(method, k, velocity, run, inv_mass, xv, saved)
+    flat::run::<D, M>(method, k, velocity, run, masses, xv, saved)
 }

@@ -135,12 +135,45 @@ fn parallel_kernels_match_the_staged_step_bitwise() {
             if !matches!(name, "gravity+drag" | "quadratic drag" | "anchors") {
                 continue;
             }
-            for equal in [false, true] {
-                let mut a = world(method, 3, n, &forces, true, equal);
+            // Masses that differ, equal ones with a static particle (not all the same), and
+            // all the same (the element-wise kernel reads one inverse mass then).
+            for (equal, with_static) in [(false, true), (true, true), (true, false)] {
+                let mut a = world(method, 3, n, &forces, with_static, equal);
                 let mut b = a.clone();
                 agree(&mut a, &mut b, 3, &format!("{method} on {name}, n {n}"));
             }
         }
+    }
+}
+
+#[test]
+fn the_kernels_see_a_change_of_mass_between_calls() {
+    // Equal masses (one inverse mass for all), then one changed, then put back, then a
+    // particle of another mass added, then it removed: each call continues the staged
+    // trajectory bitwise, in a small world and a parallel one.
+    let forces = [Force::Gravity { g: [0.0, -9.81, 0.5] }, Force::Drag { linear: 0.6, quadratic: 0.0 }];
+    for n in [37, 4 * 16384 + 5] {
+        let mut a = world("symplectic-euler", 3, n, &forces, false, true);
+        let mut b = a.clone();
+        let what = format!("n {n}");
+        agree(&mut a, &mut b, 2, &what);
+        for w in [&mut a, &mut b] {
+            w.set_mass(n / 2, 0.25).unwrap();
+        }
+        agree(&mut a, &mut b, 2, &format!("{what}, a mass changed"));
+        for w in [&mut a, &mut b] {
+            w.set_mass(n / 2, 1.5).unwrap();
+        }
+        agree(&mut a, &mut b, 2, &format!("{what}, the mass put back"));
+        for w in [&mut a, &mut b] {
+            w.add_particle(&[0.0, 1.0, 2.0], &[0.5, 0.0, 0.0], 0.2, false).unwrap();
+        }
+        agree(&mut a, &mut b, 2, &format!("{what}, a lighter particle added"));
+        for w in [&mut a, &mut b] {
+            let id = w.particle_id(n).unwrap();
+            w.remove_particles(&[id]).unwrap();
+        }
+        agree(&mut a, &mut b, 2, &format!("{what}, it removed"));
     }
 }
 
