@@ -460,7 +460,7 @@ impl<S: Space> Forces<S> {
 pub(crate) fn integrate<S: Space>(
     f: &mut Forces<S>,
     bodies: &[Body<S>],
-    motion: &mut [super::solver::Motion<S>],
+    motion: &mut [super::points::Motion<S>],
     h: f64,
 ) {
     if !f.active() {

@@ -18,6 +18,7 @@ mod forces;
 mod ids;
 pub mod joint;
 mod params;
+mod points;
 mod remove;
 mod settings;
 mod shape;
@@ -100,7 +101,7 @@ pub struct Solids<S: Space> {
     pub(crate) params: Vec<SolidParams>,
     /// The solver and its settings.
     pub settings: Settings,
-    pub(crate) solver: solver::State<S>,
+    pub(crate) solver: points::State<S>,
     pub(crate) joints: Vec<joint::Joint<S>>,
     pub(crate) joint_params: Vec<JointParams>,
     /// Pairs of solids a joint keeps from colliding, `(low, high)`, sorted.
@@ -114,18 +115,18 @@ pub struct Solids<S: Space> {
     before: Before<S>,
 }
 
-/// The solids' motion, the solver's memory ([`solver::State::save`]) and the joints before a
+/// The solids' motion, the solver's memory ([`points::State::save`]) and the joints before a
 /// step.
 #[derive(Debug)]
 struct Before<S: Space> {
     bodies: Vec<Body<S>>,
-    solver: solver::State<S>,
+    solver: points::State<S>,
     joints: Vec<joint::Joint<S>>,
 }
 
 impl<S: Space> Default for Before<S> {
     fn default() -> Self {
-        Self { bodies: Vec::new(), solver: solver::State::default(), joints: Vec::new() }
+        Self { bodies: Vec::new(), solver: points::State::default(), joints: Vec::new() }
     }
 }
 
@@ -149,7 +150,7 @@ impl<S: Space> Default for Solids<S> {
             shapes: Vec::new(),
             params: Vec::new(),
             settings: Settings::default(),
-            solver: solver::State::default(),
+            solver: points::State::default(),
             joints: Vec::new(),
             joint_params: Vec::new(),
             no_collide: Vec::new(),

@@ -29,7 +29,7 @@ mod rows;
 
 pub(crate) use rows::{prepare, project, solve, warm_start};
 
-use super::solver::Soft;
+use super::points::Soft;
 use super::space::{Space, Vect};
 use super::Body;
 use crate::error::{num, Error, Result};

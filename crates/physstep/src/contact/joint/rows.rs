@@ -3,7 +3,7 @@
 //! position projection after the step.
 
 use super::{pose, Impulses, Joint, JointKind};
-use crate::contact::solver::{effective_mass, push, relative_velocity, two, Motion, Soft};
+use crate::contact::points::{effective_mass, push, relative_velocity, two, Motion, Soft};
 use crate::contact::space::{Space, Vect};
 use crate::contact::Body;
 
