@@ -535,11 +535,17 @@ def test_the_solver_key_cycles_the_contact_solvers(name: str, monkeypatch: pytes
     from physstep.demos import base
 
     r = _runner(name)
-    one = list(physstep.contact_solvers())
-    r.act("solver")  # one solver today: the key keeps it, and says so in the HUD
-    assert r.panels[0].world.contact_solver == one[0] == r.demo.solver
+    names = list(physstep.contact_solvers())
+    assert r.panels[0].world.contact_solver == names[0] == r.demo.solver
+    r.act("solver")  # the next solver in the registry, shown in the HUD
+    assert r.panels[0].world.contact_solver == names[1] == r.demo.solver
     rows = {label: value for label, value, _ in r.demo.hud(r.panels[0])}
-    assert rows["solver"] == f"{one[0]} (c)"
+    assert rows["solver"] == f"{names[1]} (c)"
+    for _ in range(5):
+        r.update(1 / 60)  # the demo steps under it
+    assert r.panels[0].world.steps > 0
+    r.act("solver")  # and round to the first
+    assert r.panels[0].world.contact_solver == names[0] == r.demo.solver
     # With more solvers the key walks the registry in order and wraps round.
     monkeypatch.setattr(physstep, "contact_solvers", lambda: {"a": "", "b": "", "c": ""})
 

@@ -31,7 +31,7 @@ pub use ids::{JointId, SolidForceId, SolidId, SolidSpringId};
 pub use joint::{JointKind, JointParams, JOINT_KINDS};
 pub use params::{Kind, SolidParams};
 pub use remove::SolidMotion;
-pub use settings::{Info, Settings, SOLVERS};
+pub use settings::{Info, Schedule, Settings, SOLVERS};
 pub use shape::Shape;
 pub use space::{Plane, Space, Space3, Swept, Touch, Vect};
 

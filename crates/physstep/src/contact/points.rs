@@ -31,13 +31,24 @@ impl Soft {
 pub(super) struct Coefs {
     /// `mass_scale * bias_rate` (the product the bias is made of, taken once).
     pub(super) bias: f64,
-    pub(crate) mass_scale: f64,
-    pub(crate) impulse_scale: f64,
+    pub(super) mass_scale: f64,
+    pub(super) impulse_scale: f64,
+    /// The bias with which static friction pulls a point's anchors back together (0: friction
+    /// only stops the sliding velocity).
+    pub(super) friction_bias: f64,
 }
 
 impl Coefs {
+    /// A soft contact's, whose static friction holds its anchors as softly as it pushes.
     pub(super) fn of(k: Soft) -> Self {
-        Self { bias: k.mass_scale * k.bias_rate, mass_scale: k.mass_scale, impulse_scale: k.impulse_scale }
+        let bias = k.mass_scale * k.bias_rate;
+        Self { bias, mass_scale: k.mass_scale, impulse_scale: k.impulse_scale, friction_bias: bias }
+    }
+
+    /// A rigid contact's with a Baumgarte bias of `beta / h` (the fraction `beta` of the
+    /// overlap removed a step), plain friction.
+    pub(super) fn baumgarte(beta: f64, inv_h: f64) -> Self {
+        Self { bias: beta * inv_h, mass_scale: 1.0, impulse_scale: 0.0, friction_bias: 0.0 }
     }
 }
 

@@ -11,14 +11,42 @@ pub struct Info {
     pub name: &'static str,
     /// One line on what it does.
     pub summary: &'static str,
+    /// Constraint passes over every contact a step, in the settings' terms (equal by default:
+    /// the lab compares solvers at equal cost).
+    pub passes: &'static str,
+    /// How it steps (`solver.rs`).
+    pub schedule: Schedule,
+}
+
+/// How a contact solver steps (`solver.rs`): the passes it makes and the coefficients of its
+/// constraints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Schedule {
+    /// Substeps, each a soft solve, a drift and a relax (Box2D v3).
+    SoftStep,
+    /// One step: every pass a rigid solve with a Baumgarte bias, then one drift (sequential
+    /// impulses, Box2D v2 and Chipmunk).
+    Pgs,
 }
 
 /// Every contact solver, in registry order.
-pub const SOLVERS: &[Info] = &[Info {
-    name: "soft-step",
-    summary:
-        "Box2D v3's soft step: substeps of symplectic Euler, soft contacts, warm starting, relax, restitution",
-}];
+pub const SOLVERS: &[Info] = &[
+    Info {
+        name: "soft-step",
+        summary: "Box2D v3's soft step: substeps of symplectic Euler, soft contacts, warm starting, relax, \
+                  restitution",
+        passes: "2 x substeps x solver_iterations (a solve and a relax a substep)",
+        schedule: Schedule::SoftStep,
+    },
+    Info {
+        name: "pgs",
+        summary: "projected Gauss-Seidel (sequential impulses, Box2D v2): one step of symplectic Euler, \
+                  rigid contacts with a Baumgarte position bias, plain Coulomb friction, warm starting, \
+                  restitution",
+        passes: "2 x substeps x solver_iterations velocity passes in one step (the soft step's count)",
+        schedule: Schedule::Pgs,
+    },
+];
 
 /// The solver and its settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,6 +99,14 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// How the chosen solver steps ([`Info::schedule`]).
+    #[must_use]
+    pub fn schedule(&self) -> Schedule {
+        // `solver` is a registry name: `set_solver` is the only way a world takes one (the
+        // World checks a whole `Settings` through it), so the lookup finds it.
+        SOLVERS.iter().find(|i| i.name == self.solver).map_or(Schedule::SoftStep, |i| i.schedule)
+    }
+
     /// Chooses the solver by name.
     ///
     /// # Errors

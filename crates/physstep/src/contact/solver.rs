@@ -34,12 +34,23 @@ use super::points::{
     collide, effective_mass, push, relative_velocity, two, Coefs, Motion, Pair, Point, Soft, State, Warm,
 };
 use super::space::{Space, Vect};
-use super::{joint, Kind, Solids};
+use super::{joint, Kind, Schedule, Solids};
 
-/// One step of the soft step.
+/// The fraction of an overlap PGS's position bias removes in a step (Box2D v2's
+/// `b2_baumgarte`).
+const BAUMGARTE: f64 = 0.2;
+
+/// One step of the chosen solver: the soft step, or PGS ([`Schedule`]).
 pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     let set = solids.settings.clone();
-    let n = set.substeps.max(1);
+    let pgs = set.schedule() == Schedule::Pgs;
+    // The soft step: substeps of one solve pass, a drift and one relax pass each (times
+    // `iterations`); PGS: one step of as many solve passes as the soft step makes in all.
+    let (n, solves, relaxes) = if pgs {
+        (1, 2 * set.substeps.max(1) * set.iterations, 0)
+    } else {
+        (set.substeps.max(1), set.iterations, set.iterations)
+    };
     let h = dt / f64::from(n);
     let inv_h = 1.0 / h;
     collide(solids);
@@ -69,7 +80,11 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         st.motion.push(Motion::fixed());
     }
     for pair in &mut st.touching {
-        pair.soft = Coefs::of(if pair.rigid_other { rigid } else { soft });
+        pair.soft = if pgs {
+            Coefs::baumgarte(BAUMGARTE, inv_h)
+        } else {
+            Coefs::of(if pair.rigid_other { rigid } else { soft })
+        };
         let (ma, mb) = (&st.motion[pair.a as usize], &st.motion[pair.b as usize]);
         for p in &mut st.points[pair.start as usize..pair.end as usize] {
             p.normal_mass = effective_mass(ma, mb, p.ra, p.rb, p.normal);
@@ -95,7 +110,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             joint::warm_start(joints, &mut st.motion);
         }
         warm_start(st);
-        for _ in 0..set.iterations {
+        for _ in 0..solves {
             if !joints.is_empty() {
                 joint::solve(joints, &mut st.motion, h, Some(joint_soft));
             }
@@ -110,7 +125,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             m.dp += m.v * h;
             (b.q, m.dq) = S::turn(b.q, m.dq, m.w, h);
         }
-        for _ in 0..set.iterations {
+        for _ in 0..relaxes {
             if !joints.is_empty() {
                 joint::solve(joints, &mut st.motion, h, None);
             }
@@ -303,7 +318,7 @@ fn solve<S: Space, const BIAS: bool>(st: &mut State<S>, inv_h: f64, push_speed: 
                 let vt = dv.dot(t);
                 new[k] = if BIAS {
                     let err = p.slip[k] + moved.dot(t);
-                    let vbias = (c.bias * err).clamp(-push_speed, push_speed);
+                    let vbias = (c.friction_bias * err).clamp(-push_speed, push_speed);
                     p.tangent_impulse[k]
                         - p.tangent_mass[k] * (c.mass_scale * vt + vbias)
                         - c.impulse_scale * p.tangent_impulse[k]
