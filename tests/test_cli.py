@@ -106,6 +106,16 @@ def test_methods_lists_every_registered_method() -> None:
         assert m.doc, f"{m.name} has no doc"
 
 
+def test_solvers_lists_every_contact_solver_with_its_passes() -> None:
+    rows = json.loads(run_cli("solvers", "--format", "json").stdout)
+    assert [r["name"] for r in rows] == list(physstep.contact_solvers()) == ["soft-step", "pgs", "pgs-ngs"]
+    assert [r["summary"] for r in rows] == list(physstep.contact_solvers().values())
+    assert all("substeps x solver_iterations" in r["passes"] for r in rows)
+    assert [s.name for s in physstep.solvers()] == ["soft-step", "pgs", "pgs-ngs"]
+    text = run_cli("solvers").stdout
+    assert "soft-step" in text and "pgs-ngs" in text and "Baumgarte" in text
+
+
 @pytest.mark.parametrize("method", [m.name for m in physstep.methods()])
 def test_every_method_is_reachable_from_python_and_the_cli(method: str) -> None:
     traj = physstep.simulate("spring", method, dt=0.5, until=2.0)

@@ -102,6 +102,7 @@ __all__ = [
     "SolidHandle",
     "SolidShape",
     "SolidSpringHandle",
+    "SolverInfo",
     "Solids",
     "Sphere",
     "StepError",
@@ -119,6 +120,7 @@ __all__ = [
     "scene_text",
     "scenes",
     "simulate",
+    "solvers",
     "summarize",
 ]
 
@@ -158,6 +160,23 @@ class MethodInfo:
 def methods() -> list[MethodInfo]:
     """Every integrator in the registry, in order."""
     return [MethodInfo(**m) for m in _core.methods()]
+
+
+@dataclass(frozen=True)
+class SolverInfo:
+    """What a contact solver is: its registry name (``World.contact_solver``), one line on
+    what it does, and the constraint passes it makes a step in terms of ``World.substeps``
+    and ``World.solver_iterations`` (every solver makes the same number at the same
+    settings, so solvers compare at equal cost)."""
+
+    name: str
+    summary: str
+    passes: str
+
+
+def solvers() -> list[SolverInfo]:
+    """Every contact solver in the registry, in order (``physstep solvers`` prints them)."""
+    return [SolverInfo(**s) for s in _core.solver_infos()]
 
 
 def method(name: str) -> MethodInfo:

@@ -50,6 +50,7 @@ __all__ = [
     "_world_from_scene",
     "angular_forms",
     "contact_solvers",
+    "solver_infos",
     "method_info",
     "methods",
     "orientation_rules",
@@ -281,6 +282,11 @@ class Plane(SolidShape):
 
 def contact_solvers() -> dict[str, str]:
     """The contact solvers, name -> one line on what each does, in registry order."""
+
+def solver_infos() -> list[dict[str, str]]:
+    """The contact solvers in registry order, each a dict: ``name``, ``summary`` (one line on
+    what it does) and ``passes`` (the constraint passes it makes a step, in the settings'
+    terms)."""
 
 def read_scene(path: str) -> tuple[World, float | None]:
     """Reads the scene file at ``path``: the World it describes and its ``until`` (None when

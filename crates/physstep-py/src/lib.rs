@@ -76,6 +76,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<world_solids::Segment>()?;
     m.add_class::<world_solids::PlaneShape>()?;
     m.add_function(wrap_pyfunction!(world_solids::contact_solvers, m)?)?;
+    m.add_function(wrap_pyfunction!(world_solids::solver_infos, m)?)?;
     m.add_function(wrap_pyfunction!(world_bodies::orientation_rules, m)?)?;
     m.add_function(wrap_pyfunction!(world_bodies::angular_forms, m)?)?;
     m.add_function(wrap_pyfunction!(pickle::_world_from_scene, m)?)?;

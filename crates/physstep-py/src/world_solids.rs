@@ -606,6 +606,22 @@ pub(crate) fn stats<'py>(
     Ok(Some(d))
 }
 
+/// The contact solvers in registry order, each a dict: `name`, `summary` (one line on what it
+/// does) and `passes` (the constraint passes it makes a step, in the settings' terms).
+#[pyfunction]
+pub(crate) fn solver_infos(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    SOLVERS
+        .iter()
+        .map(|i| {
+            let d = PyDict::new(py);
+            d.set_item("name", i.name)?;
+            d.set_item("summary", i.summary)?;
+            d.set_item("passes", i.passes)?;
+            Ok(d)
+        })
+        .collect()
+}
+
 /// The contact solvers, name -> one line on what each does, in registry order.
 #[pyfunction]
 pub(crate) fn contact_solvers(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {

@@ -8,7 +8,7 @@ with status 130 (``physstep: interrupted``). Output files are written whole or n
 (:mod:`physstep._files`).
 
 The modules import one way: :mod:`~physstep.cli.app` (parser, ``main``, exit statuses)
-imports the commands, :mod:`~physstep.cli.basic` (``methods``, ``scenes``, ``table``,
+imports the commands, :mod:`~physstep.cli.basic` (``methods``, ``solvers``, ``scenes``, ``table``,
 ``run``), :mod:`~physstep.cli.lab` (``compare``, ``order``, ``stability``, ``sweep``) and
 :mod:`~physstep.cli.demo` (``demo``: the interactive demos of :mod:`physstep.demos`),
 which import :mod:`~physstep.cli.options` (flags and their checks),

@@ -1,4 +1,4 @@
-"""The engine's commands: ``methods``, ``scenes``, ``table`` and ``run``.
+"""The engine's commands: ``methods``, ``solvers``, ``scenes``, ``table`` and ``run``.
 
 :func:`register` adds them to the ``physstep`` command line (:mod:`physstep.cli.app`). Each
 handler returns the exit status: 0, or 1 when the run diverged.
@@ -47,6 +47,23 @@ def _cmd_methods(args: argparse.Namespace) -> int:
             str(r["evals"]),
             r["doc"],
         )
+    output.console().print(table)
+    return 0
+
+
+def _cmd_solvers(args: argparse.Namespace) -> int:
+    """``physstep solvers``: the contact solver registry."""
+    rows = [s.__dict__ for s in physstep.solvers()]
+    if args.format == "json":
+        print(output.dump(rows))
+        return 0
+    from rich.table import Table
+
+    table = Table(title="physstep contact solvers (World.contact_solver)")
+    for col in ("name", "passes a step", "summary"):
+        table.add_column(col, overflow="fold")
+    for r in rows:
+        table.add_row(r["name"], r["passes"], r["summary"])
     output.console().print(table)
     return 0
 
@@ -280,10 +297,15 @@ def _add_run_args(p: argparse.ArgumentParser) -> None:
 
 
 def register(subparsers: Any) -> None:
-    """Adds ``methods``, ``scenes``, ``table`` and ``run`` to an argparse subparsers object."""
+    """Adds ``methods``, ``solvers``, ``scenes``, ``table`` and ``run`` to an argparse subparsers
+    object."""
     m = subparsers.add_parser("methods", help="list the integrators")
     options.add_format(m)
     m.set_defaults(func=_cmd_methods)
+
+    c = subparsers.add_parser("solvers", help="list the contact solvers")
+    options.add_format(c)
+    c.set_defaults(func=_cmd_solvers)
 
     s = subparsers.add_parser("scenes", help="list the built-in scenes and their parameters")
     options.add_format(s)

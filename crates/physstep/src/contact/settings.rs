@@ -27,6 +27,9 @@ pub enum Schedule {
     /// One step: every pass a rigid solve with a Baumgarte bias, then one drift (sequential
     /// impulses, Box2D v2 and Chipmunk).
     Pgs,
+    /// One step: rigid velocity passes without a position bias, one drift, then passes that
+    /// move the positions apart (non-linear Gauss-Seidel, Box2D v2.4's position solver).
+    PgsNgs,
 }
 
 /// Every contact solver, in registry order.
@@ -45,6 +48,15 @@ pub const SOLVERS: &[Info] = &[
                   restitution",
         passes: "2 x substeps x solver_iterations velocity passes in one step (the soft step's count)",
         schedule: Schedule::Pgs,
+    },
+    Info {
+        name: "pgs-ngs",
+        summary: "PGS with non-linear Gauss-Seidel (Box2D v2.4): rigid velocity passes without a position \
+                  bias, then position passes that push overlaps apart from the current poses (0.2 of the \
+                  overlap past a 5 mm slop, at most 0.2 m), plain Coulomb friction, warm starting, restitution",
+        passes: "2 x substeps x solver_iterations in one step: three quarters velocity passes, a quarter \
+                 position passes (at least one)",
+        schedule: Schedule::PgsNgs,
     },
 ];
 

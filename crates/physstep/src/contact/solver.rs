@@ -1,6 +1,9 @@
 //! Contact solvers, chosen by name ([`super::SOLVERS`]; a solver is one `step` and an [`super::Info`], as
-//! the integrators are). The one here is Box2D v3's soft step (Catto, "Solver2D", 2024), on
-//! the points `collide` (`points.rs`, shared by every solver) finds at the step's start:
+//! the integrators are), on the points `collide` (`points.rs`, shared by every solver) finds
+//! at the step's start. Three schedules of the same passes ([`super::Schedule`]): PGS (one
+//! step of rigid passes with a Baumgarte bias), PGS with NGS (rigid passes, then position
+//! passes after the drift, `ngs`), and the default, Box2D v3's soft step (Catto,
+//! "Solver2D", 2024):
 //!
 //! ```text
 //! collide     boxes widened by the speculative distance, sweep and prune (pairs joined by a
@@ -40,16 +43,55 @@ use super::{joint, Kind, Schedule, Solids};
 /// `b2_baumgarte`).
 const BAUMGARTE: f64 = 0.2;
 
-/// One step of the chosen solver: the soft step, or PGS ([`Schedule`]).
+/// The overlap NGS leaves (Box2D v2's `b2_linearSlop`), m.
+const SLOP: f64 = 0.005;
+/// The most NGS moves a point in a pass (Box2D v2's `b2_maxLinearCorrection`), m.
+const MAX_CORRECTION: f64 = 0.2;
+
+/// One pass of non-linear Gauss-Seidel over every contact point: the separation now, from the
+/// solids' motion since the step began (as the passes keep it), and where it overlaps by more
+/// than the slop, both solids moved apart along the normal (and turned about their centres)
+/// by the position impulse that removes `BAUMGARTE` of the excess, at most
+/// `MAX_CORRECTION`, with the point's effective mass of the step's start.
+fn ngs<S: Space>(st: &mut State<S>, bodies: &mut [super::Body<S>]) {
+    for pair in &st.touching {
+        let (ia, ib) = (pair.a as usize, pair.b as usize);
+        for p in &st.points[pair.start as usize..pair.end as usize] {
+            let (ma, mb) = (&st.motion[ia], &st.motion[ib]);
+            let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
+            let sep = (mb.dp + tb - ma.dp - ta).dot(p.normal) + p.adjusted;
+            let c = (BAUMGARTE * (sep + SLOP)).clamp(-MAX_CORRECTION, 0.0);
+            if c >= 0.0 {
+                continue;
+            }
+            let push = p.normal * (-c * p.normal_mass);
+            for (i, arm, sign) in [(ia, ta, -1.0), (ib, tb, 1.0)] {
+                let (m, b) = (&mut st.motion[i], &mut bodies[i]);
+                if !m.moves {
+                    continue;
+                }
+                let d = push * (sign * m.inv_mass);
+                b.c += d;
+                m.dp += d;
+                let turn = S::apply(m.inv_i, S::cross_vv(arm, push)) * sign;
+                (b.q, m.dq) = S::turn(b.q, m.dq, turn, 1.0);
+            }
+        }
+    }
+}
+
+/// One step of the chosen solver: the soft step, PGS or PGS with NGS ([`Schedule`]).
 pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     let set = solids.settings.clone();
-    let pgs = set.schedule() == Schedule::Pgs;
+    let schedule = set.schedule();
     // The soft step: substeps of one solve pass, a drift and one relax pass each (times
-    // `iterations`); PGS: one step of as many solve passes as the soft step makes in all.
-    let (n, solves, relaxes) = if pgs {
-        (1, 2 * set.substeps.max(1) * set.iterations, 0)
-    } else {
-        (set.substeps.max(1), set.iterations, set.iterations)
+    // `iterations`); PGS: one step of as many passes as the soft step makes in all, with NGS
+    // a quarter of them moving positions after the drift.
+    let all = 2 * set.substeps.max(1) * set.iterations;
+    let (n, solves, relaxes, positions) = match schedule {
+        Schedule::SoftStep => (set.substeps.max(1), set.iterations, set.iterations, 0),
+        Schedule::Pgs => (1, all, 0, 0),
+        Schedule::PgsNgs => (1, all - (all / 4).max(1), 0, (all / 4).max(1)),
     };
     let h = dt / f64::from(n);
     let inv_h = 1.0 / h;
@@ -80,10 +122,10 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         st.motion.push(Motion::fixed());
     }
     for pair in &mut st.touching {
-        pair.soft = if pgs {
-            Coefs::baumgarte(BAUMGARTE, inv_h)
-        } else {
-            Coefs::of(if pair.rigid_other { rigid } else { soft })
+        pair.soft = match schedule {
+            Schedule::SoftStep => Coefs::of(if pair.rigid_other { rigid } else { soft }),
+            Schedule::Pgs => Coefs::baumgarte(BAUMGARTE, inv_h),
+            Schedule::PgsNgs => Coefs::baumgarte(0.0, inv_h),
         };
         let (ma, mb) = (&st.motion[pair.a as usize], &st.motion[pair.b as usize]);
         for p in &mut st.points[pair.start as usize..pair.end as usize] {
@@ -124,6 +166,9 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             b.c += m.v * h;
             m.dp += m.v * h;
             (b.q, m.dq) = S::turn(b.q, m.dq, m.w, h);
+        }
+        for _ in 0..positions {
+            ngs(st, &mut bodies);
         }
         for _ in 0..relaxes {
             if !joints.is_empty() {

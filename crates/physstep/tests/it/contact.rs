@@ -5,6 +5,9 @@ use physstep::contact::{Kind, Plane, Shape, SolidParams, Solids, Space3};
 
 const G: f64 = 9.81;
 
+/// Every contact solver, by name.
+const SOLVER_NAMES: [&str; 3] = ["soft-step", "pgs", "pgs-ngs"];
+
 fn ground2(s: &mut Solids<Plane>) -> usize {
     let mut p = SolidParams::new(Shape::Box { half: vec![50.0, 1.0] }, &[0.0, -1.0]);
     p.kind = Kind::Static;
@@ -17,7 +20,7 @@ fn square(at: [f64; 2], half: f64) -> SolidParams {
 
 #[test]
 fn a_box_dropped_on_the_ground_comes_to_rest_without_jitter() {
-    for solver in ["soft-step", "pgs"] {
+    for solver in SOLVER_NAMES {
         box_comes_to_rest(solver);
     }
 }
@@ -45,11 +48,11 @@ fn box_comes_to_rest(solver: &str) {
     assert!(s.max_penetration() < 0.005 * 1.0, "{solver}: penetration {}", s.max_penetration());
     let y = s.positions()[2 * b + 1];
     assert!((y - 0.5).abs() < 0.005, "{solver}: resting height {y}");
-    assert!(
-        s.orientations()[b].abs() < 1e-6,
-        "{solver}: it landed flat and stays flat: {}",
-        s.orientations()[b]
-    );
+    // NGS moves the two corners one after the other, each turning the box a little: flat to
+    // 2e-5 rad (10 um across the box), the others to 1e-6.
+    let flat = if solver == "pgs-ngs" { 2e-5 } else { 1e-6 };
+    let angle = s.orientations()[b];
+    assert!(angle.abs() < flat, "{solver}: it landed flat and stays flat: {angle}");
 }
 
 fn ramp(solver: &str, angle: f64, mu: f64, seconds: f64) -> (f64, f64) {
@@ -84,7 +87,7 @@ fn ramp(solver: &str, angle: f64, mu: f64, seconds: f64) -> (f64, f64) {
 
 #[test]
 fn on_a_ramp_a_box_sticks_above_the_friction_angle_and_slides_at_g_sin_minus_mu_cos_below() {
-    for solver in ["soft-step", "pgs"] {
+    for solver in SOLVER_NAMES {
         let angle = 0.5_f64; // tan = 0.546
         let (moved, _) = ramp(solver, angle, 0.6, 5.0);
         assert!(moved.abs() < 1e-3, "{solver}: stuck box moved {moved}");
@@ -130,14 +133,19 @@ fn pyramid_under(solver: &str) -> (f64, f64) {
 
 #[test]
 fn a_pyramid_of_twenty_rows_stands_for_ten_seconds_where_pgs_at_equal_passes_sags() {
-    // Solver2D's finding, measured: plain PGS (one step of rigid passes with a Baumgarte bias)
-    // keeps the boxes from falling through each other but lets the pyramid sag and sink; the
-    // soft step's substeps and relax keep it within a centimetre.
+    // Solver2D's finding, measured: plain PGS (one step of rigid passes with a Baumgarte bias,
+    // or with NGS position passes) keeps the boxes from falling through each other but lets
+    // the pyramid sag and sink; the soft step's substeps and relax keep it within a centimetre.
     let (soft_drift, soft_deep) = pyramid_under("soft-step");
     let (pgs_drift, pgs_deep) = pyramid_under("pgs");
+    let (ngs_drift, ngs_deep) = pyramid_under("pgs-ngs");
     assert!(soft_drift < 0.01 && soft_deep < 0.01, "soft step: {soft_drift} m, {soft_deep} m deep");
     assert!(pgs_drift < 0.5 && pgs_deep < 0.05, "pgs: the pyramid fell: {pgs_drift} m, {pgs_deep} m deep");
     assert!(pgs_drift > 5.0 * soft_drift, "pgs {pgs_drift} m against the soft step's {soft_drift} m");
+    // With NGS the overlaps are pushed out from the poses (less deep than PGS's bias leaves
+    // them), but the pyramid sags as far.
+    assert!(ngs_deep < pgs_deep && ngs_deep < 0.05, "pgs-ngs {ngs_deep} m deep against pgs's {pgs_deep}");
+    assert!(ngs_drift < 0.5 && ngs_drift > 5.0 * soft_drift, "pgs-ngs: the top box moved {ngs_drift} m");
 }
 
 #[test]
