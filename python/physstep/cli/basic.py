@@ -27,45 +27,48 @@ TIMING_MIN_S = 0.2
 TIMING_RUNS = 5
 
 
-def _cmd_methods(args: argparse.Namespace) -> int:
-    """``physstep methods``: the integrator registry."""
-    rows = [m.__dict__ for m in physstep.methods()]
+def _registry(
+    args: argparse.Namespace, rows: list[dict[str, Any]], title: str, columns: dict[str, Any]
+) -> int:
+    """A registry, one row per entry: the rows as JSON (``--format json``), or a table whose
+    columns are ``columns`` (heading -> the cell's text from a row)."""
     if args.format == "json":
         print(output.dump(rows))
         return 0
     from rich.table import Table
 
-    table = Table(title="physstep integrators")
-    for col in ("name", "order", "symplectic", "implicit", "evals", "doc"):
+    table = Table(title=title)
+    for col in columns:
         table.add_column(col, overflow="fold")
     for r in rows:
-        table.add_row(
-            r["name"],
-            str(r["order"]),
-            "yes" if r["symplectic"] else "no",
-            "yes" if r["implicit"] else "no",
-            str(r["evals"]),
-            r["doc"],
-        )
+        table.add_row(*(cell(r) for cell in columns.values()))
     output.console().print(table)
     return 0
+
+
+def _cmd_methods(args: argparse.Namespace) -> int:
+    """``physstep methods``: the integrator registry."""
+    yes = {True: "yes", False: "no"}
+    columns = {
+        "name": lambda r: r["name"],
+        "order": lambda r: str(r["order"]),
+        "symplectic": lambda r: yes[r["symplectic"]],
+        "implicit": lambda r: yes[r["implicit"]],
+        "evals": lambda r: str(r["evals"]),
+        "doc": lambda r: r["doc"],
+    }
+    return _registry(args, [m.__dict__ for m in physstep.methods()], "physstep integrators", columns)
 
 
 def _cmd_solvers(args: argparse.Namespace) -> int:
     """``physstep solvers``: the contact solver registry."""
-    rows = [s.__dict__ for s in physstep.solvers()]
-    if args.format == "json":
-        print(output.dump(rows))
-        return 0
-    from rich.table import Table
-
-    table = Table(title="physstep contact solvers (World.contact_solver)")
-    for col in ("name", "passes a step", "summary"):
-        table.add_column(col, overflow="fold")
-    for r in rows:
-        table.add_row(r["name"], r["passes"], r["summary"])
-    output.console().print(table)
-    return 0
+    columns = {
+        "name": lambda r: r["name"],
+        "passes a step": lambda r: r["passes"],
+        "summary": lambda r: r["summary"],
+    }
+    title = "physstep contact solvers (World.contact_solver)"
+    return _registry(args, [s.__dict__ for s in physstep.solvers()], title, columns)
 
 
 def _cmd_scenes(args: argparse.Namespace) -> int:
