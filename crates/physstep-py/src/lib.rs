@@ -18,6 +18,7 @@ mod force;
 mod force_handle;
 mod handle;
 mod interrupt;
+mod joint_handle;
 mod lease;
 mod pickle;
 mod record;
@@ -59,7 +60,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<entity_views::Bodies>()?;
     m.add_class::<entity_views::Body>()?;
     m.add_class::<solid_handles::SolidHandle>()?;
-    m.add_class::<solid_handles::JointHandle>()?;
+    m.add_class::<joint_handle::JointHandle>()?;
     m.add_class::<solid_handles::SolidSpringHandle>()?;
     m.add_class::<solid_handles::SolidForceHandle>()?;
     m.add_class::<solid_handles::Solids>()?;

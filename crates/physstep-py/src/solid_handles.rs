@@ -1,5 +1,5 @@
 //! Handles of the contact side (docs/contact.md, "Handles and removal"): what `add_solid`,
-//! `add_joint`, `add_solid_spring` and `add_solid_force` return, each naming one thing of
+//! `add_solid_spring` and `add_solid_force` return (`add_joint`'s: `crate::joint_handle`), each naming one thing of
 //! one World by the engine's id (a counter of its kind never reused: `physstep::contact::
 //! SolidId` and the rest), so it stays that thing's while others are added or removed.
 //!
@@ -18,12 +18,12 @@ use crate::convert::{array, float};
 use crate::handle::World;
 use crate::py_err;
 use numpy::PyArray1;
-use physstep::contact::{JointId, SolidForceId, SolidId, SolidMotion, SolidSpringId};
+use physstep::contact::{SolidForceId, SolidId, SolidMotion, SolidSpringId};
 use physstep::world::World as Engine;
 use pyo3::exceptions::{PyAttributeError, PyIndexError, PyValueError};
 use pyo3::prelude::*;
 
-/// What the four handles share: the World, its family, the id, a name for messages.
+/// What the four handles share (this file's three and `crate::joint_handle`'s): the World, its family, the id, a name for messages.
 macro_rules! handle_common {
     ($ty:ident, $what:literal) => {
         impl $ty {
@@ -102,22 +102,13 @@ macro_rules! handle_common {
         }
     };
 }
+pub(crate) use handle_common;
 
 /// A handle to one solid of a World, and its view: `id`, `alive`, `row`, `kind`, `shape`,
 /// and `position`, `velocity`, `angle` (2D) or `orientation` (3D), `angular_velocity`,
 /// readable and writable. `int(h)` and `operator.index(h)` give its row now.
 #[pyclass(module = "physstep._core", frozen, name = "SolidHandle")]
 pub struct SolidHandle {
-    world: Py<World>,
-    family: u64,
-    id: u64,
-}
-
-/// A handle to one joint of a World: `id`, `alive`, its parameters as made (`kind`, `a`,
-/// `b`, `anchor`, ...), the motor (`motor_speed`, `max_motor`) and limits (`lower`,
-/// `upper`) writable.
-#[pyclass(module = "physstep._core", frozen, name = "JointHandle")]
-pub struct JointHandle {
     world: Py<World>,
     family: u64,
     id: u64,
@@ -143,7 +134,6 @@ pub struct SolidForceHandle {
 }
 
 handle_common!(SolidHandle, "solid");
-handle_common!(JointHandle, "joint");
 handle_common!(SolidSpringHandle, "spring");
 handle_common!(SolidForceHandle, "force");
 
@@ -192,7 +182,7 @@ fn numbers(o: &Bound<'_, PyAny>, field: &str) -> PyResult<Vec<f64>> {
     array(o, field, None, None)
 }
 
-fn vector(py: Python<'_>, v: &[f64]) -> Py<PyAny> {
+pub(crate) fn vector(py: Python<'_>, v: &[f64]) -> Py<PyAny> {
     PyArray1::from_slice(py, v).into_any().unbind()
 }
 
@@ -304,180 +294,6 @@ impl SolidHandle {
             |w| SolidMotion { angular_velocity: Some(w), ..Default::default() },
             "angular_velocity",
         )
-    }
-}
-
-impl JointHandle {
-    fn row_in(&self, w: &Engine) -> Option<usize> {
-        w.joint_row(JointId(self.id))
-    }
-
-    /// The joint's parameters as made (and changed since), with `f` on them.
-    fn params<T>(&self, f: impl FnOnce(&physstep::contact::JointParams) -> T) -> PyResult<T> {
-        let g = self.world.get().lock()?;
-        let row = self.row_in(&g.engine).ok_or_else(|| self.gone())?;
-        Ok(f(&g.engine.joint_params()[row]))
-    }
-
-    /// The handle of solid row `row` of this joint's World.
-    fn solid(&self, py: Python<'_>, row: Option<usize>) -> PyResult<Option<SolidHandle>> {
-        let g = self.world.get().lock()?;
-        let world = self.world.bind(py);
-        Ok(row.map(|r| SolidHandle::of_row(world, &g.engine, self.family, r)))
-    }
-
-    /// Sets the motor from its parameters as they are, changed by `change`.
-    fn set_motor(&self, change: impl FnOnce(&mut (f64, f64))) -> PyResult<()> {
-        let mut g = self.world.get().lock()?;
-        let w = g.flush()?;
-        let row = self.row_in(w).ok_or_else(|| self.gone())?;
-        let p = &w.joint_params()[row];
-        let mut m = (p.motor_speed, p.max_motor);
-        change(&mut m);
-        w.set_joint_motor(JointId(self.id), m.0, m.1).map_err(py_err)
-    }
-
-    fn set_limits(&self, change: impl FnOnce(&mut (Option<f64>, Option<f64>))) -> PyResult<()> {
-        let mut g = self.world.get().lock()?;
-        let w = g.flush()?;
-        let row = self.row_in(w).ok_or_else(|| self.gone())?;
-        let p = &w.joint_params()[row];
-        let mut l = (p.lower, p.upper);
-        change(&mut l);
-        w.set_joint_limits(JointId(self.id), l.0, l.1).map_err(py_err)
-    }
-}
-
-fn maybe(o: &Bound<'_, PyAny>, field: &str) -> PyResult<Option<f64>> {
-    if o.is_none() {
-        Ok(None)
-    } else {
-        float(o, field).map(Some)
-    }
-}
-
-#[pymethods]
-impl JointHandle {
-    /// "ball", "revolute", "distance", "weld" or "prismatic".
-    #[getter]
-    fn kind(&self) -> PyResult<&'static str> {
-        self.params(|p| p.kind.name())
-    }
-
-    /// The first solid's handle.
-    #[getter]
-    fn a(&self, py: Python<'_>) -> PyResult<Option<SolidHandle>> {
-        let a = self.params(|p| p.a)?;
-        self.solid(py, Some(a))
-    }
-
-    /// The second solid's handle, or None: the world.
-    #[getter]
-    fn b(&self, py: Python<'_>) -> PyResult<Option<SolidHandle>> {
-        let b = self.params(|p| p.b)?;
-        self.solid(py, b)
-    }
-
-    /// The anchor as given when the joint was made (world coordinates then), m.
-    #[getter]
-    fn anchor(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        let a = self.params(|p| p.anchor.clone())?;
-        Ok(vector(py, &a))
-    }
-
-    /// The end on `b` as given (a distance joint's), or None.
-    #[getter]
-    fn anchor_b(&self, py: Python<'_>) -> PyResult<Option<Py<PyAny>>> {
-        Ok(self.params(|p| p.anchor_b.clone())?.map(|a| vector(py, &a)))
-    }
-
-    /// The axis as given (a slider's or a 3D hinge's), or None.
-    #[getter]
-    fn axis(&self, py: Python<'_>) -> PyResult<Option<Py<PyAny>>> {
-        Ok(self.params(|p| p.axis.clone())?.map(|a| vector(py, &a)))
-    }
-
-    /// A distance joint's length, min_length and max_length as given (None: as made).
-    #[getter]
-    fn length(&self) -> PyResult<Option<f64>> {
-        self.params(|p| p.length)
-    }
-
-    #[getter]
-    fn min_length(&self) -> PyResult<Option<f64>> {
-        self.params(|p| p.min_length)
-    }
-
-    #[getter]
-    fn max_length(&self) -> PyResult<Option<f64>> {
-        self.params(|p| p.max_length)
-    }
-
-    /// Softness, Hz (0: rigid), and its damping ratio.
-    #[getter]
-    fn hertz(&self) -> PyResult<f64> {
-        self.params(|p| p.hertz)
-    }
-
-    #[getter]
-    fn damping_ratio(&self) -> PyResult<f64> {
-        self.params(|p| p.damping_ratio)
-    }
-
-    /// Whether its two solids still collide.
-    #[getter]
-    fn collide(&self) -> PyResult<bool> {
-        self.params(|p| p.collide)
-    }
-
-    /// The lower limit (rad for a hinge, m for a slider; None: none); assign a number or
-    /// None (validated as `add_joint`: lower <= upper).
-    #[getter]
-    fn lower(&self) -> PyResult<Option<f64>> {
-        self.params(|p| p.lower)
-    }
-
-    #[setter]
-    fn set_lower(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = maybe(value, "lower")?;
-        self.set_limits(|l| l.0 = v)
-    }
-
-    /// The upper limit (None: none); assign a number or None.
-    #[getter]
-    fn upper(&self) -> PyResult<Option<f64>> {
-        self.params(|p| p.upper)
-    }
-
-    #[setter]
-    fn set_upper(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = maybe(value, "upper")?;
-        self.set_limits(|l| l.1 = v)
-    }
-
-    /// The motor's speed (rad/s, or m/s for a slider); assign to change it (finite).
-    #[getter]
-    fn motor_speed(&self) -> PyResult<f64> {
-        self.params(|p| p.motor_speed)
-    }
-
-    #[setter]
-    fn set_motor_speed(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = float(value, "motor_speed")?;
-        self.set_motor(|m| m.0 = v)
-    }
-
-    /// The motor's largest torque (N m) or force (N); assign to change it (>= 0; 0: no
-    /// motor).
-    #[getter]
-    fn max_motor(&self) -> PyResult<f64> {
-        self.params(|p| p.max_motor)
-    }
-
-    #[setter]
-    fn set_max_motor(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = float(value, "max_motor")?;
-        self.set_motor(|m| m.1 = v)
     }
 }
 
@@ -617,11 +433,7 @@ pub(crate) fn solid_arg(world: &World, o: &Bound<'_, PyAny>, field: &str) -> PyR
         .map_err(|_| crate::convert::invalid(field, o, "a solid index >= 0 or a SolidHandle"))
 }
 
-/// The handle of the joint, spring or force just added at `row`.
-pub(crate) fn joint_handle(world: &Bound<'_, World>, w: &Engine, family: u64, row: usize) -> JointHandle {
-    JointHandle { world: world.clone().unbind(), family, id: w.joint_ids()[row].0 }
-}
-
+/// The handle of the spring or force just added at `row`.
 pub(crate) fn spring_handle(
     world: &Bound<'_, World>,
     w: &Engine,
@@ -641,9 +453,10 @@ pub(crate) fn force_handle(
     SolidForceHandle { world: world.clone().unbind(), family, id: w.solid_force_ids()[row].0, name }
 }
 
-/// `World.remove(h)` for the contact side's handles: `Ok(true)` when `handle` was one (and
-/// is removed), `Ok(false)` when it is of another class (the caller goes on). A solid's
-/// removal takes its joints, springs and Python forces with it.
+/// `World.remove(h)` for the handles of solids, solid springs and forces on solids: `Ok(true)`
+/// when `handle` was one (and is removed), `Ok(false)` when it is of another class (the
+/// caller goes on; a joint's is `crate::joint_handle::remove_joint`'s). A solid's removal
+/// takes its joints, springs and Python forces with it.
 pub(crate) fn remove_solid_like(world: &World, handle: &Bound<'_, PyAny>) -> PyResult<bool> {
     if let Ok(h) = handle.cast::<SolidHandle>() {
         let h = h.get();
@@ -658,16 +471,6 @@ pub(crate) fn remove_solid_like(world: &World, handle: &Bound<'_, PyAny>) -> PyR
                 f.0 -= 1;
             }
         }
-        return Ok(true);
-    }
-    if let Ok(h) = handle.cast::<JointHandle>() {
-        let h = h.get();
-        let mut g = world.lock()?;
-        let id = JointId(h.id_in(g.family)?);
-        if g.engine.joint_row(id).is_none() {
-            return Err(h.gone());
-        }
-        g.flush()?.remove_joint(id).map_err(py_err)?;
         return Ok(true);
     }
     if let Ok(h) = handle.cast::<SolidSpringHandle>() {
@@ -748,13 +551,6 @@ impl World {
     #[getter]
     fn solids(slf: &Bound<'_, Self>) -> Solids {
         Solids { world: slf.clone().unbind() }
-    }
-
-    /// Handles of the joints, in row order.
-    #[getter]
-    fn joints(slf: &Bound<'_, Self>) -> PyResult<Vec<JointHandle>> {
-        let g = slf.get().lock()?;
-        Ok((0..g.engine.joint_count()).map(|r| joint_handle(slf, &g.engine, g.family, r)).collect())
     }
 
     /// Handles of the solid springs, in row order.

@@ -260,7 +260,9 @@ impl World {
     /// Also a solid, joint, solid spring or force on a solid (their handles; a solid takes
     /// its joints, springs and forces with it: docs/contact.md).
     fn remove(&self, handle: &Bound<'_, PyAny>) -> PyResult<()> {
-        if crate::solid_handles::remove_solid_like(self, handle)? {
+        if crate::solid_handles::remove_solid_like(self, handle)?
+            || crate::joint_handle::remove_joint(self, handle)?
+        {
             return Ok(());
         }
         if let Ok(h) = handle.cast::<ParticleHandle>() {

@@ -5,8 +5,9 @@
 
 use crate::convert::{array, float, invalid, matrix, text};
 use crate::handle::World;
+use crate::joint_handle::JointHandle;
 use crate::py_err;
-use crate::solid_handles::{solid_arg, JointHandle, SolidForceHandle, SolidHandle, SolidSpringHandle};
+use crate::solid_handles::{solid_arg, SolidForceHandle, SolidHandle, SolidSpringHandle};
 use numpy::{IntoPyArray, PyArray2};
 use physstep::contact::{JointKind, JointParams, Kind, Shape, SolidParams, SolidSpring, SOLVERS};
 use physstep::rigid::inertia::Shape as BodyShape;
@@ -420,7 +421,7 @@ impl World {
         p.collide = collide;
         let mut g = slf.get().lock()?;
         let row = g.grow()?.add_joint(p).map_err(py_err)?;
-        Ok(crate::solid_handles::joint_handle(slf, &g.engine, g.family, row))
+        Ok(crate::joint_handle::joint_handle(slf, &g.engine, g.family, row))
     }
 
     /// Number of joints.
