@@ -129,7 +129,8 @@ fn fill<const D: usize>(k: Flat, ws: &[f64], im: &mut [f64], gm: &mut [f64]) -> 
     // Four particles at a time, each writing `4 * D` elements of fixed place: the compiler
     // turns the spreading into shuffles of whole vectors.
     let quads = ws.len() / 4;
-    let (mut hi, mut lo) = ([0.0f64; 4], [0.0f64; 4]);
+    // The largest inverse mass: one running maximum a lane of the quads, one for the rest.
+    let (mut hi, mut rest) = ([0.0f64; 4], 0.0f64);
     for ((w, im), gm) in ws.chunks_exact(4).zip(im.chunks_exact_mut(4 * D)).zip(gm.chunks_exact_mut(4 * D)) {
         for p in 0..4 {
             for c in 0..D {
@@ -144,9 +145,9 @@ fn fill<const D: usize>(k: Flat, ws: &[f64], im: &mut [f64], gm: &mut [f64]) -> 
             im[p * D + c] = w;
             gm[p * D + c] = g(w, c);
         }
-        lo[0] = if w > lo[0] { w } else { lo[0] };
+        rest = if w > rest { w } else { rest };
     }
-    let w_max = hi.iter().chain(&lo).fold(0.0f64, |a, &w| if w > a { w } else { a });
+    let w_max = hi.iter().fold(rest, |a, &w| if w > a { w } else { a });
     k.s.abs() * w_max <= 0.5 && k.g.iter().all(|g| g.abs() <= 1e90)
 }
 
