@@ -6,7 +6,8 @@ All step the same pyramid, one thread each: `rows` rows of unit boxes (1 m x 1 m
 so 1 kg; 210 boxes for 20 rows) 1.01 m apart in a row, the rows 1 m apart, on a static ground
 box 200 m x 2 m whose top is y = 0, friction 0.6 for every pair, gravity 9.81 m/s^2,
 dt = 1/60 s, 600 steps for 10 s, no sleeping. physstep: the scene as built
-(`World.from_scene("pyramid")`), its default contact solver (`soft-step`, 8 substeps).
+(`World.from_scene("pyramid")`) under each of its contact solvers at their default settings
+(the default `soft-step` first; 8 substeps x 1 iteration: 16 passes a step for each).
 pymunk: `space.iterations` at its default 10; `collision_slop` 0.005 m (Box2D's linear slop:
 pymunk's default 0.1 is meant for pixels and would let a 1 m box sink 10 cm); each shape's
 friction sqrt(0.6), as pymunk multiplies the two frictions of a pair where physstep and Box2D
@@ -95,8 +96,9 @@ class Engine:
 class Physstep(Engine):
     name = "physstep"
 
-    def __init__(self, rows: int) -> None:
+    def __init__(self, rows: int, solver: str = "soft-step") -> None:
         self.w = physstep.World.from_scene("pyramid", params={"rows": rows, "g": G}, dt=DT)
+        self.w.contact_solver = solver
 
     def step(self) -> None:
         self.w.step(1)
@@ -234,8 +236,11 @@ def main() -> None:
     print(f"pyramid of {args.rows} rows ({n} unit boxes), dt = 1/60 s, {steps} steps, one thread")
     print(f"{'':<24} {'':>8} {'':>11} {'deepest, over the run':>25} {'at the end':>11}")
     print(f"{'engine':<24} {'ms/step':>8} {'top drift':>11} {'reported':>12} {'overlap':>12} {'overlap':>11}")
+    # Every contact solver of physstep at its default settings (16 passes over the contacts a
+    # step each: `physstep solvers`), the default first.
+    solvers = [s.name for s in physstep.solvers()]
     engines: list[tuple[str, Callable[[], Engine]]] = [
-        ("physstep (soft-step, 8)", lambda: Physstep(args.rows)),
+        *((f"physstep ({s})", lambda s=s: Physstep(args.rows, s)) for s in solvers),
         ("pymunk (10 iterations)", lambda: Pymunk(args.rows)),
         ("Box2D 2.3 (8+3, awake)", lambda: Box2d(args.rows)),
         ("Box2D 2.3 (8+3, sleeps)", lambda: Box2d(args.rows, sleep=True)),
@@ -250,10 +255,10 @@ def main() -> None:
         ms[label] = timed(make, steps, args.repeat)
         drift, reported, peak, end = measured(make, steps)
         print(f"{label:<24} {ms[label]:8.3f} {drift:9.2e} m {reported:10.2e} m {peak:10.2e} m {end:9.2e} m")
-    ours = ms[engines[0][0]]
-    for label, t in ms.items():
-        if label != engines[0][0]:
-            print(f"physstep / {label}: {ours / t:.2f}x the time per step")
+    peers = {label: t for label, t in ms.items() if not label.startswith("physstep")}
+    for s in solvers:
+        ours = ms[f"physstep ({s})"]
+        print(f"physstep ({s}): " + ", ".join(f"{ours / t:.2f}x {label}" for label, t in peers.items()))
 
 
 if __name__ == "__main__":

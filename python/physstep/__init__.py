@@ -165,12 +165,15 @@ def methods() -> list[MethodInfo]:
 @dataclass(frozen=True)
 class SolverInfo:
     """What a contact solver is: its registry name (``World.contact_solver``), one line on
-    what it does, and the constraint passes it makes a step in terms of ``World.substeps``
-    and ``World.solver_iterations`` (every solver makes the same number at the same
-    settings, so solvers compare at equal cost)."""
+    what it does, its family (what it corrects: ``"velocity"``, impulses on the velocities
+    with the positions following by the drift, or ``"velocity + position"``, impulses and
+    then passes that move the positions), and the constraint passes it makes a step in terms
+    of ``World.substeps`` and ``World.solver_iterations`` (every solver makes the same number
+    at the same settings, so solvers compare at equal cost)."""
 
     name: str
     summary: str
+    family: str
     passes: str
 
 

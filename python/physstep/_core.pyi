@@ -285,8 +285,8 @@ def contact_solvers() -> dict[str, str]:
 
 def solver_infos() -> list[dict[str, str]]:
     """The contact solvers in registry order, each a dict: ``name``, ``summary`` (one line on
-    what it does) and ``passes`` (the constraint passes it makes a step, in the settings'
-    terms)."""
+    what it does), ``family`` (what it corrects: ``velocity``, or ``velocity + position``)
+    and ``passes`` (the constraint passes it makes a step, in the settings' terms)."""
 
 def read_scene(path: str) -> tuple[World, float | None]:
     """Reads the scene file at ``path``: the World it describes and its ``until`` (None when
@@ -1631,6 +1631,13 @@ class World:
     def max_penetration(self) -> float:
         """The deepest penetration among the latest step's contacts, m (0 without
         contacts)."""
+
+    @property
+    def contact_passes(self) -> int:
+        """The passes over the contacts the contact solver made in the latest step, counted as
+        they ran (solve, relax and position passes; 0 without solids or before a step). Every
+        solver makes ``2 x substeps x solver_iterations`` (the lab compares them at equal
+        cost)."""
 
     @property
     def contact_solver(self) -> str:

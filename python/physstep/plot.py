@@ -46,7 +46,18 @@ from physstep._plotting import (
 )
 from physstep.plot_bodies import spin
 
-__all__ = ["LOG_FLOOR", "energy", "orbit", "path3d", "phase", "save", "spin", "trajectory", "work_precision"]
+__all__ = [
+    "LOG_FLOOR",
+    "energy",
+    "orbit",
+    "path3d",
+    "phase",
+    "save",
+    "solver_sweep",
+    "spin",
+    "trajectory",
+    "work_precision",
+]
 
 _EXACT_STYLE: dict[str, Any] = {"color": "black", "linestyle": "--", "linewidth": 1.2, "alpha": 0.7}
 
@@ -469,5 +480,63 @@ def work_precision(data: Any, against: str = "evals", error: str = "max_error") 
     dt_txt = f"dt = {dts[0]:g} ... {dts[-1]:g} s" if len(dts) > 1 else f"dt = {dts[0]:g} s" if dts else ""
     title = f"work-precision: {scene}, {dt_txt}" + (f" (error vs {against_txt})" if against_txt else "")
     fig.suptitle(title)
+    axes[-1].legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", borderaxespad=0.0)
+    return fig
+
+
+def solver_sweep(data: Any) -> Figure:
+    """The contact solvers over splits of their passes into substeps and iterations, from
+    :func:`physstep.lab.sweep_solvers` (its result or that result's ``to_dict()``): three
+    panels (the tracked solid's drift and the deepest penetration of the last second, log
+    scales; ms a step, linear from zero)
+    against the split ("8x1": 8 substeps of 1 iteration), one line per solver. Values at or
+    below zero are drawn at :data:`LOG_FLOOR`'s floor of the log axis. ValueError for data
+    without rows or a row without the plotted keys.
+    """
+    if callable(getattr(data, "to_dict", None)):
+        data = data.to_dict()
+    if not isinstance(data, dict) or not data.get("rows"):
+        raise ValueError("invalid data: no rows (give the result of physstep.lab.sweep_solvers)")
+    rows = data["rows"]
+    keys = ["solver", "substeps", "iterations", "drift", "settled_penetration", "ms_per_step"]
+    keys.append("passes_per_step")
+    for n, r in enumerate(rows):
+        missing = [k for k in keys if k not in r]
+        if missing:
+            raise ValueError(f"invalid data: row {n} has no '{missing[0]}'")
+    splits = list(dict.fromkeys((r["substeps"], r["iterations"]) for r in rows))
+    labels = [f"{n}x{k}" for n, k in splits]
+    solvers = list(dict.fromkeys(r["solver"] for r in rows))
+    panels = [
+        ("drift", "tracked solid's drift (m)"),
+        ("settled_penetration", "deepest penetration, last second (m)"),
+        ("ms_per_step", "ms a step"),
+    ]
+    fig = _figure((15.0, 4.8))
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    for ax, (key, name) in zip(axes, panels, strict=True):
+        for k, solver in enumerate(solvers):
+            by = {(r["substeps"], r["iterations"]): r[key] for r in rows if r["solver"] == solver}
+            xs = [i for i, s in enumerate(splits) if s in by]
+            if key == "ms_per_step":  # a cost: linear from zero
+                ax.plot(
+                    xs,
+                    [float(by[splits[i]]) for i in xs],
+                    markersize=5,
+                    label=solver,
+                    **style(k, marker=True),
+                )
+                ax.set_ylim(bottom=0)
+            else:
+                ys = [max(float(by[splits[i]]), LOG_FLOOR) for i in xs]
+                ax.semilogy(xs, ys, markersize=5, label=solver, **style(k, marker=True))
+        ax.set_xticks(range(len(splits)), labels)
+        ax.set_xlabel("substeps x iterations")
+        ax.set_ylabel(name)
+        ax.grid(True, which="major", alpha=0.35)
+    passes = sorted({r["passes_per_step"] for r in rows})
+    span = f"{passes[0]:g}" if len(passes) == 1 else f"{passes[0]:g}-{passes[-1]:g}"
+    cost = f"{span} passes a step"
+    fig.suptitle(f"contact solvers on {data.get('scene', '')}: {cost}, {data.get('until', 0):g} s")
     axes[-1].legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", borderaxespad=0.0)
     return fig

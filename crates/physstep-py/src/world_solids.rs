@@ -550,6 +550,14 @@ impl World {
         Ok(self.lock()?.engine.max_penetration())
     }
 
+    /// The passes over the contacts the contact solver made in the latest step, counted as
+    /// they ran (solve, relax and position passes; 0 without solids or before a step). Every
+    /// solver makes `2 x substeps x solver_iterations` (the lab compares them at equal cost).
+    #[getter]
+    fn contact_passes(&self) -> PyResult<u32> {
+        Ok(self.lock()?.engine.contact_passes())
+    }
+
     /// The contact solver's name (physstep.contact_solvers() lists them).
     #[getter]
     fn contact_solver(&self) -> PyResult<&'static str> {
@@ -608,7 +616,8 @@ pub(crate) fn stats<'py>(
 }
 
 /// The contact solvers in registry order, each a dict: `name`, `summary` (one line on what it
-/// does) and `passes` (the constraint passes it makes a step, in the settings' terms).
+/// does), `family` (what it corrects: `velocity`, or `velocity + position`) and `passes` (the
+/// constraint passes it makes a step, in the settings' terms).
 #[pyfunction]
 pub(crate) fn solver_infos(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     SOLVERS
@@ -617,6 +626,7 @@ pub(crate) fn solver_infos(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
             let d = PyDict::new(py);
             d.set_item("name", i.name)?;
             d.set_item("summary", i.summary)?;
+            d.set_item("family", i.family)?;
             d.set_item("passes", i.passes)?;
             Ok(d)
         })

@@ -64,6 +64,7 @@ def _cmd_solvers(args: argparse.Namespace) -> int:
     """``physstep solvers``: the contact solver registry."""
     columns = {
         "name": lambda r: r["name"],
+        "family": lambda r: r["family"],
         "passes a step": lambda r: r["passes"],
         "summary": lambda r: r["summary"],
     }

@@ -100,7 +100,13 @@ def _span(res: dict[str, Any]) -> tuple[int | None, float | None]:
 
 
 def _cmd_compare(args: argparse.Namespace) -> int:
-    """``physstep compare``: methods side by side on one scene (order, cost, energy, error)."""
+    """``physstep compare``: methods side by side on one scene (order, cost, energy, error), or
+    with ``--solvers`` the contact solvers (:func:`_cmd_compare_solvers`)."""
+    if args.solvers is not None:
+        return _cmd_compare_solvers(args)
+    for flag, value in (("--substeps", args.substeps), ("--iterations", args.iterations)):
+        if value is not None:
+            raise options.UsageError(f"invalid {flag} {value}: it applies with --solvers only")
     _check_plot(args.plot)
     methods = _methods(args.methods)
     params = _params(args)
@@ -210,6 +216,81 @@ def _compare_plot(
     _save_plot(fig, path)
 
 
+def _cmd_compare_solvers(args: argparse.Namespace) -> int:
+    """``physstep compare SCENE --solvers a,b``: contact solvers side by side on a contact scene."""
+    if args.methods != "all":
+        raise options.UsageError("invalid --methods with --solvers: compare methods or solvers, not both")
+    if args.dt is not None or args.plot is not None or args.jobs != 1:
+        flag = "--dt" if args.dt is not None else "--plot" if args.plot is not None else "--jobs"
+        raise options.UsageError(
+            f"invalid {flag} with --solvers: the solver lab runs at the scene's dt, serially"
+        )
+    text = args.solvers.strip()
+    names: list[str] | str = "all" if text == "all" else [s.strip() for s in text.split(",")]
+    if names != "all" and (not all(names) or len(set(names)) != len(names)):
+        raise options.UsageError(
+            f"invalid --solvers '{args.solvers}': give a comma-separated list of distinct solvers, or all"
+        )
+    res = lab.compare_solvers(
+        args.scene,
+        names,
+        args.until,
+        _params(args),
+        substeps=args.substeps,
+        iterations=args.iterations,
+    ).to_dict()
+    output.finite(res)
+    if args.format == "json":
+        print(output.dump(res))
+        return 0
+    from rich.table import Table
+
+    title = (
+        f"{res['scene']}: dt = {res['dt']:g} s, until = {res['until']:g} s, {res['substeps']} substeps x "
+        f"{res['iterations']} iterations"
+    )
+    table = Table(title=title, caption=f"tracked solid: row {res['tracked']}; {res['thresholds']}")
+    cols = (
+        "solver",
+        "passes/step",
+        "ms/step",
+        "max pen. (mm)",
+        "drift (mm)",
+        "joint err. (mm)",
+        "KE last 1 s (J)",
+        "dE/|E0|",
+        "friction err.",
+        "verdict",
+    )
+    for col in cols:
+        table.add_column(
+            col, justify="left" if col in ("solver", "verdict") else "right", no_wrap=col == "solver"
+        )
+    g = output.number
+    mm = lambda v: g(None if v is None else 1e3 * v, ".3g")  # noqa: E731
+    for r in res["rows"]:
+        table.add_row(
+            r["solver"],
+            g(r["passes_per_step"], ".3g"),
+            g(r["ms_per_step"], ".3g"),
+            mm(r["max_penetration"]),
+            mm(r["drift"]),
+            mm(r.get("joint_error")),
+            g(r["jitter"], ".2e"),
+            g(r.get("energy_change"), ".2e"),
+            g(r.get("friction_error"), ".2e"),
+            r["verdict"],
+        )
+    con = output.console()
+    con.print(table)
+    for r in res["rows"]:
+        if r["diverged"]:
+            con.print(
+                f"{r['solver']}: {output.one_line(r['diverged'])} (after {r['steps']} steps)", markup=False
+            )
+    return 0
+
+
 def _cmd_order(args: argparse.Namespace) -> int:
     """``physstep order``: the observed order of convergence over halvings of dt."""
     res = lab.order(
@@ -278,8 +359,72 @@ def _cmd_stability(args: argparse.Namespace) -> int:
     return 0
 
 
+def _splits(text: str) -> list[tuple[int, int]]:
+    """``--splits``: comma-separated ``SUBSTEPSxITERATIONS`` pairs, each from 1 to 1000."""
+    out = []
+    for item in text.split(","):
+        a, sep, b = item.strip().partition("x")
+        if not (sep and a.isdigit() and b.isdigit() and 1 <= int(a) <= 1000 and 1 <= int(b) <= 1000):
+            raise options.UsageError(
+                f"invalid --splits '{text}': '{item.strip()}' must be SUBSTEPSxITERATIONS, "
+                "each 1 to 1000 (8x1)"
+            )
+        out.append((int(a), int(b)))
+    return out
+
+
+def _cmd_sweep_solvers(args: argparse.Namespace) -> int:
+    """``physstep sweep SCENE --solvers a,b [--splits 8x1,4x2]``: the solver lab over splits."""
+    for flag, given in (("--dts", args.dts is not None), ("--methods", args.methods != "all")):
+        if given:
+            raise options.UsageError(
+                f"invalid {flag} with --solvers: sweep methods over dts, or solvers over splits"
+            )
+    _check_plot(args.plot)
+    if args.out is not None:
+        files.check(args.out, "--out")
+    names = [s.strip() for s in args.solvers.split(",")] if args.solvers.strip() != "all" else "all"
+    splits = _splits(args.splits) if args.splits else list(lab.solvers.DEFAULT_SPLITS)
+    res = lab.sweep_solvers(args.scene, names, splits, args.until, _params(args)).to_dict()
+    output.finite(res)
+    if args.plot:
+        from physstep import plot
+
+        _save_plot(plot.solver_sweep(res), args.plot)
+        res["plot"] = args.plot
+    if args.format == "json":
+        text = output.dump(res) + "\n"
+    else:
+        cols = [
+            "solver",
+            "substeps",
+            "iterations",
+            "passes_per_step",
+            "ms_per_step",
+            "drift",
+            "max_penetration",
+            "settled_penetration",
+            "joint_error",
+            "jitter",
+            "verdict",
+        ]
+        text = output.csv_text([cols, *([r.get(c) for c in cols] for r in res["rows"])])
+    if args.out is not None:
+        files.write_text(args.out, text, "--out")
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    """``physstep sweep``: work-precision data over methods and steps, as CSV or JSON."""
+    """``physstep sweep``: work-precision data over methods and steps, as CSV or JSON; with
+    ``--solvers``, the contact solvers over splits of their passes (:func:`_cmd_sweep_solvers`)."""
+    if args.solvers is not None:
+        return _cmd_sweep_solvers(args)
+    if args.splits is not None:
+        raise options.UsageError("invalid --splits: it applies with --solvers only")
+    if args.dts is None:
+        raise options.UsageError("invalid sweep: --dts is required (or --solvers, the solver lab)")
     _check_plot(args.plot)
     if args.out is not None:
         files.check(args.out, "--out")
@@ -370,6 +515,24 @@ def register(subparsers: Any) -> None:
     c.add_argument("--dt", type=options.DT, default=None, help="step, s (default: the scene's)")
     c.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
     c.add_argument("--plot", metavar="FILE.png", help="also plot the runs (.png or .svg)")
+    c.add_argument(
+        "--solvers",
+        default=None,
+        help="compare contact solvers instead of methods on a contact scene: comma-separated names "
+        "(physstep solvers lists them) or all; penetration, drift, joint error, jitter, cost, verdict",
+    )
+    c.add_argument(
+        "--substeps",
+        type=options.argument("--substeps", int, low=1, high=1000),
+        default=None,
+        help="with --solvers: the substeps every solver runs with, 1 to 1000 (default: the world's, 8)",
+    )
+    c.add_argument(
+        "--iterations",
+        type=options.argument("--iterations", int, low=1, high=1000),
+        default=None,
+        help="with --solvers: the solver iterations, 1 to 1000 (default: the world's, 1)",
+    )
     _add_jobs(c)
     options.add_param(c)
     options.add_format(c)
@@ -413,7 +576,21 @@ def register(subparsers: Any) -> None:
     w = subparsers.add_parser("sweep", help="work-precision data: error against work over methods and dts")
     w.add_argument("scene", help=options.SCENE_HELP)
     w.add_argument("--methods", default="all", help="comma-separated integrators, or all (the default)")
-    w.add_argument("--dts", required=True, help="comma-separated steps, s, e.g. 0.1,0.05,0.025")
+    w.add_argument(
+        "--dts",
+        default=None,
+        help="comma-separated steps, s, e.g. 0.1,0.05,0.025 (required without --solvers)",
+    )
+    w.add_argument(
+        "--solvers",
+        default=None,
+        help="sweep contact solvers over --splits instead (comma-separated names, or all) on a contact scene",
+    )
+    w.add_argument(
+        "--splits",
+        default=None,
+        help="with --solvers: comma-separated SUBSTEPSxITERATIONS (default 8x1,4x2,2x4,1x8: 16 passes each)",
+    )
     w.add_argument("--until", type=options.UNTIL, default=None, help=options.UNTIL_HELP)
     w.add_argument("--out", metavar="FILE", help="write the data here instead of stdout")
     w.add_argument("--plot", metavar="FILE.png", help="also plot work-precision (.png or .svg)")

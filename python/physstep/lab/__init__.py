@@ -13,6 +13,11 @@ the command line prints with ``--format json``):
   :class:`StabilityResult`.
 - :func:`sweep`: work-precision data (error against force evaluations and time): a
   :class:`SweepResult` of :class:`SweepRow`.
+- :func:`compare_solvers` (also ``compare(scene, solvers=...)``): the contact solvers side by
+  side on a contact scene (penetration, drift, joint error, jitter, the friction test, passes
+  and ms a step, a verdict): a :class:`SolverCompareResult` of :class:`SolverRow`
+  (:mod:`physstep.lab.solvers`); :func:`sweep_solvers` the same over splits of the passes
+  into substeps and iterations: a :class:`SolverSweepResult`.
 
 ``compare`` and ``sweep`` take ``jobs=N`` (local processes, where the work pays for them:
 :mod:`physstep.lab.parallel`) or ``executor=``.
@@ -56,10 +61,14 @@ from physstep.lab.results import (
     GrowthTest,
     OrderResult,
     OrderRun,
+    SolverCompareResult,
+    SolverRow,
+    SolverSweepResult,
     StabilityResult,
     SweepResult,
     SweepRow,
 )
+from physstep.lab.solvers import compare_solvers, sweep_solvers
 from physstep.lab.stability import (
     ABOVE_FACTORS,
     CAP_SCALES,
@@ -132,6 +141,9 @@ __all__ = [
     "SCALE_RUN_STEPS",
     "SCAN_FACTORS",
     "SCAN_ROUNDS",
+    "SolverCompareResult",
+    "SolverRow",
+    "SolverSweepResult",
     "StabilityResult",
     "SweepResult",
     "SweepRow",
@@ -142,9 +154,11 @@ __all__ = [
     "UNTIL_SCALES",
     "amplification",
     "compare",
+    "compare_solvers",
     "order",
     "reference",
     "stability",
     "sweep",
+    "sweep_solvers",
     "time_scale",
 ]

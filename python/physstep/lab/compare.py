@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 
@@ -24,7 +24,8 @@ from physstep.lab.common import (
 )
 from physstep.lab.parallel import Rows, run_units
 from physstep.lab.reference import error_against, final_error, reference
-from physstep.lab.results import CompareResult, CompareRow
+from physstep.lab.results import CompareResult, CompareRow, SolverCompareResult
+from physstep.lab.solvers import compare_solvers
 from physstep.lab.system import Subject, table
 
 
@@ -38,6 +39,7 @@ def run_args(subject: Subject, dt: Any, until: Any, dt_name: str = "dt") -> tupl
     return dt, until
 
 
+@overload
 def compare(
     scene: Any,
     methods: Sequence[str] | str,
@@ -47,8 +49,40 @@ def compare(
     *,
     jobs: int | None = None,
     executor: Any = None,
-) -> CompareResult:
-    """One row per method on ``scene`` at ``dt`` up to ``until`` (the scene's defaults if None).
+) -> CompareResult: ...
+
+
+@overload
+def compare(
+    scene: Any,
+    methods: None = None,
+    dt: None = None,
+    until: float | None = None,
+    params: dict[str, float] | None = None,
+    *,
+    solvers: Sequence[str] | str,
+    substeps: int | None = None,
+    iterations: int | None = None,
+) -> SolverCompareResult: ...
+
+
+def compare(
+    scene: Any,
+    methods: Sequence[str] | str | None = None,
+    dt: float | None = None,
+    until: float | None = None,
+    params: dict[str, float] | None = None,
+    *,
+    jobs: int | None = None,
+    executor: Any = None,
+    solvers: Sequence[str] | str | None = None,
+    substeps: int | None = None,
+    iterations: int | None = None,
+) -> CompareResult | SolverCompareResult:
+    """One row per method on ``scene`` at ``dt`` up to ``until`` (the scene's defaults if None);
+    with ``solvers=`` (names or ``"all"``) instead of ``methods``, one row per contact solver on
+    a contact scene, at ``substeps`` and ``iterations`` (:func:`compare_solvers`, whose
+    :class:`~physstep.lab.results.SolverCompareResult` it returns).
 
     ``scene`` is a built-in scene's name or a system (a :class:`physstep.Flow`, or a
     zero-argument callable returning a fresh World or Flow), as :func:`physstep.simulate`
@@ -77,6 +111,18 @@ def compare(
     run's, in its order, bitwise but for the timing columns. A system (not a scene name)
     must then pickle (a module-level function, a Flow).
     """
+    if solvers is not None:
+        for name, value in (("methods", methods), ("dt", dt), ("jobs", jobs), ("executor", executor)):
+            if value is not None:
+                raise ValueError(
+                    f"invalid {name} = {value!r} with solvers: compare methods or solvers, not both"
+                )
+        return compare_solvers(scene, solvers, until, params, substeps=substeps, iterations=iterations)
+    for name, value in (("substeps", substeps), ("iterations", iterations)):
+        if value is not None:
+            raise ValueError(f"invalid {name} = {value!r}: it applies with solvers= only")
+    if methods is None:
+        raise ValueError("invalid methods = None: name the methods (or 'all'), or give solvers=")
     jobs = check_jobs(scene, jobs, executor)
     subject = Subject(scene, params)
     names, skipped = subject.methods(methods)

@@ -2,10 +2,11 @@
 
 :func:`~physstep.lab.compare` returns a :class:`CompareResult` of :class:`CompareRow`,
 :func:`~physstep.lab.sweep` a :class:`SweepResult` of :class:`SweepRow`,
-:func:`~physstep.lab.order` an :class:`OrderResult` of :class:`OrderRun` and
-:func:`~physstep.lab.stability` a :class:`StabilityResult`. Read them by attribute
-(``res.rows[0].final_error``, ``res.dt_max``); ``to_dict()`` gives the plain, JSON-ready
-dict the command line prints with ``--format json`` (lists for the tuples, the optional
+:func:`~physstep.lab.order` an :class:`OrderResult` of :class:`OrderRun`,
+:func:`~physstep.lab.stability` a :class:`StabilityResult` and
+:func:`~physstep.lab.compare_solvers` a :class:`SolverCompareResult` of :class:`SolverRow`.
+Read them by attribute (``res.rows[0].final_error``, ``res.dt_max``); ``to_dict()`` gives the
+plain, JSON-ready dict the command line prints with ``--format json`` (lists for the tuples, the optional
 fields left out where they do not apply, in the same key order).
 
 Indexing a result as a dict (``res["dt_max"]``), as the lab's results were before they were
@@ -381,3 +382,110 @@ class StabilityResult(Result):
     stable_above: tuple[float, ...] | None = dataclasses.field(default=None, metadata=OPTIONAL)
     horizon: dict[str, Any] | None = dataclasses.field(default=None, metadata=OPTIONAL)
     spectral_radius_at_dt_max: float | None = dataclasses.field(default=None, metadata=OPTIONAL)
+
+
+# --------------------------------------------------------------------------------------
+# compare_solvers (the solver lab)
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class SolverRow(Result):
+    """One contact solver's run in :func:`~physstep.lab.compare_solvers`.
+
+    Attributes:
+        solver: The solver's registry name.
+        substeps: The substeps it ran with.
+        iterations: The solver iterations it ran with.
+        passes_per_step: Passes over the contacts a step, counted as they ran (the mean).
+        ms_per_step: Wall time a step of the same run repeated in one call, ms.
+        max_penetration: The deepest penetration over the run, m.
+        settled_penetration: The deepest penetration over the run's last second, m.
+        drift: How far the tracked solid ended from where it started, m.
+        joint_error: The largest joint error over the run, m; None without joints.
+        jitter: The largest kinetic energy over the run's last second, J.
+        energy_change: (E_end - E0) / |E0| of the total energy; None where it is unknown.
+        friction_error: The ``ramp`` scene sliding: (slide - exact) / exact of the distance
+            the box slid against ``g (sin a - mu cos a) t^2 / 2``; None otherwise.
+        steps: Steps the run took.
+        diverged: The failure's message, or None (the numbers cover the run up to it).
+        verdict: ``stands``, ``sags`` or ``falls`` (a standing scene), ``holds`` or ``drifts``
+            (a scene in motion), or ``explodes`` (the thresholds of :mod:`physstep.lab.solvers`).
+    """
+
+    solver: str
+    substeps: int
+    iterations: int
+    passes_per_step: float
+    ms_per_step: float
+    max_penetration: float
+    settled_penetration: float
+    drift: float
+    joint_error: float | None = dataclasses.field(default=None, metadata=OPTIONAL)
+    jitter: float
+    energy_change: float | None = dataclasses.field(default=None, metadata=OPTIONAL)
+    friction_error: float | None = dataclasses.field(default=None, metadata=OPTIONAL)
+    steps: int
+    diverged: str | None
+    verdict: str
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class SolverCompareResult(Result):
+    """What :func:`~physstep.lab.compare_solvers` returns.
+
+    Attributes:
+        scene: The scene's name.
+        params: Its parameters as run (the defaults with the overrides).
+        dt: The step, s.
+        until: The end time, s.
+        substeps: The substeps every solver ran with.
+        iterations: The solver iterations every solver ran with.
+        tracked: The tracked solid's row (the dynamic solid highest at the start).
+        standing: Whether the scene is meant to stand (its drift is an error).
+        thresholds: The verdicts' thresholds, in words.
+        rows: One :class:`SolverRow` per solver, in the order asked.
+    """
+
+    scene: str
+    params: dict[str, float]
+    dt: float
+    until: float
+    substeps: int
+    iterations: int
+    tracked: int
+    standing: bool
+    thresholds: str
+    rows: tuple[SolverRow, ...]
+
+    def row(self, solver: str) -> SolverRow:
+        """The row of ``solver``; KeyError if it did not run."""
+        for r in self.rows:
+            if r.solver == solver:
+                return r
+        raise KeyError(solver)
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class SolverSweepResult(Result):
+    """What :func:`~physstep.lab.sweep_solvers` returns: the settings' splits per solver.
+
+    Attributes:
+        scene: The scene's name.
+        params: Its parameters as run (the defaults with the overrides).
+        dt: The step, s.
+        until: The end time, s.
+        tracked: The tracked solid's row (the dynamic solid highest at the start).
+        standing: Whether the scene is meant to stand (its drift is an error).
+        thresholds: The verdicts' thresholds, in words.
+        rows: One :class:`SolverRow` per solver and split (each says its substeps and
+            iterations), solver by solver in the order asked, the splits in theirs.
+    """
+
+    scene: str
+    params: dict[str, float]
+    dt: float
+    until: float
+    tracked: int
+    standing: bool
+    thresholds: str
+    rows: tuple[SolverRow, ...]

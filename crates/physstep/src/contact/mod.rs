@@ -527,6 +527,13 @@ impl<S: Space> Solids<S> {
         self.solver.report().iter().map(|c| c.depth).fold(0.0, f64::max)
     }
 
+    /// The passes over the contacts the latest step made, counted as they ran (solve, relax
+    /// and position passes: `2 x substeps x iterations` for every solver; 0 before a step).
+    #[must_use]
+    pub fn contact_passes(&self) -> u32 {
+        self.solver.passes
+    }
+
     /// Advances the solids by `dt` under `gravity` (dynamic solids only), their drag, springs,
     /// user forces (evaluated at time 0: a standalone set of solids keeps no clock) and the
     /// loads applied by hand (which it then forgets, when it succeeds).

@@ -50,6 +50,12 @@ impl Coefs {
     pub(super) fn baumgarte(beta: f64, inv_h: f64) -> Self {
         Self { bias: beta * inv_h, mass_scale: 1.0, impulse_scale: 0.0, friction_bias: 0.0 }
     }
+
+    /// A rigid contact's with a Baumgarte bias of `beta / h` whose static friction pulls the
+    /// anchors together by `friction_beta / h` of their distance a step (sticky friction).
+    pub(super) fn sticky(beta: f64, friction_beta: f64, inv_h: f64) -> Self {
+        Self { friction_bias: friction_beta * inv_h, ..Self::baumgarte(beta, inv_h) }
+    }
 }
 
 /// Two solids in contact: what their points share, and where the points are.
@@ -170,6 +176,13 @@ pub(crate) struct State<S: Space> {
     pub(super) pairs: Vec<(u32, u32)>,
     pub(super) touches: Vec<Touch<S::V>>,
     pub(super) motion: Vec<Motion<S>>,
+    /// The passes over the contacts the latest step made (solve, relax and position passes,
+    /// counted as they ran).
+    pub(super) passes: u32,
+    /// A Jacobi pass's motions as the pass began (scratch).
+    pub(super) pass_start: Vec<Motion<S>>,
+    /// A Jacobi pass's count of pairs each solid is in (scratch).
+    pub(super) shares: Vec<f64>,
     /// Continuous collision's poses of the step's start (toi.rs).
     pub(super) sweeps: super::toi::Sweeps<S>,
 }
@@ -189,6 +202,9 @@ impl<S: Space> Default for State<S> {
             pairs: Vec::new(),
             touches: Vec::new(),
             motion: Vec::new(),
+            passes: 0,
+            pass_start: Vec::new(),
+            shares: Vec::new(),
             sweeps: super::toi::Sweeps::default(),
         }
     }

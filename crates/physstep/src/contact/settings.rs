@@ -11,6 +11,9 @@ pub struct Info {
     pub name: &'static str,
     /// One line on what it does.
     pub summary: &'static str,
+    /// What it corrects: `"velocity"` (impulses on the velocities, positions follow by the
+    /// drift) or `"velocity + position"` (impulses, then passes that move the positions).
+    pub family: &'static str,
     /// Constraint passes over every contact a step, in the settings' terms (equal by default:
     /// the lab compares solvers at equal cost).
     pub passes: &'static str,
@@ -30,6 +33,15 @@ pub enum Schedule {
     /// One step: rigid velocity passes without a position bias, one drift, then passes that
     /// move the positions apart (non-linear Gauss-Seidel, Box2D v2.4's position solver).
     PgsNgs,
+    /// One step: soft solve passes, one drift, then relax passes (Catto's soft PGS).
+    SoftPgs,
+    /// Substeps of one rigid pass each with a Baumgarte bias on the separation as it is now,
+    /// static friction holding anchors, no warm starting, then relax passes after the last
+    /// (Catto's sticky TGS).
+    TgsSticky,
+    /// The soft PGS schedule with Jacobi passes: every pair solved from the velocities of
+    /// the pass's start, the changes summed and applied after the pass (the parallel form).
+    Jacobi,
 }
 
 /// Every contact solver, in registry order.
@@ -38,6 +50,7 @@ pub const SOLVERS: &[Info] = &[
         name: "soft-step",
         summary: "Box2D v3's soft step: substeps of symplectic Euler, soft contacts, warm starting, relax, \
                   restitution",
+        family: "velocity",
         passes: "2 x substeps x solver_iterations (a solve and a relax a substep)",
         schedule: Schedule::SoftStep,
     },
@@ -46,6 +59,7 @@ pub const SOLVERS: &[Info] = &[
         summary: "projected Gauss-Seidel (sequential impulses, Box2D v2): one step of symplectic Euler, \
                   rigid contacts with a Baumgarte position bias, plain Coulomb friction, warm starting, \
                   restitution",
+        family: "velocity",
         passes: "2 x substeps x solver_iterations velocity passes in one step (the soft step's count)",
         schedule: Schedule::Pgs,
     },
@@ -54,9 +68,37 @@ pub const SOLVERS: &[Info] = &[
         summary: "PGS with non-linear Gauss-Seidel (Box2D v2.4): rigid velocity passes without a position \
                   bias, then position passes that push overlaps apart from the current poses (0.2 of the \
                   overlap past a 5 mm slop, at most 0.2 m), plain Coulomb friction, warm starting, restitution",
+        family: "velocity + position",
         passes: "2 x substeps x solver_iterations in one step: three quarters velocity passes, a quarter \
                  position passes (at least one)",
         schedule: Schedule::PgsNgs,
+    },
+    Info {
+        name: "soft-pgs",
+        summary: "soft PGS (Catto, Solver2D): one step of symplectic Euler, soft contacts (at most half the \
+                  step's rate in Hz), warm starting, solve passes, the drift, relax passes, restitution",
+        family: "velocity",
+        passes: "2 x substeps x solver_iterations in one step: half solve passes, half relax passes",
+        schedule: Schedule::SoftPgs,
+    },
+    Info {
+        name: "tgs-sticky",
+        summary: "sticky TGS (Catto, Solver2D): substeps of one rigid pass with a Baumgarte bias of 0.8 on \
+                  the separation as it is now, static friction holding the anchors, no warm starting, then \
+                  relax passes, restitution",
+        family: "velocity",
+        passes: "2 x substeps x solver_iterations: three quarters substeps of one pass, a quarter relax \
+                 passes after the last (at least one)",
+        schedule: Schedule::TgsSticky,
+    },
+    Info {
+        name: "jacobi",
+        summary: "soft Jacobi (Catto, Solver2D): soft PGS's schedule, each pass solving every contact \
+                  from the velocities of the pass's start and applying the sum of the changes after it \
+                  (the parallel form; joints stay Gauss-Seidel), contacts at most a third of the step's rate",
+        family: "velocity",
+        passes: "2 x substeps x solver_iterations in one step: half solve passes, half relax passes",
+        schedule: Schedule::Jacobi,
     },
 ];
 

@@ -80,23 +80,75 @@ fn ngs<S: Space>(st: &mut State<S>, bodies: &mut [super::Body<S>]) {
     }
 }
 
-/// One step of the chosen solver: the soft step, PGS or PGS with NGS ([`Schedule`]).
+/// Sticky TGS's Baumgarte fraction of the separation a substep, and its static friction's
+/// fraction of the anchors' distance (Solver2D's `solve_tgs_sticky.c`).
+const STICKY_BETA: f64 = 0.8;
+const STICKY_FRICTION_BETA: f64 = 0.5;
+
+/// How a schedule lays out a step's passes.
+#[derive(Debug, Clone, Copy, Default)]
+struct Plan {
+    /// Substeps.
+    n: u32,
+    /// Solve passes (with the bias) a substep.
+    solves: u32,
+    /// Relax passes (without it) a substep, after the drift.
+    relaxes: u32,
+    /// NGS position passes a substep, after the drift.
+    positions: u32,
+    /// Relax passes after the last substep only.
+    last_relaxes: u32,
+    /// The contacts' impulses start from zero and accumulate over the substeps (no warm start
+    /// from the last step, none applied again each substep).
+    carry: bool,
+    /// Jacobi passes instead of Gauss-Seidel ones.
+    jacobi: bool,
+    /// The contacts' stiffness at most this fraction of the substep rate, Hz (soft schedules).
+    hertz_cap: f64,
+}
+
+impl Plan {
+    /// The layout of `schedule` for `substeps` and `iterations`: every schedule makes `all =
+    /// 2 x substeps x iterations` passes over the contacts a step (equal cost).
+    fn of(schedule: Schedule, substeps: u32, iterations: u32) -> Self {
+        let all = 2 * substeps.max(1) * iterations;
+        let quarter = (all / 4).max(1);
+        let one_step = Self { n: 1, ..Self::default() };
+        match schedule {
+            Schedule::SoftStep => Self {
+                n: substeps.max(1),
+                solves: iterations,
+                relaxes: iterations,
+                hertz_cap: 0.125,
+                ..Self::default()
+            },
+            Schedule::Pgs => Self { solves: all, ..one_step },
+            Schedule::PgsNgs => Self { solves: all - quarter, positions: quarter, ..one_step },
+            Schedule::SoftPgs => Self { solves: all / 2, relaxes: all / 2, hertz_cap: 0.5, ..one_step },
+            Schedule::Jacobi => {
+                Self { solves: all / 2, relaxes: all / 2, hertz_cap: 1.0 / 3.0, jacobi: true, ..one_step }
+            }
+            Schedule::TgsSticky => {
+                Self { n: all - quarter, solves: 1, last_relaxes: quarter, carry: true, ..Self::default() }
+            }
+        }
+    }
+}
+
+/// One step of the chosen solver ([`Schedule`], laid out by [`Plan`]).
 pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     let set = solids.settings.clone();
     let schedule = set.schedule();
     // The soft step: substeps of one solve pass, a drift and one relax pass each (times
-    // `iterations`); PGS: one step of as many passes as the soft step makes in all, with NGS
-    // a quarter of them moving positions after the drift.
-    let all = 2 * set.substeps.max(1) * set.iterations;
-    let (n, solves, relaxes, positions) = match schedule {
-        Schedule::SoftStep => (set.substeps.max(1), set.iterations, set.iterations, 0),
-        Schedule::Pgs => (1, all, 0, 0),
-        Schedule::PgsNgs => (1, all - (all / 4).max(1), 0, (all / 4).max(1)),
-    };
+    // `iterations`); the one-step schedules: as many passes in one step as the soft step
+    // makes in all; sticky TGS: as many substeps of one pass, a quarter of them kept for the
+    // relax passes at the end.
+    let plan = Plan::of(schedule, set.substeps, set.iterations);
+    let n = plan.n;
     let h = dt / f64::from(n);
     let inv_h = 1.0 / h;
     collide(solids);
-    let hertz = set.contact_hertz.min(0.125 / h);
+    let hertz = set.contact_hertz.min(plan.hertz_cap / h);
     let (soft, rigid) =
         (Soft::new(hertz, set.damping_ratio, h), Soft::new(2.0 * hertz, set.damping_ratio, h));
     let joint_soft = Soft::new(set.joint_hertz.min(0.25 / h), set.joint_damping_ratio, h);
@@ -121,24 +173,55 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         // The world, for joints to it: the last motion, which never moves.
         st.motion.push(Motion::fixed());
     }
+    if plan.jacobi {
+        // Each solid's share of the pairs it is in (mass splitting, below).
+        st.shares.clear();
+        st.shares.resize(st.motion.len(), 0.0);
+        for pair in &st.touching {
+            st.shares[pair.a as usize] += 1.0;
+            st.shares[pair.b as usize] += 1.0;
+        }
+    }
     for pair in &mut st.touching {
         pair.soft = match schedule {
             Schedule::SoftStep => Coefs::of(if pair.rigid_other { rigid } else { soft }),
+            // Solver2D's soft PGS and Jacobi: soft contacts, plain Coulomb friction.
+            Schedule::SoftPgs | Schedule::Jacobi => {
+                Coefs { friction_bias: 0.0, ..Coefs::of(if pair.rigid_other { rigid } else { soft }) }
+            }
             Schedule::Pgs => Coefs::baumgarte(BAUMGARTE, inv_h),
             Schedule::PgsNgs => Coefs::baumgarte(0.0, inv_h),
+            Schedule::TgsSticky => Coefs::sticky(STICKY_BETA, STICKY_FRICTION_BETA, inv_h),
         };
         let (ma, mb) = (&st.motion[pair.a as usize], &st.motion[pair.b as usize]);
+        let shares = plan.jacobi.then(|| (st.shares[pair.a as usize], st.shares[pair.b as usize]));
         for p in &mut st.points[pair.start as usize..pair.end as usize] {
-            p.normal_mass = effective_mass(ma, mb, p.ra, p.rb, p.normal);
+            let mass = |d| match shares {
+                None => effective_mass(ma, mb, p.ra, p.rb, d),
+                Some(n) => split_mass(ma, mb, p.ra, p.rb, d, n),
+            };
+            p.normal_mass = mass(p.normal);
             for k in 0..S::TANGENTS {
-                p.tangent_mass[k] = effective_mass(ma, mb, p.ra, p.rb, S::tangent(p.normal, p.frame, k));
+                p.tangent_mass[k] = mass(S::tangent(p.normal, p.frame, k));
             }
             p.approach = relative_velocity(ma, mb, p.ra, p.rb).dot(p.normal);
+            if plan.carry {
+                p.normal_impulse = 0.0;
+                p.tangent_impulse = [0.0; 2];
+            }
         }
     }
 
     let mut bodies = std::mem::take(&mut solids.bodies);
-    for _ in 0..n {
+    st.passes = 0;
+    let pass = |st: &mut State<S>, bias: bool| match (plan.jacobi, bias) {
+        (false, true) => solve::<S, true>(st, inv_h, set.push_speed, gravity),
+        (false, false) => solve::<S, false>(st, inv_h, set.push_speed, gravity),
+        (true, true) => solve_jacobi::<S, true>(st, inv_h, set.push_speed, gravity),
+        (true, false) => solve_jacobi::<S, false>(st, inv_h, set.push_speed, gravity),
+    };
+    for substep in 0..n {
+        let last = substep + 1 == n;
         // Integrate velocities: drag, springs and loads (forces.rs), gravity, and in space the
         // gyroscopic term (implicit).
         super::forces::integrate(&mut solids.forces, &bodies, &mut st.motion, h);
@@ -151,12 +234,15 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         if !joints.is_empty() {
             joint::warm_start(joints, &mut st.motion);
         }
-        warm_start(st);
-        for _ in 0..solves {
+        if !plan.carry {
+            warm_start(st);
+        }
+        for _ in 0..plan.solves {
             if !joints.is_empty() {
                 joint::solve(joints, &mut st.motion, h, Some(joint_soft));
             }
-            solve::<S, true>(st, inv_h, set.push_speed, gravity);
+            pass(st, true);
+            st.passes += 1;
         }
         // Integrate positions.
         for (b, m) in bodies.iter_mut().zip(st.motion.iter_mut()) {
@@ -167,20 +253,26 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             m.dp += m.v * h;
             (b.q, m.dq) = S::turn(b.q, m.dq, m.w, h);
         }
-        for _ in 0..positions {
+        for _ in 0..plan.positions {
             ngs(st, &mut bodies);
+            st.passes += 1;
         }
+        let relaxes = plan.relaxes + if last { plan.last_relaxes } else { 0 };
         for _ in 0..relaxes {
             if !joints.is_empty() {
                 joint::solve(joints, &mut st.motion, h, None);
             }
-            solve::<S, false>(st, inv_h, set.push_speed, gravity);
+            pass(st, false);
+            st.passes += 1;
         }
         // The impulse a point applies in a substep is its accumulated impulse (the warm
-        // start and the increments): the step's is their sum.
-        for (p, c) in st.points.iter().zip(&mut st.contacts) {
-            c.total_normal += p.normal_impulse;
-            c.total_friction += S::friction_size(p.tangent_impulse);
+        // start and the increments): the step's is their sum. Carried over the substeps,
+        // the accumulated impulse is the step's.
+        if !plan.carry || last {
+            for (p, c) in st.points.iter().zip(&mut st.contacts) {
+                c.total_normal += p.normal_impulse;
+                c.total_friction += S::friction_size(p.tangent_impulse);
+            }
         }
     }
     restitution(st, set.restitution_threshold);
@@ -303,89 +395,145 @@ fn warm_start<S: Space>(st: &mut State<S>) {
     }
 }
 
-/// One pass over every pair: normal impulses, then friction, with the soft bias (`BIAS`,
-/// the solve) or without it (the relax pass). The two solids' motions are held in
-/// registers over the pair's points and stored once. `gravity` is what the bounce of a point
-/// still apart gains on its way across the gap ([`arrival`]).
-#[allow(clippy::needless_range_loop)] // k indexes a point's tangents, masses and impulses alike
+/// One pass over every pair (Gauss-Seidel: each pair sees what the pairs before it did),
+/// normal impulses, then friction, with the soft bias (`BIAS`, the solve) or without it (the
+/// relax pass). The two solids' motions are held in registers over the pair's points and
+/// stored once. `gravity` is what the bounce of a point still apart gains on its way across
+/// the gap ([`arrival`]).
 fn solve<S: Space, const BIAS: bool>(st: &mut State<S>, inv_h: f64, push_speed: f64, gravity: S::V) {
     for pair in &st.touching {
         let (ia, ib) = (pair.a as usize, pair.b as usize);
         let (mut ma, mut mb) = (st.motion[ia], st.motion[ib]);
-        let c = pair.soft;
         let points = &mut st.points[pair.start as usize..pair.end as usize];
-        for p in points.iter_mut() {
-            let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
-            let d = mb.dp + tb - ma.dp - ta;
-            let sep = d.dot(p.normal) + p.adjusted;
-            let (mut vbias, mut mass_scale, mut impulse_scale) = (0.0, 1.0, 0.0);
-            if sep > 0.0 {
-                // Apart: close the gap in this substep and no more.
-                vbias = sep * inv_h;
-            } else if BIAS {
-                vbias = (c.bias * sep).max(-push_speed);
-                mass_scale = c.mass_scale;
-                impulse_scale = c.impulse_scale;
-            }
-            let vn = relative_velocity(&ma, &mb, p.ra, p.rb).dot(p.normal);
-            if BIAS && pair.restitution > 0.0 {
-                // The speed a bouncing point arrives at: gravity keeps adding to it over the
-                // step's substeps until the contact stops it (the step's start undercounts
-                // it by up to g dt, a few % of a bounce's height), and across the gap it
-                // still has to close (the speculative contact stops it at the surface).
-                let fall = |m: &Motion<S>| if m.moves { gravity } else { S::V::default() };
-                let closing = -(fall(&mb) - fall(&ma)).dot(p.normal);
-                p.approach = p.approach.min(arrival(vn, sep, closing, 1.0 / inv_h));
-            }
-            let imp = -p.normal_mass * (mass_scale * vn + vbias) - impulse_scale * p.normal_impulse;
-            let new = (p.normal_impulse + imp).max(0.0);
-            let imp = new - p.normal_impulse;
-            p.normal_impulse = new;
-            p.max_normal = p.max_normal.max(imp);
-            push(&mut ma, &mut mb, p.ra, p.rb, p.normal * imp);
-        }
-        for p in points.iter_mut() {
-            let limit = pair.friction * p.normal_impulse;
-            let dv = relative_velocity(&ma, &mb, p.ra, p.rb);
-            let mut new = [0.0; 2];
-            // With the bias, static friction pulls the anchors back together as softly as a
-            // contact pushes (so a box on a ramp steeper than it can slide on does not
-            // creep); without it, friction stops the sliding velocity. The arms are turned
-            // again as the normal solve turned them (no solid turns between the two).
-            let moved = if BIAS {
-                let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
-                mb.dp + tb - p.rb - ma.dp - ta + p.ra
-            } else {
-                S::V::default()
-            };
-            for k in 0..S::TANGENTS {
-                let t = S::tangent(p.normal, p.frame, k);
-                let vt = dv.dot(t);
-                new[k] = if BIAS {
-                    let err = p.slip[k] + moved.dot(t);
-                    let vbias = (c.friction_bias * err).clamp(-push_speed, push_speed);
-                    p.tangent_impulse[k]
-                        - p.tangent_mass[k] * (c.mass_scale * vt + vbias)
-                        - c.impulse_scale * p.tangent_impulse[k]
-                } else {
-                    p.tangent_impulse[k] - p.tangent_mass[k] * vt
-                };
-            }
-            let size = S::friction_size(new);
-            if size > limit {
-                let f = if size > 0.0 { limit / size } else { 0.0 };
-                new[0] *= f;
-                new[1] *= f;
-            }
-            let mut imp = S::V::default();
-            for k in 0..S::TANGENTS {
-                imp += S::tangent(p.normal, p.frame, k) * (new[k] - p.tangent_impulse[k]);
-            }
-            p.tangent_impulse = new;
-            push(&mut ma, &mut mb, p.ra, p.rb, imp);
-        }
+        solve_pair::<S, BIAS>(pair, points, (&mut ma, &mut mb), inv_h, push_speed, gravity);
         (st.motion[ia].v, st.motion[ia].w) = (ma.v, ma.w);
         (st.motion[ib].v, st.motion[ib].w) = (mb.v, mb.w);
+    }
+}
+
+/// One Jacobi pass: every pair solved from the motions of the pass's start (no pair sees
+/// another's impulses until the pass ends), the changes of velocity summed over the pairs
+/// and applied after the pass. Each pair's impulses are its own, so the pairs could be solved
+/// in parallel; they are summed in pair order here (the same bits on any thread count).
+fn solve_jacobi<S: Space, const BIAS: bool>(st: &mut State<S>, inv_h: f64, push_speed: f64, gravity: S::V) {
+    st.pass_start.clone_from(&st.motion);
+    for pair in &st.touching {
+        let (ia, ib) = (pair.a as usize, pair.b as usize);
+        let (sa, sb) = (st.pass_start[ia], st.pass_start[ib]);
+        let (mut ma, mut mb) = (sa, sb);
+        let points = &mut st.points[pair.start as usize..pair.end as usize];
+        solve_pair::<S, BIAS>(pair, points, (&mut ma, &mut mb), inv_h, push_speed, gravity);
+        for (i, m, s) in [(ia, ma, sa), (ib, mb, sb)] {
+            st.motion[i].v += m.v - s.v;
+            st.motion[i].w += m.w - s.w;
+        }
+    }
+}
+
+/// A point's effective mass along `d` with each solid split into as many parts as it has pairs
+/// in contact (`na`, `nb`: Tonge, Benevolenski and Voroshilov, "Mass splitting for jitter-free
+/// parallel rigid body simulation", 2012): a Jacobi pass then applies each pair's impulse in
+/// full, the sum over a solid's pairs being the average of its parts' velocities, and does
+/// not overshoot where many pairs push one solid at once.
+fn split_mass<S: Space>(
+    ma: &Motion<S>,
+    mb: &Motion<S>,
+    ra: S::V,
+    rb: S::V,
+    d: S::V,
+    (na, nb): (f64, f64),
+) -> f64 {
+    let (ca, cb) = (S::cross_vv(ra, d), S::cross_vv(rb, d));
+    let k = na * (ma.inv_mass + ca.dot(S::apply(ma.inv_i, ca)))
+        + nb * (mb.inv_mass + cb.dot(S::apply(mb.inv_i, cb)));
+    if k > 0.0 {
+        1.0 / k
+    } else {
+        0.0
+    }
+}
+
+/// One pair's points in a pass: normal impulses, then friction, on the two solids' motions.
+#[allow(clippy::needless_range_loop)] // k indexes a point's tangents, masses and impulses alike
+#[inline(always)]
+fn solve_pair<S: Space, const BIAS: bool>(
+    pair: &Pair,
+    points: &mut [Point<S>],
+    (ma, mb): (&mut Motion<S>, &mut Motion<S>),
+    inv_h: f64,
+    push_speed: f64,
+    gravity: S::V,
+) {
+    let c = pair.soft;
+    for p in points.iter_mut() {
+        let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
+        let d = mb.dp + tb - ma.dp - ta;
+        let sep = d.dot(p.normal) + p.adjusted;
+        let (mut vbias, mut mass_scale, mut impulse_scale) = (0.0, 1.0, 0.0);
+        if sep > 0.0 {
+            // Apart: close the gap in this substep and no more.
+            vbias = sep * inv_h;
+        } else if BIAS {
+            vbias = (c.bias * sep).max(-push_speed);
+            mass_scale = c.mass_scale;
+            impulse_scale = c.impulse_scale;
+        }
+        let vn = relative_velocity(ma, mb, p.ra, p.rb).dot(p.normal);
+        if BIAS && pair.restitution > 0.0 {
+            // The speed a bouncing point arrives at: gravity keeps adding to it over the
+            // step's substeps until the contact stops it (the step's start undercounts
+            // it by up to g dt, a few % of a bounce's height), and across the gap it
+            // still has to close (the speculative contact stops it at the surface).
+            let fall = |m: &Motion<S>| if m.moves { gravity } else { S::V::default() };
+            let closing = -(fall(mb) - fall(ma)).dot(p.normal);
+            p.approach = p.approach.min(arrival(vn, sep, closing, 1.0 / inv_h));
+        }
+        let imp = -p.normal_mass * (mass_scale * vn + vbias) - impulse_scale * p.normal_impulse;
+        let new = (p.normal_impulse + imp).max(0.0);
+        let imp = new - p.normal_impulse;
+        p.normal_impulse = new;
+        p.max_normal = p.max_normal.max(imp);
+        push(ma, mb, p.ra, p.rb, p.normal * imp);
+    }
+    for p in points.iter_mut() {
+        let limit = pair.friction * p.normal_impulse;
+        let dv = relative_velocity(ma, mb, p.ra, p.rb);
+        let mut new = [0.0; 2];
+        // With the bias, static friction pulls the anchors back together as softly as a
+        // contact pushes (so a box on a ramp steeper than it can slide on does not
+        // creep); without it, friction stops the sliding velocity. The arms are turned
+        // again as the normal solve turned them (no solid turns between the two).
+        let moved = if BIAS {
+            let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
+            mb.dp + tb - p.rb - ma.dp - ta + p.ra
+        } else {
+            S::V::default()
+        };
+        for k in 0..S::TANGENTS {
+            let t = S::tangent(p.normal, p.frame, k);
+            let vt = dv.dot(t);
+            new[k] = if BIAS {
+                let err = p.slip[k] + moved.dot(t);
+                let vbias = (c.friction_bias * err).clamp(-push_speed, push_speed);
+                p.tangent_impulse[k]
+                    - p.tangent_mass[k] * (c.mass_scale * vt + vbias)
+                    - c.impulse_scale * p.tangent_impulse[k]
+            } else {
+                p.tangent_impulse[k] - p.tangent_mass[k] * vt
+            };
+        }
+        let size = S::friction_size(new);
+        if size > limit {
+            let f = if size > 0.0 { limit / size } else { 0.0 };
+            new[0] *= f;
+            new[1] *= f;
+        }
+        let mut imp = S::V::default();
+        for k in 0..S::TANGENTS {
+            imp += S::tangent(p.normal, p.frame, k) * (new[k] - p.tangent_impulse[k]);
+        }
+        p.tangent_impulse = new;
+        push(ma, mb, p.ra, p.rb, imp);
     }
 }
 

@@ -586,6 +586,13 @@ impl World {
         each!(&self.solids, s => s.max_penetration(), 0.0)
     }
 
+    /// The passes over the contacts the contact solver made in the latest step, counted as
+    /// they ran (0 without solids or before a step).
+    #[must_use]
+    pub fn contact_passes(&self) -> u32 {
+        each!(&self.solids, s => s.contact_passes(), 0)
+    }
+
     /// The contact solver's settings (its name, substeps, iterations, stiffness).
     #[must_use]
     pub fn contact_settings(&self) -> Settings {

@@ -6,7 +6,13 @@ use physstep::contact::{Kind, Plane, Shape, SolidParams, Solids, Space3};
 const G: f64 = 9.81;
 
 /// Every contact solver, by name.
-const SOLVER_NAMES: [&str; 3] = ["soft-step", "pgs", "pgs-ngs"];
+const SOLVER_NAMES: [&str; 6] = ["soft-step", "pgs", "pgs-ngs", "soft-pgs", "tgs-sticky", "jacobi"];
+
+#[test]
+fn the_tests_name_every_solver_of_the_registry() {
+    let names: Vec<&str> = physstep::contact::SOLVERS.iter().map(|i| i.name).collect();
+    assert_eq!(names, SOLVER_NAMES);
+}
 
 fn ground2(s: &mut Solids<Plane>) -> usize {
     let mut p = SolidParams::new(Shape::Box { half: vec![50.0, 1.0] }, &[0.0, -1.0]);
@@ -48,9 +54,10 @@ fn box_comes_to_rest(solver: &str) {
     assert!(s.max_penetration() < 0.005 * 1.0, "{solver}: penetration {}", s.max_penetration());
     let y = s.positions()[2 * b + 1];
     assert!((y - 0.5).abs() < 0.005, "{solver}: resting height {y}");
-    // NGS moves the two corners one after the other, each turning the box a little: flat to
-    // 2e-5 rad (10 um across the box), the others to 1e-6.
-    let flat = if solver == "pgs-ngs" { 2e-5 } else { 1e-6 };
+    // NGS moves the two corners one after the other, each turning the box a little, and so
+    // does sticky TGS's rigid pass on the separation as it is now: flat to 2e-5 rad (10 um
+    // across the box), the others to 1e-6.
+    let flat = if matches!(solver, "pgs-ngs" | "tgs-sticky") { 2e-5 } else { 1e-6 };
     let angle = s.orientations()[b];
     assert!(angle.abs() < flat, "{solver}: it landed flat and stays flat: {angle}");
 }
@@ -90,7 +97,15 @@ fn on_a_ramp_a_box_sticks_above_the_friction_angle_and_slides_at_g_sin_minus_mu_
     for solver in SOLVER_NAMES {
         let angle = 0.5_f64; // tan = 0.546
         let (moved, _) = ramp(solver, angle, 0.6, 5.0);
-        assert!(moved.abs() < 1e-3, "{solver}: stuck box moved {moved}");
+        // Soft contacts in one step with plain friction (soft PGS, Jacobi) creep down the
+        // ramp at about a millimetre a second, with friction well above tan(angle) too (4.4
+        // and 7.2 mm in 5 s, measured; the same at mu = 0.8): the solvers with substeps,
+        // anchors or rigid contacts hold the box to a micrometre.
+        let stuck = if matches!(solver, "soft-pgs" | "jacobi") { 1e-2 } else { 1e-3 };
+        assert!(moved.abs() < stuck, "{solver}: stuck box moved {moved}");
+        if stuck > 1e-3 {
+            assert!(moved.abs() > 1e-3, "{solver} no longer creeps ({moved} m): tighten the bound");
+        }
         let mu = 0.3;
         let (_, v) = ramp(solver, angle, mu, 2.0);
         let a = v / 2.0;
@@ -129,6 +144,23 @@ fn pyramid_under(solver: &str) -> (f64, f64) {
     let p = s.positions();
     let drift = ((p[2 * top] - p0[2 * top]).powi(2) + (p[2 * top + 1] - p0[2 * top + 1]).powi(2)).sqrt();
     (drift, deepest)
+}
+
+#[test]
+fn a_pyramid_of_twenty_rows_stands_under_the_substepped_solvers_and_sags_under_the_one_step_ones() {
+    // At equal passes: the substepped solvers (the soft step, sticky TGS) keep the top box
+    // within centimetres and the boxes out of each other to a millimetre; soft PGS (one step
+    // of soft passes) about as far but ten times deeper; Jacobi (each pair solved from the
+    // pass's start, masses split) sags decimetres. Measured (release): soft-step 8.5 mm / 0.9
+    // mm deep, tgs-sticky 36 / 0.8, soft-pgs 45 / 12, jacobi 470 / 51.
+    let (soft_drift, soft_deep) = pyramid_under("soft-step");
+    let (tgs_drift, tgs_deep) = pyramid_under("tgs-sticky");
+    let (spgs_drift, spgs_deep) = pyramid_under("soft-pgs");
+    let (jac_drift, jac_deep) = pyramid_under("jacobi");
+    assert!(tgs_drift < 0.05 && tgs_deep < 0.002, "tgs-sticky: {tgs_drift} m, {tgs_deep} m deep");
+    assert!(tgs_drift > soft_drift, "tgs-sticky {tgs_drift} m against the soft step's {soft_drift} m");
+    assert!(spgs_drift < 0.1 && spgs_deep > 5.0 * soft_deep, "soft-pgs: {spgs_drift} m, {spgs_deep} m deep");
+    assert!(jac_drift > 0.1 && jac_drift < 1.0 && jac_deep < 0.1, "jacobi: {jac_drift} m, {jac_deep} m deep");
 }
 
 #[test]
@@ -232,20 +264,23 @@ fn restitution_sends_a_ball_back_up_at_e_times_its_landing_speed() {
 }
 
 #[test]
-fn the_same_inputs_give_the_same_bits_on_one_and_two_threads() {
-    let run = |threads: usize| {
+fn the_same_inputs_give_the_same_bits_on_one_and_two_threads_under_every_solver() {
+    let run = |threads: usize, solver: &str| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| {
             let mut s = pyramid(6);
+            s.settings.set_solver(solver).unwrap();
             for _ in 0..120 {
                 s.step(1.0 / 60.0, DVec2::new(0.0, -G)).unwrap();
             }
             (s.positions(), s.velocities())
         })
     };
-    let (a, b) = (run(1), run(2));
-    assert!(a.0.iter().zip(&b.0).all(|(x, y)| x.to_bits() == y.to_bits()));
-    assert!(a.1.iter().zip(&b.1).all(|(x, y)| x.to_bits() == y.to_bits()));
+    for solver in SOLVER_NAMES {
+        let (a, b) = (run(1, solver), run(2, solver));
+        assert!(a.0.iter().zip(&b.0).all(|(x, y)| x.to_bits() == y.to_bits()), "{solver}");
+        assert!(a.1.iter().zip(&b.1).all(|(x, y)| x.to_bits() == y.to_bits()), "{solver}");
+    }
 }
 
 #[test]
