@@ -663,3 +663,26 @@ def test_bridge_ragdoll_lands_on_it_in_one_piece() -> None:
     under = np.interp(parts[:, 0], h[:, 0], h[:, 1])  # the planks' middle line below each part
     assert np.all(parts[:, 1] > under), parts[:, 1] - under  # on the bridge, none through it
     assert np.all(np.abs(parts[:, 0] - h[PLANKS // 2, 0]) < 4.0)
+
+
+def test_the_solvers_demo_shows_four_solvers_side_by_side_on_the_same_boxes() -> None:
+    import physstep
+
+    r = _runner("solvers")
+    names = list(physstep.contact_solvers())
+    start = ["soft-step", "pgs", "tgs-sticky", "jacobi"]
+    assert [p.world.contact_solver for p in r.panels] == start == r.demo.solvers
+    for _ in range(3):
+        r.update(1 / 60)
+    # Each panel's caption names its solver and the passes it made (the same for all).
+    assert [r.demo.caption(p)[0] for p in r.panels] == start
+    assert all(r.demo.caption(p)[1].startswith("16 passes a step") for p in r.panels)
+    n = r.panels[0].world.solid_count
+    r.act("drop")  # the same box into every panel
+    assert [p.world.solid_count for p in r.panels] == [n + 1] * 4
+    r.act("solver")  # every panel on to its next solver
+    after = [names[(names.index(s) + 1) % len(names)] for s in start]
+    assert [p.world.contact_solver for p in r.panels] == after == r.demo.solvers
+    r.reset()  # a reset keeps each panel's solver
+    assert [p.world.contact_solver for p in r.panels] == after
+

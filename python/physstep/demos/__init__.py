@@ -87,6 +87,12 @@ DEMOS: tuple[DemoEntry, ...] = (
         "a pyramid of solid boxes on the ground; b: drop a box, x: shoot one, n: substeps, c: solver",
     ),
     DemoEntry(
+        "solvers",
+        "boxes",
+        "SolversDemo",
+        "the pyramid under four contact solvers side by side; b: drop a box into all, c: next solvers",
+    ),
+    DemoEntry(
         "ramp",
         "ramp",
         "RampDemo",

@@ -111,8 +111,9 @@ class Runner:
             for k in range(n)
         ]
 
-    def _panel(self, method: str, colour: tuple[int, int, int]) -> Panel:
-        world = self.demo.world(method, self.dt)
+    def _panel(self, method: str, colour: tuple[int, int, int], k: int) -> Panel:
+        """A fresh panel ``k`` under ``method`` (the demo's world for that panel)."""
+        world = self.demo.panel_world(k, method, self.dt)
         name, substeps = LOOPS[self.loop]
         if name != world.__reduce__()[1][0]["loop"]:  # a scene file's own loop is kept as it is
             world = base.relooped(world, name, substeps)
@@ -123,7 +124,7 @@ class Runner:
     def reset(self) -> None:
         """Fresh worlds with the current methods, dt and loop variant."""
         colours = base.PANEL_COLOURS if len(self.panel_methods) > 1 else (base.TRAIL,)
-        self.panels = [self._panel(m, colours[k % len(colours)]) for k, m in enumerate(self.panel_methods)]
+        self.panels = [self._panel(m, colours[k % len(colours)], k) for k, m in enumerate(self.panel_methods)]
         self.drag = None
         for p in self.panels:
             self.demo.record(p, self._positions(p))
@@ -137,7 +138,7 @@ class Runner:
         name = names[(k + step) % len(names)]
         self.panel_methods[self.focus] = name
         if p.error:  # a failed world starts again under the new method
-            self.panels[self.focus] = self._panel(name, p.colour)
+            self.panels[self.focus] = self._panel(name, p.colour, self.focus)
             return
         p.world.method = name
         p.info = physstep.method(name)
@@ -319,8 +320,8 @@ class Runner:
     def _caption(self, surf: pygame.Surface, rect: pygame.Rect, p: Panel) -> None:
         f = base.font(20)
         d = p.drift_now()
-        tags = f"order {p.info.order}, {'symplectic' if p.info.symplectic else 'not symplectic'}"
-        base.text(surf, base.font(22), p.info.name, (rect.x + 10, rect.y + 8), p.colour)
+        title, tags = self.demo.caption(p)
+        base.text(surf, base.font(22), title, (rect.x + 10, rect.y + 8), p.colour)
         base.text(surf, f, tags, (rect.x + 10, rect.y + 30), base.DIM)
         if d is not None:
             base.text(surf, f, f"drift {d:+.2e}", (rect.right - 10, rect.y + 8), base.TEXT, "topright")

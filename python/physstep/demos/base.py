@@ -201,6 +201,17 @@ class Demo:
         """A fresh World of this demo under ``method`` at step ``dt`` (accumulator loop)."""
         raise NotImplementedError
 
+    def caption(self, panel: Panel) -> tuple[str, str]:
+        """The title and the line under it that head ``panel`` where several are shown: its
+        method, its order and whether it is symplectic, unless the panels differ in more."""
+        info = panel.info
+        return info.name, f"order {info.order}, {'symplectic' if info.symplectic else 'not symplectic'}"
+
+    def panel_world(self, k: int, method: str, dt: float) -> physstep.World:
+        """The fresh World of panel ``k`` (from 0): :meth:`world`, unless the panels differ in
+        more than their method (the solvers demo: each panel its own contact solver)."""
+        return self.world(method, dt)
+
     def record(self, panel: Panel, x: np.ndarray) -> None:
         """Keeps what the trail of ``panel`` needs from this frame's positions ``x``."""
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pygame
 
@@ -24,10 +26,12 @@ class BoxesDemo(Demo):
     may topple, at 8 (the default) it stands."""
 
     name = "boxes"
+    #: Whether the panel draws the keys' hint at its top.
+    hint = True
     dt = 1.0 / 60.0
     dt_range = (1.0 / 480.0, 1.0 / 15.0)
     view = (0.0, 2.4, 3.0)
-    keys = (
+    keys: tuple[Key, ...] = (
         Key("drop", (pygame.K_b,), "b", "drop a box from above"),
         Key("shoot", (pygame.K_x,), "x", "shoot a box at the pyramid from the left"),
         Key("substeps", (pygame.K_n,), "n", "next substeps of the contact solver (8, 16, 2, 4)"),
@@ -105,10 +109,58 @@ class BoxesDemo(Demo):
             pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), HALF, HALF)]
             pygame.draw.polygon(surf, BOX, pts)
             pygame.draw.polygon(surf, EDGE, pts, 2)
-        base.text(
-            surf,
-            base.font(18),
-            "b: drop a box, x: shoot one, n: substeps (2 sag and topple, 8 stand), c: solver",
-            (rect.x + 10, rect.y + 8),
-            base.DIM,
-        )
+        if self.hint:
+            base.text(
+                surf,
+                base.font(18),
+                "b: drop a box, x: shoot one, n: substeps (2 sag and topple, 8 stand), c: solver",
+                (rect.x + 10, rect.y + 8),
+                base.DIM,
+            )
+
+
+#: The solvers of the side-by-side demo's four panels, at the start.
+SIDE_BY_SIDE = ("soft-step", "pgs", "tgs-sticky", "jacobi")
+
+
+class SolversDemo(BoxesDemo):
+    """The pyramid of :class:`BoxesDemo` four times side by side, each panel under its own
+    contact solver (the soft step, PGS, sticky TGS and Jacobi at the start; the HUD names
+    each), every one making the same passes a step: ``b`` and ``x`` drop or shoot the same box
+    into all four, ``n`` changes every panel's substeps, ``c`` moves every panel on to its next
+    solver in the registry. The solver lab's comparison (``physstep compare pyramid --solvers
+    all``), live."""
+
+    name = "solvers"
+    methods = ("symplectic-euler",) * len(SIDE_BY_SIDE)
+    view = (0.0, 2.2, 3.2)
+    keys: tuple[Key, ...] = tuple(
+        dataclasses.replace(k, doc="every panel's next contact solver") if k.action == "solver" else k
+        for k in BoxesDemo.keys
+    )
+
+    hint = False  # the panels' captions take the hint's place
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.solvers = list(SIDE_BY_SIDE)
+
+    def caption(self, panel: Panel) -> tuple[str, str]:
+        w = panel.world
+        return w.contact_solver, f"{w.contact_passes} passes a step, {w.max_penetration * 1000:.2f} mm deep"
+
+    def panel_world(self, k: int, method: str, dt: float) -> physstep.World:
+        w = self.world(method, dt)
+        w.contact_solver = self.solvers[k % len(self.solvers)]
+        return w
+
+    def act(self, panels: list[Panel], action: str) -> None:
+        if action != "solver":
+            super().act(panels, action)
+            return
+        names = base.contact_solver_names()
+        for k, p in enumerate(panels):
+            now = self.solvers[k]
+            self.solvers[k] = names[(names.index(now) + 1) % len(names)] if now in names else names[0]
+            if not p.error:
+                p.world.contact_solver = self.solvers[k]
