@@ -1,9 +1,13 @@
 //! Contact solvers, chosen by name ([`super::SOLVERS`]; a solver is one `step` and an [`super::Info`], as
 //! the integrators are), on the points `collide` (`points.rs`, shared by every solver) finds
-//! at the step's start. Three schedules of the same passes ([`super::Schedule`]): PGS (one
-//! step of rigid passes with a Baumgarte bias), PGS with NGS (rigid passes, then position
-//! passes after the drift, `ngs`), and the default, Box2D v3's soft step (Catto,
-//! "Solver2D", 2024):
+//! at the step's start. Six schedules of the same passes ([`super::Schedule`], each laid out
+//! by a `Plan` that makes `2 x substeps x iterations` passes a step, counted in
+//! `State::passes`): PGS (one step of rigid passes with a Baumgarte bias), PGS with NGS (rigid
+//! passes, then position passes after the drift, `ngs`), soft PGS (one step of soft solve and
+//! relax passes), sticky TGS (substeps of one rigid pass on the separation as it is now, no
+//! warm start, relax passes at the end), Jacobi (soft PGS's plan, each pass solved from the
+//! velocities of its start with the masses split among a solid's pairs, `solve_jacobi`), and
+//! the default, Box2D v3's soft step (Catto, "Solver2D", 2024):
 //!
 //! ```text
 //! collide     boxes widened by the speculative distance, sweep and prune (pairs joined by a

@@ -8,7 +8,7 @@
 //! interact under these forces, so neither the order of the work nor the thread count changes
 //! a bit: the kernel and the staged step give bitwise the same trajectory.
 //!
-//! Rollback: the kernel writes the state at its start into the call's [`Rollback`] as it
+//! Rollback: the kernel writes the state at its start into the call's [`Rollback`](super::rollback::Rollback) as it
 //! reads it, or, when an earlier call of the kernel kept it and nothing changed since
 //! (`World::reusable`), writes nothing and leaves that one in place. When step `k` of its
 //! run fails, the world goes back to the rollback, replays the good steps since (the same
