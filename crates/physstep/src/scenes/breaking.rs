@@ -142,8 +142,9 @@ const RAMP_FRICTIONS: [f64; 5] = [0.75, 0.5, 0.35, 0.1, 0.0];
 /// down with a stop at the low end of the upper two, over a ground; five unit boxes of
 /// density 25 and the frictions [`RAMP_FRICTIONS`] dropped onto the top board from 28 m.
 /// A pair's friction is the geometric mean of its two: against the boards' `ramp_friction`
-/// (0.2) the first three (0.39, 0.32, 0.26) are above tan 0.25 = 0.255 and stay, the last
-/// two (0.14, 0) slide down.
+/// (0.2) the first three (0.39, 0.32, 0.26) are above tan 0.25 = 0.255 and slow down once
+/// landed (the first two stop on the top board; the third, barely above, slides off it
+/// first), the last two (0.14, 0) speed up and slide down.
 ///
 /// # Errors
 /// As [`World::add_solid`].

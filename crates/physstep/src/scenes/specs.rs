@@ -700,7 +700,7 @@ pub const SCENES: &[SceneSpec] = &[
     },
     SceneSpec {
         name: "friction-ramp",
-        doc: "five boxes of friction 0.75 to 0 dropped on zigzag boards tilted 0.25 rad: those above tan 0.25 (mixed) stay, the rest slide",
+        doc: "five boxes of friction 0.75 to 0 dropped on zigzag boards tilted 0.25 rad: those above tan 0.25 (mixed) slow down, the rest speed up",
         dim: 2,
         params: &[
             p("ramp_friction", 0.2, "friction coefficient of the boards and the ground", Rule::NonNegative),
