@@ -237,6 +237,23 @@ def _size(scene: str, params: list[str]) -> float:
         return given["n"] ** 2 * 400
     if scene == "overlap-recovery":
         return given["base"] * (given["base"] + 1) / 2 * 200
+    # the scenes that break solvers: solids at 200 a step, joints as much again
+    if scene == "far-pyramid":
+        return given["rows"] * (given["rows"] + 1) / 2 * 200
+    if scene == "high-mass-ratio":  # variant 1: 166 boxes
+        return 166 * 200.0
+    if scene in ("friction-ramp", "warm-start-energy"):
+        return 400.0
+    if scene in ("rush", "stretched-chain", "far-chain"):
+        return given["n"] * 400
+    if scene == "double-domino":
+        return given["n"] * 200
+    if scene == "joint-grid":  # n^2 circles, two joints each
+        return given["n"] ** 2 * 600
+    if scene == "far-ragdoll-pile":  # six ragdolls of 12 solids and 11 joints
+        return 6 * 23 * 200.0
+    if scene == "ragdoll-stress":  # n ragdolls, 20 walls, 3 paddles
+        return (given["n"] * 23 + 23) * 200
     n = given.get("n", 1.0)
     return n * n if scene == "nbody" else max(n, 1.0)
 

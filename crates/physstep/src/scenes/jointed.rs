@@ -81,20 +81,7 @@ pub(super) fn ball_chain(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> 
     gravity(w, v("g"))?;
     ground(w, 0.6)?;
     let (y, r) = (20.0 + v("radius"), v("radius"));
-    let level = -std::f64::consts::FRAC_PI_2;
-    let mut prev: Option<usize> = None;
-    for i in 0..n {
-        let mut p =
-            SolidParams::new(Shape::Capsule { half_height: 0.375, radius: 0.125 }, &[i as f64 + 0.5, y]);
-        p.orientation = vec![level];
-        p.density = 20.0;
-        let b = w.add_solid(p)?;
-        match prev {
-            None => hinge(w, b, None, [0.0, y], 0.0)?,
-            Some(a) => hinge(w, a, Some(b), [i as f64, y], 0.0)?,
-        };
-        prev = Some(b);
-    }
+    let prev = hinged_chain(w, [0.0, y], n, 1.0, 0.125)?;
     let mut ball = SolidParams::new(Shape::Circle { radius: r }, &[n as f64 + r, y]);
     ball.density = 20.0;
     let b = w.add_solid(ball)?;
@@ -103,6 +90,36 @@ pub(super) fn ball_chain(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> 
         None => hinge(w, b, None, [0.0, y], 0.0)?,
     };
     Ok(None)
+}
+
+/// `n` capsule links `link` m long and `radius` thick (density 20), laid level toward +x
+/// from `pivot`, hinged end to end and the first to the world at `pivot`, without joint
+/// friction: `ball-chain`'s chain and `far-chain`. Returns the last link (`None` when `n`
+/// is 0).
+pub(super) fn hinged_chain(
+    w: &mut World,
+    pivot: [f64; 2],
+    n: usize,
+    link: f64,
+    radius: f64,
+) -> Result<Option<usize>> {
+    let level = -std::f64::consts::FRAC_PI_2;
+    let mut prev: Option<usize> = None;
+    for i in 0..n {
+        let x = pivot[0] + (i as f64 + 0.5) * link;
+        let shape = Shape::Capsule { half_height: link / 2.0 - radius, radius };
+        let mut p = SolidParams::new(shape, &[x, pivot[1]]);
+        p.orientation = vec![level];
+        p.density = 20.0;
+        let b = w.add_solid(p)?;
+        let at = [pivot[0] + i as f64 * link, pivot[1]];
+        match prev {
+            None => hinge(w, b, None, at, 0.0)?,
+            Some(a) => hinge(w, a, Some(b), at, 0.0)?,
+        };
+        prev = Some(b);
+    }
+    Ok(prev)
 }
 
 /// One limb of the ragdoll: a capsule from `top` down to `top - length` (upright), hinged
@@ -151,29 +168,41 @@ fn part(shape: Shape, at: &[f64]) -> SolidParams {
 pub(super) fn ragdoll_bodies(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     gravity(w, v("g"))?;
     ground(w, 0.6)?;
-    let y0 = v("height");
+    ragdoll(w, [0.0, v("height")], v("push"), v("spin"))?;
+    Ok(None)
+}
+
+/// One ragdoll of `ragdoll-bodies`, standing with its feet at `feet` (the middle between
+/// them, their soles), its torso given the horizontal speed `push` and the angular velocity
+/// `spin`: 12 solids (torso, head, then each side's upper arm, forearm, thigh, shin and
+/// foot) and 11 joints. Returns its torso.
+///
+/// # Errors
+/// As [`World::add_solid`].
+pub(super) fn ragdoll(w: &mut World, feet: [f64; 2], push: f64, spin: f64) -> Result<usize> {
+    let (x0, y0) = (feet[0], feet[1]);
     // Proportions of a 1.8 m person, from the feet up.
     let (shin, thigh, torso, upper_arm, forearm, head) = (0.45, 0.45, 0.6, 0.3, 0.3, 0.25);
     let hip = y0 + shin + thigh;
     let neck = hip + torso;
     let mut t =
-        part(Shape::Capsule { half_height: torso / 2.0 - 0.15, radius: 0.15 }, &[0.0, hip + torso / 2.0]);
-    t.velocity = vec![v("push"), 0.0];
-    t.angular_velocity = vec![v("spin")];
+        part(Shape::Capsule { half_height: torso / 2.0 - 0.15, radius: 0.15 }, &[x0, hip + torso / 2.0]);
+    t.velocity = vec![push, 0.0];
+    t.angular_velocity = vec![spin];
     let torso_i = w.add_solid(t)?;
-    let head_i = w.add_solid(part(Shape::Circle { radius: head / 2.0 }, &[0.0, neck + head / 2.0]))?;
-    joint(w, torso_i, head_i, [0.0, neck], (-0.5, 0.5))?;
+    let head_i = w.add_solid(part(Shape::Circle { radius: head / 2.0 }, &[x0, neck + head / 2.0]))?;
+    joint(w, torso_i, head_i, [x0, neck], (-0.5, 0.5))?;
     for side in [-1.0, 1.0] {
-        let arm = limb(w, torso_i, [0.25 * side, neck - 0.05], upper_arm, 0.06, (-2.5, 2.5))?;
-        limb(w, arm, [0.25 * side, neck - 0.05 - upper_arm], forearm, 0.05, (-2.5, 0.0))?;
-        let leg = limb(w, torso_i, [0.1 * side, hip], thigh, 0.09, (-0.5, 1.5))?;
-        let shin_i = limb(w, leg, [0.1 * side, hip - thigh], shin - 0.08, 0.07, (-2.0, 0.0))?;
-        let heel = [0.1 * side, y0 + 0.08];
+        let arm = limb(w, torso_i, [x0 + 0.25 * side, neck - 0.05], upper_arm, 0.06, (-2.5, 2.5))?;
+        limb(w, arm, [x0 + 0.25 * side, neck - 0.05 - upper_arm], forearm, 0.05, (-2.5, 0.0))?;
+        let leg = limb(w, torso_i, [x0 + 0.1 * side, hip], thigh, 0.09, (-0.5, 1.5))?;
+        let shin_i = limb(w, leg, [x0 + 0.1 * side, hip - thigh], shin - 0.08, 0.07, (-2.0, 0.0))?;
+        let heel = [x0 + 0.1 * side, y0 + 0.08];
         let mut foot =
             part(Shape::Capsule { half_height: 0.08, radius: 0.04 }, &[heel[0] + 0.08 * side, y0 + 0.04]);
         foot.orientation = vec![std::f64::consts::FRAC_PI_2];
         let foot_i = w.add_solid(foot)?;
         joint(w, shin_i, foot_i, heel, (-0.5, 0.5))?;
     }
-    Ok(None)
+    Ok(torso_i)
 }

@@ -4,6 +4,7 @@
 
 pub mod balls;
 mod bodies;
+mod breaking;
 mod constrained;
 pub mod file;
 mod flows;

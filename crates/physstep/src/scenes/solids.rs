@@ -27,8 +27,14 @@ pub(super) fn gravity(w: &mut World, g: f64) -> Result<()> {
 }
 
 pub(super) fn ground(w: &mut World, friction: f64) -> Result<usize> {
+    ground_at(w, friction, [0.0, 0.0])
+}
+
+/// The ground with its top at `at` (2D: a static box 200 m wide and 2 m deep below `at`; 3D:
+/// the plane y = 0, `at` unused).
+pub(super) fn ground_at(w: &mut World, friction: f64, at: [f64; 2]) -> Result<usize> {
     let mut p = if w.dim() == 2 {
-        SolidParams::new(Shape::Box { half: vec![100.0, 1.0] }, &[0.0, -1.0])
+        SolidParams::new(Shape::Box { half: vec![100.0, 1.0] }, &[at[0], at[1] - 1.0])
     } else {
         SolidParams::new(Shape::Plane { normal: vec![0.0, 1.0, 0.0] }, &[0.0, 0.0, 0.0])
     };
@@ -80,15 +86,22 @@ pub(super) fn pyramid(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
         return Err(Error::invalid("rows", rows, format!("at most {MAX_SOLIDS} boxes in all")));
     }
     gravity(w, v("g"))?;
-    ground(w, 0.6)?;
+    pyramid_at(w, rows, [0.0, 0.0])?;
+    Ok(None)
+}
+
+/// The ground and `rows` rows of unit boxes 1 cm apart on it, centred on `origin` (the
+/// middle of the ground's top): `pyramid`, and `far-pyramid` far from the world's origin.
+pub(super) fn pyramid_at(w: &mut World, rows: usize, origin: [f64; 2]) -> Result<()> {
+    ground_at(w, 0.6, origin)?;
     for row in 0..rows {
         let k = rows - row;
         for i in 0..k {
             let x = (i as f64 - (k - 1) as f64 / 2.0) * 1.01;
-            unit_box(w, &[x, 0.5 + row as f64], 0.5)?;
+            unit_box(w, &[origin[0] + x, origin[1] + 0.5 + row as f64], 0.5)?;
         }
     }
-    Ok(None)
+    Ok(())
 }
 
 /// `ramp`: a box at rest on a plank tilted by `angle`, both of friction `friction`: it
@@ -209,13 +222,20 @@ pub(super) fn mass_ratio(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> 
     }
     gravity(w, v("g"))?;
     ground(w, 0.6)?;
+    big_on_small(w, ratio / 400.0, 1.01)?;
+    Ok(None)
+}
+
+/// Solver2D's big box on small boxes: two unit boxes on the ground at x = -9 and 9 and a
+/// 20 m box of `density` (the small ones' 1) with its bottom `bottom` m up, centred.
+pub(super) fn big_on_small(w: &mut World, density: f64, bottom: f64) -> Result<()> {
     for x in [-9.0, 9.0] {
         unit_box(w, &[x, 0.5], 0.5)?;
     }
-    let mut big = SolidParams::new(Shape::Box { half: vec![10.0, 10.0] }, &[0.0, 1.01 + 10.0]);
-    big.density = ratio / 400.0;
+    let mut big = SolidParams::new(Shape::Box { half: vec![10.0, 10.0] }, &[0.0, bottom + 10.0]);
+    big.density = density;
     w.add_solid(big)?;
-    Ok(None)
+    Ok(())
 }
 
 /// Solver2D's arch: the inner and outer curves of its stones (before its scale of 0.25).
@@ -284,6 +304,13 @@ pub(super) fn arch(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
 pub(super) fn domino(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
     let n = count(v, "n", 1)?;
     gravity(w, v("g"))?;
+    dominos(w, n, false)?;
+    Ok(None)
+}
+
+/// `n` dominos 1 m apart on a floor, the first pushed at its top toward the others, and the
+/// last toward them too when `both`.
+pub(super) fn dominos(w: &mut World, n: usize, both: bool) -> Result<()> {
     let reach = 0.5 * n as f64 + 10.0;
     let mut floor = SolidParams::new(Shape::Box { half: vec![reach.max(100.0), 1.0] }, &[0.0, -1.0]);
     floor.kind = Kind::Static;
@@ -303,11 +330,14 @@ pub(super) fn domino(v: &Param<'_>, w: &mut World) -> Result<Option<Exact>> {
         if i == 0 {
             d.velocity = vec![j / mass, 0.0];
             d.angular_velocity = vec![-hy * j / inertia];
+        } else if both && i + 1 == n {
+            d.velocity = vec![-j / mass, 0.0];
+            d.angular_velocity = vec![hy * j / inertia];
         }
         w.add_solid(d)?;
         x += 1.0;
     }
-    Ok(None)
+    Ok(())
 }
 
 /// `confined`: Box2D v3's and Solver2D's confined circles: `n` x `n` (25 x 25) circles of

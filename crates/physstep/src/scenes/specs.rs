@@ -1,7 +1,7 @@
 //! The catalogue of built-in scenes: their names, parameters with their rules and defaults,
 //! default step and run length, and the resolution of a user's parameter overrides.
 
-use super::{balls, bodies, constrained, flows, jointed, particles, solids, stiff, Build};
+use super::{balls, bodies, breaking, constrained, flows, jointed, particles, solids, stiff, Build};
 use crate::error::{Error, Result};
 
 pub use crate::limits::{PARAM_MAX, PARAM_MIN};
@@ -653,6 +653,164 @@ pub const SCENES: &[SceneSpec] = &[
         dt: 1.0 / 60.0,
         until: 10.0,
         build: Build::Parts(solids::top_on_floor),
+    },
+    // Solver2D's scenes that break contact and joint solvers (scenes/breaking.rs).
+    SceneSpec {
+        name: "far-pyramid",
+        doc: "the pyramid of unit boxes (rows 10) built offset m (30 km) from the origin: does precision hold far out?",
+        dim: 2,
+        params: &[
+            p("rows", 10.0, "rows of boxes", Rule::Count),
+            p("offset", 30000.0, "distance of the scene from the origin along x and along -y, m (at most 1e9)", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::far_pyramid),
+    },
+    SceneSpec {
+        name: "far-ragdoll-pile",
+        doc: "six ragdolls of 12 solids piling into a V of two boards, offset m (30 km) from the origin",
+        dim: 2,
+        params: &[
+            p("offset", 30000.0, "distance of the scene from the origin along x and along -y, m (at most 1e9)", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the landing, friction and joint friction"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::far_ragdoll_pile),
+    },
+    SceneSpec {
+        name: "high-mass-ratio",
+        doc: "Solver2D's high mass ratio 1 (three pyramids topped by a box 100-300x as dense), 2 or 3 (a 20 m box dropped on two unit boxes, thin or thick ground)",
+        dim: 2,
+        params: &[
+            p("variant", 1.0, "Solver2D's sample: 1, 2 or 3", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("impacts and contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::high_mass_ratio),
+    },
+    SceneSpec {
+        name: "friction-ramp",
+        doc: "five boxes of friction 0.75 to 0 dropped on zigzag boards tilted 0.25 rad: those above tan 0.25 (mixed) slow down, the rest speed up",
+        dim: 2,
+        params: &[
+            p("ramp_friction", 0.2, "friction coefficient of the boards and the ground", Rule::NonNegative),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("impacts and friction"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::friction_ramp),
+    },
+    SceneSpec {
+        name: "warm-start-energy",
+        doc: "three balls stacked, the top one ratio (100) times as dense: remove it (solid 3) and the light ones must not jump",
+        dim: 2,
+        params: &[
+            p("ratio", 100.0, "density of the top ball over the others', 0.001 to 10000", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts settling"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::warm_start_energy),
+    },
+    SceneSpec {
+        name: "rush",
+        doc: "n (400) circles on a spiral pulled by springs to a static circle at the origin, no gravity: they crowd in and jam",
+        dim: 2,
+        params: &[
+            p("n", 400.0, "number of circles (at most 10000)", Rule::Count),
+            p("k", 100.0, "stiffness of each circle's spring to the origin, N/m", Rule::NonNegative),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("contacts and friction"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::rush),
+    },
+    SceneSpec {
+        name: "double-domino",
+        doc: "the domino row (n 15) pushed at both ends: two waves fall inward and meet in the middle",
+        dim: 2,
+        params: &[
+            p("n", 15.0, "number of dominos", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("impacts and friction"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::double_domino),
+    },
+    SceneSpec {
+        name: "joint-grid",
+        doc: "an n x n (30 x 30) grid of circles hinged to their neighbours, hanging from 7 pinned in the top row's middle",
+        dim: 2,
+        params: &[
+            p("n", 30.0, "circles a row and a column (at most 300)", Rule::Count),
+            p("g", 19.62, "gravity, m/s^2 (along -y; Solver2D's gravity scale 2)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the joints' softness"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::joint_grid),
+    },
+    SceneSpec {
+        name: "stretched-chain",
+        doc: "n (40) hinged circles hanging from a point, started with every joint 1 m open (twice its length); the last ratio times as dense",
+        dim: 2,
+        params: &[
+            p("n", 40.0, "number of circles (at most 10000)", Rule::Count),
+            p("ratio", 1.0, "density of the last circle over the others', 0.001 to 10000", Rule::Positive),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the joints' softness"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::stretched_chain),
+    },
+    SceneSpec {
+        name: "far-chain",
+        doc: "n (40) hinged capsules 20 cm long falling from level and swinging, offset m (30 km) from the origin",
+        dim: 2,
+        params: &[
+            p("n", 40.0, "number of links", Rule::Count),
+            p("offset", 30000.0, "distance of the scene from the origin along x and along -y, m (at most 1e9)", Rule::Any),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("the joints' softness"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::far_chain),
+    },
+    SceneSpec {
+        name: "ragdoll-stress",
+        doc: "n (32) ragdolls of 12 solids falling through a container of shelves and three motor-driven paddles",
+        dim: 2,
+        params: &[
+            p("n", 32.0, "number of ragdolls (at most 32)", Rule::Count),
+            p("g", 9.81, "gravity, m/s^2 (along -y)", Rule::Any),
+        ],
+        method: "symplectic-euler",
+        loss: Loss::Always("impacts, friction and joint friction"),
+        dt: 1.0 / 60.0,
+        until: 10.0,
+        build: Build::Parts(breaking::ragdoll_stress),
     },
 ];
 

@@ -76,14 +76,35 @@ const HASHES: &[(&str, u64)] = &[
     ("confined", 0x3c90b23d6e53b116),
     ("overlap-recovery", 0x8dd36e7e049bb7b9),
     ("top-on-floor", 0x1bd57401a02cf40e),
+    // Solver2D's scenes that break solvers (tests/it/breaking_scenes.rs).
+    ("far-pyramid", 0x78278320699bc517),
+    ("far-ragdoll-pile", 0xb4f02bedb96ef8fc),
+    ("high-mass-ratio", 0x25413f71ea4bdd15),
+    ("friction-ramp", 0xbdb8916ef011cf02),
+    ("warm-start-energy", 0x7f7e5b229e6d4a88),
+    ("rush", 0x379db5f02c16412e),
+    ("double-domino", 0x0a8d7680159b2b96),
+    ("joint-grid", 0x32ac77f293441d6e),
+    ("stretched-chain", 0x5b383962a9384e2f),
+    ("far-chain", 0x7ba6c602c7779bd5),
+    ("ragdoll-stress", 0x00198f03ccefe0b5),
 ];
 
 /// The parameters a scene's hash is recorded with: its defaults, but for stiff-cloth, whose
 /// 12 x 12 default takes 12 s for 1,000 backward-Euler steps in the test profile (6 x 6: 1 s),
-/// pile (200 balls), pyramid (10 rows, 55 boxes) and confined (12 x 12 circles: 25 x 25 take
-/// 4 s).
+/// pile (200 balls), pyramid (10 rows, 55 boxes), confined (12 x 12 circles: 25 x 25 take
+/// 4 s), and of the scenes that break solvers: high-mass-ratio's variant 2 (4 boxes, not
+/// 166), rush (50 circles), joint-grid (10 x 10) and ragdoll-stress (4 ragdolls).
 fn params(scene: &str) -> &'static [(&'static str, f64)] {
-    if scene == "stiff-cloth" {
+    if scene == "high-mass-ratio" {
+        &[("variant", 2.0)]
+    } else if scene == "rush" {
+        &[("n", 50.0)]
+    } else if scene == "joint-grid" {
+        &[("n", 10.0)]
+    } else if scene == "ragdoll-stress" {
+        &[("n", 4.0)]
+    } else if scene == "stiff-cloth" {
         &[("n", 6.0)]
     } else if scene == "pile" {
         &[("n", 200.0)]

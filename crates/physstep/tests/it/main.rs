@@ -3,6 +3,7 @@
 //! where a binary a file linked them about thirty times.
 
 mod bodies;
+mod breaking_scenes;
 mod ccd;
 mod collisions;
 mod common;
