@@ -64,8 +64,8 @@ def test_the_soft_step_stands_the_pyramid_where_pgs_at_equal_cost_sags() -> None
 
 def test_joint_error_is_measured_on_jointed_scenes() -> None:
     # The soft step's joints at its substeps' rate hold the planks within a centimetre; a
-    # one-step solver's joints are soft at a quarter of the step's rate (15 Hz at 60 Hz) and
-    # open several times wider (6 cm, measured).
+    # one-step solver's soft joints (Jacobi's: at most half the step's rate, 30 Hz at 60 Hz)
+    # open several times wider (14 mm, measured).
     res = lab.compare_solvers("bridge", ["soft-step", "jacobi"], until=2.0)
     soft, jacobi = res.row("soft-step").joint_error, res.row("jacobi").joint_error
     assert soft is not None and jacobi is not None

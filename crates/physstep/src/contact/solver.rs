@@ -89,6 +89,24 @@ fn ngs<S: Space>(st: &mut State<S>, bodies: &mut [super::Body<S>]) {
 const STICKY_BETA: f64 = 0.8;
 const STICKY_FRICTION_BETA: f64 = 0.5;
 
+/// How a schedule solves its joints (each solver in its own form).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Joints {
+    /// Soft rows (the joint's `joint_hertz`, at most this fraction of the substep rate).
+    Soft(f64),
+    /// Rigid rows with a Baumgarte bias of this fraction of the error a step (PGS).
+    Baumgarte(f64),
+    /// Rigid rows without a bias, then position passes after the drift that move the jointed
+    /// solids back together (NGS: Box2D v2.4 solves its joints' positions with its contacts').
+    Ngs,
+}
+
+impl Default for Joints {
+    fn default() -> Self {
+        Self::Soft(0.25)
+    }
+}
+
 /// How a schedule lays out a step's passes.
 #[derive(Debug, Clone, Copy, Default)]
 struct Plan {
@@ -109,6 +127,8 @@ struct Plan {
     jacobi: bool,
     /// The contacts' stiffness at most this fraction of the substep rate, Hz (soft schedules).
     hertz_cap: f64,
+    /// The joints' form.
+    joints: Joints,
 }
 
 impl Plan {
@@ -126,12 +146,25 @@ impl Plan {
                 hertz_cap: 0.125,
                 ..Self::default()
             },
-            Schedule::Pgs => Self { solves: all, ..one_step },
-            Schedule::PgsNgs => Self { solves: all - quarter, positions: quarter, ..one_step },
-            Schedule::SoftPgs => Self { solves: all / 2, relaxes: all / 2, hertz_cap: 0.5, ..one_step },
-            Schedule::Jacobi => {
-                Self { solves: all / 2, relaxes: all / 2, hertz_cap: 1.0 / 3.0, jacobi: true, ..one_step }
+            Schedule::Pgs => Self { solves: all, joints: Joints::Baumgarte(BAUMGARTE), ..one_step },
+            Schedule::PgsNgs => {
+                Self { solves: all - quarter, positions: quarter, joints: Joints::Ngs, ..one_step }
             }
+            Schedule::SoftPgs => Self {
+                solves: all / 2,
+                relaxes: all / 2,
+                hertz_cap: 0.5,
+                joints: Joints::Soft(0.5),
+                ..one_step
+            },
+            Schedule::Jacobi => Self {
+                solves: all / 2,
+                relaxes: all / 2,
+                hertz_cap: 1.0 / 3.0,
+                jacobi: true,
+                joints: Joints::Soft(0.5),
+                ..one_step
+            },
             Schedule::TgsSticky => {
                 Self { n: all - quarter, solves: 1, last_relaxes: quarter, carry: true, ..Self::default() }
             }
@@ -155,7 +188,11 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
     let hertz = set.contact_hertz.min(plan.hertz_cap / h);
     let (soft, rigid) =
         (Soft::new(hertz, set.damping_ratio, h), Soft::new(2.0 * hertz, set.damping_ratio, h));
-    let joint_soft = Soft::new(set.joint_hertz.min(0.25 / h), set.joint_damping_ratio, h);
+    let joint_soft = match plan.joints {
+        Joints::Soft(cap) => Soft::new(set.joint_hertz.min(cap / h), set.joint_damping_ratio, h),
+        Joints::Baumgarte(beta) => Soft { bias_rate: beta * inv_h, mass_scale: 1.0, impulse_scale: 0.0 },
+        Joints::Ngs => Soft { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0 },
+    };
     joint::prepare(&mut solids.joints, &solids.bodies, h);
     let joints = &mut solids.joints;
 
@@ -280,8 +317,10 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         }
     }
     restitution(st, set.restitution_threshold);
-    if !joints.is_empty() && set.joint_projection > 0 {
-        joint::project(joints, &mut bodies, set.joint_projection);
+    // NGS's joint passes (its quarter of the passes), then the world's own projection if any.
+    let projections = set.joint_projection + if plan.joints == Joints::Ngs { plan.positions } else { 0 };
+    if !joints.is_empty() && projections > 0 {
+        joint::project(joints, &mut bodies, projections);
     }
     for (b, m) in bodies.iter_mut().zip(&st.motion) {
         b.v = m.v;
