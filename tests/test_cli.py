@@ -108,10 +108,10 @@ def test_methods_lists_every_registered_method() -> None:
 
 def test_solvers_lists_every_contact_solver_with_its_passes() -> None:
     rows = json.loads(run_cli("solvers", "--format", "json").stdout)
-    assert [r["name"] for r in rows] == list(physstep.contact_solvers()) == ["soft-step", "pgs", "pgs-ngs"]
+    assert [r["name"] for r in rows] == list(physstep.contact_solvers()) == ["soft-step", "pgs", "pgs-ngs", "xpbd"]
     assert [r["summary"] for r in rows] == list(physstep.contact_solvers().values())
     assert all("substeps x solver_iterations" in r["passes"] for r in rows)
-    assert [s.name for s in physstep.solvers()] == ["soft-step", "pgs", "pgs-ngs"]
+    assert [s.name for s in physstep.solvers()] == ["soft-step", "pgs", "pgs-ngs", "xpbd"]
     text = run_cli("solvers").stdout
     assert "soft-step" in text and "pgs-ngs" in text and "Baumgarte" in text
 

@@ -181,14 +181,14 @@ def test_a_2d_box_pickles_and_prints_as_a_2d_box():
     b = physstep.Box(0.5, 0.25)
     assert repr(b) == "Box(hx=0.5, hy=0.25)"
     assert pickle.loads(pickle.dumps(b)) == b
-    assert list(physstep.contact_solvers()) == ["soft-step", "pgs", "pgs-ngs"]
+    assert list(physstep.contact_solvers()) == ["soft-step", "pgs", "pgs-ngs", "xpbd"]
     assert "Box2D v3's soft step" in physstep.contact_solvers()["soft-step"]
     assert "Baumgarte" in physstep.contact_solvers()["pgs"]
 
 
 def test_each_solver_is_chosen_by_name_and_rests_a_box_where_the_soft_step_does():
     rest = {}
-    for solver in ("soft-step", "pgs", "pgs-ngs"):
+    for solver in ("soft-step", "pgs", "pgs-ngs", "xpbd"):
         w = box_world()
         w.contact_solver = solver
         assert w.contact_solver == solver

@@ -30,6 +30,9 @@ pub enum Schedule {
     /// One step: rigid velocity passes without a position bias, one drift, then passes that
     /// move the positions apart (non-linear Gauss-Seidel, Box2D v2.4's position solver).
     PgsNgs,
+    /// Substeps, each a drift, one pass of position corrections and one velocity pass
+    /// (rigid-body XPBD, `xpbd.rs`).
+    Xpbd,
 }
 
 /// Every contact solver, in registry order.
@@ -57,6 +60,15 @@ pub const SOLVERS: &[Info] = &[
         passes: "2 x substeps x solver_iterations in one step: three quarters velocity passes, a quarter \
                  position passes (at least one)",
         schedule: Schedule::PgsNgs,
+    },
+    Info {
+        name: "xpbd",
+        summary: "rigid-body XPBD (Mueller et al. 2020): substeps of one position pass (rigid contacts, \
+                  static friction and ball, hinge, weld and rod joints as position corrections) and one \
+                  velocity pass (dynamic friction, restitution), velocities from the positions, no warm start",
+        passes: "2 x substeps x solver_iterations: substeps x solver_iterations substeps, each one position \
+                 pass and one velocity pass",
+        schedule: Schedule::Xpbd,
     },
 ];
 

@@ -80,29 +80,12 @@ fn ngs<S: Space>(st: &mut State<S>, bodies: &mut [super::Body<S>]) {
     }
 }
 
-/// One step of the chosen solver: the soft step, PGS or PGS with NGS ([`Schedule`]).
-pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
-    let set = solids.settings.clone();
-    let schedule = set.schedule();
-    // The soft step: substeps of one solve pass, a drift and one relax pass each (times
-    // `iterations`); PGS: one step of as many passes as the soft step makes in all, with NGS
-    // a quarter of them moving positions after the drift.
-    let all = 2 * set.substeps.max(1) * set.iterations;
-    let (n, solves, relaxes, positions) = match schedule {
-        Schedule::SoftStep => (set.substeps.max(1), set.iterations, set.iterations, 0),
-        Schedule::Pgs => (1, all, 0, 0),
-        Schedule::PgsNgs => (1, all - (all / 4).max(1), 0, (all / 4).max(1)),
-    };
-    let h = dt / f64::from(n);
-    let inv_h = 1.0 / h;
+/// What every solver does before its passes, for substeps of `h`: the contacts found
+/// (`collide`), the joints' arms and frames, continuous collision's start poses, and each
+/// solid's motion (its velocities, no motion yet; the world's, for joints to it, last).
+pub(super) fn begin<S: Space>(solids: &mut Solids<S>, h: f64) {
     collide(solids);
-    let hertz = set.contact_hertz.min(0.125 / h);
-    let (soft, rigid) =
-        (Soft::new(hertz, set.damping_ratio, h), Soft::new(2.0 * hertz, set.damping_ratio, h));
-    let joint_soft = Soft::new(set.joint_hertz.min(0.25 / h), set.joint_damping_ratio, h);
     joint::prepare(&mut solids.joints, &solids.bodies, h);
-    let joints = &mut solids.joints;
-
     let st = &mut solids.solver;
     st.sweeps.record(&solids.bodies);
     st.motion.clear();
@@ -117,15 +100,46 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             moves: b.kind == Kind::Dynamic,
         });
     }
-    if !joints.is_empty() {
+    if !solids.joints.is_empty() {
         // The world, for joints to it: the last motion, which never moves.
         st.motion.push(Motion::fixed());
     }
+}
+
+/// One step of the chosen solver: the soft step, PGS or PGS with NGS ([`Schedule`]); XPBD's
+/// is its own (`xpbd.rs`), on the same [`begin`] and [`finish`].
+pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
+    let set = solids.settings.clone();
+    let schedule = set.schedule();
+    if schedule == Schedule::Xpbd {
+        super::xpbd::step(solids, dt, gravity);
+        return;
+    }
+    // The soft step: substeps of one solve pass, a drift and one relax pass each (times
+    // `iterations`); PGS: one step of as many passes as the soft step makes in all, with NGS
+    // a quarter of them moving positions after the drift.
+    let all = 2 * set.substeps.max(1) * set.iterations;
+    let (n, solves, relaxes, positions) = match schedule {
+        Schedule::SoftStep => (set.substeps.max(1), set.iterations, set.iterations, 0),
+        Schedule::Pgs => (1, all, 0, 0),
+        Schedule::PgsNgs => (1, all - (all / 4).max(1), 0, (all / 4).max(1)),
+        Schedule::Xpbd => unreachable!("xpbd steps in xpbd.rs"),
+    };
+    let h = dt / f64::from(n);
+    let inv_h = 1.0 / h;
+    begin(solids, h);
+    let hertz = set.contact_hertz.min(0.125 / h);
+    let (soft, rigid) =
+        (Soft::new(hertz, set.damping_ratio, h), Soft::new(2.0 * hertz, set.damping_ratio, h));
+    let joint_soft = Soft::new(set.joint_hertz.min(0.25 / h), set.joint_damping_ratio, h);
+    let joints = &mut solids.joints;
+    let st = &mut solids.solver;
     for pair in &mut st.touching {
         pair.soft = match schedule {
             Schedule::SoftStep => Coefs::of(if pair.rigid_other { rigid } else { soft }),
             Schedule::Pgs => Coefs::baumgarte(BAUMGARTE, inv_h),
             Schedule::PgsNgs => Coefs::baumgarte(0.0, inv_h),
+            Schedule::Xpbd => unreachable!("xpbd steps in xpbd.rs"),
         };
         let (ma, mb) = (&st.motion[pair.a as usize], &st.motion[pair.b as usize]);
         for p in &mut st.points[pair.start as usize..pair.end as usize] {
@@ -184,6 +198,23 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         }
     }
     restitution(st, set.restitution_threshold);
+    finish(solids, bodies, dt, h, gravity);
+}
+
+/// What every solver does after its passes (substeps of `h` in a step of `dt`), `bodies`
+/// being the solids as the passes left them (the velocities in the motions): the optional
+/// joint projection, the velocities written back, continuous collision, and the warm starts
+/// and friction anchors kept for the next step.
+pub(super) fn finish<S: Space>(
+    solids: &mut Solids<S>,
+    mut bodies: Vec<super::Body<S>>,
+    dt: f64,
+    h: f64,
+    gravity: S::V,
+) {
+    let set = &solids.settings;
+    let joints = &mut solids.joints;
+    let st = &mut solids.solver;
     if !joints.is_empty() && set.joint_projection > 0 {
         joint::project(joints, &mut bodies, set.joint_projection);
     }

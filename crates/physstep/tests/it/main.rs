@@ -38,3 +38,4 @@ mod stiff;
 mod user_forces;
 mod vector_paths;
 mod world;
+mod xpbd_solver;
