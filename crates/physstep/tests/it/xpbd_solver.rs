@@ -287,3 +287,48 @@ fn the_ragdoll_whose_hinges_keep_their_rows_falls_and_rests_under_xpbd() {
     assert!(worst < 0.045, "joints within 4.5 cm: {worst}");
     assert!(pen < 0.02, "penetration {pen}");
 }
+
+#[test]
+fn under_xpbd_restitution_sends_a_ball_back_up_and_a_kinematic_platform_carries_a_box() {
+    let mut s = Solids::<Plane>::new();
+    s.settings.set_solver("xpbd").unwrap();
+    let mut ground = SolidParams::new(Shape::Box { half: vec![50.0, 1.0] }, &[0.0, -1.0]);
+    ground.kind = Kind::Static;
+    s.add(ground).unwrap();
+    let mut ball = SolidParams::new(Shape::Circle { radius: 0.5 }, &[0.0, 0.5 + 5.0]);
+    ball.restitution = 0.5;
+    let b = s.add(ball).unwrap();
+    let (mut landing, mut leaving, mut prev) = (0.0_f64, 0.0_f64, 0.0);
+    for _ in 0..240 {
+        s.step(DT, DVec2::new(0.0, -G)).unwrap();
+        let vy = s.velocities()[2 * b + 1];
+        if prev < 0.0 && vy > 0.0 && landing == 0.0 {
+            (landing, leaving) = (-prev, vy);
+        }
+        prev = vy;
+    }
+    // sqrt(2 g h) = 9.9 m/s at landing.
+    eprintln!("xpbd bounce: landed at {landing} m/s, left at {leaving} m/s");
+    assert!((landing - (2.0 * G * 5.0).sqrt()).abs() < 0.2, "landing speed {landing}");
+    assert!((leaving / landing - 0.5).abs() < 0.05, "left at {leaving} after landing at {landing}");
+
+    let mut s = Solids::<Plane>::new();
+    s.settings.set_solver("xpbd").unwrap();
+    let mut platform = SolidParams::new(Shape::Box { half: vec![2.0, 0.25] }, &[0.0, 0.0]);
+    platform.kind = Kind::Kinematic;
+    platform.velocity = vec![1.0, 0.0];
+    platform.friction = 1.0;
+    let k = s.add(platform).unwrap();
+    let mut riding = SolidParams::new(Shape::Box { half: vec![0.5, 0.5] }, &[0.0, 0.75]);
+    riding.velocity = vec![1.0, 0.0];
+    let b = s.add(riding).unwrap();
+    for _ in 0..120 {
+        s.step(DT, DVec2::new(0.0, -G)).unwrap();
+    }
+    let (p, v) = (s.positions(), s.velocities());
+    eprintln!("xpbd platform: at {}, box at {} moving {}", p[2 * k], p[2 * b], v[2 * b]);
+    assert_eq!(&v[2 * k..2 * k + 2], &[1.0, 0.0]);
+    assert!((p[2 * k] - 2.0).abs() < 1e-12, "platform at {}", p[2 * k]);
+    assert!((v[2 * b] - 1.0).abs() < 1e-3, "box velocity {}", v[2 * b]);
+    assert!((p[2 * b] - p[2 * k]).abs() < 0.01, "box slid to {} on a platform at {}", p[2 * b], p[2 * k]);
+}
