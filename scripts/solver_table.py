@@ -27,8 +27,9 @@ from physstep.lab import solvers as solver_lab
 ROOT = Path(__file__).resolve().parents[1]
 
 #: Scenes run again with other parameters: the ramp below its friction angle (the friction
-#: test against the closed form).
-VARIANTS = {"ramp": [{"friction": 0.3}]}
+#: test against the closed form), and the 30-link ball chain with a ball 100 times as heavy
+#: as a link (radius 2.744 m against links of 0.2366 m^2, the same density).
+VARIANTS = {"ramp": [{"friction": 0.3}], "ball-chain": [{"radius": 2.744}]}
 
 
 def contact_scenes() -> list[str]:

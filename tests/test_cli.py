@@ -106,7 +106,7 @@ def test_methods_lists_every_registered_method() -> None:
         assert m.doc, f"{m.name} has no doc"
 
 
-SOLVERS = ["soft-step", "pgs", "pgs-ngs", "soft-pgs", "tgs-sticky", "jacobi"]
+SOLVERS = ["soft-step", "pgs", "pgs-ngs", "soft-pgs", "tgs-sticky", "jacobi", "xpbd", "projection"]
 
 
 def test_solvers_lists_every_contact_solver_with_its_passes() -> None:
@@ -115,8 +115,9 @@ def test_solvers_lists_every_contact_solver_with_its_passes() -> None:
     assert [r["summary"] for r in rows] == list(physstep.contact_solvers().values())
     assert all("substeps x solver_iterations" in r["passes"] for r in rows)
     assert [s.name for s in physstep.solvers()] == SOLVERS
-    assert {r["family"] for r in rows} == {"velocity", "velocity + position"}
-    assert [r["name"] for r in rows if r["family"] == "velocity + position"] == ["pgs-ngs"]
+    families = {"velocity", "velocity + position", "position + velocity", "position"}
+    assert {r["family"] for r in rows} == families
+    assert [r["name"] for r in rows if "position" in r["family"]] == ["pgs-ngs", "xpbd", "projection"]
     text = run_cli("solvers").stdout
     assert "soft-step" in text and "pgs-ngs" in text and "Baumgarte" in text
 

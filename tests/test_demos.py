@@ -685,4 +685,3 @@ def test_the_solvers_demo_shows_four_solvers_side_by_side_on_the_same_boxes() ->
     assert [p.world.contact_solver for p in r.panels] == after == r.demo.solvers
     r.reset()  # a reset keeps each panel's solver
     assert [p.world.contact_solver for p in r.panels] == after
-

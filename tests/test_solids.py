@@ -188,6 +188,8 @@ def test_a_2d_box_pickles_and_prints_as_a_2d_box():
         "soft-pgs",
         "tgs-sticky",
         "jacobi",
+        "xpbd",
+        "projection",
     ]
     assert "Box2D v3's soft step" in physstep.contact_solvers()["soft-step"]
     assert "Baumgarte" in physstep.contact_solvers()["pgs"]

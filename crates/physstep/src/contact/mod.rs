@@ -25,6 +25,7 @@ mod shape;
 pub mod solver;
 pub mod space;
 mod toi;
+mod xpbd;
 
 pub use forces::SolidSpring;
 pub use ids::{JointId, SolidForceId, SolidId, SolidSpringId};

@@ -42,6 +42,13 @@ pub enum Schedule {
     /// The soft PGS schedule with Jacobi passes: every pair solved from the velocities of
     /// the pass's start, the changes summed and applied after the pass (the parallel form).
     Jacobi,
+    /// Substeps, each a drift, one pass of position corrections and one velocity pass
+    /// (rigid-body XPBD, `xpbd.rs`).
+    Xpbd,
+    /// One step: the drift, then position passes that move the solids apart (and joints
+    /// together), the velocities the motion they leave (the notes' Verlet position
+    /// projection, Jakobsen 2001, on solids; `xpbd.rs`).
+    Projection,
 }
 
 /// Every contact solver, in registry order.
@@ -99,6 +106,26 @@ pub const SOLVERS: &[Info] = &[
         family: "velocity",
         passes: "2 x substeps x solver_iterations in one step: half solve passes, half relax passes",
         schedule: Schedule::Jacobi,
+    },
+    Info {
+        name: "xpbd",
+        summary: "rigid-body XPBD (Mueller et al. 2020): substeps of one position pass (rigid contacts, \
+                  static friction and ball, hinge, weld and rod joints as position corrections) and one \
+                  velocity pass (dynamic friction, restitution), velocities from the positions, no warm start",
+        family: "position + velocity",
+        passes: "2 x substeps x solver_iterations: substeps x solver_iterations substeps, each one position \
+                 pass and one velocity pass",
+        schedule: Schedule::Xpbd,
+    },
+    Info {
+        name: "projection",
+        summary: "the notes' Verlet position projection (Jakobsen 2001) on solids: one step of symplectic \
+                  Euler's velocities, the drift, then position passes (rigid contacts, static friction at \
+                  most mu times the normal correction, joints in XPBD form), the velocities the motion \
+                  they leave; no velocity pass (no restitution)",
+        family: "position",
+        passes: "2 x substeps x solver_iterations position passes in one step",
+        schedule: Schedule::Projection,
     },
 ];
 

@@ -107,6 +107,21 @@ impl Default for Joints {
     }
 }
 
+/// The coefficients a schedule gives its contacts.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+enum Contacts {
+    /// Soft contacts whose static friction holds anchors (the soft step).
+    #[default]
+    Soft,
+    /// Soft contacts with plain Coulomb friction (Solver2D's soft PGS and Jacobi).
+    SoftPlain,
+    /// Rigid contacts with a Baumgarte bias of this fraction of the overlap a step, plain
+    /// friction (PGS; 0 for PGS with NGS).
+    Baumgarte(f64),
+    /// Rigid contacts with sticky TGS's bias and friction anchors.
+    Sticky,
+}
+
 /// How a schedule lays out a step's passes.
 #[derive(Debug, Clone, Copy, Default)]
 struct Plan {
@@ -127,18 +142,21 @@ struct Plan {
     jacobi: bool,
     /// The contacts' stiffness at most this fraction of the substep rate, Hz (soft schedules).
     hertz_cap: f64,
+    /// The contacts' coefficients.
+    contacts: Contacts,
     /// The joints' form.
     joints: Joints,
 }
 
 impl Plan {
     /// The layout of `schedule` for `substeps` and `iterations`: every schedule makes `all =
-    /// 2 x substeps x iterations` passes over the contacts a step (equal cost).
-    fn of(schedule: Schedule, substeps: u32, iterations: u32) -> Self {
+    /// 2 x substeps x iterations` passes over the contacts a step (equal cost). None for
+    /// XPBD, whose step is its own (`xpbd.rs`).
+    fn of(schedule: Schedule, substeps: u32, iterations: u32) -> Option<Self> {
         let all = 2 * substeps.max(1) * iterations;
         let quarter = (all / 4).max(1);
         let one_step = Self { n: 1, ..Self::default() };
-        match schedule {
+        Some(match schedule {
             Schedule::SoftStep => Self {
                 n: substeps.max(1),
                 solves: iterations,
@@ -146,14 +164,24 @@ impl Plan {
                 hertz_cap: 0.125,
                 ..Self::default()
             },
-            Schedule::Pgs => Self { solves: all, joints: Joints::Baumgarte(BAUMGARTE), ..one_step },
-            Schedule::PgsNgs => {
-                Self { solves: all - quarter, positions: quarter, joints: Joints::Ngs, ..one_step }
-            }
+            Schedule::Pgs => Self {
+                solves: all,
+                contacts: Contacts::Baumgarte(BAUMGARTE),
+                joints: Joints::Baumgarte(BAUMGARTE),
+                ..one_step
+            },
+            Schedule::PgsNgs => Self {
+                solves: all - quarter,
+                positions: quarter,
+                contacts: Contacts::Baumgarte(0.0),
+                joints: Joints::Ngs,
+                ..one_step
+            },
             Schedule::SoftPgs => Self {
                 solves: all / 2,
                 relaxes: all / 2,
                 hertz_cap: 0.5,
+                contacts: Contacts::SoftPlain,
                 joints: Joints::Soft(0.5),
                 ..one_step
             },
@@ -162,40 +190,29 @@ impl Plan {
                 relaxes: all / 2,
                 hertz_cap: 1.0 / 3.0,
                 jacobi: true,
+                contacts: Contacts::SoftPlain,
                 joints: Joints::Soft(0.5),
                 ..one_step
             },
-            Schedule::TgsSticky => {
-                Self { n: all - quarter, solves: 1, last_relaxes: quarter, carry: true, ..Self::default() }
-            }
-        }
+            Schedule::TgsSticky => Self {
+                n: all - quarter,
+                solves: 1,
+                last_relaxes: quarter,
+                carry: true,
+                contacts: Contacts::Sticky,
+                ..Self::default()
+            },
+            Schedule::Xpbd | Schedule::Projection => return None,
+        })
     }
 }
 
-/// One step of the chosen solver ([`Schedule`], laid out by [`Plan`]).
-pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
-    let set = solids.settings.clone();
-    let schedule = set.schedule();
-    // The soft step: substeps of one solve pass, a drift and one relax pass each (times
-    // `iterations`); the one-step schedules: as many passes in one step as the soft step
-    // makes in all; sticky TGS: as many substeps of one pass, a quarter of them kept for the
-    // relax passes at the end.
-    let plan = Plan::of(schedule, set.substeps, set.iterations);
-    let n = plan.n;
-    let h = dt / f64::from(n);
-    let inv_h = 1.0 / h;
+/// What every solver does before its passes, for substeps of `h`: the contacts found
+/// (`collide`), the joints' arms and frames, continuous collision's start poses, and each
+/// solid's motion (its velocities, no motion yet; the world's, for joints to it, last).
+pub(super) fn begin<S: Space>(solids: &mut Solids<S>, h: f64) {
     collide(solids);
-    let hertz = set.contact_hertz.min(plan.hertz_cap / h);
-    let (soft, rigid) =
-        (Soft::new(hertz, set.damping_ratio, h), Soft::new(2.0 * hertz, set.damping_ratio, h));
-    let joint_soft = match plan.joints {
-        Joints::Soft(cap) => Soft::new(set.joint_hertz.min(cap / h), set.joint_damping_ratio, h),
-        Joints::Baumgarte(beta) => Soft { bias_rate: beta * inv_h, mass_scale: 1.0, impulse_scale: 0.0 },
-        Joints::Ngs => Soft { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0 },
-    };
     joint::prepare(&mut solids.joints, &solids.bodies, h);
-    let joints = &mut solids.joints;
-
     let st = &mut solids.solver;
     st.sweeps.record(&solids.bodies);
     st.motion.clear();
@@ -210,10 +227,39 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             moves: b.kind == Kind::Dynamic,
         });
     }
-    if !joints.is_empty() {
+    if !solids.joints.is_empty() {
         // The world, for joints to it: the last motion, which never moves.
         st.motion.push(Motion::fixed());
     }
+}
+
+/// One step of the chosen solver ([`Schedule`], laid out by [`Plan`]); XPBD's is its own
+/// (`xpbd.rs`), on the same [`begin`] and [`finish`].
+pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
+    let set = solids.settings.clone();
+    // The soft step: substeps of one solve pass, a drift and one relax pass each (times
+    // `iterations`); the one-step schedules: as many passes in one step as the soft step
+    // makes in all; sticky TGS: as many substeps of one pass, a quarter of them kept for the
+    // relax passes at the end.
+    // XPBD and the Verlet projection: xpbd.rs.
+    let Some(plan) = Plan::of(set.schedule(), set.substeps, set.iterations) else {
+        super::xpbd::step(solids, dt, gravity);
+        return;
+    };
+    let n = plan.n;
+    let h = dt / f64::from(n);
+    let inv_h = 1.0 / h;
+    begin(solids, h);
+    let hertz = set.contact_hertz.min(plan.hertz_cap / h);
+    let (soft, rigid) =
+        (Soft::new(hertz, set.damping_ratio, h), Soft::new(2.0 * hertz, set.damping_ratio, h));
+    let joint_soft = match plan.joints {
+        Joints::Soft(cap) => Soft::new(set.joint_hertz.min(cap / h), set.joint_damping_ratio, h),
+        Joints::Baumgarte(beta) => Soft { bias_rate: beta * inv_h, mass_scale: 1.0, impulse_scale: 0.0 },
+        Joints::Ngs => Soft { bias_rate: 0.0, mass_scale: 1.0, impulse_scale: 0.0 },
+    };
+    let joints = &mut solids.joints;
+    let st = &mut solids.solver;
     if plan.jacobi {
         // Each solid's share of the pairs it is in (mass splitting, below).
         st.shares.clear();
@@ -224,15 +270,12 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         }
     }
     for pair in &mut st.touching {
-        pair.soft = match schedule {
-            Schedule::SoftStep => Coefs::of(if pair.rigid_other { rigid } else { soft }),
-            // Solver2D's soft PGS and Jacobi: soft contacts, plain Coulomb friction.
-            Schedule::SoftPgs | Schedule::Jacobi => {
-                Coefs { friction_bias: 0.0, ..Coefs::of(if pair.rigid_other { rigid } else { soft }) }
-            }
-            Schedule::Pgs => Coefs::baumgarte(BAUMGARTE, inv_h),
-            Schedule::PgsNgs => Coefs::baumgarte(0.0, inv_h),
-            Schedule::TgsSticky => Coefs::sticky(STICKY_BETA, STICKY_FRICTION_BETA, inv_h),
+        let k = if pair.rigid_other { rigid } else { soft };
+        pair.soft = match plan.contacts {
+            Contacts::Soft => Coefs::of(k),
+            Contacts::SoftPlain => Coefs { friction_bias: 0.0, ..Coefs::of(k) },
+            Contacts::Baumgarte(beta) => Coefs::baumgarte(beta, inv_h),
+            Contacts::Sticky => Coefs::sticky(STICKY_BETA, STICKY_FRICTION_BETA, inv_h),
         };
         let (ma, mb) = (&st.motion[pair.a as usize], &st.motion[pair.b as usize]);
         let shares = plan.jacobi.then(|| (st.shares[pair.a as usize], st.shares[pair.b as usize]));
@@ -317,10 +360,29 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         }
     }
     restitution(st, set.restitution_threshold);
-    // NGS's joint passes (its quarter of the passes), then the world's own projection if any.
-    let projections = set.joint_projection + if plan.joints == Joints::Ngs { plan.positions } else { 0 };
-    if !joints.is_empty() && projections > 0 {
-        joint::project(joints, &mut bodies, projections);
+    // NGS's joint passes (its quarter of the passes), before the world's own projection.
+    if plan.joints == Joints::Ngs && !joints.is_empty() {
+        joint::project(joints, &mut bodies, plan.positions);
+    }
+    finish(solids, bodies, dt, h, gravity);
+}
+
+/// What every solver does after its passes (substeps of `h` in a step of `dt`), `bodies`
+/// being the solids as the passes left them (the velocities in the motions): the optional
+/// joint projection, the velocities written back, continuous collision, and the warm starts
+/// and friction anchors kept for the next step.
+pub(super) fn finish<S: Space>(
+    solids: &mut Solids<S>,
+    mut bodies: Vec<super::Body<S>>,
+    dt: f64,
+    h: f64,
+    gravity: S::V,
+) {
+    let set = &solids.settings;
+    let joints = &mut solids.joints;
+    let st = &mut solids.solver;
+    if !joints.is_empty() && set.joint_projection > 0 {
+        joint::project(joints, &mut bodies, set.joint_projection);
     }
     for (b, m) in bodies.iter_mut().zip(&st.motion) {
         b.v = m.v;

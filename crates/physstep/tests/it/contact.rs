@@ -6,7 +6,8 @@ use physstep::contact::{Kind, Plane, Shape, SolidParams, Solids, Space3};
 const G: f64 = 9.81;
 
 /// Every contact solver, by name.
-const SOLVER_NAMES: [&str; 6] = ["soft-step", "pgs", "pgs-ngs", "soft-pgs", "tgs-sticky", "jacobi"];
+const SOLVER_NAMES: [&str; 8] =
+    ["soft-step", "pgs", "pgs-ngs", "soft-pgs", "tgs-sticky", "jacobi", "xpbd", "projection"];
 
 #[test]
 fn the_tests_name_every_solver_of_the_registry() {
@@ -55,9 +56,14 @@ fn box_comes_to_rest(solver: &str) {
     let y = s.positions()[2 * b + 1];
     assert!((y - 0.5).abs() < 0.005, "{solver}: resting height {y}");
     // NGS moves the two corners one after the other, each turning the box a little, and so
-    // does sticky TGS's rigid pass on the separation as it is now: flat to 2e-5 rad (10 um
-    // across the box), the others to 1e-6.
-    let flat = if matches!(solver, "pgs-ngs" | "tgs-sticky") { 2e-5 } else { 1e-6 };
+    // do sticky TGS's rigid pass on the separation as it is now and XPBD's position pass:
+    // flat to 2e-5 rad (10 um across the box); the projection's passes in one step to 5e-5
+    // (2.5e-5 measured); the others to 1e-6.
+    let flat = match solver {
+        "pgs-ngs" | "tgs-sticky" | "xpbd" => 2e-5,
+        "projection" => 5e-5,
+        _ => 1e-6,
+    };
     let angle = s.orientations()[b];
     assert!(angle.abs() < flat, "{solver}: it landed flat and stays flat: {angle}");
 }
@@ -101,9 +107,15 @@ fn on_a_ramp_a_box_sticks_above_the_friction_angle_and_slides_at_g_sin_minus_mu_
         // ramp at about a millimetre a second, with friction well above tan(angle) too (4.4
         // and 7.2 mm in 5 s, measured; the same at mu = 0.8): the solvers with substeps,
         // anchors or rigid contacts hold the box to a micrometre.
-        let stuck = if matches!(solver, "soft-pgs" | "jacobi") { 1e-2 } else { 1e-3 };
+        // The projection settles 1.2 mm in its first second and then holds (the same at 1 s
+        // and 5 s, measured).
+        let stuck = match solver {
+            "soft-pgs" | "jacobi" => 1e-2,
+            "projection" => 2e-3,
+            _ => 1e-3,
+        };
         assert!(moved.abs() < stuck, "{solver}: stuck box moved {moved}");
-        if stuck > 1e-3 {
+        if stuck == 1e-2 {
             assert!(moved.abs() > 1e-3, "{solver} no longer creeps ({moved} m): tighten the bound");
         }
         let mu = 0.3;

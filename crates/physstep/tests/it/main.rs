@@ -39,3 +39,4 @@ mod stiff;
 mod user_forces;
 mod vector_paths;
 mod world;
+mod xpbd_solver;

@@ -23,10 +23,12 @@
 //!
 //! Here: what a joint is (its kind, its parameters as made and their checks, its anchors and
 //! frames in its solids, its impulses in a snapshot); in `rows.rs`: how the soft step solves
-//! it.
+//! it; in `positions.rs`: the joints the `xpbd` solver corrects positionally.
 
+mod positions;
 mod rows;
 
+pub(crate) use positions::{average_positional, clear_positional, solve_positions};
 pub(crate) use rows::{prepare, project, solve, warm_start};
 
 use super::points::Soft;
