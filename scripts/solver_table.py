@@ -103,8 +103,37 @@ def with_summary(readme: str, block: str) -> str:
     return readme[: i + len(start)] + "\n" + block + "\n" + readme[j:]
 
 
-def document(scenes: list[str], until: float | None) -> tuple[str, str]:
-    """The whole page and its summary table."""
+#: The scene of the page's figure: every solver over splits of its passes.
+SWEEP_SCENE = "stack"
+
+
+def sweep_section(figure: Path, page: Path) -> str:
+    """Runs every solver over the default splits on :data:`SWEEP_SCENE`, writes the figure
+    (whole or not at all) and returns the page's section on it."""
+    from physstep import plot
+
+    names = [s.name for s in physstep.solvers()]
+    res = lab.sweep_solvers(SWEEP_SCENE, names)
+    fig = plot.solver_sweep(res)
+    files.write(str(figure), lambda fh: fig.savefig(fh, format="png", dpi=110), "--figure")
+    soft = [r for r in res.rows if r.solver == "soft-step"]
+    verdicts = ", ".join(f"{r.substeps} x {r.iterations} {r.verdict} ({1e3 * r.drift:.3g} mm)" for r in soft)
+    rel = Path(figure).resolve().relative_to(page.resolve().parent)
+    splits = ", ".join(f"{n} x {k}" for n, k in lab.solvers.DEFAULT_SPLITS)
+    return f"""## Substeps or iterations?
+
+The same 16 passes a step split into substeps x iterations ({splits}) on `{SWEEP_SCENE}`
+(`physstep sweep {SWEEP_SCENE} --solvers all --plot FILE.png`, `physstep.lab.sweep_solvers`):
+the soft step: {verdicts}. Every other solver lays its passes out by their number alone
+(`2 x substeps x iterations`: one step of them, or as many substeps of one pass), so every
+split is the same run for it (the flat lines).
+
+![Every solver over splits of 16 passes a step on the stack]({rel})
+"""
+
+
+def document(scenes: list[str], until: float | None, sweep: str = "") -> tuple[str, str]:
+    """The whole page (with ``sweep``, the figure's section, at its end) and its summary table."""
     start = time.perf_counter()
     rows, counts, ms = table(scenes, until)
     took = time.perf_counter() - start
@@ -144,7 +173,7 @@ Verdicts ({solver_lab.__name__}): {solver_lab.THRESHOLDS}. The standing scenes:
 
 Wall time a step summed over the scenes, ms (one run each, {platform.machine()}, {took:.0f} s for
 the whole table; timings move by 30% between runs on this 2-core machine): {cost}.
-""",
+{sweep}""",
     )
 
 
@@ -161,16 +190,26 @@ def main(argv: list[str] | None = None) -> int:
         help="also write the summary into this README's solver-summary block (default: the repository's "
         "README when the whole table is made: no --scenes, no --until)",
     )
+    p.add_argument(
+        "--figure",
+        default=None,
+        help="also sweep every solver over splits of its passes and plot it here (default: "
+        "docs/figures/solver_sweep.png when the whole table is made)",
+    )
     args = p.parse_args(argv)
     scenes = contact_scenes() if args.scenes is None else args.scenes.split(",")
-    readme = args.readme
-    if readme is None and args.scenes is None and args.until is None:
-        readme = str(ROOT / "README.md")
+    readme, figure = args.readme, args.figure
+    if args.scenes is None and args.until is None:
+        readme = readme or str(ROOT / "README.md")
+        figure = figure or str(ROOT / "docs" / "figures" / "solver_sweep.png")
     files.check(args.out, "--out")
     if readme is not None:
         with_summary(Path(readme).read_text(), "")  # the block is there, before any run
         files.check(readme, "--readme")
-    brief, text = document(scenes, args.until)
+    if figure is not None:
+        files.check(figure, "--figure")
+    sweep = "" if figure is None else "\n" + sweep_section(Path(figure), Path(args.out))
+    brief, text = document(scenes, args.until, sweep)
     files.write_text(args.out, text, "--out")
     print(f"wrote {args.out}", file=sys.stderr)
     if readme is not None:

@@ -526,10 +526,11 @@ def solver_sweep(data: Any) -> Figure:
                     label=solver,
                     **style(k, marker=True),
                 )
-                ax.set_ylim(bottom=0)
             else:
                 ys = [max(float(by[splits[i]]), LOG_FLOOR) for i in xs]
                 ax.semilogy(xs, ys, markersize=5, label=solver, **style(k, marker=True))
+        if key == "ms_per_step":  # after every line, so that the top fits them all
+            ax.set_ylim(0.0, 1.1 * max(float(r[key]) for r in rows))
         ax.set_xticks(range(len(splits)), labels)
         ax.set_xlabel("substeps x iterations")
         ax.set_ylabel(name)
