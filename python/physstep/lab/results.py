@@ -430,35 +430,32 @@ class SolverRow(Result):
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
-class SolverCompareResult(Result):
-    """What :func:`~physstep.lab.compare_solvers` returns.
+class _SolverRuns(Result):
+    """What the solver lab's two results share (:class:`SolverCompareResult`,
+    :class:`SolverSweepResult`).
 
     Attributes:
         scene: The scene's name.
         params: Its parameters as run (the defaults with the overrides).
         dt: The step, s.
         until: The end time, s.
-        substeps: The substeps every solver ran with.
-        iterations: The solver iterations every solver ran with.
         tracked: The tracked solid's row (the dynamic solid highest at the start).
         standing: Whether the scene is meant to stand (its drift is an error).
         thresholds: The verdicts' thresholds, in words.
-        rows: One :class:`SolverRow` per solver, in the order asked.
+        rows: One :class:`SolverRow` per run (each says its solver, substeps and iterations).
     """
 
     scene: str
     params: dict[str, float]
     dt: float
     until: float
-    substeps: int
-    iterations: int
     tracked: int
     standing: bool
     thresholds: str
     rows: tuple[SolverRow, ...]
 
     def row(self, solver: str) -> SolverRow:
-        """The row of ``solver``; KeyError if it did not run."""
+        """The (first) row of ``solver``; KeyError if it did not run."""
         for r in self.rows:
             if r.solver == solver:
                 return r
@@ -466,26 +463,24 @@ class SolverCompareResult(Result):
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
-class SolverSweepResult(Result):
-    """What :func:`~physstep.lab.sweep_solvers` returns: the settings' splits per solver.
+class SolverCompareResult(_SolverRuns):
+    """What :func:`~physstep.lab.compare_solvers` returns: the fields of every solver-lab
+    result (``scene``, ``params``, ``dt``, ``until``, ``tracked``, ``standing``,
+    ``thresholds``, ``rows``: one :class:`SolverRow` per solver, in the order asked) and the
+    settings every solver ran with.
 
     Attributes:
-        scene: The scene's name.
-        params: Its parameters as run (the defaults with the overrides).
-        dt: The step, s.
-        until: The end time, s.
-        tracked: The tracked solid's row (the dynamic solid highest at the start).
-        standing: Whether the scene is meant to stand (its drift is an error).
-        thresholds: The verdicts' thresholds, in words.
-        rows: One :class:`SolverRow` per solver and split (each says its substeps and
-            iterations), solver by solver in the order asked, the splits in theirs.
+        substeps: The substeps every solver ran with.
+        iterations: The solver iterations every solver ran with.
     """
 
-    scene: str
-    params: dict[str, float]
-    dt: float
-    until: float
-    tracked: int
-    standing: bool
-    thresholds: str
-    rows: tuple[SolverRow, ...]
+    substeps: int
+    iterations: int
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class SolverSweepResult(_SolverRuns):
+    """What :func:`~physstep.lab.sweep_solvers` returns: the fields of every solver-lab result
+    (``scene``, ``params``, ``dt``, ``until``, ``tracked``, ``standing``, ``thresholds``),
+    its ``rows`` one :class:`SolverRow` per solver and split (each says its substeps and
+    iterations), solver by solver in the order asked, the splits in theirs."""

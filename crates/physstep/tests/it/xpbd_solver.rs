@@ -245,14 +245,7 @@ fn under_xpbd_a_3d_hinge_turns_only_about_its_axis_a_weld_holds_and_a_rod_keeps_
     assert!(q[1].abs() < 1e-3 && q[3].abs() < 1e-3, "turned off the hinge's axis: {q:?}");
     assert!(swung > 0.5, "turned about it: {swung}");
     // A welded cantilever and a rigid rod (distance joint) in the plane.
-    let mut s = Solids::<Plane>::new();
-    s.settings.set_solver("xpbd").unwrap();
-    let beam = s.add(SolidParams::new(Shape::Box { half: vec![0.5, 0.05] }, &[0.5, 0.0])).unwrap();
-    s.add_joint(JointParams::new(JointKind::Weld, beam, None, &[0.0, 0.0])).unwrap();
-    let bob = s.add(SolidParams::new(Shape::Circle { radius: 0.1 }, &[3.0, -1.0])).unwrap();
-    let mut rope = JointParams::new(JointKind::Distance, bob, None, &[3.0, -1.0]);
-    rope.anchor_b = Some(vec![3.0, 0.0]);
-    s.add_joint(rope).unwrap();
+    let (mut s, beam) = crate::joints::cantilever_and_rod("xpbd");
     let mut worst = [0.0_f64; 2];
     for _ in 0..600 {
         s.step(DT, DVec2::new(0.0, -G)).unwrap();
