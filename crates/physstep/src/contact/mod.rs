@@ -18,6 +18,7 @@ mod forces;
 mod ids;
 pub mod joint;
 mod params;
+mod passes;
 mod points;
 mod remove;
 mod settings;
