@@ -18,13 +18,13 @@ they run and printed, so equal cost is measured, not assumed) and measures, for 
 
 and gives a verdict (:data:`THRESHOLDS` says it in words). ``explodes``: the step failed, or a
 solid ends faster than :data:`EXPLODE_SPEED` (a jammed overlap, as in ``confined``, is the
-scene's, not an explosion: it shows in the penetrations). On a scene meant to stand (:data:`STANDING`, and
-the ``ramp`` above its friction angle): ``stands`` where the tracked solid ended within
-:data:`STAND_M` of its start, the penetration of the last second and the joint error at most
-:data:`STAND_M`; ``sags`` where it ended within :data:`SAG_M`; ``falls`` otherwise. On a scene
-in motion: ``holds`` where the penetration of the last second and the joint error are at most
-:data:`STAND_M` (a sliding ramp also within :data:`FRICTION_TOLERANCE` of the closed form);
-``drifts`` otherwise.
+scene's, not an explosion: it shows in the penetrations). On a scene meant to stand
+(:data:`STANDING`, and the ``ramp`` above its friction angle): ``stands`` where the tracked
+solid ended within :data:`STAND_M` of its start, the penetration of the last second and the
+joint error at most :data:`STAND_M`; ``sags`` where it ended within :data:`SAG_M`; ``falls``
+otherwise. On a scene in motion: ``holds`` where the penetration of the last second and the
+joint error are at most :data:`STAND_M` (a sliding ramp also within
+:data:`FRICTION_TOLERANCE` of the closed form); ``drifts`` otherwise.
 """
 
 from __future__ import annotations
