@@ -183,6 +183,10 @@ pub(crate) struct State<S: Space> {
     pub(super) pass_start: Vec<Motion<S>>,
     /// A Jacobi pass's count of pairs each solid is in (scratch).
     pub(super) shares: Vec<f64>,
+    /// The position-based solvers' poses of a substep's start and each point's position
+    /// impulses (scratch, `xpbd.rs`).
+    pub(super) substep_start: Vec<(S::V, S::Delta)>,
+    pub(super) lambda: Vec<[f64; 2]>,
     /// Continuous collision's poses of the step's start (toi.rs).
     pub(super) sweeps: super::toi::Sweeps<S>,
 }
@@ -205,6 +209,8 @@ impl<S: Space> Default for State<S> {
             passes: 0,
             pass_start: Vec::new(),
             shares: Vec::new(),
+            substep_start: Vec::new(),
+            lambda: Vec::new(),
             sweeps: super::toi::Sweeps::default(),
         }
     }

@@ -150,8 +150,11 @@ pub(super) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         p.tangent_impulse = [0.0; 2];
     }
     let mut bodies = std::mem::take(&mut solids.bodies);
-    let mut prev = Vec::with_capacity(st.motion.len());
-    let mut lambda = vec![[0.0; 2]; st.points.len()];
+    // The scratch kept in the solver's state (no allocation a step once they have grown).
+    let mut prev = std::mem::take(&mut st.substep_start);
+    let mut lambda = std::mem::take(&mut st.lambda);
+    lambda.clear();
+    lambda.resize(st.points.len(), [0.0; 2]);
     for _ in 0..n {
         super::forces::integrate(&mut solids.forces, &bodies, &mut st.motion, h);
         for (b, m) in bodies.iter().zip(st.motion.iter_mut()) {
@@ -205,6 +208,7 @@ pub(super) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         p.normal_impulse *= mean;
         p.tangent_impulse = [p.tangent_impulse[0] * mean, p.tangent_impulse[1] * mean];
     }
+    (st.substep_start, st.lambda) = (prev, lambda);
     solver::finish(solids, bodies, dt, h, gravity);
 }
 
