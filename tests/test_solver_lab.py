@@ -52,7 +52,7 @@ def test_the_friction_test_meets_the_closed_form_under_every_solver() -> None:
     for r in res.rows:
         assert r.friction_error is not None and abs(r.friction_error) < 0.01, r
         assert r.verdict == "holds", r
-    # Above it the box stands (the one-step soft solvers creep about a millimetre a second).
+    # Above it the box stands.
     res = lab.compare_solvers("ramp", until=2.0)
     assert all(r.friction_error is None and r.verdict == "stands" for r in res.rows), res.rows
 

@@ -180,11 +180,15 @@ fn solve_pair<S: Space, const BIAS: bool>(
         let limit = pair.friction * p.normal_impulse;
         let dv = relative_velocity(ma, mb, p.ra, p.rb);
         let mut new = [0.0; 2];
-        // With the bias, static friction pulls the anchors back together as softly as a
-        // contact pushes (so a box on a ramp steeper than it can slide on does not
-        // creep); without it, friction stops the sliding velocity. The arms are turned
-        // again as the normal solve turned them (no solid turns between the two).
-        let moved = if BIAS {
+        // With the bias and anchors (the soft step's, sticky TGS's), static friction pulls
+        // the anchors back together as softly as a contact pushes (so a box on a ramp
+        // steeper than it can slide on does not creep); without them (the relax pass, and
+        // the solvers with plain friction, whose friction is rigid even where their normal
+        // rows are soft, as Solver2D's soft PGS), friction stops the sliding velocity. The
+        // arms are turned again as the normal solve turned them (no solid turns between the
+        // two).
+        let anchored = BIAS && c.friction_bias != 0.0;
+        let moved = if anchored {
             let (ta, tb) = (S::rotate_delta(ma.dq, p.ra), S::rotate_delta(mb.dq, p.rb));
             mb.dp + tb - p.rb - ma.dp - ta + p.ra
         } else {
@@ -193,7 +197,7 @@ fn solve_pair<S: Space, const BIAS: bool>(
         for k in 0..S::TANGENTS {
             let t = S::tangent(p.normal, p.frame, k);
             let vt = dv.dot(t);
-            new[k] = if BIAS {
+            new[k] = if anchored {
                 let err = p.slip[k] + moved.dot(t);
                 let vbias = (c.friction_bias * err).clamp(-push_speed, push_speed);
                 p.tangent_impulse[k]

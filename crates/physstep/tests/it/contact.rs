@@ -103,21 +103,13 @@ fn on_a_ramp_a_box_sticks_above_the_friction_angle_and_slides_at_g_sin_minus_mu_
     for solver in SOLVER_NAMES {
         let angle = 0.5_f64; // tan = 0.546
         let (moved, _) = ramp(solver, angle, 0.6, 5.0);
-        // Soft contacts in one step with plain friction (soft PGS, Jacobi) creep down the
-        // ramp at about a millimetre a second, with friction well above tan(angle) too (4.4
-        // and 7.2 mm in 5 s, measured; the same at mu = 0.8): the solvers with substeps,
-        // anchors or rigid contacts hold the box to a micrometre.
-        // The projection settles 1.2 mm in its first second and then holds (the same at 1 s
-        // and 5 s, measured).
-        let stuck = match solver {
-            "soft-pgs" | "jacobi" => 1e-2,
-            "projection" => 2e-3,
-            _ => 1e-3,
-        };
+        // Every solver holds the box to a fraction of a millimetre (soft PGS and Jacobi, soft
+        // contacts in one step, 0.1 and 0.2 mm: their plain friction is rigid; solved as
+        // softly as their normal rows it crept 4.4 and 7.2 mm in 5 s, at mu = 0.8 too), but
+        // the projection, which settles 1.2 mm in its first second and then holds (the same
+        // at 1 s and 5 s, measured).
+        let stuck = if solver == "projection" { 2e-3 } else { 1e-3 };
         assert!(moved.abs() < stuck, "{solver}: stuck box moved {moved}");
-        if stuck == 1e-2 {
-            assert!(moved.abs() > 1e-3, "{solver} no longer creeps ({moved} m): tighten the bound");
-        }
         let mu = 0.3;
         let (_, v) = ramp(solver, angle, mu, 2.0);
         let a = v / 2.0;
@@ -164,7 +156,7 @@ fn a_pyramid_of_twenty_rows_stands_under_the_substepped_solvers_and_sags_under_t
     // within centimetres and the boxes out of each other to a millimetre; soft PGS (one step
     // of soft passes) about as far but ten times deeper; Jacobi (each pair solved from the
     // pass's start, masses split) sags decimetres. Measured (release): soft-step 8.5 mm / 0.9
-    // mm deep, tgs-sticky 36 / 0.8, soft-pgs 45 / 12, jacobi 470 / 51.
+    // mm deep, tgs-sticky 37 / 0.8, soft-pgs 57 / 12, jacobi 374 / 40.
     let (soft_drift, soft_deep) = pyramid_under("soft-step");
     let (tgs_drift, tgs_deep) = pyramid_under("tgs-sticky");
     let (spgs_drift, spgs_deep) = pyramid_under("soft-pgs");
