@@ -239,11 +239,8 @@ fn the_bridge_keeps_its_joints_within_a_thousandth_of_a_plank_and_comes_to_rest(
     assert!(mid < -3.0, "the middle hangs: {mid}");
 }
 
-#[test]
-fn the_ragdoll_of_bodies_falls_and_rests_on_the_ground_with_its_joints_whole() {
-    let mut w = scene("ragdoll-bodies");
-    // Solid 0 is the ground, 1 the torso.
-    let torso0 = w.solid_positions()[3];
+/// 600 steps of `w`: the largest joint error, solid kinetic energy and penetration over them.
+pub(crate) fn run_600(w: &mut physstep::world::World) -> (f64, f64, f64) {
     let (mut worst, mut peak, mut pen) = (0.0_f64, 0.0_f64, 0.0_f64);
     for _ in 0..600 {
         w.step(1).unwrap();
@@ -251,6 +248,15 @@ fn the_ragdoll_of_bodies_falls_and_rests_on_the_ground_with_its_joints_whole() {
         peak = peak.max(w.solid_kinetic_energy());
         pen = pen.max(w.max_penetration());
     }
+    (worst, peak, pen)
+}
+
+#[test]
+fn the_ragdoll_of_bodies_falls_and_rests_on_the_ground_with_its_joints_whole() {
+    let mut w = scene("ragdoll-bodies");
+    // Solid 0 is the ground, 1 the torso.
+    let torso0 = w.solid_positions()[3];
+    let (worst, peak, pen) = run_600(&mut w);
     let torso = w.solid_positions()[3];
     assert!(torso < 0.5 && torso0 > 1.0, "it fell: the torso from {torso0} m to {torso} m");
     let e = w.solid_kinetic_energy();

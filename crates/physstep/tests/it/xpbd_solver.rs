@@ -263,13 +263,7 @@ fn under_xpbd_a_3d_hinge_turns_only_about_its_axis_a_weld_holds_and_a_rod_keeps_
 fn the_ragdoll_whose_hinges_keep_their_rows_falls_and_rests_under_xpbd() {
     // Hinges with limits and joint friction (a motor) keep their velocity rows under xpbd.
     let mut w = scene("ragdoll-bodies", &[], "xpbd");
-    let (mut worst, mut peak, mut pen) = (0.0_f64, 0.0_f64, 0.0_f64);
-    for _ in 0..600 {
-        w.step(1).unwrap();
-        worst = worst.max(w.joint_errors().into_iter().fold(0.0, f64::max));
-        peak = peak.max(w.solid_kinetic_energy());
-        pen = pen.max(w.max_penetration());
-    }
+    let (worst, peak, pen) = crate::joints::run_600(&mut w);
     let e = w.solid_kinetic_energy();
     eprintln!("xpbd ragdoll: joints within {worst:e} m, kinetic energy {e:e} of {peak}, deepest {pen:e} m");
     assert!(e < 1e-8 * peak, "at rest after 10 s: kinetic energy {e} of {peak}");
