@@ -15,6 +15,13 @@ pub fn set_vector_paths(enabled: bool) {
     VECTOR_PATHS.store(enabled, Ordering::Relaxed);
 }
 
+/// Whether the vector code paths are allowed ([`set_vector_paths`]; the contact solver's
+/// four-lane passes take it, compiled for AVX2 or not).
+#[inline]
+pub(crate) fn enabled() -> bool {
+    VECTOR_PATHS.load(Ordering::Relaxed)
+}
+
 /// Whether the AVX2 path runs: the CPU has AVX2 and it is allowed.
 #[cfg(target_arch = "x86_64")]
 #[inline]

@@ -17,6 +17,7 @@ pub mod broad;
 mod forces;
 mod ids;
 pub mod joint;
+mod lanes;
 mod params;
 mod passes;
 mod points;

@@ -48,9 +48,64 @@ pub(super) fn ngs<S: Space>(st: &mut State<S>, bodies: &mut [super::Body<S>]) {
     }
 }
 
+/// The most colours [`colour`] gives; the pairs past them share the last, in pair order.
+pub(super) const COLOURS: usize = 64;
+
+/// Orders the pairs for the Gauss-Seidel passes (`st.coloured`, and where each colour ends in
+/// it, `st.colour_ends`): greedily coloured in pair order, each pair the lowest colour neither
+/// of its moving solids has yet (a solid that does not move, whose velocities no pass
+/// changes, joins any number of a colour's pairs), then colour by colour, in pair order
+/// within a colour. The pairs of a colour share no moving solid, so solving them one after
+/// the other or side by side is the same (`lanes.rs` solves the plane's four at a time). The
+/// pairs left when a solid's pairs have taken the first `COLOURS - 1` colours all go to the
+/// last, which shares solids and is solved a pair at a time.
+pub(super) fn colour<S: Space>(st: &mut State<S>) {
+    let last = COLOURS - 1;
+    st.colours.clear();
+    st.colours.resize(st.motion.len(), 0);
+    st.pair_colour.clear();
+    let mut count = [0u32; COLOURS];
+    for pair in &st.touching {
+        let (a, b) = (pair.a as usize, pair.b as usize);
+        let taken = |i: usize| if st.motion[i].moves { st.colours[i] } else { 0 };
+        let c = ((taken(a) | taken(b)).trailing_ones() as usize).min(last);
+        if c < last {
+            for i in [a, b] {
+                if st.motion[i].moves {
+                    st.colours[i] |= 1 << c;
+                }
+            }
+        }
+        count[c] += 1;
+        st.pair_colour.push(c as u8);
+    }
+    st.colour_ends.clear();
+    let mut at = [0u32; COLOURS];
+    let mut end = 0;
+    for c in 0..COLOURS {
+        at[c] = end;
+        end += count[c];
+        if count[c] > 0 {
+            st.colour_ends.push(end);
+        }
+    }
+    st.shared_last = count[last] > 0;
+    st.coloured.clear();
+    st.coloured.resize(st.touching.len(), 0);
+    for (k, &c) in st.pair_colour.iter().enumerate() {
+        st.coloured[at[c as usize] as usize] = k as u32;
+        at[c as usize] += 1;
+    }
+}
+
+/// The accumulated impulses applied again, pair by pair in the coloured order (`colour`).
 #[allow(clippy::needless_range_loop)] // k indexes a point's tangents and impulses alike
 pub(super) fn warm_start<S: Space>(st: &mut State<S>) {
-    for pair in &st.touching {
+    if super::lanes::warm_start(st) {
+        return;
+    }
+    for &k in &st.coloured {
+        let pair = &st.touching[k as usize];
         let (ia, ib) = (pair.a as usize, pair.b as usize);
         // The two solids' motions held in registers over the pair's points.
         let (mut ma, mut mb) = (st.motion[ia], st.motion[ib]);
@@ -77,7 +132,11 @@ pub(super) fn solve<S: Space, const BIAS: bool>(
     push_speed: f64,
     gravity: S::V,
 ) {
-    for pair in &st.touching {
+    if super::lanes::pass::<S, BIAS>(st, inv_h, push_speed, gravity) {
+        return;
+    }
+    for &k in &st.coloured {
+        let pair = &st.touching[k as usize];
         let (ia, ib) = (pair.a as usize, pair.b as usize);
         let (mut ma, mut mb) = (st.motion[ia], st.motion[ib]);
         let points = &mut st.points[pair.start as usize..pair.end as usize];

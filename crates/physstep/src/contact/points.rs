@@ -176,6 +176,21 @@ pub(crate) struct State<S: Space> {
     pub(super) pairs: Vec<(u32, u32)>,
     pub(super) touches: Vec<Touch<S::V>>,
     pub(super) motion: Vec<Motion<S>>,
+    /// The pairs (indices into `touching`) in the order the Gauss-Seidel passes take them:
+    /// by colour, no two pairs of a colour sharing a solid that moves (scratch, `colour`).
+    pub(super) coloured: Vec<u32>,
+    /// Where each colour's pairs end in `coloured` (scratch, `colour`).
+    pub(super) colour_ends: Vec<u32>,
+    /// Whether the last colour in `colour_ends` is the one whose pairs share solids.
+    pub(super) shared_last: bool,
+    /// The colours each solid's pairs took so far, a bit each, and each pair's colour
+    /// (scratch, `colour`).
+    pub(super) colours: Vec<u64>,
+    pub(super) pair_colour: Vec<u8>,
+    /// The points packed four pairs at a time for the plane's vector passes (scratch,
+    /// `lanes.rs`), and whether this step's are.
+    pub(super) quads: Vec<super::lanes::Quad>,
+    pub(super) lanes: bool,
     /// The passes over the contacts the latest step made (solve, relax and position passes,
     /// counted as they ran).
     pub(super) passes: u32,
@@ -206,6 +221,13 @@ impl<S: Space> Default for State<S> {
             pairs: Vec::new(),
             touches: Vec::new(),
             motion: Vec::new(),
+            coloured: Vec::new(),
+            colour_ends: Vec::new(),
+            shared_last: false,
+            colours: Vec::new(),
+            pair_colour: Vec::new(),
+            quads: Vec::new(),
+            lanes: false,
             passes: 0,
             pass_start: Vec::new(),
             shares: Vec::new(),

@@ -37,12 +37,12 @@
 //! A point that is apart is speculative: it lets the bodies close the gap in one step and no
 //! more; what moves farther than the speculative distance in a step is continuous collision's.
 
-use super::passes::{ngs, restitution, solve, solve_jacobi, split_mass, warm_start, BAUMGARTE};
+use super::passes::{colour, ngs, restitution, solve, solve_jacobi, split_mass, warm_start, BAUMGARTE};
 use super::points::{
     collide, effective_mass, relative_velocity, Coefs, Motion, Pair, Point, Soft, State, Warm,
 };
 use super::space::{Space, Vect};
-use super::{joint, Kind, Schedule, Solids};
+use super::{joint, lanes, Kind, Schedule, Solids};
 
 /// Sticky TGS's Baumgarte fraction of the separation a substep, and its static friction's
 /// fraction of the anchors' distance (Solver2D's `solve_tgs_sticky.c`).
@@ -256,6 +256,14 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         }
     }
 
+    // The order of the warm start and the Gauss-Seidel passes, and in the plane their
+    // four-lane form (Jacobi's passes take the pairs as they come).
+    colour(st);
+    if !plan.jacobi {
+        lanes::pack(st);
+    } else {
+        st.lanes = false;
+    }
     let mut bodies = std::mem::take(&mut solids.bodies);
     st.passes = 0;
     let pass = |st: &mut State<S>, bias: bool| match (plan.jacobi, bias) {
@@ -309,6 +317,7 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             pass(st, false);
             st.passes += 1;
         }
+        lanes::unpack(st);
         // The impulse a point applies in a substep is its accumulated impulse (the warm
         // start and the increments): the step's is their sum. Carried over the substeps,
         // the accumulated impulse is the step's.

@@ -70,3 +70,36 @@ fn run_small(method: &str, forces: &[Force], vector: bool) -> u64 {
     w.step(10).unwrap();
     w.state_hash()
 }
+
+/// The contact solvers' four-lane passes in the plane (`contact/lanes.rs`) and the one pair at
+/// a time passes: every scene with solids in the plane, under every solver that has them (the
+/// Gauss-Seidel ones), the same bits after a second and a half.
+#[test]
+fn the_planes_four_lane_contact_passes_and_the_pair_at_a_time_ones_agree_bitwise() {
+    let run = |name: &str, solver: &str, vector: bool| {
+        set_vector_paths(vector);
+        let spec = scenes::spec(name).unwrap();
+        let mut w = scenes::build(name, &[], spec.method, spec.dt).unwrap().world;
+        w.set_contact_solver(solver).unwrap();
+        for _ in 0..90 {
+            if w.step(1).is_err() {
+                break;
+            }
+        }
+        (w.state_hash(), w.solid_positions().iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+    };
+    let mut checked = 0;
+    for spec in scenes::SCENES {
+        let w = scenes::build(spec.name, &[], spec.method, spec.dt).unwrap().world;
+        if w.solid_count() == 0 || w.solid_positions().len() != 2 * w.solid_count() {
+            continue;
+        }
+        for solver in ["soft-step", "pgs", "pgs-ngs", "soft-pgs", "tgs-sticky"] {
+            let (vector, baseline) = (run(spec.name, solver, true), run(spec.name, solver, false));
+            assert!(vector == baseline, "{} under {solver}: the code paths differ", spec.name);
+        }
+        checked += 1;
+    }
+    set_vector_paths(true);
+    assert!(checked >= 10, "only {checked} scenes with solids in the plane");
+}

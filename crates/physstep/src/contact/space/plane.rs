@@ -74,7 +74,7 @@ impl Space for Plane {
             (t[0] * t[0] + t[1] * t[1]).sqrt()
         }
         let a = t[0].abs();
-        if t[1] == 0.0 && a > 1e-150 && a < 1e150 {
+        if t[1] == 0.0 && (a == 0.0 || (a > 1e-150 && a < 1e150)) {
             a
         } else {
             root(t)
