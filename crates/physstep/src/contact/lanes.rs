@@ -8,9 +8,10 @@
 //! instead (tests/it/contact.rs holds the two to the same bits).
 //!
 //! The points are packed into the quads once a step, after their effective masses
-//! (`pack`); the passes read and write the quads' impulses and the solids' motions; the
-//! impulses go back to the points after each substep's passes (`unpack`), where the warm
-//! start, restitution and the step's end read them.
+//! (`pack`); the warm start and the passes read and write the quads' impulses and the
+//! solids' motions, each substep's impulses are added to the quads' totals (`accumulate`),
+//! and impulses and totals go back to the points and contacts after the substeps (`unpack`),
+//! where restitution and the step's end read them.
 
 // A lane loop indexes the lanes of several arrays alike.
 #![allow(clippy::needless_range_loop)]
@@ -61,17 +62,22 @@ impl std::ops::Neg for F4 {
     }
 }
 
-impl std::ops::BitAnd for M4 {
-    type Output = M4;
-    #[inline(always)]
-    fn bitand(self, o: M4) -> M4 {
-        let mut r = [0; W];
-        for l in 0..W {
-            r[l] = self.0[l] & o.0[l];
+macro_rules! maskwise {
+    ($($tr:ident $f:ident $op:tt),*) => {$(
+        impl std::ops::$tr for M4 {
+            type Output = M4;
+            #[inline(always)]
+            fn $f(self, o: M4) -> M4 {
+                let mut r = [0; W];
+                for l in 0..W {
+                    r[l] = self.0[l] $op o.0[l];
+                }
+                M4(r)
+            }
         }
-        M4(r)
-    }
+    )*};
 }
+maskwise!(BitAnd bitand &, BitOr bitor |);
 
 impl F4 {
     #[inline(always)]
@@ -163,6 +169,9 @@ struct Slot {
     tangent_other: F4,
     max_normal: F4,
     approach: F4,
+    /// The step's sums of the substeps' impulses (the contact's report).
+    total_normal: F4,
+    total_friction: F4,
 }
 
 /// Four pairs of one colour, side by side, with up to two points each (the plane's manifolds
@@ -230,7 +239,8 @@ pub(super) fn pack<S: Space>(st: &mut State<S>) {
                 (q.bias.0[l], q.mass_scale.0[l], q.impulse_scale.0[l], q.friction_bias.0[l]) =
                     (c.bias, c.mass_scale, c.impulse_scale, c.friction_bias);
                 (q.friction.0[l], q.restitution.0[l]) = (pair.friction, pair.restitution);
-                for (s, p) in q.slots.iter_mut().zip(&st.points[pair.start as usize..pair.end as usize]) {
+                let points = &st.points[pair.start as usize..pair.end as usize];
+                for (s_index, (s, p)) in q.slots.iter_mut().zip(points).enumerate() {
                     s.active.0[l] = u64::MAX;
                     (s.nx.0[l], s.ny.0[l]) = (p.normal.x, p.normal.y);
                     (s.rax.0[l], s.ray.0[l], s.rbx.0[l], s.rby.0[l]) = (p.ra.x, p.ra.y, p.rb.x, p.rb.y);
@@ -243,6 +253,8 @@ pub(super) fn pack<S: Space>(st: &mut State<S>) {
                         (p.tangent_impulse[0], p.tangent_impulse[1]);
                     s.max_normal.0[l] = p.max_normal;
                     s.approach.0[l] = p.approach;
+                    let c = &st.contacts[pair.start as usize + s_index];
+                    (s.total_normal.0[l], s.total_friction.0[l]) = (c.total_normal, c.total_friction);
                 }
             }
             st.quads.push(q);
@@ -252,7 +264,31 @@ pub(super) fn pack<S: Space>(st: &mut State<S>) {
     st.lanes = true;
 }
 
-/// Writes the quads' impulses back to the points (after a substep's passes).
+/// Adds each point's impulses of the substep to its contact's totals, as the solver's step
+/// does for the points (`total_normal += normal_impulse`, `total_friction +=
+/// Plane::friction_size(tangent_impulse)`), if the points are packed: true if it did.
+pub(super) fn accumulate<S: Space>(st: &mut State<S>) -> bool {
+    if !st.lanes {
+        return false;
+    }
+    let Some(st) = plane(st) else { return false };
+    for q in &mut st.quads {
+        for s in &mut q.slots {
+            let (zero, tiny, huge) = (F4::splat(0.0), F4::splat(1e-150), F4::splat(1e150));
+            let (t, other) = (s.tangent_impulse, s.tangent_other);
+            let a = t.map(f64::abs);
+            let plain =
+                other.test(zero, |x, y| x == y) & (a.test(zero, |x, y| x == y) | (a.gt(tiny) & a.lt(huge)));
+            let size = pick(plain, a, (t * t + other * other).map(f64::sqrt));
+            s.total_normal = pick(s.active, s.total_normal + s.normal_impulse, s.total_normal);
+            s.total_friction = pick(s.active, s.total_friction + size, s.total_friction);
+        }
+    }
+    true
+}
+
+/// Writes the quads' impulses and totals back to the points and contacts (after the
+/// substeps).
 pub(super) fn unpack<S: Space>(st: &mut State<S>) {
     if !st.lanes {
         return;
@@ -273,6 +309,8 @@ pub(super) fn unpack<S: Space>(st: &mut State<S>) {
                 p.tangent_impulse = [s.tangent_impulse.0[l], s.tangent_other.0[l]];
                 p.max_normal = s.max_normal.0[l];
                 p.approach = s.approach.0[l];
+                let c = &mut st.contacts[start + k];
+                (c.total_normal, c.total_friction) = (s.total_normal.0[l], s.total_friction.0[l]);
             }
         }
     }

@@ -317,17 +317,17 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
             pass(st, false);
             st.passes += 1;
         }
-        lanes::unpack(st);
         // The impulse a point applies in a substep is its accumulated impulse (the warm
         // start and the increments): the step's is their sum. Carried over the substeps,
         // the accumulated impulse is the step's.
-        if !plan.carry || last {
+        if (!plan.carry || last) && !lanes::accumulate(st) {
             for (p, c) in st.points.iter().zip(&mut st.contacts) {
                 c.total_normal += p.normal_impulse;
                 c.total_friction += S::friction_size(p.tangent_impulse);
             }
         }
     }
+    lanes::unpack(st);
     restitution(st, set.restitution_threshold);
     // NGS's joint passes (its quarter of the passes), before the world's own projection.
     if plan.joints == Joints::Ngs && !joints.is_empty() {

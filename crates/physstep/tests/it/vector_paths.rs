@@ -86,7 +86,10 @@ fn the_planes_four_lane_contact_passes_and_the_pair_at_a_time_ones_agree_bitwise
                 break;
             }
         }
-        (w.state_hash(), w.solid_positions().iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+        // The state, and the contacts' reported impulses (the substeps' sums).
+        let c = w.contacts();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        (w.state_hash(), bits(&w.solid_positions()), bits(&c.normal_impulses), bits(&c.friction_impulses))
     };
     let mut checked = 0;
     for spec in scenes::SCENES {
