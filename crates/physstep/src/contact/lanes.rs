@@ -1,11 +1,13 @@
-//! The plane's Gauss-Seidel passes four pairs at a time (Box2D v3's wide contact solve, in
-//! f64 lanes): the pairs of one colour share no solid that moves (`passes::colour`), so four
-//! of them are solved side by side, a lane each, with each lane's arithmetic exactly
+//! The Gauss-Seidel passes four pairs at a time (Box2D v3's wide contact solve, in f64
+//! lanes): the pairs of one colour share no solid that moves (`passes::colour`), so four of
+//! them are solved side by side, a lane each, with each lane's arithmetic exactly
 //! [`super::passes`]' `solve_pair` of that pair, operation for operation. A pass over the
 //! quads therefore gives bitwise what the one-pair-at-a-time pass gives in the coloured
 //! order; the vector code (AVX2 where the CPU has it: four lanes in one register) only does
-//! it in fewer instructions. `crate::simd::set_vector_paths(false)` takes the one-pair path
-//! instead (tests/it/contact.rs holds the two to the same bits).
+//! it in fewer instructions. This file holds the lanes' arithmetic (`F4`, `M4`), the plane's
+//! quads and the entry points, which take space's to `lanes3.rs`.
+//! `crate::simd::set_vector_paths(false)` takes the one-pair path instead
+//! (tests/it/vector_paths.rs holds the two to the same bits on every scene with solids).
 //!
 //! The points are packed into the quads once a step, after their effective masses
 //! (`pack`); the warm start and the passes read and write the quads' impulses and the
@@ -16,26 +18,28 @@
 // A lane loop indexes the lanes of several arrays alike.
 #![allow(clippy::needless_range_loop)]
 
+use super::lanes3;
 use super::points::{Coefs, State};
-use super::space::{Plane, Space};
+use super::space::{Plane, Space, Space3};
 use glam::DVec2;
+use glam::DVec3;
 use std::any::Any;
 
 /// Lanes in a quad.
-const W: usize = 4;
+pub(super) const W: usize = 4;
 /// An empty lane's pair.
-const NONE: u32 = u32::MAX;
+pub(super) const NONE: u32 = u32::MAX;
 
 /// Four doubles, one a lane: each operation is the scalar one lane by lane (the compiler
 /// makes one vector instruction of it), so a lane's result is the scalar code's, bitwise.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 #[repr(align(32))]
-struct F4([f64; W]);
+pub(super) struct F4(pub(super) [f64; W]);
 
 /// Four lanes' yes or no: all bits set or none.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 #[repr(align(32))]
-struct M4([u64; W]);
+pub(super) struct M4(pub(super) [u64; W]);
 
 macro_rules! lanewise {
     ($($tr:ident $f:ident $op:tt),*) => {$(
@@ -81,11 +85,11 @@ maskwise!(BitAnd bitand &, BitOr bitor |);
 
 impl F4 {
     #[inline(always)]
-    fn splat(x: f64) -> F4 {
+    pub(super) fn splat(x: f64) -> F4 {
         F4([x; W])
     }
     #[inline(always)]
-    fn map(self, f: impl Fn(f64) -> f64) -> F4 {
+    pub(super) fn map(self, f: impl Fn(f64) -> f64) -> F4 {
         let mut r = [0.0; W];
         for l in 0..W {
             r[l] = f(self.0[l]);
@@ -93,7 +97,7 @@ impl F4 {
         F4(r)
     }
     #[inline(always)]
-    fn zip(self, o: F4, f: impl Fn(f64, f64) -> f64) -> F4 {
+    pub(super) fn zip(self, o: F4, f: impl Fn(f64, f64) -> f64) -> F4 {
         let mut r = [0.0; W];
         for l in 0..W {
             r[l] = f(self.0[l], o.0[l]);
@@ -101,7 +105,7 @@ impl F4 {
         F4(r)
     }
     #[inline(always)]
-    fn test(self, o: F4, f: impl Fn(f64, f64) -> bool) -> M4 {
+    pub(super) fn test(self, o: F4, f: impl Fn(f64, f64) -> bool) -> M4 {
         let mut r = [0; W];
         for l in 0..W {
             r[l] = if f(self.0[l], o.0[l]) { u64::MAX } else { 0 };
@@ -109,30 +113,30 @@ impl F4 {
         M4(r)
     }
     #[inline(always)]
-    fn gt(self, o: F4) -> M4 {
+    pub(super) fn gt(self, o: F4) -> M4 {
         self.test(o, |a, b| a > b)
     }
     #[inline(always)]
-    fn lt(self, o: F4) -> M4 {
+    pub(super) fn lt(self, o: F4) -> M4 {
         self.test(o, |a, b| a < b)
     }
     #[inline(always)]
-    fn ne(self, o: F4) -> M4 {
+    pub(super) fn ne(self, o: F4) -> M4 {
         self.test(o, |a, b| a != b)
     }
     /// `f64::max` lane by lane.
     #[inline(always)]
-    fn max(self, o: F4) -> F4 {
+    pub(super) fn max(self, o: F4) -> F4 {
         self.zip(o, f64::max)
     }
     /// `f64::min` lane by lane.
     #[inline(always)]
-    fn min(self, o: F4) -> F4 {
+    pub(super) fn min(self, o: F4) -> F4 {
         self.zip(o, f64::min)
     }
     /// `f64::clamp` lane by lane (`lo <= hi`).
     #[inline(always)]
-    fn clamp(self, lo: F4, hi: F4) -> F4 {
+    pub(super) fn clamp(self, lo: F4, hi: F4) -> F4 {
         let x = pick(self.lt(lo), lo, self);
         pick(x.gt(hi), hi, x)
     }
@@ -140,7 +144,7 @@ impl F4 {
 
 /// Lane by lane, `a` where `m`, else `b`.
 #[inline(always)]
-fn pick(m: M4, a: F4, b: F4) -> F4 {
+pub(super) fn pick(m: M4, a: F4, b: F4) -> F4 {
     let mut r = [0.0; W];
     for l in 0..W {
         r[l] = f64::from_bits((a.0[l].to_bits() & m.0[l]) | (b.0[l].to_bits() & !m.0[l]));
@@ -211,12 +215,22 @@ fn plane<S: Space>(st: &mut State<S>) -> Option<&mut State<Plane>> {
     (st as &mut dyn Any).downcast_mut::<State<Plane>>()
 }
 
+/// Space's state, where `st` is space's.
+fn space<S: Space>(st: &mut State<S>) -> Option<&mut State<Space3>> {
+    (st as &mut dyn Any).downcast_mut::<State<Space3>>()
+}
+
 /// Packs the points into quads in the coloured order (`st.coloured`, `st.colour_ends`) when
-/// the solids are the plane's, the vector paths are allowed, and no pair has more than two
-/// points; sets `st.lanes` to whether it did.
+/// the vector paths are allowed and no pair has more points than a quad holds (two in the
+/// plane, four in space: `lanes3.rs`); sets `st.lanes` to whether it did.
 pub(super) fn pack<S: Space>(st: &mut State<S>) {
     st.lanes = false;
     if !crate::simd::enabled() {
+        return;
+    }
+    if let Some(st) = space(st) {
+        lanes3::pack(st);
+        st.lanes = true;
         return;
     }
     let Some(st) = plane(st) else { return };
@@ -271,6 +285,10 @@ pub(super) fn accumulate<S: Space>(st: &mut State<S>) -> bool {
     if !st.lanes {
         return false;
     }
+    if let Some(st) = space(st) {
+        lanes3::accumulate(st);
+        return true;
+    }
     let Some(st) = plane(st) else { return false };
     for q in &mut st.quads {
         for s in &mut q.slots {
@@ -291,6 +309,10 @@ pub(super) fn accumulate<S: Space>(st: &mut State<S>) -> bool {
 /// substeps).
 pub(super) fn unpack<S: Space>(st: &mut State<S>) {
     if !st.lanes {
+        return;
+    }
+    if let Some(st) = space(st) {
+        lanes3::unpack(st);
         return;
     }
     let Some(st) = plane(st) else { return };
@@ -326,6 +348,10 @@ pub(super) fn pass<S: Space, const BIAS: bool>(
     if !st.lanes {
         return false;
     }
+    if let (Some(st), Some(&g)) = (space(st), (&gravity as &dyn Any).downcast_ref::<DVec3>()) {
+        lanes3::pass::<BIAS>(st, inv_h, push_speed, g);
+        return true;
+    }
     let (Some(st), Some(&g)) = (plane(st), (&gravity as &dyn Any).downcast_ref::<DVec2>()) else {
         return false;
     };
@@ -348,6 +374,10 @@ pub(super) fn pass<S: Space, const BIAS: bool>(
 pub(super) fn warm_start<S: Space>(st: &mut State<S>) -> bool {
     if !st.lanes {
         return false;
+    }
+    if let Some(st) = space(st) {
+        lanes3::warm_start(st);
+        return true;
     }
     let Some(st) = plane(st) else { return false };
     let State { quads, motion, .. } = st;
@@ -544,7 +574,7 @@ fn push(a: &mut Side, b: &mut Side, on: M4, ra: (F4, F4), rb: (F4, F4), (px, py)
 
 /// [`super::passes`]' `arrival`, lane by lane, without early returns (the same values).
 #[inline(always)]
-fn arrival(vn: F4, sep: F4, closing: F4, h: F4) -> F4 {
+pub(super) fn arrival(vn: F4, sep: F4, closing: F4, h: F4) -> F4 {
     let (zero, half, two) = (F4::splat(0.0), F4::splat(0.5), F4::splat(2.0));
     let c = -vn - half * closing * h;
     let r = c * c + two * closing * sep;

@@ -18,6 +18,7 @@ mod forces;
 mod ids;
 pub mod joint;
 mod lanes;
+mod lanes3;
 mod params;
 mod passes;
 mod points;

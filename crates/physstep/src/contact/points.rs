@@ -190,6 +190,8 @@ pub(crate) struct State<S: Space> {
     /// The points packed four pairs at a time for the plane's vector passes (scratch,
     /// `lanes.rs`), and whether this step's are.
     pub(super) quads: Vec<super::lanes::Quad>,
+    pub(super) quads3: Vec<super::lanes3::Quad>,
+    pub(super) slots3: Vec<super::lanes3::Slot>,
     pub(super) lanes: bool,
     /// The passes over the contacts the latest step made (solve, relax and position passes,
     /// counted as they ran).
@@ -227,6 +229,8 @@ impl<S: Space> Default for State<S> {
             colours: Vec::new(),
             pair_colour: Vec::new(),
             quads: Vec::new(),
+            quads3: Vec::new(),
+            slots3: Vec::new(),
             lanes: false,
             passes: 0,
             pass_start: Vec::new(),
