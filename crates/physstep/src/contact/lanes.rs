@@ -19,7 +19,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::lanes3;
-use super::points::{Coefs, State};
+use super::points::{Coefs, Pair, State};
 use super::space::{Plane, Space, Space3};
 use glam::DVec2;
 use glam::DVec3;
@@ -178,20 +178,59 @@ struct Slot {
     total_friction: F4,
 }
 
+/// Four pairs side by side (in the plane and in space): which, their solids, and their
+/// coefficients.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Pairs {
+    /// Each lane's pair (an index into `touching`), [`NONE`] for an empty lane.
+    pub(super) pair: [u32; W],
+    pub(super) a: [u32; W],
+    pub(super) b: [u32; W],
+    pub(super) bias: F4,
+    pub(super) mass_scale: F4,
+    pub(super) impulse_scale: F4,
+    pub(super) friction_bias: F4,
+    pub(super) friction: F4,
+    pub(super) restitution: F4,
+}
+
+impl Pairs {
+    /// Four empty lanes.
+    pub(super) fn empty() -> Pairs {
+        Pairs { pair: [NONE; W], ..Pairs::default() }
+    }
+
+    /// Lane `l` is pair `k`.
+    pub(super) fn set(&mut self, l: usize, k: u32, pair: &Pair) {
+        let c: Coefs = pair.soft;
+        self.pair[l] = k;
+        (self.a[l], self.b[l]) = (pair.a, pair.b);
+        (self.bias.0[l], self.mass_scale.0[l], self.impulse_scale.0[l], self.friction_bias.0[l]) =
+            (c.bias, c.mass_scale, c.impulse_scale, c.friction_bias);
+        (self.friction.0[l], self.restitution.0[l]) = (pair.friction, pair.restitution);
+    }
+}
+
+/// The coloured pairs (`coloured`, each colour ending at its `ends`) four at a time, a colour's
+/// pairs never with another's; the last colour's one at a time where its pairs share solids
+/// (`colour` ran out of colours).
+pub(super) fn chunks<'a>(
+    coloured: &'a [u32],
+    ends: &'a [u32],
+    shared_last: bool,
+) -> impl Iterator<Item = &'a [u32]> + 'a {
+    ends.iter().enumerate().flat_map(move |(c, &end)| {
+        let begin = if c == 0 { 0 } else { ends[c - 1] as usize };
+        let lanes = if shared_last && c + 1 == ends.len() { 1 } else { W };
+        coloured[begin..end as usize].chunks(lanes)
+    })
+}
+
 /// Four pairs of one colour, side by side, with up to two points each (the plane's manifolds
 /// have at most two).
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Quad {
-    /// Each lane's pair (an index into `touching`), [`NONE`] for an empty lane.
-    pair: [u32; W],
-    a: [u32; W],
-    b: [u32; W],
-    bias: F4,
-    mass_scale: F4,
-    impulse_scale: F4,
-    friction_bias: F4,
-    friction: F4,
-    restitution: F4,
+    p: Pairs,
     slots: [Slot; 2],
 }
 
@@ -238,42 +277,29 @@ pub(super) fn pack<S: Space>(st: &mut State<S>) {
         return;
     }
     st.quads.clear();
-    let mut begin = 0;
-    let colours = st.colour_ends.len();
-    for (c, &end) in st.colour_ends.iter().enumerate() {
-        // The last colour's pairs share solids where `colour` ran out of colours: one a quad.
-        let lanes = if st.shared_last && c + 1 == colours { 1 } else { W };
-        for chunk in st.coloured[begin as usize..end as usize].chunks(lanes) {
-            let mut q = Quad { pair: [NONE; W], ..Quad::default() };
-            for (l, &k) in chunk.iter().enumerate() {
-                let pair = &st.touching[k as usize];
-                let c: Coefs = pair.soft;
-                q.pair[l] = k;
-                (q.a[l], q.b[l]) = (pair.a, pair.b);
-                (q.bias.0[l], q.mass_scale.0[l], q.impulse_scale.0[l], q.friction_bias.0[l]) =
-                    (c.bias, c.mass_scale, c.impulse_scale, c.friction_bias);
-                (q.friction.0[l], q.restitution.0[l]) = (pair.friction, pair.restitution);
-                let points = &st.points[pair.start as usize..pair.end as usize];
-                for (s_index, (s, p)) in q.slots.iter_mut().zip(points).enumerate() {
-                    s.active.0[l] = u64::MAX;
-                    (s.nx.0[l], s.ny.0[l]) = (p.normal.x, p.normal.y);
-                    (s.rax.0[l], s.ray.0[l], s.rbx.0[l], s.rby.0[l]) = (p.ra.x, p.ra.y, p.rb.x, p.rb.y);
-                    s.adjusted.0[l] = p.adjusted;
-                    s.normal_mass.0[l] = p.normal_mass;
-                    s.tangent_mass.0[l] = p.tangent_mass[0];
-                    s.slip.0[l] = p.slip[0];
-                    s.normal_impulse.0[l] = p.normal_impulse;
-                    (s.tangent_impulse.0[l], s.tangent_other.0[l]) =
-                        (p.tangent_impulse[0], p.tangent_impulse[1]);
-                    s.max_normal.0[l] = p.max_normal;
-                    s.approach.0[l] = p.approach;
-                    let c = &st.contacts[pair.start as usize + s_index];
-                    (s.total_normal.0[l], s.total_friction.0[l]) = (c.total_normal, c.total_friction);
-                }
+    for chunk in chunks(&st.coloured, &st.colour_ends, st.shared_last) {
+        let mut q = Quad { p: Pairs::empty(), ..Quad::default() };
+        for (l, &k) in chunk.iter().enumerate() {
+            let pair = &st.touching[k as usize];
+            q.p.set(l, k, pair);
+            let points = &st.points[pair.start as usize..pair.end as usize];
+            for (s_index, (s, p)) in q.slots.iter_mut().zip(points).enumerate() {
+                s.active.0[l] = u64::MAX;
+                (s.nx.0[l], s.ny.0[l]) = (p.normal.x, p.normal.y);
+                (s.rax.0[l], s.ray.0[l], s.rbx.0[l], s.rby.0[l]) = (p.ra.x, p.ra.y, p.rb.x, p.rb.y);
+                s.adjusted.0[l] = p.adjusted;
+                s.normal_mass.0[l] = p.normal_mass;
+                s.tangent_mass.0[l] = p.tangent_mass[0];
+                s.slip.0[l] = p.slip[0];
+                s.normal_impulse.0[l] = p.normal_impulse;
+                (s.tangent_impulse.0[l], s.tangent_other.0[l]) = (p.tangent_impulse[0], p.tangent_impulse[1]);
+                s.max_normal.0[l] = p.max_normal;
+                s.approach.0[l] = p.approach;
+                let c = &st.contacts[pair.start as usize + s_index];
+                (s.total_normal.0[l], s.total_friction.0[l]) = (c.total_normal, c.total_friction);
             }
-            st.quads.push(q);
         }
-        begin = end;
+        st.quads.push(q);
     }
     st.lanes = true;
 }
@@ -318,10 +344,10 @@ pub(super) fn unpack<S: Space>(st: &mut State<S>) {
     let Some(st) = plane(st) else { return };
     for q in &st.quads {
         for l in 0..W {
-            if q.pair[l] == NONE {
+            if q.p.pair[l] == NONE {
                 continue;
             }
-            let start = st.touching[q.pair[l] as usize].start as usize;
+            let start = st.touching[q.p.pair[l] as usize].start as usize;
             for (k, s) in q.slots.iter().enumerate() {
                 if s.active.0[l] == 0 {
                     continue;
@@ -406,7 +432,7 @@ unsafe fn warm_avx2(quads: &[Quad], motion: &mut [super::points::Motion<Plane>])
 /// tangent_impulse` pushed.
 #[inline(always)]
 fn warm(q: &Quad, motion: &mut [super::points::Motion<Plane>]) {
-    let (mut a, mut b) = (gather(q, &q.a, motion), gather(q, &q.b, motion));
+    let (mut a, mut b) = (gather(q, &q.p.a, motion), gather(q, &q.p.b, motion));
     for s in &q.slots {
         let (tx, ty) = (-s.ny, s.nx);
         let p = (
@@ -442,8 +468,8 @@ fn quad<const BIAS: bool>(
     push_speed: f64,
     g: DVec2,
 ) {
-    let (mut a, mut b) = (gather(q, &q.a, motion), gather(q, &q.b, motion));
-    let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
+    let (mut a, mut b) = (gather(q, &q.p.a, motion), gather(q, &q.p.b, motion));
+    let zero = F4::splat(0.0);
     let (inv_h4, h4) = (F4::splat(inv_h), F4::splat(1.0 / inv_h));
     let (push4, pull4) = (F4::splat(push_speed), F4::splat(-push_speed));
     // The arms turned by the motion since the step began (`rotate_delta`), kept from the
@@ -458,17 +484,6 @@ fn quad<const BIAS: bool>(
         let dx = b.dpx + tbx - a.dpx - tax;
         let dy = b.dpy + tby - a.dpy - tay;
         let sep = (dx * s.nx + dy * s.ny) + s.adjusted;
-        // Apart: close the gap in this substep and no more; else the soft bias (solve passes).
-        let apart = sep.gt(zero);
-        let (vbias, mass_scale, impulse_scale) = if BIAS {
-            (
-                pick(apart, sep * inv_h4, (q.bias * sep).max(pull4)),
-                pick(apart, one, q.mass_scale),
-                pick(apart, zero, q.impulse_scale),
-            )
-        } else {
-            (pick(apart, sep * inv_h4, zero), one, zero)
-        };
         let (rvx, rvy) = relative_velocity(&a, &b, (s.rax, s.ray), (s.rbx, s.rby));
         let vn = rvx * s.nx + rvy * s.ny;
         if BIAS {
@@ -477,19 +492,23 @@ fn quad<const BIAS: bool>(
             let (fbx, fby) = (pick(b.moves, gx, zero), pick(b.moves, gy, zero));
             let closing = -((fbx - fax) * s.nx + (fby - fay) * s.ny);
             let arrived = s.approach.min(arrival(vn, sep, closing, h4));
-            s.approach = pick(s.active & q.restitution.gt(zero), arrived, s.approach);
+            s.approach = pick(s.active & q.p.restitution.gt(zero), arrived, s.approach);
         }
-        let ni = s.normal_impulse;
-        let imp = -s.normal_mass * (mass_scale * vn + vbias) - impulse_scale * ni;
-        let new = (ni + imp).max(zero);
-        let imp = new - ni;
-        s.normal_impulse = pick(s.active, new, ni);
-        s.max_normal = pick(s.active, s.max_normal.max(imp), s.max_normal);
+        let imp = normal::<BIAS>(
+            &q.p,
+            sep,
+            vn,
+            (inv_h4, pull4),
+            s.active,
+            s.normal_mass,
+            &mut s.normal_impulse,
+            &mut s.max_normal,
+        );
         push(&mut a, &mut b, s.active, (s.rax, s.ray), (s.rbx, s.rby), (s.nx * imp, s.ny * imp));
     }
     let (tiny, huge) = (F4::splat(1e-150), F4::splat(1e150));
     for (s, t) in q.slots.iter_mut().zip(&turned) {
-        let limit = q.friction * s.normal_impulse;
+        let limit = q.p.friction * s.normal_impulse;
         let (ra, rb) = ((s.rax, s.ray), (s.rbx, s.rby));
         let (dvx, dvy) = relative_velocity(&a, &b, ra, rb);
         let (tx, ty) = (-s.ny, s.nx);
@@ -501,9 +520,9 @@ fn quad<const BIAS: bool>(
             let mx = b.dpx + t[2] - rb.0 - a.dpx - t[0] + ra.0;
             let my = b.dpy + t[3] - rb.1 - a.dpy - t[1] + ra.1;
             let err = s.slip + (mx * tx + my * ty);
-            let vbias = (q.friction_bias * err).clamp(pull4, push4);
-            let anchored = ti - s.tangent_mass * (q.mass_scale * vt + vbias) - q.impulse_scale * ti;
-            pick(q.friction_bias.ne(zero), anchored, plain)
+            let vbias = (q.p.friction_bias * err).clamp(pull4, push4);
+            let anchored = ti - s.tangent_mass * (q.p.mass_scale * vt + vbias) - q.p.impulse_scale * ti;
+            pick(q.p.friction_bias.ne(zero), anchored, plain)
         } else {
             plain
         };
@@ -526,10 +545,10 @@ fn quad<const BIAS: bool>(
 #[inline(always)]
 fn scatter(q: &Quad, a: &Side, b: &Side, motion: &mut [super::points::Motion<Plane>]) {
     for l in 0..W {
-        if q.pair[l] == NONE {
+        if q.p.pair[l] == NONE {
             continue;
         }
-        for (i, s) in [(q.a[l], a), (q.b[l], b)] {
+        for (i, s) in [(q.p.a[l], a), (q.p.b[l], b)] {
             let m = &mut motion[i as usize];
             (m.v.x, m.v.y, m.w) = (s.vx.0[l], s.vy.0[l], s.w.0[l]);
         }
@@ -542,13 +561,49 @@ fn scatter(q: &Quad, a: &Side, b: &Side, motion: &mut [super::points::Motion<Pla
 fn gather(q: &Quad, idx: &[u32; W], motion: &[super::points::Motion<Plane>]) -> Side {
     let mut s = Side::default();
     for l in 0..W {
-        let m = &motion[if q.pair[l] == NONE { 0 } else { idx[l] as usize }];
+        let m = &motion[if q.p.pair[l] == NONE { 0 } else { idx[l] as usize }];
         (s.vx.0[l], s.vy.0[l], s.w.0[l]) = (m.v.x, m.v.y, m.w);
         (s.dpx.0[l], s.dpy.0[l], s.dqx.0[l], s.dqy.0[l]) = (m.dp.x, m.dp.y, m.dq.x, m.dq.y);
         (s.inv_mass.0[l], s.inv_i.0[l]) = (m.inv_mass, m.inv_i);
         s.moves.0[l] = if m.moves { u64::MAX } else { 0 };
     }
     s
+}
+
+/// A point's normal impulse in four lanes, as `solve_pair`: apart (`sep > 0`), the bias that
+/// closes the gap in this substep and no more; else, in a solve pass (`BIAS`), the soft push
+/// (at most the push speed, `-pull`); the accumulated impulse kept at zero or more, and the
+/// largest increment. Returns the increment (applied where `active`).
+#[allow(clippy::too_many_arguments)] // a point's fields, each its own lanes
+#[inline(always)]
+pub(super) fn normal<const BIAS: bool>(
+    p: &Pairs,
+    sep: F4,
+    vn: F4,
+    (inv_h, pull): (F4, F4),
+    active: M4,
+    normal_mass: F4,
+    impulse: &mut F4,
+    max_normal: &mut F4,
+) -> F4 {
+    let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
+    let apart = sep.gt(zero);
+    let (vbias, mass_scale, impulse_scale) = if BIAS {
+        (
+            pick(apart, sep * inv_h, (p.bias * sep).max(pull)),
+            pick(apart, one, p.mass_scale),
+            pick(apart, zero, p.impulse_scale),
+        )
+    } else {
+        (pick(apart, sep * inv_h, zero), one, zero)
+    };
+    let ni = *impulse;
+    let imp = -normal_mass * (mass_scale * vn + vbias) - impulse_scale * ni;
+    let new = (ni + imp).max(zero);
+    let imp = new - ni;
+    *impulse = pick(active, new, ni);
+    *max_normal = pick(active, max_normal.max(imp), *max_normal);
+    imp
 }
 
 /// `relative_velocity`: `mb.v + cross_wv(mb.w, rb) - ma.v - cross_wv(ma.w, ra)`.

@@ -9,7 +9,7 @@
 // A lane loop indexes the lanes of several arrays alike.
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{pick, F4, M4, NONE, W};
+use super::lanes::{chunks, normal, pick, Pairs, F4, M4, NONE, W};
 use super::points::{Motion, State};
 use super::space::Space3;
 use glam::DVec3;
@@ -84,15 +84,7 @@ pub(super) struct Slot {
 /// `State::slots3` (as many as the quad's pair with the most points).
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Quad {
-    pair: [u32; W],
-    a: [u32; W],
-    b: [u32; W],
-    bias: F4,
-    mass_scale: F4,
-    impulse_scale: F4,
-    friction_bias: F4,
-    friction: F4,
-    restitution: F4,
+    p: Pairs,
     slots: (u32, u32),
     /// The two sides' masses and inertias.
     mass: [Mass; 2],
@@ -124,60 +116,48 @@ struct Mass {
 pub(super) fn pack(st: &mut State<Space3>) {
     st.quads3.clear();
     st.slots3.clear();
-    let mut begin = 0;
-    let colours = st.colour_ends.len();
-    for (c, &end) in st.colour_ends.iter().enumerate() {
-        let lanes = if st.shared_last && c + 1 == colours { 1 } else { W };
-        for chunk in st.coloured[begin as usize..end as usize].chunks(lanes) {
-            let at = st.slots3.len();
-            let most = chunk.iter().map(|&k| st.touching[k as usize]).map(|p| p.end - p.start).max();
-            st.slots3.resize(at + most.unwrap_or(0) as usize, Slot::default());
-            let mut q =
-                Quad { pair: [NONE; W], slots: (at as u32, st.slots3.len() as u32), ..Quad::default() };
-            let slots = &mut st.slots3[at..];
-            for (l, &k) in chunk.iter().enumerate() {
-                let pair = &st.touching[k as usize];
-                let c = pair.soft;
-                q.pair[l] = k;
-                (q.a[l], q.b[l]) = (pair.a, pair.b);
-                (q.bias.0[l], q.mass_scale.0[l], q.impulse_scale.0[l], q.friction_bias.0[l]) =
-                    (c.bias, c.mass_scale, c.impulse_scale, c.friction_bias);
-                (q.friction.0[l], q.restitution.0[l]) = (pair.friction, pair.restitution);
-                let range = pair.start as usize..pair.end as usize;
-                for ((s, p), c) in slots.iter_mut().zip(&st.points[range.clone()]).zip(&st.contacts[range]) {
-                    s.active.0[l] = u64::MAX;
-                    s.n.set(l, p.normal);
-                    s.t0.set(l, p.frame[0]);
-                    s.t1.set(l, p.frame[1]);
-                    s.ra.set(l, p.ra);
-                    s.rb.set(l, p.rb);
-                    s.adjusted.0[l] = p.adjusted;
-                    s.normal_mass.0[l] = p.normal_mass;
-                    s.normal_impulse.0[l] = p.normal_impulse;
-                    for k in 0..2 {
-                        s.tangent_mass[k].0[l] = p.tangent_mass[k];
-                        s.slip[k].0[l] = p.slip[k];
-                        s.tangent_impulse[k].0[l] = p.tangent_impulse[k];
-                    }
-                    s.max_normal.0[l] = p.max_normal;
-                    s.approach.0[l] = p.approach;
-                    (s.total_normal.0[l], s.total_friction.0[l]) = (c.total_normal, c.total_friction);
+    for chunk in chunks(&st.coloured, &st.colour_ends, st.shared_last) {
+        let at = st.slots3.len();
+        let most = chunk.iter().map(|&k| st.touching[k as usize]).map(|p| p.end - p.start).max();
+        st.slots3.resize(at + most.unwrap_or(0) as usize, Slot::default());
+        let mut q = Quad { p: Pairs::empty(), slots: (at as u32, st.slots3.len() as u32), ..Quad::default() };
+        let slots = &mut st.slots3[at..];
+        for (l, &k) in chunk.iter().enumerate() {
+            let pair = &st.touching[k as usize];
+            q.p.set(l, k, pair);
+            let range = pair.start as usize..pair.end as usize;
+            for ((s, p), c) in slots.iter_mut().zip(&st.points[range.clone()]).zip(&st.contacts[range]) {
+                s.active.0[l] = u64::MAX;
+                s.n.set(l, p.normal);
+                s.t0.set(l, p.frame[0]);
+                s.t1.set(l, p.frame[1]);
+                s.ra.set(l, p.ra);
+                s.rb.set(l, p.rb);
+                s.adjusted.0[l] = p.adjusted;
+                s.normal_mass.0[l] = p.normal_mass;
+                s.normal_impulse.0[l] = p.normal_impulse;
+                for k in 0..2 {
+                    s.tangent_mass[k].0[l] = p.tangent_mass[k];
+                    s.slip[k].0[l] = p.slip[k];
+                    s.tangent_impulse[k].0[l] = p.tangent_impulse[k];
                 }
+                s.max_normal.0[l] = p.max_normal;
+                s.approach.0[l] = p.approach;
+                (s.total_normal.0[l], s.total_friction.0[l]) = (c.total_normal, c.total_friction);
             }
-            for (side, idx) in [q.a, q.b].iter().enumerate() {
-                let m = &mut q.mass[side];
-                for l in 0..W {
-                    let motion = &st.motion[if q.pair[l] == NONE { 0 } else { idx[l] as usize }];
-                    m.inv_mass.0[l] = motion.inv_mass;
-                    m.inv_i[0].set(l, motion.inv_i.x_axis);
-                    m.inv_i[1].set(l, motion.inv_i.y_axis);
-                    m.inv_i[2].set(l, motion.inv_i.z_axis);
-                    m.moves.0[l] = if motion.moves { u64::MAX } else { 0 };
-                }
-            }
-            st.quads3.push(q);
         }
-        begin = end;
+        for (side, idx) in [q.p.a, q.p.b].iter().enumerate() {
+            let m = &mut q.mass[side];
+            for l in 0..W {
+                let motion = &st.motion[if q.p.pair[l] == NONE { 0 } else { idx[l] as usize }];
+                m.inv_mass.0[l] = motion.inv_mass;
+                m.inv_i[0].set(l, motion.inv_i.x_axis);
+                m.inv_i[1].set(l, motion.inv_i.y_axis);
+                m.inv_i[2].set(l, motion.inv_i.z_axis);
+                m.moves.0[l] = if motion.moves { u64::MAX } else { 0 };
+            }
+        }
+        st.quads3.push(q);
     }
 }
 
@@ -185,10 +165,10 @@ pub(super) fn pack(st: &mut State<Space3>) {
 pub(super) fn unpack(st: &mut State<Space3>) {
     for q in &st.quads3 {
         for l in 0..W {
-            if q.pair[l] == NONE {
+            if q.p.pair[l] == NONE {
                 continue;
             }
-            let start = st.touching[q.pair[l] as usize].start as usize;
+            let start = st.touching[q.p.pair[l] as usize].start as usize;
             for (k, s) in st.slots3[q.slots.0 as usize..q.slots.1 as usize].iter().enumerate() {
                 if s.active.0[l] == 0 {
                     continue;
@@ -243,7 +223,7 @@ unsafe fn warm_avx2(quads: &[Quad], slots: &[Slot], motion: &mut [Motion<Space3>
 /// `passes::warm_start` on one quad: `normal * normal_impulse + t0 * ti0 + t1 * ti1` pushed.
 #[inline(always)]
 fn warm(q: &Quad, slots: &[Slot], motion: &mut [Motion<Space3>]) {
-    let (mut a, mut b) = (gather(q, &q.a, q.mass[0], motion), gather(q, &q.b, q.mass[1], motion));
+    let (mut a, mut b) = (gather(q, &q.p.a, q.mass[0], motion), gather(q, &q.p.b, q.mass[1], motion));
     for s in &slots[q.slots.0 as usize..q.slots.1 as usize] {
         let p =
             s.n.scale(s.normal_impulse)
@@ -321,7 +301,7 @@ fn push(a: &mut Side, b: &mut Side, on: M4, ra: V3, rb: V3, p: V3) {
 fn gather(q: &Quad, idx: &[u32; W], mass: Mass, motion: &[Motion<Space3>]) -> Side {
     let mut s = Side::default();
     for l in 0..W {
-        let m = &motion[if q.pair[l] == NONE { 0 } else { idx[l] as usize }];
+        let m = &motion[if q.p.pair[l] == NONE { 0 } else { idx[l] as usize }];
         s.v.set(l, m.v);
         s.w.set(l, m.w);
         s.dp.set(l, m.dp);
@@ -336,10 +316,10 @@ fn gather(q: &Quad, idx: &[u32; W], mass: Mass, motion: &[Motion<Space3>]) -> Si
 #[inline(always)]
 fn scatter(q: &Quad, a: &Side, b: &Side, motion: &mut [Motion<Space3>]) {
     for l in 0..W {
-        if q.pair[l] == NONE {
+        if q.p.pair[l] == NONE {
             continue;
         }
-        for (i, s) in [(q.a[l], a), (q.b[l], b)] {
+        for (i, s) in [(q.p.a[l], a), (q.p.b[l], b)] {
             let m = &mut motion[i as usize];
             m.v = DVec3::new(s.v.x.0[l], s.v.y.0[l], s.v.z.0[l]);
             m.w = DVec3::new(s.w.x.0[l], s.w.y.0[l], s.w.z.0[l]);
@@ -358,9 +338,9 @@ fn quad<const BIAS: bool>(
     push_speed: f64,
     g: DVec3,
 ) {
-    let (mut a, mut b) = (gather(q, &q.a, q.mass[0], motion), gather(q, &q.b, q.mass[1], motion));
+    let (mut a, mut b) = (gather(q, &q.p.a, q.mass[0], motion), gather(q, &q.p.b, q.mass[1], motion));
     let slots = &mut slots[q.slots.0 as usize..q.slots.1 as usize];
-    let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
+    let zero = F4::splat(0.0);
     let (inv_h4, h4) = (F4::splat(inv_h), F4::splat(1.0 / inv_h));
     let (push4, pull4) = (F4::splat(push_speed), F4::splat(-push_speed));
     let none = V3::default();
@@ -375,39 +355,33 @@ fn quad<const BIAS: bool>(
         }
         let d = b.dp.add(tb).sub(a.dp).sub(ta);
         let sep = d.dot(s.n) + s.adjusted;
-        let apart = sep.gt(zero);
-        let (vbias, mass_scale, impulse_scale) = if BIAS {
-            (
-                pick(apart, sep * inv_h4, (q.bias * sep).max(pull4)),
-                pick(apart, one, q.mass_scale),
-                pick(apart, zero, q.impulse_scale),
-            )
-        } else {
-            (pick(apart, sep * inv_h4, zero), one, zero)
-        };
         let vn = relative_velocity(&a, &b, s.ra, s.rb).dot(s.n);
         if BIAS {
             let g3 = V3::splat(g);
             let (fa, fb) = (V3::pick(a.mass.moves, g3, none), V3::pick(b.mass.moves, g3, none));
             let closing = -fb.sub(fa).dot(s.n);
             let arrived = s.approach.min(super::lanes::arrival(vn, sep, closing, h4));
-            s.approach = pick(s.active & q.restitution.gt(zero), arrived, s.approach);
+            s.approach = pick(s.active & q.p.restitution.gt(zero), arrived, s.approach);
         }
-        let ni = s.normal_impulse;
-        let imp = -s.normal_mass * (mass_scale * vn + vbias) - impulse_scale * ni;
-        let new = (ni + imp).max(zero);
-        let imp = new - ni;
-        s.normal_impulse = pick(s.active, new, ni);
-        s.max_normal = pick(s.active, s.max_normal.max(imp), s.max_normal);
+        let imp = normal::<BIAS>(
+            &q.p,
+            sep,
+            vn,
+            (inv_h4, pull4),
+            s.active,
+            s.normal_mass,
+            &mut s.normal_impulse,
+            &mut s.max_normal,
+        );
         push(&mut a, &mut b, s.active, s.ra, s.rb, s.n.scale(imp));
     }
     for (k, s) in slots.iter_mut().enumerate() {
         let (ta, tb) =
             if k < KEPT { turned[k] } else { (rotate(a.dq, a.dqw, s.ra), rotate(b.dq, b.dqw, s.rb)) };
-        let limit = q.friction * s.normal_impulse;
+        let limit = q.p.friction * s.normal_impulse;
         let dv = relative_velocity(&a, &b, s.ra, s.rb);
         let moved = b.dp.add(tb).sub(s.rb).sub(a.dp).sub(ta).add(s.ra);
-        let anchored = q.friction_bias.test(zero, |x, y| x != y);
+        let anchored = q.p.friction_bias.test(zero, |x, y| x != y);
         let mut new = [zero; 2];
         for (k, t) in [s.t0, s.t1].into_iter().enumerate() {
             let vt = dv.dot(t);
@@ -415,8 +389,8 @@ fn quad<const BIAS: bool>(
             let plain = ti - s.tangent_mass[k] * vt;
             new[k] = if BIAS {
                 let err = s.slip[k] + moved.dot(t);
-                let vbias = (q.friction_bias * err).clamp(pull4, push4);
-                let held = ti - s.tangent_mass[k] * (q.mass_scale * vt + vbias) - q.impulse_scale * ti;
+                let vbias = (q.p.friction_bias * err).clamp(pull4, push4);
+                let held = ti - s.tangent_mass[k] * (q.p.mass_scale * vt + vbias) - q.p.impulse_scale * ti;
                 pick(anchored, held, plain)
             } else {
                 plain
