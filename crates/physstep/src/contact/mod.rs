@@ -18,7 +18,6 @@ mod forces;
 mod ids;
 pub mod joint;
 mod lanes;
-mod lanes3;
 mod params;
 mod passes;
 mod points;

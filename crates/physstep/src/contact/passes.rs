@@ -56,7 +56,7 @@ pub(super) const COLOURS: usize = 64;
 /// of its moving solids has yet (a solid that does not move, whose velocities no pass
 /// changes, joins any number of a colour's pairs), then colour by colour, in pair order
 /// within a colour. The pairs of a colour share no moving solid, so solving them one after
-/// the other or side by side is the same (`lanes.rs` solves the plane's four at a time). The
+/// the other or side by side is the same (`lanes/` solves four at a time). The
 /// pairs left when a solid's pairs have taken the first `COLOURS - 1` colours all go to the
 /// last, which shares solids and is solved a pair at a time.
 pub(super) fn colour<S: Space>(st: &mut State<S>) {

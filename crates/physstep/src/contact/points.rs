@@ -188,10 +188,10 @@ pub(crate) struct State<S: Space> {
     pub(super) colours: Vec<u64>,
     pub(super) pair_colour: Vec<u8>,
     /// The points packed four pairs at a time for the plane's vector passes (scratch,
-    /// `lanes.rs`), and whether this step's are.
+    /// `lanes/`), and whether this step's are.
     pub(super) quads: Vec<super::lanes::Quad>,
-    pub(super) quads3: Vec<super::lanes3::Quad>,
-    pub(super) slots3: Vec<super::lanes3::Slot>,
+    pub(super) quads3: Vec<super::lanes::Quad3>,
+    pub(super) slots3: Vec<super::lanes::Slot3>,
     pub(super) lanes: bool,
     /// The passes over the contacts the latest step made (solve, relax and position passes,
     /// counted as they ran).

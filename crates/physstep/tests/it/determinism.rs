@@ -64,7 +64,7 @@ const HASHES: &[(&str, u64)] = &[
     // ground). Every other scene's hash is the same with it on and off. The Gauss-Seidel passes
     // and the warm start in the coloured order (contact/passes.rs `colour`: no two pairs of a
     // colour share a moving solid, so the plane's passes solve four pairs at a time,
-    // contact/lanes.rs) changed every scene whose solids touch more than one other solid:
+    // contact/lanes/) changed every scene whose solids touch more than one other solid:
     // ball-chain 0x8d833ce58d7ed934, stack 0x2104be3682e52717, pyramid 0xb8f8fbb5a96c4ce9,
     // box-stack 0xbced14b6178996ce, card-house 0xcc71da5258508cad, arch 0xa734c3429a2ba7e8,
     // domino 0x0cf04112d3d344af, overlap-recovery 0x8dd36e7e049bb7b9, far-pyramid

@@ -71,8 +71,8 @@ fn run_small(method: &str, forces: &[Force], vector: bool) -> u64 {
     w.state_hash()
 }
 
-/// The contact solvers' four-lane passes (`contact/lanes.rs` in the plane, `lanes3.rs` in
-/// space) and the one pair at a time passes: every scene with solids, under every solver that
+/// The contact solvers' four-lane passes (`contact/lanes/`: `plane.rs` in the plane,
+/// `space.rs` in space) and the one pair at a time passes: every scene with solids, under every solver that
 /// has them (the Gauss-Seidel ones), the same bits after a second and a half.
 #[test]
 fn the_four_lane_contact_passes_and_the_pair_at_a_time_ones_agree_bitwise() {

@@ -1,4 +1,4 @@
-//! Space's Gauss-Seidel passes four pairs at a time: `lanes.rs` for solids in 3D (quaternion
+//! Space's quads (`super`): the Gauss-Seidel passes four pairs at a time for solids in 3D (quaternion
 //! turns, inertia tensors, two tangents; a quad has as many point slots as its pair with the
 //! most points, in `State::slots3`), each lane's arithmetic exactly `passes::solve_pair`'s
 //! of that pair in space, operation for operation (glam's quaternion and matrix products
@@ -6,12 +6,9 @@
 //! order. A quad's masses and inertias, which a step does not change, are gathered once, when
 //! it is packed.
 
-// A lane loop indexes the lanes of several arrays alike.
-#![allow(clippy::needless_range_loop)]
-
-use super::lanes::{chunks, normal, pick, Pairs, F4, M4, NONE, W};
-use super::points::{Motion, State};
-use super::space::Space3;
+use super::{arrival, chunks, normal, pick, Pairs, F4, M4, NONE, W};
+use crate::contact::points::{Motion, State};
+use crate::contact::space::Space3;
 use glam::DVec3;
 
 /// A vector of four lanes.
@@ -61,7 +58,7 @@ impl V3 {
 
 /// One point of each of four pairs (a lane each).
 #[derive(Debug, Clone, Copy, Default)]
-pub(super) struct Slot {
+pub(in crate::contact) struct Slot {
     active: M4,
     n: V3,
     t0: V3,
@@ -83,7 +80,7 @@ pub(super) struct Slot {
 /// Four pairs of one colour, side by side; their points are the slots `slots.0..slots.1` of
 /// `State::slots3` (as many as the quad's pair with the most points).
 #[derive(Debug, Clone, Copy, Default)]
-pub(super) struct Quad {
+pub(in crate::contact) struct Quad {
     p: Pairs,
     slots: (u32, u32),
     /// The two sides' masses and inertias.
@@ -112,7 +109,7 @@ struct Mass {
     moves: M4,
 }
 
-/// Packs the points into quads (`lanes::pack` for space).
+/// Packs the points into quads (`super::pack` for space).
 pub(super) fn pack(st: &mut State<Space3>) {
     st.quads3.clear();
     st.slots3.clear();
@@ -161,7 +158,7 @@ pub(super) fn pack(st: &mut State<Space3>) {
     }
 }
 
-/// `lanes::unpack` for space.
+/// `super::unpack` for space.
 pub(super) fn unpack(st: &mut State<Space3>) {
     for q in &st.quads3 {
         for l in 0..W {
@@ -185,7 +182,7 @@ pub(super) fn unpack(st: &mut State<Space3>) {
     }
 }
 
-/// `lanes::accumulate` for space: `friction_size` is `sqrt(t0^2 + t1^2)`.
+/// `super::accumulate` for space: `friction_size` is `sqrt(t0^2 + t1^2)`.
 pub(super) fn accumulate(st: &mut State<Space3>) {
     {
         for s in &mut st.slots3 {
@@ -197,7 +194,7 @@ pub(super) fn accumulate(st: &mut State<Space3>) {
     }
 }
 
-/// The warm start over the quads (`lanes::warm_start` for space).
+/// The warm start over the quads (`super::warm_start` for space).
 pub(super) fn warm_start(st: &mut State<Space3>) {
     let State { quads3, slots3, motion, .. } = st;
     #[cfg(target_arch = "x86_64")]
@@ -234,7 +231,7 @@ fn warm(q: &Quad, slots: &[Slot], motion: &mut [Motion<Space3>]) {
     scatter(q, &a, &b, motion);
 }
 
-/// One Gauss-Seidel pass over the quads (`lanes::pass` for space).
+/// One Gauss-Seidel pass over the quads (`super::pass` for space).
 pub(super) fn pass<const BIAS: bool>(st: &mut State<Space3>, inv_h: f64, push_speed: f64, g: DVec3) {
     let State { quads3, slots3, motion, .. } = st;
     #[cfg(target_arch = "x86_64")]
@@ -360,7 +357,7 @@ fn quad<const BIAS: bool>(
             let g3 = V3::splat(g);
             let (fa, fb) = (V3::pick(a.mass.moves, g3, none), V3::pick(b.mass.moves, g3, none));
             let closing = -fb.sub(fa).dot(s.n);
-            let arrived = s.approach.min(super::lanes::arrival(vn, sep, closing, h4));
+            let arrived = s.approach.min(arrival(vn, sep, closing, h4));
             s.approach = pick(s.active & q.p.restitution.gt(zero), arrived, s.approach);
         }
         let imp = normal::<BIAS>(
