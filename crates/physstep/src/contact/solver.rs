@@ -256,8 +256,8 @@ pub(crate) fn step<S: Space>(solids: &mut Solids<S>, dt: f64, gravity: S::V) {
         }
     }
 
-    // The order of the warm start and the Gauss-Seidel passes, and in the plane their
-    // four-lane form (Jacobi's passes take the pairs as they come).
+    // The order of the warm start and the Gauss-Seidel passes, and their four-lane form
+    // (lanes/; Jacobi's passes take the pairs as they come).
     colour(st);
     if !plan.jacobi {
         lanes::pack(st);
