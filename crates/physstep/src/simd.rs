@@ -8,9 +8,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Whether the kernels may take their AVX2 code path (see [`set_vector_paths`]).
 static VECTOR_PATHS: AtomicBool = AtomicBool::new(true);
 
-/// Allows (the default) or forbids the AVX2 code paths (the particle kernels, n-body
-/// gravity), for the whole process. Both paths give bitwise the same results; this switch
-/// exists to check that, and to measure what the vector code gains.
+/// Allows (the default) or forbids the vector code paths (the particle kernels' and n-body
+/// gravity's AVX2 paths, the contact solver's four-lane passes), for the whole process. Both
+/// paths give bitwise the same results; this switch exists to check that, and to measure what
+/// the vector code gains.
 pub fn set_vector_paths(enabled: bool) {
     VECTOR_PATHS.store(enabled, Ordering::Relaxed);
 }
