@@ -25,7 +25,7 @@ mod space;
 pub(super) use plane::Quad;
 pub(super) use space::{Quad as Quad3, Slot as Slot3};
 
-use super::points::{Coefs, Pair, State};
+use super::points::{Coefs, Contact, Pair, Point, State};
 use super::space::{Plane, Space, Space3};
 use glam::{DVec2, DVec3};
 use std::any::Any;
@@ -292,40 +292,77 @@ pub(super) fn warm_start<S: Space>(st: &mut State<S>) -> bool {
     true
 }
 
-/// A point's normal impulse in four lanes, as `solve_pair`: apart (`sep > 0`), the bias that
-/// closes the gap in this substep and no more; else, in a solve pass (`BIAS`), the soft push
-/// (at most the push speed, `-pull`); the accumulated impulse kept at zero or more, and the
-/// largest increment. Returns the increment (applied where `active`).
-#[allow(clippy::too_many_arguments)] // a point's fields, each its own lanes
-#[inline(always)]
-pub(super) fn normal<const BIAS: bool>(
-    p: &Pairs,
-    sep: F4,
-    vn: F4,
-    (inv_h, pull): (F4, F4),
-    active: M4,
-    normal_mass: F4,
-    impulse: &mut F4,
-    max_normal: &mut F4,
-) -> F4 {
-    let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
-    let apart = sep.gt(zero);
-    let (vbias, mass_scale, impulse_scale) = if BIAS {
-        (
-            pick(apart, sep * inv_h, (p.bias * sep).max(pull)),
-            pick(apart, one, p.mass_scale),
-            pick(apart, zero, p.impulse_scale),
-        )
-    } else {
-        (pick(apart, sep * inv_h, zero), one, zero)
-    };
-    let ni = *impulse;
-    let imp = -normal_mass * (mass_scale * vn + vbias) - impulse_scale * ni;
-    let new = (ni + imp).max(zero);
-    let imp = new - ni;
-    *impulse = pick(active, new, ni);
-    *max_normal = pick(active, max_normal.max(imp), *max_normal);
-    imp
+/// What the plane's and space's point slots share: a point's normal row in four lanes (which
+/// lanes hold a point, its separation's offset and effective mass, its impulses and the
+/// step's totals).
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Row {
+    pub(super) active: M4,
+    pub(super) adjusted: F4,
+    pub(super) normal_mass: F4,
+    pub(super) normal_impulse: F4,
+    pub(super) max_normal: F4,
+    pub(super) approach: F4,
+    /// The step's sums of the substeps' impulses (the contact's report).
+    pub(super) total_normal: F4,
+    pub(super) total_friction: F4,
+}
+
+impl Row {
+    /// Lane `l` holds point `p` (its report `c`).
+    pub(super) fn set<S: Space>(&mut self, l: usize, p: &Point<S>, c: &Contact<S>) {
+        self.active.0[l] = u64::MAX;
+        (self.adjusted.0[l], self.normal_mass.0[l]) = (p.adjusted, p.normal_mass);
+        (self.normal_impulse.0[l], self.max_normal.0[l], self.approach.0[l]) =
+            (p.normal_impulse, p.max_normal, p.approach);
+        (self.total_normal.0[l], self.total_friction.0[l]) = (c.total_normal, c.total_friction);
+    }
+
+    /// Lane `l`'s impulses and totals written back to its point and report.
+    pub(super) fn put<S: Space>(&self, l: usize, p: &mut Point<S>, c: &mut Contact<S>) {
+        (p.normal_impulse, p.max_normal, p.approach) =
+            (self.normal_impulse.0[l], self.max_normal.0[l], self.approach.0[l]);
+        (c.total_normal, c.total_friction) = (self.total_normal.0[l], self.total_friction.0[l]);
+    }
+
+    /// The substep's impulses added to the totals (`friction`: the friction impulse's size).
+    #[inline(always)]
+    pub(super) fn accumulate(&mut self, friction: F4) {
+        self.total_normal = pick(self.active, self.total_normal + self.normal_impulse, self.total_normal);
+        self.total_friction = pick(self.active, self.total_friction + friction, self.total_friction);
+    }
+
+    /// The point's normal impulse, as `solve_pair`: apart (`sep > 0`), the bias that closes the
+    /// gap in this substep and no more; else, in a solve pass (`BIAS`), the soft push (at most
+    /// the push speed, `-pull`); the accumulated impulse kept at zero or more, and the largest
+    /// increment. Returns the increment (applied where `active`).
+    #[inline(always)]
+    pub(super) fn solve<const BIAS: bool>(
+        &mut self,
+        p: &Pairs,
+        sep: F4,
+        vn: F4,
+        (inv_h, pull): (F4, F4),
+    ) -> F4 {
+        let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
+        let apart = sep.gt(zero);
+        let (vbias, mass_scale, impulse_scale) = if BIAS {
+            (
+                pick(apart, sep * inv_h, (p.bias * sep).max(pull)),
+                pick(apart, one, p.mass_scale),
+                pick(apart, zero, p.impulse_scale),
+            )
+        } else {
+            (pick(apart, sep * inv_h, zero), one, zero)
+        };
+        let ni = self.normal_impulse;
+        let imp = -self.normal_mass * (mass_scale * vn + vbias) - impulse_scale * ni;
+        let new = (ni + imp).max(zero);
+        let imp = new - ni;
+        self.normal_impulse = pick(self.active, new, ni);
+        self.max_normal = pick(self.active, self.max_normal.max(imp), self.max_normal);
+        imp
+    }
 }
 
 /// [`super::passes`]' `arrival`, lane by lane, without early returns (the same values).

@@ -2,7 +2,7 @@
 //! two), one tangent, the turns since the step began as `(cos, sin)`, each lane the plane's
 //! `solve_pair` written out.
 
-use super::{arrival, chunks, normal, pick, Pairs, F4, M4, NONE, W};
+use super::{arrival, chunks, pick, Pairs, Row, F4, M4, NONE, W};
 use crate::contact::points::{Motion, State};
 use crate::contact::space::Plane;
 use glam::DVec2;
@@ -10,27 +10,19 @@ use glam::DVec2;
 /// One point of each of four pairs (a lane each): what the passes read and write.
 #[derive(Debug, Clone, Copy, Default)]
 struct Slot {
-    active: M4,
+    row: Row,
     nx: F4,
     ny: F4,
     rax: F4,
     ray: F4,
     rbx: F4,
     rby: F4,
-    adjusted: F4,
-    normal_mass: F4,
     tangent_mass: F4,
     slip: F4,
-    normal_impulse: F4,
     tangent_impulse: F4,
     /// The second tangent's impulse as the scalar pass leaves it (0, scaled by the friction
     /// clamp: kept for the bits).
     tangent_other: F4,
-    max_normal: F4,
-    approach: F4,
-    /// The step's sums of the substeps' impulses (the contact's report).
-    total_normal: F4,
-    total_friction: F4,
 }
 
 /// Four pairs of one colour, side by side, with up to two points each (the plane's manifolds
@@ -68,20 +60,14 @@ pub(super) fn pack(st: &mut State<Plane>) -> bool {
             let pair = &st.touching[k as usize];
             q.p.set(l, k, pair);
             let points = &st.points[pair.start as usize..pair.end as usize];
-            for (s_index, (s, p)) in q.slots.iter_mut().zip(points).enumerate() {
-                s.active.0[l] = u64::MAX;
+            let contacts = &st.contacts[pair.start as usize..pair.end as usize];
+            for ((s, p), c) in q.slots.iter_mut().zip(points).zip(contacts) {
+                s.row.set(l, p, c);
                 (s.nx.0[l], s.ny.0[l]) = (p.normal.x, p.normal.y);
                 (s.rax.0[l], s.ray.0[l], s.rbx.0[l], s.rby.0[l]) = (p.ra.x, p.ra.y, p.rb.x, p.rb.y);
-                s.adjusted.0[l] = p.adjusted;
-                s.normal_mass.0[l] = p.normal_mass;
                 s.tangent_mass.0[l] = p.tangent_mass[0];
                 s.slip.0[l] = p.slip[0];
-                s.normal_impulse.0[l] = p.normal_impulse;
                 (s.tangent_impulse.0[l], s.tangent_other.0[l]) = (p.tangent_impulse[0], p.tangent_impulse[1]);
-                s.max_normal.0[l] = p.max_normal;
-                s.approach.0[l] = p.approach;
-                let c = &st.contacts[pair.start as usize + s_index];
-                (s.total_normal.0[l], s.total_friction.0[l]) = (c.total_normal, c.total_friction);
             }
         }
         st.quads.push(q);
@@ -99,8 +85,7 @@ pub(super) fn accumulate(st: &mut State<Plane>) {
             let plain =
                 other.test(zero, |x, y| x == y) & (a.test(zero, |x, y| x == y) | (a.gt(tiny) & a.lt(huge)));
             let size = pick(plain, a, (t * t + other * other).map(f64::sqrt));
-            s.total_normal = pick(s.active, s.total_normal + s.normal_impulse, s.total_normal);
-            s.total_friction = pick(s.active, s.total_friction + size, s.total_friction);
+            s.row.accumulate(size);
         }
     }
 }
@@ -114,16 +99,12 @@ pub(super) fn unpack(st: &mut State<Plane>) {
             }
             let start = st.touching[q.p.pair[l] as usize].start as usize;
             for (k, s) in q.slots.iter().enumerate() {
-                if s.active.0[l] == 0 {
+                if s.row.active.0[l] == 0 {
                     continue;
                 }
                 let p = &mut st.points[start + k];
-                p.normal_impulse = s.normal_impulse.0[l];
+                s.row.put(l, p, &mut st.contacts[start + k]);
                 p.tangent_impulse = [s.tangent_impulse.0[l], s.tangent_other.0[l]];
-                p.max_normal = s.max_normal.0[l];
-                p.approach = s.approach.0[l];
-                let c = &mut st.contacts[start + k];
-                (c.total_normal, c.total_friction) = (s.total_normal.0[l], s.total_friction.0[l]);
             }
         }
     }
@@ -175,10 +156,10 @@ fn warm(q: &Quad, motion: &mut [Motion<Plane>]) {
     for s in &q.slots {
         let (tx, ty) = (-s.ny, s.nx);
         let p = (
-            s.nx * s.normal_impulse + tx * s.tangent_impulse,
-            s.ny * s.normal_impulse + ty * s.tangent_impulse,
+            s.nx * s.row.normal_impulse + tx * s.tangent_impulse,
+            s.ny * s.row.normal_impulse + ty * s.tangent_impulse,
         );
-        push(&mut a, &mut b, s.active, (s.rax, s.ray), (s.rbx, s.rby), p);
+        push(&mut a, &mut b, s.row.active, (s.rax, s.ray), (s.rbx, s.rby), p);
     }
     scatter(q, &a, &b, motion);
 }
@@ -216,7 +197,7 @@ fn quad<const BIAS: bool>(q: &mut Quad, motion: &mut [Motion<Plane>], inv_h: f64
         *t = [tax, tay, tbx, tby];
         let dx = b.dpx + tbx - a.dpx - tax;
         let dy = b.dpy + tby - a.dpy - tay;
-        let sep = (dx * s.nx + dy * s.ny) + s.adjusted;
+        let sep = (dx * s.nx + dy * s.ny) + s.row.adjusted;
         let (rvx, rvy) = relative_velocity(&a, &b, (s.rax, s.ray), (s.rbx, s.rby));
         let vn = rvx * s.nx + rvy * s.ny;
         if BIAS {
@@ -224,24 +205,15 @@ fn quad<const BIAS: bool>(q: &mut Quad, motion: &mut [Motion<Plane>], inv_h: f64
             let (fax, fay) = (pick(a.moves, gx, zero), pick(a.moves, gy, zero));
             let (fbx, fby) = (pick(b.moves, gx, zero), pick(b.moves, gy, zero));
             let closing = -((fbx - fax) * s.nx + (fby - fay) * s.ny);
-            let arrived = s.approach.min(arrival(vn, sep, closing, h4));
-            s.approach = pick(s.active & q.p.restitution.gt(zero), arrived, s.approach);
+            let arrived = s.row.approach.min(arrival(vn, sep, closing, h4));
+            s.row.approach = pick(s.row.active & q.p.restitution.gt(zero), arrived, s.row.approach);
         }
-        let imp = normal::<BIAS>(
-            &q.p,
-            sep,
-            vn,
-            (inv_h4, pull4),
-            s.active,
-            s.normal_mass,
-            &mut s.normal_impulse,
-            &mut s.max_normal,
-        );
-        push(&mut a, &mut b, s.active, (s.rax, s.ray), (s.rbx, s.rby), (s.nx * imp, s.ny * imp));
+        let imp = s.row.solve::<BIAS>(&q.p, sep, vn, (inv_h4, pull4));
+        push(&mut a, &mut b, s.row.active, (s.rax, s.ray), (s.rbx, s.rby), (s.nx * imp, s.ny * imp));
     }
     let (tiny, huge) = (F4::splat(1e-150), F4::splat(1e150));
     for (s, t) in q.slots.iter_mut().zip(&turned) {
-        let limit = q.p.friction * s.normal_impulse;
+        let limit = q.p.friction * s.row.normal_impulse;
         let (ra, rb) = ((s.rax, s.ray), (s.rbx, s.rby));
         let (dvx, dvy) = relative_velocity(&a, &b, ra, rb);
         let (tx, ty) = (-s.ny, s.nx);
@@ -267,9 +239,9 @@ fn quad<const BIAS: bool>(q: &mut Quad, motion: &mut [Motion<Plane>], inv_h: f64
         new = pick(over, new * f, new);
         let other = pick(over, zero * f, zero);
         let d = new - ti;
-        s.tangent_impulse = pick(s.active, new, ti);
-        s.tangent_other = pick(s.active, other, s.tangent_other);
-        push(&mut a, &mut b, s.active, ra, rb, (zero + tx * d, zero + ty * d));
+        s.tangent_impulse = pick(s.row.active, new, ti);
+        s.tangent_other = pick(s.row.active, other, s.tangent_other);
+        push(&mut a, &mut b, s.row.active, ra, rb, (zero + tx * d, zero + ty * d));
     }
     scatter(q, &a, &b, motion);
 }

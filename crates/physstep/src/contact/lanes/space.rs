@@ -6,7 +6,7 @@
 //! order. A quad's masses and inertias, which a step does not change, are gathered once, when
 //! it is packed.
 
-use super::{arrival, chunks, normal, pick, Pairs, F4, M4, NONE, W};
+use super::{arrival, chunks, pick, Pairs, Row, F4, M4, NONE, W};
 use crate::contact::points::{Motion, State};
 use crate::contact::space::Space3;
 use glam::DVec3;
@@ -59,22 +59,15 @@ impl V3 {
 /// One point of each of four pairs (a lane each).
 #[derive(Debug, Clone, Copy, Default)]
 pub(in crate::contact) struct Slot {
-    active: M4,
+    row: Row,
     n: V3,
     t0: V3,
     t1: V3,
     ra: V3,
     rb: V3,
-    adjusted: F4,
-    normal_mass: F4,
     tangent_mass: [F4; 2],
     slip: [F4; 2],
-    normal_impulse: F4,
     tangent_impulse: [F4; 2],
-    max_normal: F4,
-    approach: F4,
-    total_normal: F4,
-    total_friction: F4,
 }
 
 /// Four pairs of one colour, side by side; their points are the slots `slots.0..slots.1` of
@@ -124,23 +117,17 @@ pub(super) fn pack(st: &mut State<Space3>) {
             q.p.set(l, k, pair);
             let range = pair.start as usize..pair.end as usize;
             for ((s, p), c) in slots.iter_mut().zip(&st.points[range.clone()]).zip(&st.contacts[range]) {
-                s.active.0[l] = u64::MAX;
+                s.row.set(l, p, c);
                 s.n.set(l, p.normal);
                 s.t0.set(l, p.frame[0]);
                 s.t1.set(l, p.frame[1]);
                 s.ra.set(l, p.ra);
                 s.rb.set(l, p.rb);
-                s.adjusted.0[l] = p.adjusted;
-                s.normal_mass.0[l] = p.normal_mass;
-                s.normal_impulse.0[l] = p.normal_impulse;
                 for k in 0..2 {
                     s.tangent_mass[k].0[l] = p.tangent_mass[k];
                     s.slip[k].0[l] = p.slip[k];
                     s.tangent_impulse[k].0[l] = p.tangent_impulse[k];
                 }
-                s.max_normal.0[l] = p.max_normal;
-                s.approach.0[l] = p.approach;
-                (s.total_normal.0[l], s.total_friction.0[l]) = (c.total_normal, c.total_friction);
             }
         }
         for (side, idx) in [q.p.a, q.p.b].iter().enumerate() {
@@ -167,16 +154,12 @@ pub(super) fn unpack(st: &mut State<Space3>) {
             }
             let start = st.touching[q.p.pair[l] as usize].start as usize;
             for (k, s) in st.slots3[q.slots.0 as usize..q.slots.1 as usize].iter().enumerate() {
-                if s.active.0[l] == 0 {
+                if s.row.active.0[l] == 0 {
                     continue;
                 }
                 let p = &mut st.points[start + k];
-                p.normal_impulse = s.normal_impulse.0[l];
+                s.row.put(l, p, &mut st.contacts[start + k]);
                 p.tangent_impulse = [s.tangent_impulse[0].0[l], s.tangent_impulse[1].0[l]];
-                p.max_normal = s.max_normal.0[l];
-                p.approach = s.approach.0[l];
-                let c = &mut st.contacts[start + k];
-                (c.total_normal, c.total_friction) = (s.total_normal.0[l], s.total_friction.0[l]);
             }
         }
     }
@@ -188,8 +171,7 @@ pub(super) fn accumulate(st: &mut State<Space3>) {
         for s in &mut st.slots3 {
             let [t0, t1] = s.tangent_impulse;
             let size = (t0 * t0 + t1 * t1).map(f64::sqrt);
-            s.total_normal = pick(s.active, s.total_normal + s.normal_impulse, s.total_normal);
-            s.total_friction = pick(s.active, s.total_friction + size, s.total_friction);
+            s.row.accumulate(size);
         }
     }
 }
@@ -223,10 +205,10 @@ fn warm(q: &Quad, slots: &[Slot], motion: &mut [Motion<Space3>]) {
     let (mut a, mut b) = (gather(q, &q.p.a, q.mass[0], motion), gather(q, &q.p.b, q.mass[1], motion));
     for s in &slots[q.slots.0 as usize..q.slots.1 as usize] {
         let p =
-            s.n.scale(s.normal_impulse)
+            s.n.scale(s.row.normal_impulse)
                 .add(s.t0.scale(s.tangent_impulse[0]))
                 .add(s.t1.scale(s.tangent_impulse[1]));
-        push(&mut a, &mut b, s.active, s.ra, s.rb, p);
+        push(&mut a, &mut b, s.row.active, s.ra, s.rb, p);
     }
     scatter(q, &a, &b, motion);
 }
@@ -351,31 +333,22 @@ fn quad<const BIAS: bool>(
             turned[k] = (ta, tb);
         }
         let d = b.dp.add(tb).sub(a.dp).sub(ta);
-        let sep = d.dot(s.n) + s.adjusted;
+        let sep = d.dot(s.n) + s.row.adjusted;
         let vn = relative_velocity(&a, &b, s.ra, s.rb).dot(s.n);
         if BIAS {
             let g3 = V3::splat(g);
             let (fa, fb) = (V3::pick(a.mass.moves, g3, none), V3::pick(b.mass.moves, g3, none));
             let closing = -fb.sub(fa).dot(s.n);
-            let arrived = s.approach.min(arrival(vn, sep, closing, h4));
-            s.approach = pick(s.active & q.p.restitution.gt(zero), arrived, s.approach);
+            let arrived = s.row.approach.min(arrival(vn, sep, closing, h4));
+            s.row.approach = pick(s.row.active & q.p.restitution.gt(zero), arrived, s.row.approach);
         }
-        let imp = normal::<BIAS>(
-            &q.p,
-            sep,
-            vn,
-            (inv_h4, pull4),
-            s.active,
-            s.normal_mass,
-            &mut s.normal_impulse,
-            &mut s.max_normal,
-        );
-        push(&mut a, &mut b, s.active, s.ra, s.rb, s.n.scale(imp));
+        let imp = s.row.solve::<BIAS>(&q.p, sep, vn, (inv_h4, pull4));
+        push(&mut a, &mut b, s.row.active, s.ra, s.rb, s.n.scale(imp));
     }
     for (k, s) in slots.iter_mut().enumerate() {
         let (ta, tb) =
             if k < KEPT { turned[k] } else { (rotate(a.dq, a.dqw, s.ra), rotate(b.dq, b.dqw, s.rb)) };
-        let limit = q.p.friction * s.normal_impulse;
+        let limit = q.p.friction * s.row.normal_impulse;
         let dv = relative_velocity(&a, &b, s.ra, s.rb);
         let moved = b.dp.add(tb).sub(s.rb).sub(a.dp).sub(ta).add(s.ra);
         let anchored = q.p.friction_bias.test(zero, |x, y| x != y);
@@ -401,9 +374,9 @@ fn quad<const BIAS: bool>(
             .add(s.t0.scale(new[0] - s.tangent_impulse[0]))
             .add(s.t1.scale(new[1] - s.tangent_impulse[1]));
         for k in 0..2 {
-            s.tangent_impulse[k] = pick(s.active, new[k], s.tangent_impulse[k]);
+            s.tangent_impulse[k] = pick(s.row.active, new[k], s.tangent_impulse[k]);
         }
-        push(&mut a, &mut b, s.active, s.ra, s.rb, imp);
+        push(&mut a, &mut b, s.row.active, s.ra, s.rb, imp);
     }
     scatter(q, &a, &b, motion);
 }
