@@ -180,24 +180,29 @@ impl PyForce {
         keep(&self.slot, py, e)
     }
 
-    /// Adds the `(rows, cols)` float array `out` to `acc`, or says what is wrong with it.
-    fn add_matrix(
+    /// Hands the `(rows, cols)` float array `out` to `take` as one row-major slice (read in
+    /// place when it is a C-contiguous float64 array, converted otherwise), or says what is
+    /// wrong with it.
+    fn read_matrix(
         out: &Bound<'_, PyAny>,
         what: &str,
         rows: usize,
         cols: usize,
-        acc: &mut [f64],
+        take: &mut dyn FnMut(&[f64]),
     ) -> Result<(), String> {
         let bad_shape =
             |a: &Bound<'_, PyAny>| format!("{what} must have shape ({rows}, {cols}), not {}", shape(a));
         // The common case, read in place: a C-contiguous float64 array of the right shape.
         if let Ok(a) = out.cast::<PyArray2<f64>>() {
-            if a.shape() == [rows, cols] {
-                if let Ok(r) = a.try_readonly() {
-                    if let Ok(s) = r.as_slice() {
-                        acc.iter_mut().zip(s).for_each(|(d, g)| *d += g);
-                        return Ok(());
-                    }
+            if a.shape() == [rows, cols] && a.is_c_contiguous() {
+                // SAFETY: the GIL is held from here until `take` returns, and neither `take`
+                // nor anything else in this crate holds a mutable borrow of the array: no
+                // one writes it while it is read (Python code would need the GIL). Not
+                // `try_readonly`: its borrow bookkeeping (a global map) cost as much as the
+                // rest of an evaluation at one particle.
+                if let Ok(s) = unsafe { a.as_slice() } {
+                    take(s);
+                    return Ok(());
                 }
             }
         }
@@ -208,8 +213,43 @@ impl PyForce {
         if a.shape() != [rows, cols] {
             return Err(bad_shape(&arr));
         }
-        acc.iter_mut().zip(a.as_array().iter()).for_each(|(d, g)| *d += g);
+        match a.as_slice() {
+            Ok(s) => take(s),
+            Err(_) => take(&a.as_array().iter().copied().collect::<Vec<f64>>()),
+        }
         Ok(())
+    }
+
+    /// Calls the callable at `t`, `x`, `v` (and `out`) and hands the forces it gave to `take`.
+    fn call(&self, t: f64, x: &[f64], v: &[f64], take: &mut dyn FnMut(&[f64])) -> Result<(), String> {
+        Python::attach(|py| {
+            let n = x.len() / self.dim;
+            let lent = (|| -> PyResult<_> {
+                let xa = self.take(py, Which::X, n, Some(x))?;
+                let va = self.take(py, Which::V, n, Some(v))?;
+                let out = if self.inplace { Some(self.take(py, Which::Out, n, None)?) } else { None };
+                Ok((xa, va, out))
+            })();
+            let (xa, va, out) = lent.map_err(|e| self.keep(py, e))?;
+            let r = match &out {
+                Some(o) => self.func.bind(py).call1((t, &xa, &va, o)),
+                None => self.func.bind(py).call1((t, &xa, &va)),
+            };
+            self.give_back(Which::X, xa);
+            self.give_back(Which::V, va);
+            let r = r.map_err(|e| self.keep(py, e)).and_then(|ret| match &out {
+                Some(o) if ret.is_none() || ret.is(o) => {
+                    drop(ret);
+                    Self::read_matrix(o.as_any(), "the force written to out", n, self.dim, take)
+                }
+                _ => Self::read_matrix(&ret, "the returned force", n, self.dim, take),
+            });
+            if let Some(o) = out {
+                self.give_back(Which::Out, o);
+            }
+            // (The engine checks the forces for NaN and infinity, and names the entry.)
+            r
+        })
     }
 }
 
@@ -307,34 +347,20 @@ impl ForceGenerator for PyForce {
     }
 
     fn add_forces(&self, t: f64, x: &[f64], v: &[f64], f: &mut [f64]) -> Result<(), String> {
-        Python::attach(|py| {
-            let n = x.len() / self.dim;
-            let lent = (|| -> PyResult<_> {
-                let xa = self.take(py, Which::X, n, Some(x))?;
-                let va = self.take(py, Which::V, n, Some(v))?;
-                let out = if self.inplace { Some(self.take(py, Which::Out, n, None)?) } else { None };
-                Ok((xa, va, out))
-            })();
-            let (xa, va, out) = lent.map_err(|e| self.keep(py, e))?;
-            let r = match &out {
-                Some(o) => self.func.bind(py).call1((t, &xa, &va, o)),
-                None => self.func.bind(py).call1((t, &xa, &va)),
-            };
-            self.give_back(Which::X, xa);
-            self.give_back(Which::V, va);
-            let r = r.map_err(|e| self.keep(py, e)).and_then(|ret| match &out {
-                Some(o) if ret.is_none() || ret.is(o) => {
-                    drop(ret);
-                    Self::add_matrix(o.as_any(), "the force written to out", n, self.dim, f)
-                }
-                _ => Self::add_matrix(&ret, "the returned force", n, self.dim, f),
-            });
-            if let Some(o) = out {
-                self.give_back(Which::Out, o);
-            }
-            // (The engine checks the sum for NaN and infinity, and names the entry.)
-            r
-        })
+        self.call(t, x, v, &mut |g| f.iter_mut().zip(g).for_each(|(d, g)| *d += g))
+    }
+
+    /// The forces read where the callable left them (its `out`, or the array it returned),
+    /// not added into `scratch` first.
+    fn forces_to(
+        &self,
+        t: f64,
+        x: &[f64],
+        v: &[f64],
+        _scratch: &mut Vec<f64>,
+        take: &mut dyn FnMut(&[f64]),
+    ) -> Result<(), String> {
+        self.call(t, x, v, take)
     }
 
     fn velocity_dependent(&self) -> bool {
@@ -395,8 +421,10 @@ impl ForceGenerator for PyForce {
                 })?;
                 let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
                 for (m, what, acc) in [(&pair.0, "dF/dx", &mut a), (&pair.1, "dF/dv", &mut b)] {
-                    Self::add_matrix(m, what, n, n, acc)
-                        .map_err(|e| bad_jacobian(&self.name, format!("returned {e}")))?;
+                    Self::read_matrix(m, what, n, n, &mut |g| {
+                        acc.iter_mut().zip(g).for_each(|(d, g)| *d += g)
+                    })
+                    .map_err(|e| bad_jacobian(&self.name, format!("returned {e}")))?;
                     if let Some(i) = acc.iter().position(|c| !c.is_finite()) {
                         let reason = format!(
                             "returned {what}[{}][{}] = {}: must be finite",

@@ -247,9 +247,13 @@ impl World {
         if work >= WATCHED_WORK {
             py.check_signals()?;
         }
+        // A Python force takes the GIL at each evaluation: the steps keep it rather than give
+        // it up and take it back around every call (other threads still run while the
+        // force's Python code does).
+        let python_inside = w.model().user_forces() > 0;
         while left > 0 {
             let before = w.steps();
-            let taken = py.detach(|| -> physstep::Result<()> {
+            let mut slice = || -> physstep::Result<()> {
                 let start = Instant::now();
                 let mut k = 0;
                 while k < left {
@@ -261,7 +265,8 @@ impl World {
                     }
                 }
                 Ok(())
-            });
+            };
+            let taken = if python_inside { slice() } else { py.detach(slice) };
             left -= w.steps() - before;
             if let Err(e) = taken {
                 if !crate::interrupt::stopped(py, &e, Some(&slot))? {

@@ -25,6 +25,29 @@ pub trait ForceGenerator: Send + Sync {
     /// [`crate::Error::Force`] naming the force.
     fn add_forces(&self, t: f64, x: &[f64], v: &[f64], f: &mut [f64]) -> Result<(), String>;
 
+    /// Hands the forces, N, at `t`, `x`, `v` to `take` as one `x.len()`-long slice, the way a
+    /// world with a single generator reads them: it adds them to the accelerations in the same
+    /// pass that checks them, so a generator that already holds its forces in a buffer of its
+    /// own (a Python force's array) saves the copy into `scratch` and a pass over it. The
+    /// default zeroes `scratch`, calls [`ForceGenerator::add_forces`] into it and hands it on.
+    ///
+    /// # Errors
+    /// As [`ForceGenerator::add_forces`]; `take` is then not called.
+    fn forces_to(
+        &self,
+        t: f64,
+        x: &[f64],
+        v: &[f64],
+        scratch: &mut Vec<f64>,
+        take: &mut dyn FnMut(&[f64]),
+    ) -> Result<(), String> {
+        scratch.clear();
+        scratch.resize(x.len(), 0.0);
+        self.add_forces(t, x, v, scratch)?;
+        take(scratch);
+        Ok(())
+    }
+
     /// Whether the forces depend on `v` (the default, the safe answer). Methods that would
     /// re-evaluate at an end-of-step velocity skip it when no force depends on velocity.
     fn velocity_dependent(&self) -> bool {

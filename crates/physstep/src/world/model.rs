@@ -184,33 +184,51 @@ impl Model {
     /// Adds the user forces' accelerations to `a`. A failing generator (or one that returns
     /// a non-finite force) poisons `a` with NaN, so the step fails and is rolled back, and
     /// leaves its error in `failure` for the world to report.
+    ///
+    /// One generator (the common case) hands its forces over once
+    /// ([`crate::forces::ForceGenerator::forces_to`]): checked and added in one pass, the
+    /// same sum as the general path's (its forces added to zeros, then scaled). Several are
+    /// summed in `user_f` first, the sum checked after each.
     fn add_user(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
-        let f = &mut self.user_f;
-        f.clear();
-        f.resize(x.len(), 0.0);
-        for g in &self.user {
-            let r = g.0.add_forces(t, x, v, f).map_err(|reason| (reason, false)).and_then(|()| {
-                match f.iter().position(|c| !c.is_finite()) {
-                    None => Ok(()),
-                    Some(i) => Err((
-                        format!("force[{}][{}] = {} is not finite", i / self.dim, i % self.dim, f[i]),
-                        true,
-                    )),
-                }
+        let dim = self.dim;
+        let failed = if let [g] = self.user.as_slice() {
+            let (w, mut handed) = (&self.inv_mass, None);
+            let r = g.0.forces_to(t, x, v, &mut self.user_f, &mut |f| {
+                handed = Some(if f.len() == a.len() { Ok(add_accel(dim, w, f, a)) } else { Err(f.len()) });
             });
-            if let Err((reason, non_finite)) = r {
-                if self.failure.is_none() {
-                    self.failure = Some(Error::Force { name: g.0.name().to_string(), reason, non_finite });
+            match (r, handed) {
+                (Err(reason), _) => Some((g, reason, false)),
+                (Ok(()), None) => Some((g, "handed no forces".into(), false)),
+                (Ok(()), Some(Err(len))) => {
+                    Some((g, format!("handed {len} force components, not {}", a.len()), false))
                 }
-                a.fill(f64::NAN);
-                return;
+                (Ok(()), Some(Ok(None))) => None,
+                (Ok(()), Some(Ok(Some((i, c))))) => {
+                    Some((g, format!("force[{}][{}] = {c} is not finite", i / dim, i % dim), true))
+                }
             }
-        }
-        for (p, (ap, fp)) in a.chunks_exact_mut(self.dim).zip(f.chunks_exact(self.dim)).enumerate() {
-            let w = self.inv_mass[p];
-            for (ak, fk) in ap.iter_mut().zip(fp) {
-                *ak += w * fk;
+        } else {
+            let f = &mut self.user_f;
+            f.clear();
+            f.resize(x.len(), 0.0);
+            let failed = self.user.iter().find_map(|g| match g.0.add_forces(t, x, v, f) {
+                Err(reason) => Some((g, reason, false)),
+                Ok(()) => f
+                    .iter()
+                    .position(|c| !c.is_finite())
+                    .map(|i| (g, format!("force[{}][{}] = {} is not finite", i / dim, i % dim, f[i]), true)),
+            });
+            if failed.is_none() {
+                let bad = add_accel(dim, &self.inv_mass, f, a);
+                debug_assert!(bad.is_none(), "the sum was checked finite");
             }
+            failed
+        };
+        if let Some((g, reason, non_finite)) = failed {
+            if self.failure.is_none() {
+                self.failure = Some(Error::Force { name: g.0.name().to_string(), reason, non_finite });
+            }
+            a.fill(f64::NAN);
         }
     }
 
@@ -286,6 +304,31 @@ impl Model {
             *e += k;
         }
     }
+}
+
+/// `a += w f` particle by particle (`w` the inverse masses; each force added to zero first, as
+/// the sum of the forces of several generators starts: the same bits), in one pass that also
+/// checks `f`: the first non-finite entry, if any (`a` is then not all written).
+fn add_accel(dim: usize, w: &[f64], f: &[f64], a: &mut [f64]) -> Option<(usize, f64)> {
+    fn add<const D: usize>(w: &[f64], f: &[f64], a: &mut [f64]) -> bool {
+        let mut finite = true;
+        for ((ap, fp), w) in a.chunks_exact_mut(D).zip(f.chunks_exact(D)).zip(w) {
+            for (ak, fk) in ap.iter_mut().zip(fp) {
+                finite &= fk.is_finite();
+                *ak += w * (0.0 + fk);
+            }
+        }
+        finite
+    }
+    let finite = match dim {
+        1 => add::<1>(w, f, a),
+        2 => add::<2>(w, f, a),
+        _ => add::<3>(w, f, a),
+    };
+    if finite {
+        return None;
+    }
+    f.iter().position(|c| !c.is_finite()).map(|i| (i, f[i]))
 }
 
 #[cfg(test)]

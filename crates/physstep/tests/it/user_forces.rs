@@ -107,3 +107,92 @@ fn a_user_force_without_a_potential_leaves_the_energy_unknown() {
     w.add_force_generator(Arc::new(Flaky(Arc::new(AtomicBool::new(false))))).unwrap();
     assert!(w.energy().is_none());
 }
+
+/// Hands `forces_to` a slice of its own (as the Python forces do): `len` entries of `value`,
+/// or nothing at all when `len` is `None`.
+struct Handing {
+    len: Option<usize>,
+    value: f64,
+}
+
+impl ForceGenerator for Handing {
+    fn name(&self) -> &str {
+        "handing"
+    }
+
+    fn add_forces(&self, _t: f64, _x: &[f64], _v: &[f64], f: &mut [f64]) -> Result<(), String> {
+        f.iter_mut().for_each(|c| *c += self.value);
+        Ok(())
+    }
+
+    fn forces_to(
+        &self,
+        _t: f64,
+        _x: &[f64],
+        _v: &[f64],
+        _scratch: &mut Vec<f64>,
+        take: &mut dyn FnMut(&[f64]),
+    ) -> Result<(), String> {
+        if let Some(len) = self.len {
+            take(&vec![self.value; len]);
+        }
+        Ok(())
+    }
+}
+
+/// Always zero, with its (zero) jacobian: the implicit methods then use the spring's.
+struct Nothing;
+
+impl ForceGenerator for Nothing {
+    fn add_forces(&self, _t: f64, _x: &[f64], _v: &[f64], _f: &mut [f64]) -> Result<(), String> {
+        Ok(())
+    }
+
+    fn jacobian(&self, _t: f64, _x: &[f64], _v: &[f64], _dfdx: &mut [f64], _dfdv: &mut [f64]) -> bool {
+        true
+    }
+}
+
+#[test]
+fn one_user_force_read_once_gives_the_bits_of_the_sum_of_several() {
+    // One generator's forces are checked and added as handed (`forces_to`); two are summed
+    // first. A zero force beside the spring leaves the sum, so the bits must agree.
+    for info in &INFOS {
+        let mut one = world(info.name, true);
+        let mut two = world(info.name, true);
+        two.add_force_generator(Arc::new(Nothing)).unwrap();
+        one.step(50).unwrap();
+        two.step(50).unwrap();
+        assert_eq!(one.state_hash(), two.state_hash(), "{}", info.name);
+    }
+}
+
+#[test]
+fn a_user_force_that_hands_the_wrong_forces_fails_the_step_and_is_named() {
+    let cases = [
+        (Some(1), 1.0, "force 'handing' failed: handed 1 force components, not 2; step rolled back"),
+        (None, 1.0, "force 'handing' failed: handed no forces; step rolled back"),
+        (Some(2), f64::NAN, "force 'handing' failed: force[0][0] = NaN is not finite; step rolled back"),
+    ];
+    for (len, value, message) in cases {
+        let mut w = World::new(WorldParams {
+            dim: 2,
+            method: "symplectic-euler".into(),
+            dt: 0.1,
+            ..Default::default()
+        })
+        .unwrap();
+        w.add_particle(&[1.0, 2.0], &[0.0, 0.0], 1.0, false).unwrap();
+        w.add_force_generator(Arc::new(Handing { len, value })).unwrap();
+        let (hash, steps) = (w.state_hash(), w.steps());
+        let e = w.step(3).unwrap_err();
+        assert_eq!(e.to_string(), message);
+        assert_eq!((w.state_hash(), w.steps()), (hash, steps));
+    }
+    // Handed right, it is the force added through `add_forces`.
+    let mut w = World::new(WorldParams { dim: 2, dt: 0.1, ..Default::default() }).unwrap();
+    w.add_particle(&[1.0, 2.0], &[0.0, 0.0], 2.0, false).unwrap();
+    w.add_force_generator(Arc::new(Handing { len: Some(2), value: 4.0 })).unwrap();
+    w.step(1).unwrap();
+    assert_eq!(w.velocities(), &[0.2, 0.2]);
+}
