@@ -165,16 +165,29 @@ fn chunk<M: Method, const A: bool>(
     im: &[f64],
     gm: &[f64],
 ) -> u64 {
+    let m = xc.len();
+    let (xc, vc, im, gm) = (&mut xc[..m], &mut vc[..m], &im[..m], &gm[..m]);
+    // Element `j`'s step; whether a new value (or, with `A`, the new acceleration) ran away.
+    // The acceleration at the start is evaluated again, not kept from the last step: the same
+    // bits, and one array less to carry.
+    let mut one = |j: usize| {
+        let (im, g) = (im[j], gm[j]);
+        let mut e = Element::at(0.0, h, [xc[j], vc[j]], velocity, |_, v| k.acc(v, im, g));
+        method.element_step(&mut e);
+        [xc[j], vc[j]] = e.y;
+        u64::from(bad(xc[j]) | bad(vc[j]) | (A && bad(e.f[1])))
+    };
+    // A loop over a multiple of 8 elements, then the rest: the compiler then runs the first in
+    // whole vectors to its end (over all `m` it kept the last 8 for an element-at-a-time tail
+    // in every pass, ~5% of a chunk-resident step).
+    let whole = m & !7;
     for s in 0..n {
         let mut flag = 0u64;
-        for j in 0..xc.len() {
-            let (im, g) = (im[j], gm[j]);
-            // The acceleration at the start is evaluated again, not kept from the last step:
-            // the same bits, and one array less to carry.
-            let mut e = Element::at(0.0, h, [xc[j], vc[j]], velocity, |_, v| k.acc(v, im, g));
-            method.element_step(&mut e);
-            [xc[j], vc[j]] = e.y;
-            flag |= u64::from(bad(xc[j]) | bad(vc[j]) | (A && bad(e.f[1])));
+        for j in 0..whole {
+            flag |= one(j);
+        }
+        for j in whole..m {
+            flag |= one(j);
         }
         if flag != 0 {
             return s;
