@@ -46,6 +46,11 @@ fn main() {
         t.elapsed().as_secs_f64() * 1e3,
         m.factor_blocks()
     );
+    println!(
+        "cost in solves {:.1}, products {:.0}",
+        m.factor_cost_in_solves(),
+        m.factor_cost_in_solves() * 2.0 * m.factor_blocks() as f64
+    );
     let mut best = f64::MAX;
     for _ in 0..reps {
         let t = Instant::now();

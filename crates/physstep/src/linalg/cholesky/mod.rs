@@ -2,12 +2,13 @@
 //! fill-reducing order: the exact solve, as a preconditioner (conjugate gradients then
 //! converge in one iteration, two where the rounding of the first is above their tolerance).
 //!
-//! `P A P^T = L L^T`, `L` block lower triangular. The order `P` is the minimum-degree order of
-//! the springs' graph (the particle with the fewest neighbours eliminated first, its
+//! `P A P^T = L L^T`, `L` block lower triangular. The order `P` is a nested dissection of the
+//! springs' graph ([`dissect`]: halves before the separators that join them), each stage in
+//! minimum-degree order (the particle with the fewest neighbours eliminated first, its
 //! neighbours then joined to each other: the fill; ties to the particle whose neighbours
-//! changed longest ago, then to the lowest index), which on a chain is the chain (no fill) and
-//! on a cloth's grid keeps the factor within a few times the matrix (about 20 blocks a
-//! particle on a 32 x 32 cloth with shear springs, 35 on 100 x 100, against the matrix's 5).
+//! changed longest ago, then to the lowest index), which on a chain adds almost no fill and
+//! on a cloth's grid keeps the factor within a few times the matrix (about 19 blocks a
+//! particle on a 32 x 32 cloth with shear springs, 32 on 100 x 100, against the matrix's 5).
 //! The elimination that finds the order writes the pattern of `L` as it goes; both are kept
 //! while the springs stay the same: the order depends on the springs alone, never on the
 //! state. The numeric factorisation is left-looking (George and Liu's: each column gathers the
@@ -27,6 +28,7 @@
 
 use super::Block;
 
+mod dissect;
 mod order;
 
 /// A block of `L` as the factorisation keeps it: 3 x 3 with each row padded to 4 (the
