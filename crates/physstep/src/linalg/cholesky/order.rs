@@ -1,7 +1,8 @@
 //! The order and the pattern of the complete Cholesky factor (its symbolic analysis): the
 //! minimum-degree elimination of the springs' graph within the stages of its nested
-//! dissection ([`super::dissect`]), which writes the factor's pattern as it goes, and the split of its elimination tree into two subtrees factored at once and their
-//! common ancestors. Both depend on the springs alone; the numeric factorisation
+//! dissection ([`super::dissect`]), which writes the factor's pattern as it goes, and the
+//! split of its elimination tree into two subtrees factored at once and their common
+//! ancestors. Both depend on the springs alone; the numeric factorisation
 //! ([`super`]) reads them.
 
 use super::{SparseCholesky, FILL_LIMIT, NONE, SPLIT_MIN};
