@@ -289,6 +289,41 @@ fn the_complete_cholesky_factor_is_the_dense_solve() {
 }
 
 #[test]
+fn the_complete_cholesky_factor_solves_a_three_dimensional_lattice_and_a_graph_in_pieces() {
+    // The nested dissection's cuts on what is not a cloth: a 9 x 9 x 9 lattice with its face
+    // diagonals (729 particles, cut into slabs), and the same lattice twice beside a chain,
+    // unconnected, with a static particle in each: the exact solve either way.
+    let n = 9;
+    let id = |x: usize, y: usize, z: usize| (x * n + y) * n + z;
+    let mut lattice = Vec::new();
+    for x in 0..n {
+        for y in 0..n {
+            for z in 0..n {
+                let steps: [(usize, usize, usize); 6] =
+                    [(1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (0, 1, 1), (1, 0, 1)];
+                for (dx, dy, dz) in steps {
+                    if x + dx < n && y + dy < n && z + dz < n {
+                        lattice.push((id(x, y, z), id(x + dx, y + dy, z + dz)));
+                    }
+                }
+            }
+        }
+    }
+    let (r, used) = solve(&network(n * n * n, &lattice, 0), Preconditioner::Cholesky);
+    assert_eq!(used, Preconditioner::Cholesky);
+    assert!(r.converged && r.iterations <= 2, "{r:?}");
+    let m = n * n * n;
+    let mut pieces = lattice.clone();
+    pieces.extend(lattice.iter().map(|&(i, j)| (i + m, j + m)));
+    pieces.extend((2 * m..2 * m + 199).map(|i| (i, i + 1)));
+    let mut b = network(2 * m + 200, &pieces, m + 5);
+    b.mass[2 * m + 100] = f64::INFINITY;
+    let (r, used) = solve(&b, Preconditioner::Cholesky);
+    assert_eq!(used, Preconditioner::Cholesky);
+    assert!(r.converged && r.iterations <= 2, "{r:?}");
+}
+
+#[test]
 fn a_network_past_the_fill_limit_is_preconditioned_by_incomplete_cholesky() {
     // Every particle joined to every other: the factor is dense, past the limit when there
     // are more particles than FILL_LIMIT; below it, the complete factor.
