@@ -16,20 +16,25 @@ step, from the same Python loop:
 - at 1e3 and 1e5 particles: a serial numba loop (`njit`, no threads).
 
 Printed: ns per particle-step (median of repeats, the contenders timed in turn within each
-repeat, so a change of load falls on all alike) and the ratios. Nothing is asserted: the
+repeat, so a change of load falls on all alike) and the ratios. At 1e6 the same three are
+timed again each alone in a fresh process, in turn (the rounds' medians and ratios): numba's
+OpenMP workers spin for some milliseconds after each call, and on a machine of few cores
+that takes a core from whatever the same process times next. Nothing is asserted: the
 numbers vary with the machine, the ratios less.
 """
 
 from __future__ import annotations
 
 import argparse
+import statistics
+from pathlib import Path
 
 import numba
 import numpy as np
 import physstep
 from bench_particles import C, G, H, acc, floor_kernel
 from bench_particles import se_kernel as se_parallel
-from common import median_times, row, write_json
+from common import in_subprocess, median_times, row, write_json
 from numba import njit
 
 
@@ -51,6 +56,57 @@ def calls(fn, k: int):  # noqa: ANN001, ANN201
             fn()
 
     return run
+
+
+# One contender alone in a fresh interpreter: `k` calls of one step, timed in blocks after a
+# warm-up; prints the median ns per particle-step.
+ALONE = """
+import json, statistics, sys, time
+import numpy as np
+sys.path.insert(0, {bench!r})
+n, k, who = {n}, {k}, {who!r}
+rng = np.random.default_rng(1)
+x, v = rng.random((n, 3)), rng.random((n, 3))
+if who == "physstep":
+    import physstep
+    w = physstep.World(3, method="symplectic-euler", dt={h!r})
+    w.add_particles(x, v, np.ones(n))
+    w.add_gravity([0.0, 0.0, -9.81])
+    w.add_drag({c!r})
+    step = lambda: w.step(1)
+elif who == "numba":
+    from bench_particles import G, H, se_kernel
+    step = lambda: se_kernel(x, v, -({c!r} + 0.0 * 0.0), G, H, 1)
+else:
+    from bench_particles import floor_kernel
+    step = lambda: floor_kernel(x, v, 1.0, 1)
+step()
+blocks = []
+for _ in range(9):
+    t0 = time.perf_counter()
+    for _ in range(k):
+        step()
+    blocks.append((time.perf_counter() - t0) / (k * n) * 1e9)
+print(json.dumps({{"ns": statistics.median(blocks)}}))
+"""
+
+
+def apart(n: int, k: int, rounds: int) -> dict[str, float]:
+    """physstep's and numba's one step a call and the memory floor, each alone in its own
+    process, `rounds` times in turn: the medians of each (ns per particle-step) and the
+    medians of physstep's ratios to the other two in the same round."""
+    bench = str(Path(__file__).resolve().parent)
+    threads = numba.get_num_threads()
+    runs: dict[str, list[float]] = {"physstep": [], "numba": [], "floor": []}
+    for _ in range(rounds):
+        for who, into in runs.items():
+            code = ALONE.format(bench=bench, n=n, k=k, who=who, h=H, c=C)
+            into.append(in_subprocess(code, threads)["ns"])
+    out = {who: statistics.median(r) for who, r in runs.items()}
+    for peer in ("numba", "floor"):
+        pairs = zip(runs["physstep"], runs[peer], strict=True)
+        out[f"to_{peer}"] = statistics.median(a / b for a, b in pairs)
+    return out
 
 
 def world(x0: np.ndarray, v0: np.ndarray, masses: np.ndarray | None = None) -> physstep.World:
@@ -101,6 +157,19 @@ def main() -> None:
     t = median_times({"ten": lambda: w.step(10), "ten_ref": lambda: se_parallel(xn, vn, s, G, H, 10)}, repeat)
     ten, ten_ref = (t[c] * 1e9 / (10 * n) for c in ("ten", "ten_ref"))
     row("physstep World.step(10)", ten, "ns/particle-step", ten_ref, "numba prange, 10 a call")
+    sep = apart(n, k, 3 if a.quick else 7)
+    print(f"\nN = {n:,}, one step per call, each contender alone in its own process, in turn")
+    print(
+        f"{'':<44} (in one process numba's OpenMP workers spin for some milliseconds after each"
+        f"\n{'':<44} call, holding a core from whatever is timed next: physstep above)"
+    )
+    row("memory floor (numba prange, read + write x, v)", sep["floor"], "ns/particle-step")
+    row("numba prange, one step a call", sep["numba"], "ns/particle-step")
+    row("physstep World.step(1)", sep["physstep"], "ns/particle-step")
+    print(
+        f"{'':<44} {sep['to_numba']:6.2f}x numba prange, {sep['to_floor']:.2f}x the memory floor"
+        f"\n{'':<44} (medians of each round's ratios; targets: 1.0x numba, 1.15x floor)"
+    )
     out["1e6"] = {
         "floor": floor,
         "numba_prange": fused,
@@ -108,6 +177,7 @@ def main() -> None:
         "physstep_unequal_masses": unequal,
         "ten": ten,
         "ten_numba": ten_ref,
+        "apart": sep,
     }
 
     for n, k in ((1_000, 2_000), (100_000, 100)):
