@@ -6,24 +6,15 @@
 //! deepest penetration of the last step and the state hash (so a change that should keep
 //! the bits can be checked on a large scene too).
 
-use physstep::scenes;
+mod probe_scene;
+
 use std::time::Instant;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let scene = args.first().map_or("pyramid", String::as_str);
     let steps: u64 = args.get(1).map_or(600, |s| s.parse().expect("steps: a count"));
-    let params: Vec<(String, f64)> = args
-        .iter()
-        .skip(2)
-        .map(|kv| {
-            let (k, v) = kv.split_once('=').expect("parameters as key=value");
-            (k.to_string(), v.parse().expect("a number"))
-        })
-        .collect();
-    let params: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-    let spec = scenes::spec(scene).expect("a scene");
-    let mut s = scenes::build(scene, &params, spec.method, spec.dt).expect("the scene builds");
+    let mut s = probe_scene::build(scene, None, args.get(2..).unwrap_or_default());
     let start = Instant::now();
     for _ in 0..steps {
         s.world.step(1).expect("a step");

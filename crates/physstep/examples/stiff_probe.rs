@@ -6,7 +6,8 @@
 //! first. Prints the first step's time (it orders the sparse factor) and the time per step after it, the Newton updates and CG iterations per step, and the state hash (so a
 //! change that should keep the bits can be checked).
 
-use physstep::scenes;
+mod probe_scene;
+
 use std::time::Instant;
 
 fn main() {
@@ -14,17 +15,7 @@ fn main() {
     let scene = args.first().map_or("stiff-cloth", String::as_str);
     let method = args.get(1).map_or("linearly-implicit-euler", String::as_str);
     let steps: u64 = args.get(2).map_or(300, |s| s.parse().expect("steps: a count"));
-    let params: Vec<(String, f64)> = args
-        .iter()
-        .skip(3)
-        .map(|kv| {
-            let (k, v) = kv.split_once('=').expect("parameters as key=value");
-            (k.to_string(), v.parse().expect("a number"))
-        })
-        .collect();
-    let params: Vec<(&str, f64)> = params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-    let spec = scenes::spec(scene).expect("a scene");
-    let mut s = scenes::build(scene, &params, method, spec.dt).expect("the scene builds");
+    let mut s = probe_scene::build(scene, Some(method), args.get(3..).unwrap_or_default());
     let (mut newton, mut cg) = (0u64, 0u64);
     let mut e_rises = 0;
     let mut e_prev = s.world.energy().unwrap_or(f64::NAN);
