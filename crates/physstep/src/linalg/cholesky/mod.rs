@@ -205,7 +205,23 @@ impl SparseCholesky {
             };
             let (c0, c1) = (&self.parts[0], &self.parts[1]);
             let (a, b) = if n0 + n1 > 0 {
-                rayon::join(|| run_part::<D>(&sh, &mut p0, c0, &[]), || run_part::<D>(&sh, &mut p1, c1, &[]))
+                // Called from outside the pool (a step), the calling thread factors the first
+                // part and a worker the second: a `join` would hand both to one worker and
+                // wait, and the second part often ran after the first on that worker (the
+                // other asleep). 32 x 32 cloth, linearly implicit step: 2.7-3.0 -> 2.4-2.5 ms.
+                if rayon::current_thread_index().is_none() && rayon::current_num_threads() > 1 {
+                    let mut b = true;
+                    let a = rayon::in_place_scope(|s| {
+                        s.spawn(|_| b = run_part::<D>(&sh, &mut p1, c1, &[]));
+                        run_part::<D>(&sh, &mut p0, c0, &[])
+                    });
+                    (a, b)
+                } else {
+                    rayon::join(
+                        || run_part::<D>(&sh, &mut p0, c0, &[]),
+                        || run_part::<D>(&sh, &mut p1, c1, &[]),
+                    )
+                }
             } else {
                 (true, true)
             };
