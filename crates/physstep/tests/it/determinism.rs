@@ -36,8 +36,10 @@ const HASHES: &[(&str, u64)] = &[
     // with the line search still gives the hashes of before the complete factor,
     // 0xb85df278b95da399 and 0xa2c4f0954767846b, and block Jacobi with whole updates those of
     // before either, 0xc24332ff08e015c0 and 0xdc5a56c5afc9ca06 (tests/it/stiff.rs checks both).
-    ("stiff-chain", 0xb310cb367afa1370),
-    ("stiff-cloth", 0xd36b27b35ac1f812),
+    // The supernodal factorisation (dense panels: other sums, the same solve to rounding)
+    // moved them from 0xb310cb367afa1370 and 0xd36b27b35ac1f812.
+    ("stiff-chain", 0x53523eddea729e20),
+    ("stiff-cloth", 0xcbdb57539fcfea7e),
     ("racket", 0x61739902e34aadf3),
     ("top", 0xb2a0192949590096),
     ("tumble", 0x12edbb6dd7caa1c9),

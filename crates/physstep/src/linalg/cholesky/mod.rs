@@ -11,37 +11,51 @@
 //! particle on a 32 x 32 cloth with shear springs, 32 on 100 x 100, against the matrix's 5).
 //! The elimination that finds the order writes the pattern of `L` as it goes; both are kept
 //! while the springs stay the same: the order depends on the springs alone, never on the
-//! state. The numeric factorisation is left-looking (George and Liu's: each column gathers the
-//! updates of the columns that reach it, found by linked lists, into a dense block row), on
-//! the AVX2 path where the CPU has it (the same bits: `crate::simd`). Past [`SPLIT_MIN`] block
-//! products, two subtrees of the elimination tree of about equal work (from the root down, the
-//! heaviest subtree replaced by its children while it holds more than half) are factored at
-//! once on two threads, each with its own lists and dense row, then their common ancestors,
-//! each taking the first subtree's updates, the second's, then the rest's: every sum in an
-//! order fixed by the pattern, so the same bits on one thread or two (on a 100 x 100 cloth
-//! the two subtrees hold about three quarters of the work: 1.8x faster on two cores).
+//! state.
+//!
+//! The numeric factorisation is supernodal and left-looking: consecutive columns whose
+//! patterns nest (a separator of the dissection, whose particles the elimination has joined
+//! to each other) are stored together as one dense column-major panel, a supernode; each
+//! takes the updates of the supernodes below it that reach it, each update a dense product
+//! ([`dense::syrk`]) scattered into its panel, found by linked lists (George and Liu's, over
+//! supernodes), and is then factored as a dense matrix ([`dense::factor_panel`]). On a
+//! 100 x 100 cloth nine tenths of the work is in supernodes of six particles or more, where
+//! the products run at several times the speed of one 3 x 3 block at a time. Past
+//! [`SPLIT_MIN`] block products, two subtrees of the elimination tree of about equal work
+//! (from the root down, the heaviest subtree replaced by its children while it holds more
+//! than half) are factored at once on two threads, each with its own lists and scratch, then
+//! their common ancestors, each taking the first subtree's updates, the second's, then the
+//! rest's: every sum in an order fixed by the pattern, so the same bits on one thread or two,
+//! and on the AVX2 path or not (`crate::simd`).
 //!
 //! A grid's factor grows like `n log n` blocks and its work like `n^1.5`: where the pattern
 //! would hold more than [`FILL_LIMIT`] blocks a particle (a dense or three-dimensional network
-//! of springs), or a pivot block is not positive definite, [`SparseCholesky::factor`] returns
-//! `false` and the caller preconditions otherwise.
+//! of springs), or a pivot is not positive, [`SparseCholesky::factor`] returns `false` and
+//! the caller preconditions otherwise.
 
 use super::Block;
 
+mod dense;
 mod dissect;
 mod order;
 
-/// A block of `L` as the factorisation keeps it: 3 x 3 with each row padded to 4 (the
-/// fourth entry 0), so that a row is one 4-wide vector.
-type Wide = [[f64; 4]; 3];
-
-/// Most blocks of `L` a moving particle may hold (a block is kept in 96 bytes: 19 kB a
+/// Most blocks of `L` a moving particle may hold (a block is kept in 72 bytes: 14 kB a
 /// particle).
 pub const FILL_LIMIT: usize = 200;
 
 const NONE: u32 = u32::MAX;
 
-/// The order, the pattern of `L` and its numeric blocks.
+/// A supernode: the columns `first..first + width` of `L`, their dense diagonal block and the
+/// rows below it that any of them has (the same for all: the pattern of the last column,
+/// `row[below.0..below.1]`).
+#[derive(Debug, Clone, Copy, Default)]
+struct Super {
+    first: u32,
+    width: u32,
+    below: (usize, usize),
+}
+
+/// The order, the pattern of `L` and its numeric panels.
 #[derive(Debug, Clone, Default)]
 pub(super) struct SparseCholesky {
     /// The springs the pattern was made for (as [`super::ic`]'s key) and which particles move.
@@ -50,38 +64,48 @@ pub(super) struct SparseCholesky {
     /// Whether the pattern is within [`FILL_LIMIT`].
     fits: bool,
     /// Block products of a numeric factorisation (`sum_j c_j (c_j + 1) / 2 + 1`, `c_j` the
-    /// blocks below column `j`'s diagonal).
+    /// blocks below column `j`'s diagonal) and blocks of `L` (its diagonal included).
     products: usize,
+    blocks: usize,
     /// The elimination order: the particle (its index) of each column.
     perm: Vec<u32>,
-    /// Column `j` of `L` below its diagonal: `row[span[j].0..span[j].1]`, ascending column
-    /// numbers `> j`, and `dest` the same rows as particle indices. The columns are stored in
-    /// slot order (`slot[j]`): the first part's, the second's, then the rest's (below).
-    span: Vec<(usize, usize)>,
+    /// The columns of the three parts, ascending: two independent subtrees of the
+    /// elimination tree and their common ancestors.
+    parts: [Vec<u32>; 3],
+    /// The supernodes in storage order: the first part's, the second's, then the rest's
+    /// (two independent subtrees of the elimination tree, factored at once on two threads,
+    /// then their common ancestors), ascending columns within each; where the second part's
+    /// and the rest's begin; the supernode of each column.
+    sn: Vec<Super>,
+    sn_split: [usize; 2],
+    sn_of: Vec<u32>,
+    /// The rows below the supernodes' diagonal blocks (column numbers, ascending), and the
+    /// same rows as particle indices.
     row: Vec<u32>,
     dest: Vec<u32>,
-    /// Each column's place in the storage, and the columns of the three parts in order: two
-    /// independent subtrees of the elimination tree, factored at once on two threads, then
-    /// their common ancestors.
-    slot: Vec<u32>,
-    parts: [Vec<u32>; 3],
-    /// Where the second part's and the rest's blocks begin in `l`.
-    l_split: [usize; 2],
+    /// Most rows of a supernode's panel (in blocks).
+    max_rows: usize,
     /// The matrix's off-diagonal blocks by column: `(row, pair)`, `A_{row, col} = -m_pair`.
     a_start: Vec<usize>,
     a_entry: Vec<(u32, u32)>,
-    /// Numeric factor: the blocks of `L` (as `row`) and the inverses of its diagonal blocks.
-    l: Vec<Wide>,
-    dinv: Vec<Block>,
-    /// Scratch of the factorisation: a dense block row and the heads of the linked lists of
-    /// the columns waiting on each row, per part; each column's link and where it has got to
-    /// (by slot).
-    w: [Vec<Wide>; 2],
-    /// Whether a dense row may hold a value (the latest factorisation broke down).
-    dirty: bool,
+    /// Numeric factor: each supernode's panel (`D width` columns of `D rows + PAD` doubles,
+    /// its rows the diagonal block's then the rows below; the diagonal holds the reciprocals
+    /// of `L`'s) at `off[q]` in `lx`, for the dimension `laid`; where the second part's and
+    /// the rest's panels begin.
+    lx: Vec<f64>,
+    off: Vec<usize>,
+    laid: usize,
+    lx_split: [usize; 2],
+    /// Scratch of the factorisation: the heads of the linked lists of the supernodes waiting
+    /// on each supernode, per part; each supernode's link and the first of its rows below
+    /// not yet sent; per thread, each column's row in the panel being factored and the
+    /// update being scattered.
     head: [Vec<u32>; 3],
     link: Vec<u32>,
-    pos: Vec<usize>,
+    pos: Vec<u32>,
+    map: [Vec<u32>; 2],
+    upd: [Vec<f64>; 2],
+    runs: [Vec<(usize, usize, usize)>; 2],
 }
 
 /// A factorisation with fewer block products than this runs as one part (the same bits as the
@@ -93,42 +117,44 @@ struct Shared<'a> {
     diag: &'a [Block],
     pairs: &'a [(usize, usize, Block)],
     perm: &'a [u32],
-    span: &'a [(usize, usize)],
+    sn: &'a [Super],
+    sn_of: &'a [u32],
     row: &'a [u32],
-    slot: &'a [u32],
+    off: &'a [usize],
     a_start: &'a [usize],
     a_entry: &'a [(u32, u32)],
 }
 
-/// What a part of the factorisation writes: its slices of the factor and scratch (`l` from
-/// block `l_base`, the per-slot arrays from slot `s_base`).
+/// What a part of the factorisation writes: its panels (`lx` from `lx_base`), its
+/// supernodes' links and places (from supernode `s_base`), its lists' heads and scratch.
 struct Part<'a> {
-    l: &'a mut [Wide],
-    l_base: usize,
-    dinv: &'a mut [Block],
+    lx: &'a mut [f64],
+    lx_base: usize,
     link: &'a mut [u32],
-    pos: &'a mut [usize],
+    pos: &'a mut [u32],
     s_base: usize,
     head: &'a mut [u32],
-    w: &'a mut [Wide],
+    map: &'a mut [u32],
+    upd: &'a mut Vec<f64>,
+    runs: &'a mut Vec<(usize, usize, usize)>,
 }
 
 impl SparseCholesky {
     /// Blocks of `L` held by the latest pattern (its diagonal included).
     #[must_use]
     pub(super) fn blocks(&self) -> usize {
-        self.row.len() + self.perm.len()
+        self.blocks
     }
 
     /// How many solves with the factor cost as much as making it (block products against
-    /// the blocks a solve reads twice): about 1 on a chain, 8 on a 32 x 32 cloth.
+    /// the blocks a solve reads twice): about 1 on a chain, 6 on a 32 x 32 cloth.
     #[must_use]
     pub(super) fn cost_in_solves(&self) -> f64 {
         self.products as f64 / (2 * self.blocks()).max(1) as f64
     }
 
     /// Factors `A` given by its diagonal blocks `diag` and its springs' blocks (`A_ij = -m`);
-    /// `false` when the pattern is past [`FILL_LIMIT`] or a pivot is not positive definite.
+    /// `false` when the pattern is past [`FILL_LIMIT`] or a pivot is not positive.
     pub(super) fn factor(
         &mut self,
         diag: &[Block],
@@ -150,61 +176,94 @@ impl SparseCholesky {
         }
     }
 
-    fn numeric<const D: usize>(&mut self, diag: &[Block], pairs: &[(usize, usize, Block)]) -> bool {
-        const ZERO: Wide = [[0.0; 4]; 3];
-        let m = self.perm.len();
-        // The dense rows start at zero (a column leaves the rows it used at zero: only a
-        // factorisation that broke down leaves them dirty) and the lists empty. The factor's
-        // blocks, links and places are written before they are read: not cleared.
-        for w in &mut self.w {
-            if self.dirty || w.len() != m {
-                w.clear();
-                w.resize(m, ZERO);
+    /// The panels' places for particles of `D` coordinates (kept while the pattern and `D`
+    /// stay the same).
+    fn layout<const D: usize>(&mut self) {
+        if self.laid == D && self.off.len() == self.sn.len() + 1 {
+            return;
+        }
+        self.off.clear();
+        let mut at = 0;
+        for (q, sn) in self.sn.iter().enumerate() {
+            if q == self.sn_split[0] {
+                self.lx_split[0] = at;
+            }
+            if q == self.sn_split[1] {
+                self.lx_split[1] = at;
+            }
+            self.off.push(at);
+            let rows = sn.width as usize + sn.below.1 - sn.below.0;
+            at += D * sn.width as usize * (D * rows + dense::PAD);
+        }
+        for (q, split) in self.sn_split.iter().enumerate() {
+            if *split == self.sn.len() {
+                self.lx_split[q] = at;
             }
         }
+        self.off.push(at);
+        self.lx.clear();
+        self.lx.resize(at, 0.0);
+        self.laid = D;
+    }
+
+    fn numeric<const D: usize>(&mut self, diag: &[Block], pairs: &[(usize, usize, Block)]) -> bool {
+        self.layout::<D>();
+        let (m, ns) = (self.perm.len(), self.sn.len());
         for h in &mut self.head {
             h.clear();
-            h.resize(m, NONE);
+            h.resize(ns, NONE);
         }
-        self.link.resize(m, NONE);
-        self.pos.resize(m, 0);
-        self.l.resize(self.row.len(), ZERO);
-        self.dinv.resize(m, [[0.0; 3]; 3]);
-        self.dirty = true;
+        self.link.resize(ns, NONE);
+        self.pos.resize(ns, 0);
+        for map in &mut self.map {
+            map.resize(m, 0);
+        }
         let sh = Shared {
             diag,
             pairs,
             perm: &self.perm,
-            span: &self.span,
+            sn: &self.sn,
+            sn_of: &self.sn_of,
             row: &self.row,
-            slot: &self.slot,
+            off: &self.off,
             a_start: &self.a_start,
             a_entry: &self.a_entry,
         };
-        let (n0, n1) = (self.parts[0].len(), self.parts[1].len());
+        let [s0, s1] = self.sn_split;
         let [h0, h1, h2] = &mut self.head;
-        let [w0, w1] = &mut self.w;
+        let [m0, m1] = &mut self.map;
+        let [u0, u1] = &mut self.upd;
+        let [r0, r1] = &mut self.runs;
         {
-            // The two subtrees at once: each writes its own columns' blocks and reads only
-            // its own; their updates of the common ancestors wait in their own lists.
-            let (l0, rest) = self.l.split_at_mut(self.l_split[0]);
-            let l1 = &mut rest[..self.l_split[1] - self.l_split[0]];
-            let (d0, rest) = self.dinv.split_at_mut(n0);
-            let (k0, krest) = self.link.split_at_mut(n0);
-            let (q0, qrest) = self.pos.split_at_mut(n0);
-            let mut p0 = Part { l: l0, l_base: 0, dinv: d0, link: k0, pos: q0, s_base: 0, head: h0, w: w0 };
-            let mut p1 = Part {
-                l: l1,
-                l_base: self.l_split[0],
-                dinv: &mut rest[..n1],
-                link: &mut krest[..n1],
-                pos: &mut qrest[..n1],
-                s_base: n0,
-                head: h1,
-                w: w1,
+            // The two subtrees at once: each writes its own panels and reads only its own;
+            // their updates of the common ancestors wait in their own lists.
+            let (l0, rest) = self.lx.split_at_mut(self.lx_split[0]);
+            let l1 = &mut rest[..self.lx_split[1] - self.lx_split[0]];
+            let (k0, krest) = self.link.split_at_mut(s0);
+            let (q0, qrest) = self.pos.split_at_mut(s0);
+            let mut p0 = Part {
+                lx: l0,
+                lx_base: 0,
+                link: k0,
+                pos: q0,
+                s_base: 0,
+                head: h0,
+                map: m0,
+                upd: u0,
+                runs: r0,
             };
-            let (c0, c1) = (&self.parts[0], &self.parts[1]);
-            let (a, b) = if n0 + n1 > 0 {
+            let mut p1 = Part {
+                lx: l1,
+                lx_base: self.lx_split[0],
+                link: &mut krest[..s1 - s0],
+                pos: &mut qrest[..s1 - s0],
+                s_base: s0,
+                head: h1,
+                map: m1,
+                upd: u1,
+                runs: r1,
+            };
+            let (a, b) = if s1 > 0 {
                 // Called from outside the pool (a step), the calling thread factors the first
                 // part and a worker the second: a `join` would hand both to one worker and
                 // wait, and the second part often ran after the first on that worker (the
@@ -212,38 +271,37 @@ impl SparseCholesky {
                 if rayon::current_thread_index().is_none() && rayon::current_num_threads() > 1 {
                     let mut b = true;
                     let a = rayon::in_place_scope(|s| {
-                        s.spawn(|_| b = run_part::<D>(&sh, &mut p1, c1, &[]));
-                        run_part::<D>(&sh, &mut p0, c0, &[])
+                        s.spawn(|_| b = run_part::<D>(&sh, &mut p1, s0..s1, &[]));
+                        run_part::<D>(&sh, &mut p0, 0..s0, &[])
                     });
                     (a, b)
                 } else {
                     rayon::join(
-                        || run_part::<D>(&sh, &mut p0, c0, &[]),
-                        || run_part::<D>(&sh, &mut p1, c1, &[]),
+                        || run_part::<D>(&sh, &mut p0, 0..s0, &[]),
+                        || run_part::<D>(&sh, &mut p1, s0..s1, &[]),
                     )
                 }
             } else {
                 (true, true)
             };
             if !(a && b) {
-                return false; // `dirty` stays set
+                return false;
             }
         }
         // Their common ancestors, each taking the first part's updates, the second's, then
         // its own part's (a fixed order, whatever ran first).
         let mut top = Part {
-            l: &mut self.l,
-            l_base: 0,
-            dinv: &mut self.dinv,
+            lx: &mut self.lx,
+            lx_base: 0,
             link: &mut self.link,
             pos: &mut self.pos,
             s_base: 0,
             head: h2,
-            w: w0,
+            map: m0,
+            upd: u0,
+            runs: r0,
         };
-        let done = run_part::<D>(&sh, &mut top, &self.parts[2], &[h0, h1]);
-        self.dirty = !done;
-        done
+        run_part::<D>(&sh, &mut top, s1..ns, &[h0, h1])
     }
 
     /// `z = A^-1 r` on `dim`-dimensional particles (rows of particles that do not move:
@@ -251,7 +309,7 @@ impl SparseCholesky {
     pub(super) fn solve(&self, r: &[f64], z: &mut [f64], dim: usize) {
         #[cfg(target_arch = "x86_64")]
         if crate::simd::avx2() {
-            // SAFETY: as in `factor`.
+            // SAFETY: as in `run_part`.
             return unsafe { self.solve_avx2(r, z, dim) };
         }
         self.solve_dim(r, z, dim);
@@ -272,65 +330,96 @@ impl SparseCholesky {
         }
     }
 
+    /// Forward (`L y = P r`) and backward (`L^T x = y`) substitution, supernode by supernode:
+    /// its own rows gathered, solved with its diagonal block, and the rows below updated
+    /// (forward) or read (backward).
     #[inline(always)]
     fn solve_d<const D: usize>(&self, r: &[f64], z: &mut [f64]) {
         z.copy_from_slice(r);
-        // Forward: L y = P r, column by column.
-        for (j, &pj) in self.perm.iter().enumerate() {
-            let o = pj as usize * D;
-            let b: [f64; D] = z[o..o + D].try_into().unwrap_or([0.0; D]);
-            let y = mul_vec::<D>(&self.dinv[self.slot[j] as usize], &b);
-            z[o..o + D].copy_from_slice(&y);
-            let (s, end) = self.span[j];
-            for e in s..end {
-                let (l, d) = (&self.l[e], self.dest[e] as usize * D);
-                for a in 0..D {
-                    let mut s = 0.0;
-                    for c in 0..D {
-                        s += l[a][c] * y[c];
-                    }
-                    z[d + a] -= s;
+        if self.laid != D {
+            return; // no factor made (the preconditioner is then another)
+        }
+        let mut buf = vec![0.0; D * self.max_rows];
+        for (q, sn) in self.sn.iter().enumerate() {
+            let (f, s) = (sn.first as usize, sn.width as usize);
+            let dest = &self.dest[sn.below.0..sn.below.1];
+            let (ns, nb) = (D * s, D * dest.len());
+            let ld = ns + nb + dense::PAD;
+            let (x, y) = buf.split_at_mut(ns);
+            let y = &mut y[..nb];
+            for (jj, xj) in x.chunks_exact_mut(D).enumerate() {
+                let o = self.perm[f + jj] as usize * D;
+                xj.copy_from_slice(&z[o..o + D]);
+            }
+            y.fill(0.0);
+            let panel = &self.lx[self.off[q]..self.off[q + 1]];
+            for c in 0..ns {
+                let col = &panel[c * ld..c * ld + ns + nb];
+                let v = x[c] * col[c];
+                x[c] = v;
+                for (xi, li) in x[c + 1..].iter_mut().zip(&col[c + 1..ns]) {
+                    *xi -= li * v;
+                }
+                for (yi, li) in y.iter_mut().zip(&col[ns..]) {
+                    *yi += li * v;
+                }
+            }
+            for (jj, xj) in x.chunks_exact(D).enumerate() {
+                let o = self.perm[f + jj] as usize * D;
+                z[o..o + D].copy_from_slice(xj);
+            }
+            for (&p, yp) in dest.iter().zip(y.chunks_exact(D)) {
+                let o = p as usize * D;
+                for (zk, yk) in z[o..o + D].iter_mut().zip(yp) {
+                    *zk -= yk;
                 }
             }
         }
-        // Backward: L^T x = y, columns in reverse.
-        for j in (0..self.perm.len()).rev() {
-            let o = self.perm[j] as usize * D;
-            let mut b: [f64; D] = z[o..o + D].try_into().unwrap_or([0.0; D]);
-            let (s, end) = self.span[j];
-            for e in s..end {
-                let (l, d) = (&self.l[e], self.dest[e] as usize * D);
-                for c in 0..D {
-                    let mut s = 0.0;
-                    for a in 0..D {
-                        s += l[a][c] * z[d + a];
-                    }
-                    b[c] -= s;
-                }
+        for (q, sn) in self.sn.iter().enumerate().rev() {
+            let (f, s) = (sn.first as usize, sn.width as usize);
+            let dest = &self.dest[sn.below.0..sn.below.1];
+            let (ns, nb) = (D * s, D * dest.len());
+            let ld = ns + nb + dense::PAD;
+            let (x, y) = buf.split_at_mut(ns);
+            let y = &mut y[..nb];
+            for (jj, xj) in x.chunks_exact_mut(D).enumerate() {
+                let o = self.perm[f + jj] as usize * D;
+                xj.copy_from_slice(&z[o..o + D]);
             }
-            let inv = &self.dinv[self.slot[j] as usize];
-            for c in 0..D {
-                let mut s = 0.0;
-                for a in 0..D {
-                    s += inv[a][c] * b[a];
-                }
-                z[o + c] = s;
+            for (&p, yp) in dest.iter().zip(y.chunks_exact_mut(D)) {
+                let o = p as usize * D;
+                yp.copy_from_slice(&z[o..o + D]);
+            }
+            let panel = &self.lx[self.off[q]..self.off[q + 1]];
+            for c in (0..ns).rev() {
+                let col = &panel[c * ld..c * ld + ns + nb];
+                let t = dense::dot(&col[c + 1..ns], &x[c + 1..]) + dense::dot(&col[ns..], y);
+                x[c] = (x[c] - t) * col[c];
+            }
+            for (jj, xj) in x.chunks_exact(D).enumerate() {
+                let o = self.perm[f + jj] as usize * D;
+                z[o..o + D].copy_from_slice(xj);
             }
         }
     }
 }
 
-/// Factors the columns `cols` of a part, in order (on the AVX2 path where the CPU has it:
+/// Factors the supernodes `range` of a part, in order (on the AVX2 path where the CPU has it:
 /// the same bits, crate::simd), each first taking the updates waiting in the lists `extra`;
-/// `false` at a pivot that is not positive definite.
-fn run_part<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, cols: &[u32], extra: &[&[u32]]) -> bool {
+/// `false` at a pivot that is not positive.
+fn run_part<const D: usize>(
+    sh: &Shared<'_>,
+    p: &mut Part<'_>,
+    range: std::ops::Range<usize>,
+    extra: &[&[u32]],
+) -> bool {
     #[cfg(target_arch = "x86_64")]
     if crate::simd::avx2() {
         // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
         // `target_feature` function.
-        return unsafe { run_part_avx2::<D>(sh, p, cols, extra) };
+        return unsafe { run_part_avx2::<D>(sh, p, range, extra) };
     }
-    cols.iter().all(|&j| column::<D>(sh, p, j as usize, extra))
+    range.into_iter().all(|q| supernode::<D>(sh, p, q, extra))
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -338,173 +427,128 @@ fn run_part<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, cols: &[u32], ext
 unsafe fn run_part_avx2<const D: usize>(
     sh: &Shared<'_>,
     p: &mut Part<'_>,
-    cols: &[u32],
+    range: std::ops::Range<usize>,
     extra: &[&[u32]],
 ) -> bool {
-    cols.iter().all(|&j| column::<D>(sh, p, j as usize, extra))
+    range.into_iter().all(|q| supernode::<D>(sh, p, q, extra))
 }
 
-/// Column `j` of `L`: `A`'s column, less the updates of the columns `k < j` with a block in
-/// row `j` (from the lists `extra`, then the part's own), their blocks from row `j` down
-/// gathered into the dense row `w`; then divided by the diagonal's factor.
+/// Supernode `q`'s panel: `A`'s columns, less the updates of the supernodes before it with
+/// rows in its columns (from the lists `extra`, then the part's own), each the product of
+/// that supernode's rows from there down with those rows ([`dense::syrk`]) scattered into
+/// the panel; then factored ([`dense::factor_panel`]) and linked to the supernode of its
+/// first row below.
 #[inline(always)]
-fn column<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, j: usize, extra: &[&[u32]]) -> bool {
-    let mut d = sh.diag[sh.perm[j] as usize];
-    for &(r, s) in &sh.a_entry[sh.a_start[j]..sh.a_start[j + 1]] {
-        sub::<D>(&mut p.w[r as usize], &sh.pairs[s as usize].2);
+fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra: &[&[u32]]) -> bool {
+    let sn = sh.sn[q];
+    let (f, s) = (sn.first as usize, sn.width as usize);
+    let below = &sh.row[sn.below.0..sn.below.1];
+    let ns = D * s;
+    let rows = ns + D * below.len();
+    let ld = rows + dense::PAD;
+    for jj in 0..s {
+        p.map[f + jj] = jj as u32;
+    }
+    for (i, &r) in below.iter().enumerate() {
+        p.map[r as usize] = (s + i) as u32;
+    }
+    let (done, rest) = p.lx.split_at_mut(sh.off[q] - p.lx_base);
+    let panel = &mut rest[..ns * ld];
+    // Each column from the diagonal down (the part above it is neither written nor read).
+    for c in 0..ns {
+        panel[c * ld + c..(c + 1) * ld].fill(0.0);
+    }
+    for jj in 0..s {
+        let j = f + jj;
+        let d = &sh.diag[sh.perm[j] as usize];
+        for b in 0..D {
+            for a in 0..D {
+                panel[(D * jj + b) * ld + D * jj + a] = d[a][b];
+            }
+        }
+        for &(r, e) in &sh.a_entry[sh.a_start[j]..sh.a_start[j + 1]] {
+            let m = &sh.pairs[e as usize].2;
+            let at = D * p.map[r as usize] as usize;
+            for b in 0..D {
+                for a in 0..D {
+                    panel[(D * jj + b) * ld + at + a] -= m[a][b];
+                }
+            }
+        }
     }
     for list in 0..=extra.len() {
-        let mut k = if list < extra.len() { extra[list][j] } else { std::mem::replace(&mut p.head[j], NONE) };
+        let mut k = if list < extra.len() { extra[list][q] } else { std::mem::replace(&mut p.head[q], NONE) };
         while k != NONE {
             let ku = k as usize;
-            let sk = sh.slot[ku] as usize - p.s_base;
-            let next = p.link[sk];
-            let (at, end) = (p.pos[sk], sh.span[ku].1);
-            let ljk = p.l[at - p.l_base];
-            sub_aat::<D>(&mut d, &ljk);
-            let lt = transpose(&ljk);
-            let blocks = &p.l[at + 1 - p.l_base..end - p.l_base];
-            for (&r, le) in sh.row[at + 1..end].iter().zip(blocks) {
-                sub_at::<D>(&mut p.w[r as usize], le, &lt);
+            let kl = ku - p.s_base;
+            let next = p.link[kl];
+            let kn = sh.sn[ku];
+            let kw = kn.width as usize;
+            let kb = &sh.row[kn.below.0..kn.below.1];
+            let at = p.pos[kl] as usize;
+            let tail = &kb[at..];
+            let nq = tail.iter().take_while(|&&r| (r as usize) < f + s).count();
+            let (mt, nc) = (D * tail.len(), D * nq);
+            if p.upd.len() < mt * nc {
+                p.upd.resize(mt * nc, 0.0);
             }
-            p.pos[sk] = at + 1;
-            if at + 1 < end {
-                let r = sh.row[at + 1] as usize;
-                p.link[sk] = p.head[r];
-                p.head[r] = k;
+            let u = &mut p.upd[..mt * nc];
+            let kld = D * (kw + kb.len()) + dense::PAD;
+            let a = &done[sh.off[ku] - p.lx_base + D * (kw + at)..];
+            dense::syrk::<false>(u, mt, a, kld, mt, nc, D * kw);
+            // The tail's rows in runs that are consecutive in the panel too.
+            p.runs.clear();
+            let mut t = 0;
+            while t < tail.len() {
+                let at = p.map[tail[t] as usize] as usize;
+                let mut e = t + 1;
+                while e < tail.len() && p.map[tail[e] as usize] as usize == at + e - t {
+                    e += 1;
+                }
+                p.runs.push((t, e, at));
+                t = e;
+            }
+            for ci in 0..nq {
+                let col = D * (tail[ci] as usize - f);
+                let r0 = D * p.map[tail[ci] as usize] as usize;
+                for b in 0..D {
+                    let src = &u[(D * ci + b) * mt..(D * ci + b + 1) * mt];
+                    let dst = &mut panel[(col + b) * ld..(col + b + 1) * ld];
+                    // The diagonal block's upper part is neither computed nor read.
+                    for a in b..D {
+                        dst[r0 + a] -= src[D * ci + a];
+                    }
+                    for &(t0, t1, at) in p.runs.iter() {
+                        if t1 <= ci + 1 {
+                            continue;
+                        }
+                        let from = t0.max(ci + 1);
+                        let (len, to) = (D * (t1 - from), D * (at + from - t0));
+                        for (d, s) in dst[to..to + len].iter_mut().zip(&src[D * from..D * from + len]) {
+                            *d -= s;
+                        }
+                    }
+                }
+            }
+            let at = at + nq;
+            p.pos[kl] = at as u32;
+            if at < kb.len() {
+                let d = sh.sn_of[kb[at] as usize] as usize;
+                p.link[kl] = p.head[d];
+                p.head[d] = k;
             }
             k = next;
         }
     }
-    let Some(inv) = lower_inverse::<D>(&d) else { return false };
-    let sj = sh.slot[j] as usize - p.s_base;
-    p.dinv[sj] = inv;
-    let (s, end) = sh.span[j];
-    for e in s..end {
-        let i = sh.row[e] as usize;
-        p.l[e - p.l_base] = mul_abt::<D>(&p.w[i], &inv);
-        p.w[i] = [[0.0; 4]; 3];
+    if !dense::factor_panel(panel, ld, rows, ns) {
+        return false;
     }
-    if s < end {
-        p.pos[sj] = s;
-        let r = sh.row[s] as usize;
-        p.link[sj] = p.head[r];
-        p.head[r] = j as u32;
+    if let Some(&r) = below.first() {
+        let ql = q - p.s_base;
+        p.pos[ql] = 0;
+        let d = sh.sn_of[r as usize] as usize;
+        p.link[ql] = p.head[d];
+        p.head[d] = q as u32;
     }
     true
-}
-
-/// `a -= b` on the leading `D x D` part.
-#[inline]
-fn sub<const D: usize>(a: &mut Wide, b: &Block) {
-    for r in 0..D {
-        for c in 0..D {
-            a[r][c] -= b[r][c];
-        }
-    }
-}
-
-/// `a -= b b^T` on the leading `D x D` part, each entry `0 + b_r0 b_k0 + b_r1 b_k1 + ...`.
-#[inline]
-fn sub_aat<const D: usize>(a: &mut Block, b: &Wide) {
-    for r in 0..D {
-        for k in 0..D {
-            let mut s = 0.0;
-            for t in 0..D {
-                s += b[r][t] * b[k][t];
-            }
-            a[r][k] -= s;
-        }
-    }
-}
-
-/// `a -= b c^T` given `ct = c^T` (padded: its rows' fourth entries 0), each entry summed as
-/// [`sub_aat`] sums it (`0 + b_r0 c_k0 + b_r1 c_k1 + ...`), four at a time along a row.
-#[inline]
-fn sub_at<const D: usize>(a: &mut Wide, b: &Wide, ct: &Wide) {
-    for r in 0..D {
-        let mut s = [0.0; 4];
-        for t in 0..D {
-            let x = b[r][t];
-            for k in 0..4 {
-                s[k] += x * ct[t][k];
-            }
-        }
-        for k in 0..4 {
-            a[r][k] -= s[k];
-        }
-    }
-}
-
-fn transpose(b: &Wide) -> Wide {
-    let mut t = [[0.0; 4]; 3];
-    for r in 0..3 {
-        for k in 0..3 {
-            t[k][r] = b[r][k];
-        }
-    }
-    t
-}
-
-/// `a b^T` on the leading `D x D` part.
-#[inline]
-fn mul_abt<const D: usize>(a: &Wide, b: &Block) -> Wide {
-    let mut m = [[0.0; 4]; 3];
-    for r in 0..D {
-        for k in 0..D {
-            let mut s = 0.0;
-            for t in 0..D {
-                s += a[r][t] * b[k][t];
-            }
-            m[r][k] = s;
-        }
-    }
-    m
-}
-
-#[inline]
-fn mul_vec<const D: usize>(m: &Block, x: &[f64; D]) -> [f64; D] {
-    let mut y = [0.0; D];
-    for r in 0..D {
-        let mut s = 0.0;
-        for c in 0..D {
-            s += m[r][c] * x[c];
-        }
-        y[r] = s;
-    }
-    y
-}
-
-/// The inverse of the Cholesky factor of the leading `D x D` part of a symmetric block (lower
-/// triangular, `L L^T = a`): `None` unless the block is positive definite (and finite).
-fn lower_inverse<const D: usize>(a: &Block) -> Option<Block> {
-    let mut l = [[0.0; 3]; 3];
-    for i in 0..D {
-        for j in 0..=i {
-            let mut s = a[i][j];
-            for k in 0..j {
-                s -= l[i][k] * l[j][k];
-            }
-            if i == j {
-                if s.is_nan() || s <= 0.0 || !s.is_finite() {
-                    return None;
-                }
-                l[i][i] = s.sqrt();
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    // Forward substitution on the identity, column by column.
-    let mut inv = [[0.0; 3]; 3];
-    for c in 0..D {
-        for i in c..D {
-            let mut s = if i == c { 1.0 } else { 0.0 };
-            for k in c..i {
-                s -= l[i][k] * inv[k][c];
-            }
-            inv[i][c] = s / l[i][i];
-        }
-    }
-    inv.iter().flatten().all(|v| v.is_finite()).then_some(inv)
 }

@@ -118,23 +118,7 @@ impl SparseCholesky {
             row[start[j]..start[j + 1]].sort_unstable();
         }
         self.split(&start, &row);
-        // The storage in slot order.
-        self.row.clear();
-        self.dest.clear();
-        self.span.clear();
-        self.span.resize(self.perm.len(), (0, 0));
-        for (q, part) in self.parts.iter().enumerate() {
-            if q > 0 {
-                self.l_split[q - 1] = self.row.len();
-            }
-            for &j in part {
-                let j = j as usize;
-                let b = self.row.len();
-                self.row.extend_from_slice(&row[start[j]..start[j + 1]]);
-                self.dest.extend(row[start[j]..start[j + 1]].iter().map(|&r| self.perm[r as usize]));
-                self.span[j] = (b, self.row.len());
-            }
-        }
+        self.supernodes(&start, &row);
         // The matrix's blocks by column (the lower of the two ends).
         let mut by_col: Vec<Vec<(u32, u32)>> = vec![Vec::new(); self.perm.len()];
         for (s, k) in self.key.iter().enumerate() {
@@ -162,8 +146,6 @@ impl SparseCholesky {
         for part in &mut self.parts {
             part.clear();
         }
-        self.slot.clear();
-        self.slot.resize(m, 0);
         let mut part = vec![2u8; m];
         if self.products >= SPLIT_MIN {
             let own = |j: usize| (start[j + 1] - start[j]) * (start[j + 1] - start[j] + 1) / 2 + 1;
@@ -212,12 +194,49 @@ impl SparseCholesky {
         for (j, &q) in part.iter().enumerate() {
             self.parts[q as usize].push(j as u32);
         }
-        let mut next = 0;
-        for list in &self.parts {
-            for &j in list {
-                self.slot[j as usize] = next;
-                next += 1;
+    }
+
+    /// Groups the columns of each part into supernodes: runs of consecutive columns each of
+    /// whose pattern is the next column and that column's pattern (so that they share their
+    /// rows below the run), stored part by part.
+    fn supernodes(&mut self, start: &[usize], row: &[u32]) {
+        let rows = |j: usize| &row[start[j]..start[j + 1]];
+        let nests = |j: usize| {
+            let r = rows(j);
+            r.first() == Some(&(j as u32 + 1)) && r[1..] == *rows(j + 1)
+        };
+        self.sn.clear();
+        self.row.clear();
+        self.dest.clear();
+        self.sn_of.clear();
+        self.sn_of.resize(self.perm.len(), NONE);
+        self.max_rows = 0;
+        self.laid = 0;
+        for (q, part) in self.parts.iter().enumerate() {
+            if q > 0 {
+                self.sn_split[q - 1] = self.sn.len();
+            }
+            let mut i = 0;
+            while i < part.len() {
+                let mut k = i;
+                while k + 1 < part.len() && part[k + 1] == part[k] + 1 && nests(part[k] as usize) {
+                    k += 1;
+                }
+                let (first, last) = (part[i] as usize, part[k] as usize);
+                let b = self.row.len();
+                self.row.extend_from_slice(rows(last));
+                self.dest.extend(rows(last).iter().map(|&r| self.perm[r as usize]));
+                let id = self.sn.len() as u32;
+                self.sn_of[first..=last].fill(id);
+                self.sn.push(super::Super {
+                    first: first as u32,
+                    width: (k - i + 1) as u32,
+                    below: (b, self.row.len()),
+                });
+                self.max_rows = self.max_rows.max(k - i + 1 + self.row.len() - b);
+                i = k + 1;
             }
         }
+        self.blocks = start[self.perm.len()] + self.perm.len();
     }
 }

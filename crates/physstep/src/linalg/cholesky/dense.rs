@@ -1,0 +1,288 @@
+//! The dense kernels of the supernodal factorisation, on column-major panels of doubles: the
+//! product of a block of rows with the transpose of its first rows (the update one supernode
+//! sends another, and the update within a panel), and the blocked Cholesky factorisation of a
+//! panel. Sums run over the columns in order, four rows at a time in the lanes of a vector,
+//! with no multiply-add fused: the same bits on the AVX2 path and the baseline
+//! ([`crate::simd`]).
+
+/// Columns of a panel factored together (the rest of the panel's columns then updated by
+/// [`syrk`] in one pass).
+const CHUNK: usize = 12;
+
+/// Rows a panel keeps past its last (zero): [`syrk`] reads whole vectors of four rows.
+pub(super) const PAD: usize = 3;
+
+/// `C = A B^T` (`SUB`: `C -= A B^T`) on the lower part (rows `i >= j`) of an `m x n` block,
+/// `B` the first `n` rows of the `m x w` block `A` (`n <= m`): `C[i + j ldc]` and
+/// `A[i + t lda]`, each entry `0 + a_i0 b_j0 + a_i1 b_j1 + ...`. `A`'s column may be read
+/// [`PAD`] rows past `m` (finite values, not used).
+#[inline(always)]
+pub(super) fn syrk<const SUB: bool>(
+    c: &mut [f64],
+    ldc: usize,
+    a: &[f64],
+    lda: usize,
+    m: usize,
+    n: usize,
+    w: usize,
+) {
+    let mut j = 0;
+    while j < n {
+        match n - j {
+            1 => columns::<1, SUB>(c, ldc, a, lda, m, w, j),
+            2 => columns::<2, SUB>(c, ldc, a, lda, m, w, j),
+            3 => columns::<3, SUB>(c, ldc, a, lda, m, w, j),
+            _ => columns::<4, SUB>(c, ldc, a, lda, m, w, j),
+        }
+        j += 4;
+    }
+}
+
+/// Columns `j..j + NJ` of [`syrk`], from row `j` down: tiles of eight rows, then four.
+#[inline(always)]
+fn columns<const NJ: usize, const SUB: bool>(
+    c: &mut [f64],
+    ldc: usize,
+    a: &[f64],
+    lda: usize,
+    m: usize,
+    w: usize,
+    j: usize,
+) {
+    // The tiles read rows `i..i + 4 NV` of columns `0..w`: within `a` (checked once here).
+    let reach = if w == 0 { 0 } else { (w - 1) * lda + m.div_ceil(4) * 4 };
+    assert!(reach <= a.len() && (w == 0 || (w - 1) * lda + j + NJ <= a.len()), "syrk: A is short");
+    #[cfg(target_arch = "x86_64")]
+    if crate::simd::avx2() {
+        let mut i = j;
+        while i < m {
+            // SAFETY: the CPU has AVX2 (`avx2`), and the tile reads within `a` (asserted above:
+            // `i + 4 NV <= m` rounded up to 4).
+            unsafe {
+                if m - i > 4 {
+                    tile_avx2::<2, NJ, SUB>(c, ldc, a, lda, w, i, j, (m - i).min(8));
+                } else {
+                    tile_avx2::<1, NJ, SUB>(c, ldc, a, lda, w, i, j, m - i);
+                }
+            }
+            i += 8;
+        }
+        return;
+    }
+    let mut i = j;
+    while i < m {
+        if m - i > 4 {
+            tile::<2, NJ, SUB>(c, ldc, a, lda, w, i, j, (m - i).min(8));
+            i += 8;
+        } else {
+            tile::<1, NJ, SUB>(c, ldc, a, lda, w, i, j, m - i);
+            i += 4;
+        }
+    }
+}
+
+/// [`tile`] in AVX2 registers (the same operations in the same order: the same bits).
+///
+/// # Safety
+/// The CPU has AVX2, and `a` holds rows `i..i + 4 NV` and `j..j + NJ` of columns `0..w`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn tile_avx2<const NV: usize, const NJ: usize, const SUB: bool>(
+    c: &mut [f64],
+    ldc: usize,
+    a: &[f64],
+    lda: usize,
+    w: usize,
+    i: usize,
+    j: usize,
+    rows: usize,
+) {
+    use std::arch::x86_64::{
+        _mm256_add_pd, _mm256_broadcast_sd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_setzero_pd,
+        _mm256_storeu_pd,
+    };
+    let mut acc = [[_mm256_setzero_pd(); NV]; NJ];
+    let base = a.as_ptr();
+    for t in 0..w {
+        let col = base.add(t * lda);
+        let mut x = [_mm256_setzero_pd(); NV];
+        for (v, xv) in x.iter_mut().enumerate() {
+            *xv = _mm256_loadu_pd(col.add(i + 4 * v));
+        }
+        for (jj, acc) in acc.iter_mut().enumerate() {
+            let b = _mm256_broadcast_sd(&*col.add(j + jj));
+            for v in 0..NV {
+                acc[v] = _mm256_add_pd(acc[v], _mm256_mul_pd(x[v], b));
+            }
+        }
+    }
+    for (jj, acc) in acc.iter().enumerate() {
+        let mut lanes = [[0.0f64; 4]; NV];
+        for v in 0..NV {
+            _mm256_storeu_pd(lanes[v].as_mut_ptr(), acc[v]);
+        }
+        let out = &mut c[(j + jj) * ldc + i..(j + jj) * ldc + i + rows];
+        for (r, o) in out.iter_mut().enumerate() {
+            let v = lanes[r / 4][r % 4];
+            if SUB {
+                *o -= v;
+            } else {
+                *o = v;
+            }
+        }
+    }
+}
+
+/// Rows `i..i + rows` (`rows <= 4 NV`) of columns `j..j + NJ`, accumulated in registers.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn tile<const NV: usize, const NJ: usize, const SUB: bool>(
+    c: &mut [f64],
+    ldc: usize,
+    a: &[f64],
+    lda: usize,
+    w: usize,
+    i: usize,
+    j: usize,
+    rows: usize,
+) {
+    let mut acc = [[[0.0f64; 4]; NV]; NJ];
+    for t in 0..w {
+        let col = &a[t * lda..];
+        let mut x = [[0.0f64; 4]; NV];
+        for (v, xv) in x.iter_mut().enumerate() {
+            *xv = col[i + 4 * v..i + 4 * v + 4].try_into().unwrap_or([0.0; 4]);
+        }
+        let b: [f64; NJ] = col[j..j + NJ].try_into().unwrap_or([0.0; NJ]);
+        for jj in 0..NJ {
+            for v in 0..NV {
+                for l in 0..4 {
+                    acc[jj][v][l] += x[v][l] * b[jj];
+                }
+            }
+        }
+    }
+    for (jj, acc) in acc.iter().enumerate() {
+        let out = &mut c[(j + jj) * ldc + i..(j + jj) * ldc + i + rows];
+        for (r, o) in out.iter_mut().enumerate() {
+            let v = acc[r / 4][r % 4];
+            if SUB {
+                *o -= v;
+            } else {
+                *o = v;
+            }
+        }
+    }
+}
+
+/// Factors in place the `rows x cols` panel `p` (column-major, leading dimension `ld`, its
+/// top `cols x cols` block the diagonal block, lower part read): `L` below the diagonal and
+/// the reciprocals of `L`'s diagonal on it. Left-looking in chunks of [`CHUNK`] columns,
+/// each updated by the columns before it ([`syrk`]) and then factored column by column.
+/// `false` at a pivot that is not positive (or not finite).
+#[inline(always)]
+pub(super) fn factor_panel(p: &mut [f64], ld: usize, rows: usize, cols: usize) -> bool {
+    let mut c0 = 0;
+    while c0 < cols {
+        let c1 = (c0 + CHUNK).min(cols);
+        if c0 > 0 {
+            let (left, right) = p.split_at_mut(c0 * ld);
+            syrk::<true>(&mut right[c0..], ld, &left[c0..], ld, rows - c0, c1 - c0, c0);
+        }
+        for c in c0..c1 {
+            let (left, right) = p.split_at_mut(c * ld);
+            let col = &mut right[c..rows];
+            for t in c0..c {
+                let lt = &left[t * ld + c..t * ld + rows];
+                let x = lt[0];
+                for (ci, li) in col.iter_mut().zip(lt) {
+                    *ci -= li * x;
+                }
+            }
+            let d = col[0];
+            if !(d > 0.0 && d.is_finite()) {
+                return false;
+            }
+            let inv = 1.0 / d.sqrt();
+            col[0] = inv;
+            for ci in &mut col[1..] {
+                *ci *= inv;
+            }
+        }
+        c0 = c1;
+    }
+    true
+}
+
+/// `sum_i a_i b_i` in four lanes (`i mod 4`), then the lanes summed in order.
+#[inline(always)]
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ar, br) = (ac.remainder(), bc.remainder());
+    for (x, y) in ac.zip(bc) {
+        for l in 0..4 {
+            acc[l] += x[l] * y[l];
+        }
+    }
+    for (l, (x, y)) in ar.iter().zip(br).enumerate() {
+        acc[l] += x * y;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A symmetric positive definite `n x n` matrix (column-major, leading dimension `ld`).
+    fn spd(n: usize, ld: usize) -> Vec<f64> {
+        let mut a = vec![0.0; ld * n];
+        for j in 0..n {
+            for i in 0..n {
+                let v = ((i * 7 + j * 13) % 11) as f64 * 0.1 - 0.5;
+                a[j * ld + i] += v;
+                a[i * ld + j] += v;
+            }
+            a[j * ld + j] += 2.0 * n as f64;
+        }
+        a
+    }
+
+    #[test]
+    fn a_panel_factors_to_l_with_its_diagonal_inverted() {
+        // Sizes across the chunk (12) and the tiles (8, 4): L L^T is the matrix.
+        for n in [1, 3, 5, 12, 13, 29] {
+            let ld = n + PAD;
+            let a = spd(n, ld);
+            let mut l = a.clone();
+            assert!(factor_panel(&mut l, ld, n, n));
+            for i in 0..n {
+                for j in 0..=i {
+                    let lij = |i: usize, j: usize| if i == j { 1.0 / l[j * ld + j] } else { l[j * ld + i] };
+                    let s: f64 = (0..=j).map(|k| lij(i, k) * lij(j, k)).sum();
+                    assert!((s - a[j * ld + i]).abs() < 1e-12 * n as f64, "n {n} ({i}, {j}): {s}");
+                }
+            }
+        }
+        let mut indefinite = spd(4, 4 + PAD);
+        indefinite[2 * (4 + PAD) + 2] = -100.0;
+        assert!(!factor_panel(&mut indefinite, 4 + PAD, 4, 4));
+    }
+
+    #[test]
+    fn syrk_is_the_product_of_rows_with_the_first_rows() {
+        let (m, n, w, lda) = (11, 6, 5, 11 + PAD);
+        let a: Vec<f64> = (0..lda * w).map(|k| (k as f64 * 0.37).sin()).collect();
+        let mut c = vec![7.0; m * n];
+        syrk::<true>(&mut c, m, &a, lda, m, n, w);
+        for j in 0..n {
+            for i in j..m {
+                let s: f64 = (0..w).map(|t| a[t * lda + i] * a[t * lda + j]).sum();
+                assert!((c[j * m + i] - (7.0 - s)).abs() < 1e-14);
+            }
+        }
+        assert_eq!(dot(&[1.0, 2.0, 3.0, 4.0, 5.0], &[1.0, 1.0, 1.0, 1.0, 2.0]), 20.0);
+    }
+}
