@@ -100,7 +100,7 @@ unsafe fn tile_avx2<const NV: usize, const NJ: usize, const SUB: bool>(
 ) {
     use std::arch::x86_64::{
         _mm256_add_pd, _mm256_broadcast_sd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_setzero_pd,
-        _mm256_storeu_pd,
+        _mm256_storeu_pd, _mm256_sub_pd,
     };
     let mut acc = [[_mm256_setzero_pd(); NV]; NJ];
     let base = a.as_ptr();
@@ -118,11 +118,22 @@ unsafe fn tile_avx2<const NV: usize, const NJ: usize, const SUB: bool>(
         }
     }
     for (jj, acc) in acc.iter().enumerate() {
+        let out = &mut c[(j + jj) * ldc + i..(j + jj) * ldc + i + rows];
+        if rows == 4 * NV {
+            for (v, acc) in acc.iter().enumerate() {
+                let o = out.as_mut_ptr().add(4 * v);
+                if SUB {
+                    _mm256_storeu_pd(o, _mm256_sub_pd(_mm256_loadu_pd(o), *acc));
+                } else {
+                    _mm256_storeu_pd(o, *acc);
+                }
+            }
+            continue;
+        }
         let mut lanes = [[0.0f64; 4]; NV];
         for v in 0..NV {
             _mm256_storeu_pd(lanes[v].as_mut_ptr(), acc[v]);
         }
-        let out = &mut c[(j + jj) * ldc + i..(j + jj) * ldc + i + rows];
         for (r, o) in out.iter_mut().enumerate() {
             let v = lanes[r / 4][r % 4];
             if SUB {

@@ -489,11 +489,54 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
             let tail = &kb[at..];
             let nq = tail.iter().take_while(|&&r| (r as usize) < f + s).count();
             let (mt, nc) = (D * tail.len(), D * nq);
+            let kld = D * (kw + kb.len()) + dense::PAD;
+            if kw == 1 {
+                // One particle's columns: each block's product straight into the panel (the
+                // same sums as the product and scatter below, without their set-up, which
+                // costs more than the product here: a 32 x 32 cloth's factor 1.65 -> 1.44 ms).
+                let a = &done[sh.off[ku] - p.lx_base..sh.off[ku] - p.lx_base + D * kld];
+                let r0 = D + D * at;
+                let gather = |t: usize| {
+                    let mut m = [[0.0; D]; D];
+                    for (x, row) in m.iter_mut().enumerate() {
+                        for (tau, v) in row.iter_mut().enumerate() {
+                            *v = a[tau * kld + r0 + D * t + x];
+                        }
+                    }
+                    m
+                };
+                for ci in 0..nq {
+                    let col = D * (tail[ci] as usize - f);
+                    let bt = gather(ci);
+                    for (t, &r) in tail.iter().enumerate().skip(ci) {
+                        let rj = D * p.map[r as usize] as usize;
+                        let at_ = gather(t);
+                        for (b, bt) in bt.iter().enumerate() {
+                            let dst = &mut panel[(col + b) * ld + rj..(col + b) * ld + rj + D];
+                            for x in if t == ci { b } else { 0 }..D {
+                                let mut acc = 0.0;
+                                for tau in 0..D {
+                                    acc += at_[x][tau] * bt[tau];
+                                }
+                                dst[x] -= acc;
+                            }
+                        }
+                    }
+                }
+                let at = at + nq;
+                p.pos[kl] = at as u32;
+                if at < kb.len() {
+                    let d = sh.sn_of[kb[at] as usize] as usize;
+                    p.link[kl] = p.head[d];
+                    p.head[d] = k;
+                }
+                k = next;
+                continue;
+            }
             if p.upd.len() < mt * nc {
                 p.upd.resize(mt * nc, 0.0);
             }
             let u = &mut p.upd[..mt * nc];
-            let kld = D * (kw + kb.len()) + dense::PAD;
             let a = &done[sh.off[ku] - p.lx_base + D * (kw + at)..];
             dense::syrk::<false>(u, mt, a, kld, mt, nc, D * kw);
             // The tail's rows in runs that are consecutive in the panel too.

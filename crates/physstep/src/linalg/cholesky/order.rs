@@ -199,6 +199,9 @@ impl SparseCholesky {
     /// Groups the columns of each part into supernodes: runs of consecutive columns each of
     /// whose pattern is the next column and that column's pattern (so that they share their
     /// rows below the run), stored part by part.
+    /// (Relaxed supernodes, a column taken where its pattern is only part of the next
+    /// column's, were tried: on a 32 x 32 cloth 539 supernodes instead of 548, no faster; the
+    /// many leaves of the elimination tree stay supernodes of one particle.)
     fn supernodes(&mut self, start: &[usize], row: &[u32]) {
         let rows = |j: usize| &row[start[j]..start[j + 1]];
         let nests = |j: usize| {
