@@ -340,19 +340,13 @@ impl SparseCholesky {
             return; // no factor made (the preconditioner is then another)
         }
         let mut buf = vec![0.0; D * self.max_rows];
-        for (q, sn) in self.sn.iter().enumerate() {
-            let (f, s) = (sn.first as usize, sn.width as usize);
-            let dest = &self.dest[sn.below.0..sn.below.1];
-            let (ns, nb) = (D * s, D * dest.len());
-            let ld = ns + nb + dense::PAD;
+        for q in 0..self.sn.len() {
+            let (sn, dest, panel, ld) = self.panel::<D>(q);
+            let (ns, nb) = (D * sn.width as usize, D * dest.len());
             let (x, y) = buf.split_at_mut(ns);
             let y = &mut y[..nb];
-            for (jj, xj) in x.chunks_exact_mut(D).enumerate() {
-                let o = self.perm[f + jj] as usize * D;
-                xj.copy_from_slice(&z[o..o + D]);
-            }
+            self.own_rows::<D>(sn, z, x, true);
             y.fill(0.0);
-            let panel = &self.lx[self.off[q]..self.off[q + 1]];
             for c in 0..ns {
                 let col = &panel[c * ld..c * ld + ns + nb];
                 let v = x[c] * col[c];
@@ -364,10 +358,7 @@ impl SparseCholesky {
                     *yi += li * v;
                 }
             }
-            for (jj, xj) in x.chunks_exact(D).enumerate() {
-                let o = self.perm[f + jj] as usize * D;
-                z[o..o + D].copy_from_slice(xj);
-            }
+            self.own_rows::<D>(sn, z, x, false);
             for (&p, yp) in dest.iter().zip(y.chunks_exact(D)) {
                 let o = p as usize * D;
                 for (zk, yk) in z[o..o + D].iter_mut().zip(yp) {
@@ -375,29 +366,43 @@ impl SparseCholesky {
                 }
             }
         }
-        for (q, sn) in self.sn.iter().enumerate().rev() {
-            let (f, s) = (sn.first as usize, sn.width as usize);
-            let dest = &self.dest[sn.below.0..sn.below.1];
-            let (ns, nb) = (D * s, D * dest.len());
-            let ld = ns + nb + dense::PAD;
+        for q in (0..self.sn.len()).rev() {
+            let (sn, dest, panel, ld) = self.panel::<D>(q);
+            let (ns, nb) = (D * sn.width as usize, D * dest.len());
             let (x, y) = buf.split_at_mut(ns);
             let y = &mut y[..nb];
-            for (jj, xj) in x.chunks_exact_mut(D).enumerate() {
-                let o = self.perm[f + jj] as usize * D;
-                xj.copy_from_slice(&z[o..o + D]);
-            }
+            self.own_rows::<D>(sn, z, x, true);
             for (&p, yp) in dest.iter().zip(y.chunks_exact_mut(D)) {
                 let o = p as usize * D;
                 yp.copy_from_slice(&z[o..o + D]);
             }
-            let panel = &self.lx[self.off[q]..self.off[q + 1]];
             for c in (0..ns).rev() {
                 let col = &panel[c * ld..c * ld + ns + nb];
                 let t = dense::dot(&col[c + 1..ns], &x[c + 1..]) + dense::dot(&col[ns..], y);
                 x[c] = (x[c] - t) * col[c];
             }
-            for (jj, xj) in x.chunks_exact(D).enumerate() {
-                let o = self.perm[f + jj] as usize * D;
+            self.own_rows::<D>(sn, z, x, false);
+        }
+    }
+
+    /// Supernode `q`, the particles of its rows below, its panel and the panel's leading
+    /// dimension.
+    #[inline(always)]
+    fn panel<const D: usize>(&self, q: usize) -> (Super, &[u32], &[f64], usize) {
+        let sn = self.sn[q];
+        let dest = &self.dest[sn.below.0..sn.below.1];
+        let ld = D * (sn.width as usize + dest.len()) + dense::PAD;
+        (sn, dest, &self.lx[self.off[q]..self.off[q + 1]], ld)
+    }
+
+    /// The values of supernode `sn`'s own rows: `x` from `z` (`read`), or back.
+    #[inline(always)]
+    fn own_rows<const D: usize>(&self, sn: Super, z: &mut [f64], x: &mut [f64], read: bool) {
+        for (jj, xj) in x.chunks_exact_mut(D).enumerate() {
+            let o = self.perm[sn.first as usize + jj] as usize * D;
+            if read {
+                xj.copy_from_slice(&z[o..o + D]);
+            } else {
                 z[o..o + D].copy_from_slice(xj);
             }
         }
@@ -523,52 +528,44 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
                         }
                     }
                 }
-                let at = at + nq;
-                p.pos[kl] = at as u32;
-                if at < kb.len() {
-                    let d = sh.sn_of[kb[at] as usize] as usize;
-                    p.link[kl] = p.head[d];
-                    p.head[d] = k;
+            } else {
+                if p.upd.len() < mt * nc {
+                    p.upd.resize(mt * nc, 0.0);
                 }
-                k = next;
-                continue;
-            }
-            if p.upd.len() < mt * nc {
-                p.upd.resize(mt * nc, 0.0);
-            }
-            let u = &mut p.upd[..mt * nc];
-            let a = &done[sh.off[ku] - p.lx_base + D * (kw + at)..];
-            dense::syrk::<false>(u, mt, a, kld, mt, nc, D * kw);
-            // The tail's rows in runs that are consecutive in the panel too.
-            p.runs.clear();
-            let mut t = 0;
-            while t < tail.len() {
-                let at = p.map[tail[t] as usize] as usize;
-                let mut e = t + 1;
-                while e < tail.len() && p.map[tail[e] as usize] as usize == at + e - t {
-                    e += 1;
-                }
-                p.runs.push((t, e, at));
-                t = e;
-            }
-            for ci in 0..nq {
-                let col = D * (tail[ci] as usize - f);
-                let r0 = D * p.map[tail[ci] as usize] as usize;
-                for b in 0..D {
-                    let src = &u[(D * ci + b) * mt..(D * ci + b + 1) * mt];
-                    let dst = &mut panel[(col + b) * ld..(col + b + 1) * ld];
-                    // The diagonal block's upper part is neither computed nor read.
-                    for a in b..D {
-                        dst[r0 + a] -= src[D * ci + a];
+                let u = &mut p.upd[..mt * nc];
+                let a = &done[sh.off[ku] - p.lx_base + D * (kw + at)..];
+                dense::syrk::<false>(u, mt, a, kld, mt, nc, D * kw);
+                // The tail's rows in runs that are consecutive in the panel too.
+                p.runs.clear();
+                let mut t = 0;
+                while t < tail.len() {
+                    let at = p.map[tail[t] as usize] as usize;
+                    let mut e = t + 1;
+                    while e < tail.len() && p.map[tail[e] as usize] as usize == at + e - t {
+                        e += 1;
                     }
-                    for &(t0, t1, at) in p.runs.iter() {
-                        if t1 <= ci + 1 {
-                            continue;
+                    p.runs.push((t, e, at));
+                    t = e;
+                }
+                for ci in 0..nq {
+                    let col = D * (tail[ci] as usize - f);
+                    let r0 = D * p.map[tail[ci] as usize] as usize;
+                    for b in 0..D {
+                        let src = &u[(D * ci + b) * mt..(D * ci + b + 1) * mt];
+                        let dst = &mut panel[(col + b) * ld..(col + b + 1) * ld];
+                        // The diagonal block's upper part is neither computed nor read.
+                        for a in b..D {
+                            dst[r0 + a] -= src[D * ci + a];
                         }
-                        let from = t0.max(ci + 1);
-                        let (len, to) = (D * (t1 - from), D * (at + from - t0));
-                        for (d, s) in dst[to..to + len].iter_mut().zip(&src[D * from..D * from + len]) {
-                            *d -= s;
+                        for &(t0, t1, at) in p.runs.iter() {
+                            if t1 <= ci + 1 {
+                                continue;
+                            }
+                            let from = t0.max(ci + 1);
+                            let (len, to) = (D * (t1 - from), D * (at + from - t0));
+                            for (d, s) in dst[to..to + len].iter_mut().zip(&src[D * from..D * from + len]) {
+                                *d -= s;
+                            }
                         }
                     }
                 }
