@@ -34,6 +34,9 @@ pub struct ForceSet {
     kinds: Kinds,
     /// The per-particle forces, gathered on `add`.
     local: Local,
+    /// The springs between two particles, in canonical order: `(i, j, [k, rest, c])`,
+    /// gathered on `add` (the loop of [`ForceSet::accel`], without matching every force).
+    springs: Vec<(usize, usize, [f64; 3])>,
 }
 
 impl PartialEq for ForceSet {
@@ -117,6 +120,11 @@ impl ForceSet {
         self.insert(force, id);
         self.kinds = self.kinds.with(&force);
         self.local.add(&force, self.forces.iter());
+        if let Some(spring) = particle_spring(&force) {
+            let key = force.key();
+            let at = self.springs.partition_point(|&(i, j, p)| spring_force(i, j, p).key() <= key);
+            self.springs.insert(at, spring);
+        }
         Ok(id)
     }
 
@@ -231,6 +239,7 @@ impl ForceSet {
         for f in &self.forces {
             self.local.add(f, self.forces.iter());
         }
+        self.springs = self.forces.iter().filter_map(particle_spring).collect();
     }
 
     /// Number of forces.
@@ -305,12 +314,10 @@ impl ForceSet {
         }
         if self.kinds.pairs {
             f.fill(0.0);
-            for force in &self.forces {
-                if let Force::Spring { i, j: j @ Endpoint::Particle(_), stiffness, rest_length, damping } =
-                    *force
-                {
-                    spring::force(dim, x, v, i, j, [stiffness, rest_length, damping], f);
-                }
+            match dim {
+                1 => particle_springs::<1>(&self.springs, x, v, f),
+                2 => particle_springs::<2>(&self.springs, x, v, f),
+                _ => particle_springs::<3>(&self.springs, x, v, f),
             }
             for ((ap, fp), &im) in a.chunks_exact_mut(dim).zip(f.chunks_exact(dim)).zip(inv_mass) {
                 for (ak, fk) in ap.iter_mut().zip(fp) {
@@ -442,5 +449,34 @@ impl ForceSet {
             }
         }
         true
+    }
+}
+
+/// A spring between two particles as `(i, j, [k, rest, c])`.
+fn particle_spring(force: &Force) -> Option<(usize, usize, [f64; 3])> {
+    match *force {
+        Force::Spring { i, j: Endpoint::Particle(j), stiffness, rest_length, damping } => {
+            Some((i, j, [stiffness, rest_length, damping]))
+        }
+        _ => None,
+    }
+}
+
+/// The force of [`particle_spring`]'s triple.
+fn spring_force(i: usize, j: usize, [stiffness, rest_length, damping]: [f64; 3]) -> Force {
+    Force::Spring { i, j: Endpoint::Particle(j), stiffness, rest_length, damping }
+}
+
+/// The springs' forces added to `f`, in order, on particles of `D` coordinates (the same
+/// arithmetic as `spring::force` at any `dim`: the same bits).
+#[inline(never)]
+fn particle_springs<const D: usize>(
+    springs: &[(usize, usize, [f64; 3])],
+    x: &[f64],
+    v: &[f64],
+    f: &mut [f64],
+) {
+    for &(i, j, p) in springs {
+        spring::force(D, x, v, i, Endpoint::Particle(j), p, f);
     }
 }

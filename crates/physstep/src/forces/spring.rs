@@ -7,7 +7,7 @@ use super::{dot, relative, separation, Endpoint};
 /// `F_i = -k (r - rest) d / r - c (w . d) d / r^2`, `d = x_i - x_j`, `w = v_i - v_j`;
 /// `F_i = -k d` at `r = 0`. A zero-rest-length spring is linear, `F_i = -k d - c w`: no
 /// square root, and its damping does not vanish (or jump) where `d = 0`.
-#[inline]
+#[inline(always)]
 pub(super) fn force(dim: usize, x: &[f64], v: &[f64], i: usize, j: Endpoint, p: [f64; 3], f: &mut [f64]) {
     let [k, rest, c] = p;
     let d = separation(dim, x, i, j);
