@@ -32,6 +32,7 @@ fn add(a: &mut Block, b: &Block) {
 /// `-k ((1 - rest/r) I + rest/r u u^T)` and `-c u u^T`. Left out, to keep them semidefinite:
 /// a compressed spring's sideways term (`-k (1 - rest/r) (I - u u^T)`, which pushes the
 /// wrong way) and the damping's coupling to the direction (`-c/r (u (P w)^T + (w.u) P)`).
+#[inline(always)]
 fn spring(dim: usize, x: &[f64], i: usize, j: Endpoint, k: f64, rest: f64, c: f64) -> (Block, Block) {
     if rest == 0.0 {
         return (iso_plus_outer(dim, -k, 0.0, &[0.0; 3]), iso_plus_outer(dim, -c, 0.0, &[0.0; 3]));
@@ -56,15 +57,12 @@ impl ForceSet {
         for force in self.iter() {
             match *force {
                 Force::Gravity { .. } => {}
+                // Between two particles: from their own list, below.
+                Force::Spring { j: Endpoint::Particle(_), .. } => {}
                 Force::Spring { i, j, stiffness, rest_length, damping } => {
                     let (k, d) = spring(dim, x, i, j, stiffness, rest_length, damping);
-                    match j {
-                        Endpoint::Particle(j) => out.pairs.push((i, j, k, d)),
-                        Endpoint::Anchor(_) => {
-                            add(&mut out.kd[i], &k);
-                            add(&mut out.dd[i], &d);
-                        }
-                    }
+                    add(&mut out.kd[i], &k);
+                    add(&mut out.dd[i], &d);
                 }
                 Force::Drag { linear, quadratic } => {
                     for (p, vp) in v.chunks_exact(dim).enumerate() {
@@ -100,6 +98,21 @@ impl ForceSet {
                 Force::NBody { .. } | Force::Rod { .. } => return false,
             }
         }
+        match dim {
+            1 => pair_blocks::<1>(self.springs(), x, out),
+            2 => pair_blocks::<2>(self.springs(), x, out),
+            _ => pair_blocks::<3>(self.springs(), x, out),
+        }
         true
+    }
+}
+
+/// The blocks of the springs between two particles (`(i, j, [k, rest, c])`, in canonical
+/// order), on particles of `D` coordinates: as [`spring`] at any `dim`, the same bits.
+#[inline(never)]
+fn pair_blocks<const D: usize>(springs: &[(usize, usize, [f64; 3])], x: &[f64], out: &mut Blocks) {
+    for &(i, j, [k, rest, c]) in springs {
+        let (kb, db) = spring(D, x, i, Endpoint::Particle(j), k, rest, c);
+        out.pairs.push((i, j, kb, db));
     }
 }

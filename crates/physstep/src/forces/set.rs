@@ -242,6 +242,11 @@ impl ForceSet {
         self.springs = self.forces.iter().filter_map(particle_spring).collect();
     }
 
+    /// The springs between two particles, `(i, j, [k, rest, c])` in canonical order.
+    pub(super) fn springs(&self) -> &[(usize, usize, [f64; 3])] {
+        &self.springs
+    }
+
     /// Number of forces.
     #[must_use]
     pub fn len(&self) -> usize {
