@@ -35,7 +35,8 @@ pub struct ForceSet {
     /// The per-particle forces, gathered on `add`.
     local: Local,
     /// The springs between two particles, in canonical order: `(i, j, [k, rest, c])`,
-    /// gathered on `add` (the loop of [`ForceSet::accel`], without matching every force).
+    /// gathered on `add` (the loops of [`ForceSet::accel`] and of the Jacobian blocks,
+    /// without matching every force).
     springs: Vec<(usize, usize, [f64; 3])>,
 }
 
