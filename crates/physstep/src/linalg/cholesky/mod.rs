@@ -55,6 +55,14 @@ struct Super {
     below: (usize, usize),
 }
 
+impl Super {
+    /// The leading dimension of its panel for particles of `d` coordinates: its rows (the
+    /// diagonal block's and those below) and [`dense::PAD`].
+    fn ld(&self, d: usize) -> usize {
+        d * (self.width as usize + self.below.1 - self.below.0) + dense::PAD
+    }
+}
+
 /// The order, the pattern of `L` and its numeric panels.
 #[derive(Debug, Clone, Default)]
 pub(super) struct SparseCholesky {
@@ -192,8 +200,7 @@ impl SparseCholesky {
                 self.lx_split[1] = at;
             }
             self.off.push(at);
-            let rows = sn.width as usize + sn.below.1 - sn.below.0;
-            at += D * sn.width as usize * (D * rows + dense::PAD);
+            at += D * sn.width as usize * sn.ld(D);
         }
         for (q, split) in self.sn_split.iter().enumerate() {
             if *split == self.sn.len() {
@@ -391,7 +398,7 @@ impl SparseCholesky {
     fn panel<const D: usize>(&self, q: usize) -> (Super, &[u32], &[f64], usize) {
         let sn = self.sn[q];
         let dest = &self.dest[sn.below.0..sn.below.1];
-        let ld = D * (sn.width as usize + dest.len()) + dense::PAD;
+        let ld = sn.ld(D);
         (sn, dest, &self.lx[self.off[q]..self.off[q + 1]], ld)
     }
 
@@ -450,7 +457,7 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
     let below = &sh.row[sn.below.0..sn.below.1];
     let ns = D * s;
     let rows = ns + D * below.len();
-    let ld = rows + dense::PAD;
+    let ld = sn.ld(D);
     for jj in 0..s {
         p.map[f + jj] = jj as u32;
     }
@@ -494,7 +501,7 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
             let tail = &kb[at..];
             let nq = tail.iter().take_while(|&&r| (r as usize) < f + s).count();
             let (mt, nc) = (D * tail.len(), D * nq);
-            let kld = D * (kw + kb.len()) + dense::PAD;
+            let kld = kn.ld(D);
             if kw == 1 {
                 // One particle's columns: each block's product straight into the panel (the
                 // same sums as the product and scatter below, without their set-up, which
