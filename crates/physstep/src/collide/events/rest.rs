@@ -418,12 +418,21 @@ impl Rest {
 
     /// Runs `f` on every contact `SWEEPS` times: in order of height with an "up" (from the
     /// floor up), else alternating direction. Marks the contacts that changed anything.
+    /// A sweep in which no contact changed anything ends the passes: the state is then a
+    /// fixed point of every contact, so the sweeps left would change nothing either (the same
+    /// bits as all `SWEEPS`; the velocity pass of a pile at rest ends after its first).
     fn sweeps(&mut self, mut f: impl FnMut(&mut Self, usize) -> bool, active: &mut [bool]) {
         let m = self.contacts.len();
         for sweep in 0..SWEEPS {
+            let mut changed = false;
             for j in 0..m {
                 let i = if sweep % 2 == 0 || self.up.is_some() { j } else { m - 1 - j };
-                active[i] |= f(self, i);
+                let acted = f(self, i);
+                changed |= acted;
+                active[i] |= acted;
+            }
+            if !changed {
+                return;
             }
         }
     }
