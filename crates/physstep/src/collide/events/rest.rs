@@ -418,9 +418,9 @@ impl Rest {
 
     /// Runs `f` on every contact, at most `SWEEPS` times: in order of height with an "up"
     /// (from the floor up), else alternating direction. Marks the contacts that changed
-    /// anything. A sweep in which no contact changed anything ends the passes: the state is then a
-    /// fixed point of every contact, so the sweeps left would change nothing either (the same
-    /// bits as all `SWEEPS`; the velocity pass of a pile at rest ends after its first).
+    /// anything. A sweep in which no contact changed anything ends the passes: the state is
+    /// then a fixed point of every contact, so the sweeps left would change nothing either
+    /// (the same bits as all `SWEEPS`; the velocity pass of a pile at rest ends after one).
     fn sweeps(&mut self, mut f: impl FnMut(&mut Self, usize) -> bool, active: &mut [bool]) {
         let m = self.contacts.len();
         for sweep in 0..SWEEPS {
