@@ -508,27 +508,33 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
                 // costs more than the product here: a 32 x 32 cloth's factor 1.65 -> 1.44 ms).
                 let a = &done[sh.off[ku] - p.lx_base..sh.off[ku] - p.lx_base + D * kld];
                 let r0 = D + D * at;
-                let gather = |t: usize| {
-                    let mut m = [[0.0; D]; D];
-                    for (x, row) in m.iter_mut().enumerate() {
+                // The tail's blocks, each row's `D` entries together (gathered once, read by
+                // every column block they meet).
+                let blocks = D * D * tail.len();
+                if p.upd.len() < blocks {
+                    p.upd.resize(blocks, 0.0);
+                }
+                let g = &mut p.upd[..blocks];
+                for (t, gt) in g.chunks_exact_mut(D * D).enumerate() {
+                    for (x, row) in gt.chunks_exact_mut(D).enumerate() {
                         for (tau, v) in row.iter_mut().enumerate() {
                             *v = a[tau * kld + r0 + D * t + x];
                         }
                     }
-                    m
-                };
+                }
+                let g = &p.upd[..blocks];
                 for ci in 0..nq {
                     let col = D * (tail[ci] as usize - f);
-                    let bt = gather(ci);
+                    let bc = &g[D * D * ci..D * D * (ci + 1)];
                     for (t, &r) in tail.iter().enumerate().skip(ci) {
                         let rj = D * p.map[r as usize] as usize;
-                        let at_ = gather(t);
-                        for (b, bt) in bt.iter().enumerate() {
+                        let bt = &g[D * D * t..D * D * (t + 1)];
+                        for (b, bc) in bc.chunks_exact(D).enumerate() {
                             let dst = &mut panel[(col + b) * ld + rj..(col + b) * ld + rj + D];
                             for x in if t == ci { b } else { 0 }..D {
                                 let mut acc = 0.0;
                                 for tau in 0..D {
-                                    acc += at_[x][tau] * bt[tau];
+                                    acc += bt[D * x + tau] * bc[tau];
                                 }
                                 dst[x] -= acc;
                             }
