@@ -153,7 +153,7 @@ def test_a_settled_pile_pickles_and_continues_bitwise() -> None:
     assert twin.state_hash() == w.state_hash()
     x = np.array(twin.positions)
     with pytest.raises(ValueError, match="balls may not overlap"):
-        twin.add_ball(x[0] + [0.01, 0.0], radius=0.05)
+        twin.add_ball(x[0] + [0.01, 0.01], radius=0.05)
     assert len(twin) == 400
 
 

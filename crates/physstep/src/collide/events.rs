@@ -16,6 +16,8 @@ mod narrow;
 mod overlap;
 mod rest;
 
+pub(crate) use rest::Push;
+
 use super::grid::Grid;
 use super::Walls;
 use std::cmp::Reverse;
@@ -379,20 +381,22 @@ impl Scratch {
     }
 
     /// Resolves every contact of the step; the balls that were hit end at `p + (1 - tau) u`
-    /// with velocity `vel` (the caller writes them back).
+    /// with velocity `vel` (the caller writes them back). Below restitution 1 the resting
+    /// contacts' first position pass starts from `warm` (the pushes of the step before, sorted
+    /// by slots) and leaves this step's there.
     ///
     /// # Errors
     /// The budget of events, `64 nb + 1024`, when the contacts do not end within it (balls
     /// packed at rest).
-    pub fn resolve(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
+    pub fn resolve(&mut self, inp: &Input<'_>, warm: &mut Vec<Push>) -> Result<Outcome, u64> {
         match inp.d {
-            1 => self.resolve_d::<1>(inp),
-            2 => self.resolve_d::<2>(inp),
-            _ => self.resolve_d::<3>(inp),
+            1 => self.resolve_d::<1>(inp, warm),
+            2 => self.resolve_d::<2>(inp, warm),
+            _ => self.resolve_d::<3>(inp, warm),
         }
     }
 
-    fn resolve_d<const D: usize>(&mut self, inp: &Input<'_>) -> Result<Outcome, u64> {
+    fn resolve_d<const D: usize>(&mut self, inp: &Input<'_>, warm: &mut Vec<Push>) -> Result<Outcome, u64> {
         let nb = inp.radius.len();
         self.rest.on = false;
         if inp.e < 1.0 {
@@ -493,7 +497,7 @@ impl Scratch {
                 }
             }
             if self.rest.on {
-                out.contacts += self.rest_finish::<D>(inp);
+                out.contacts += self.rest_finish::<D>(inp, warm);
             }
             return Ok(out);
         }

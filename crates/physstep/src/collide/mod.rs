@@ -16,7 +16,7 @@
 mod events;
 mod grid;
 
-pub(crate) use events::{Input, Scratch};
+pub(crate) use events::{Input, Push, Scratch};
 
 use crate::error::{num, Error, Result};
 
@@ -61,6 +61,10 @@ pub(crate) struct Balls {
     pub x1: Vec<f64>,
     pub v1: Vec<f64>,
     pub scratch: Scratch,
+    /// The resting contacts' pushes at the end of the latest step's first position pass,
+    /// sorted by slots: where the next step's pass starts (state: in snapshots, the state
+    /// hash and rollbacks; forgotten when the balls change).
+    pub warm: Vec<Push>,
 }
 
 impl Default for Balls {
@@ -76,6 +80,7 @@ impl Default for Balls {
             x1: Vec::new(),
             v1: Vec::new(),
             scratch: Scratch::default(),
+            warm: Vec::new(),
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::step::StepContext;
 use super::World;
-use crate::collide::{self, CollisionStats, Input, Walls};
+use crate::collide::{self, CollisionStats, Input, Push, Walls};
 use crate::error::{num, Error, Result};
 
 fn point(x: &[f64]) -> String {
@@ -224,6 +224,8 @@ impl World {
         }
         self.balls.radius = radii.to_vec();
         self.balls.index = (0..radii.len()).filter(|p| radii[*p] != 0.0).collect();
+        // The warm starts name slots, which this renumbers.
+        self.balls.warm.clear();
         Ok(())
     }
 
@@ -379,7 +381,7 @@ impl World {
             (&b.x1[..], &b.v1[..])
         };
         let inp = Input { d, h: ctx.h, e: b.restitution, radius, inv_mass, walls: b.walls.as_ref(), x1, v1 };
-        let out = b.scratch.resolve(&inp).map_err(|contacts| Error::Contacts {
+        let out = b.scratch.resolve(&inp, &mut b.warm).map_err(|contacts| Error::Contacts {
             method: name.into(),
             step: ctx.step,
             t: ctx.t,
@@ -475,7 +477,8 @@ const BLOCK_HEAD: usize = 11;
 impl World {
     /// What a snapshot and the state hash hold of the balls (nothing in a world without):
     /// restitution, whether there are walls, their corners (3 + 3), the contact statistics
-    /// (count, deepest overlap, pairs tested), then every particle's radius.
+    /// (count, deepest overlap, pairs tested), every particle's radius, then the resting
+    /// contacts' warm starts ([`Push::block`]: nothing when there are none).
     pub(super) fn balls_block(&self) -> Vec<f64> {
         if self.balls.is_empty() {
             return Vec::new();
@@ -488,21 +491,39 @@ impl World {
         let s = b.stats;
         out.extend([s.count as f64, s.max_overlap, s.pair_tests as f64]);
         out.extend(self.radii());
+        out.extend(Push::block(&b.warm));
         out
     }
 
+    /// The length of [`World::balls_block`] without its warm starts.
+    pub(super) fn balls_block_fixed(&self) -> usize {
+        if self.balls.is_empty() {
+            0
+        } else {
+            BLOCK_HEAD + self.len()
+        }
+    }
+
     /// Checks a snapshot's balls block against this world's (`ours`): the same radii, walls
-    /// and restitution; returns the statistics to restore.
+    /// and restitution; returns the statistics and warm starts to restore.
     ///
     /// # Errors
     /// [`crate::Error::Corrupt`] when they differ.
-    pub(super) fn balls_check(&self, theirs: &[f64], ours: &[f64]) -> Result<Option<CollisionStats>> {
+    pub(super) fn balls_check(
+        &self,
+        theirs: &[f64],
+        ours: &[f64],
+    ) -> Result<Option<(CollisionStats, Vec<Push>)>> {
         if ours.is_empty() {
             return Ok(None);
         }
-        let same = theirs.len() == ours.len()
+        let fixed = self.balls_block_fixed();
+        let same = theirs.len() >= fixed
             && theirs[..BLOCK_HEAD - 3].iter().zip(ours).all(|(a, b)| a.to_bits() == b.to_bits())
-            && theirs[BLOCK_HEAD..].iter().zip(&ours[BLOCK_HEAD..]).all(|(a, b)| a.to_bits() == b.to_bits());
+            && theirs[BLOCK_HEAD..fixed]
+                .iter()
+                .zip(&ours[BLOCK_HEAD..fixed])
+                .all(|(a, b)| a.to_bits() == b.to_bits());
         if !same {
             return Err(Error::Corrupt {
                 reason: "the snapshot's balls (radii, walls or restitution) differ from this world's".into(),
@@ -513,6 +534,8 @@ impl World {
         if !(whole(count) && whole(tests) && depth.is_finite() && depth >= 0.0) {
             return Err(Error::Corrupt { reason: "contact statistics out of range".into() });
         }
-        Ok(Some(CollisionStats { count: count as u64, max_overlap: depth, pair_tests: tests as u64 }))
+        let warm = Push::from_block(&theirs[fixed..], self.balls.index.len(), self.dim())
+            .map_err(|reason| Error::Corrupt { reason })?;
+        Ok(Some((CollisionStats { count: count as u64, max_overlap: depth, pair_tests: tests as u64 }, warm)))
     }
 }

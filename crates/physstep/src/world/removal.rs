@@ -146,6 +146,9 @@ impl World {
         for p in &mut self.balls.index {
             *p = map.row(*p);
         }
+        // The resting contacts' warm starts name the balls' slots, which this renumbers: the
+        // next step starts them afresh.
+        self.balls.warm.clear();
         self.ids.particles.retain_rows(&gone);
         self.touch();
         Ok(Removed { forces, constraints, body_springs })

@@ -7,10 +7,10 @@
 //!
 //! A [`Rollback`] is the one checkpoint type of the step: the state (`y`, the part of `f`
 //! that is not a copy of `y`, the method's memory), the step and evaluation counts, the time
-//! and its epoch, and the balls' contact statistics. A call keeps one for all its steps when
-//! they can be replayed, else each step keeps its own (see `World::run`); the fused kernel
-//! writes the positions and velocities into it as it reads them, so it costs no pass of its
-//! own.
+//! and its epoch, and the balls' contact statistics and warm starts. A call keeps one for
+//! all its steps when they can be replayed, else each step keeps its own (see `World::run`);
+//! the fused kernel writes the positions and velocities into it as it reads them, so it costs
+//! no pass of its own.
 //!
 //! The fused kernel's rollback outlives its call: the next call of the fused kernel reuses it
 //! while nothing changed the world in between and fewer than [`REPLAY_MAX`] steps were taken
@@ -19,7 +19,7 @@
 //! a copy of its state once in [`REPLAY_MAX`] steps instead of at every call.
 
 use super::{Derivative, World};
-use crate::collide::CollisionStats;
+use crate::collide::{CollisionStats, Push};
 use crate::integrators::registry::Checkpoint;
 
 /// Where time was when dt last changed: `t = epoch.t + (steps - epoch.steps) * dt`.
@@ -87,6 +87,8 @@ pub(super) struct Rollback {
     evals: u64,
     epoch: Epoch,
     stats: CollisionStats,
+    /// The balls' resting contacts' warm starts.
+    warm: Vec<Push>,
     /// The solids' motion and contacts.
     solids: super::solids::SolidSet,
     derivative: Derivative,
@@ -105,6 +107,7 @@ impl World {
         r.keep = Some(keep);
         (r.t, r.steps, r.evals, r.epoch) = (self.state.t, self.state.steps, self.state.evals, self.epoch);
         r.stats = self.balls.stats;
+        r.warm.clone_from(&self.balls.warm);
         if !self.solids.is_empty() {
             self.solids.save(&mut r.solids);
         }
@@ -141,6 +144,7 @@ impl World {
         }
         (self.state.t, self.state.steps, self.state.evals, self.epoch) = (r.t, r.steps, r.evals, r.epoch);
         self.balls.stats = r.stats;
+        self.balls.warm.clone_from(&r.warm);
         if !self.solids.is_empty() {
             self.solids.restore(&r.solids);
         }

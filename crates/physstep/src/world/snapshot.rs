@@ -4,7 +4,8 @@
 //! steps, evaluations), the method name, then f64s: time, the clock's balance (two), the
 //! epoch (time, steps, dt), the memory length, `[x; v]`, the integrator's memory, the
 //! previous positions and the static mask (1 for a static particle); in a world with balls
-//! their block ([`World::balls_block`]: restitution, walls, contact statistics, radii); with
+//! their block ([`World::balls_block`]: restitution, walls, contact statistics, radii, the
+//! resting contacts' warm starts); with
 //! constraints, their fingerprint (a u64); once an entity was removed, its ids' fingerprint
 //! (a u64, `ids.rs`); and last an FNV-1a checksum of everything before
 //! it. [`World::restore`] checks all of it before it changes
@@ -143,13 +144,16 @@ impl World {
         let [t, hi, lo, et, es, edt, nm, data @ ..] = floats.as_slice() else {
             return Err(corrupt("truncated data"));
         };
-        // The memory length is what is left after the state, the previous positions and the
-        // mask; the stored length must agree (a damaged one, huge or NaN, must not overflow).
+        // The memory length is what is left after the state, the previous positions, the mask
+        // and the balls' block, whose warm starts vary in number: the stored length must
+        // agree with what is left without them, or leave room for them (a damaged one, huge
+        // or NaN, must not overflow).
         let ours = self.balls_block();
-        let nm = data
-            .len()
-            .checked_sub(ny + nx + np + ours.len())
-            .filter(|m| *m as f64 == *nm)
+        let room = data.len().checked_sub(ny + nx + np + self.balls_block_fixed());
+        let nm = room
+            .filter(|&m| *nm >= 0.0 && *nm <= m as f64 && nm.fract() == 0.0)
+            .map(|_| *nm as usize)
+            .filter(|&m| self.balls_block_fixed() > 0 || Some(m) == room)
             .ok_or_else(|| corrupt("data length does not match the world"))?;
         let (y, rest) = data.split_at(ny);
         let (memory, rest) = rest.split_at(nm);
@@ -210,8 +214,9 @@ impl World {
         self.prev_q.clear();
         self.prev_solids.clear();
         self.clock.restore_balance([*hi, *lo]);
-        if let Some(stats) = stats {
+        if let Some((stats, warm)) = stats {
             self.balls.stats = stats;
+            self.balls.warm = warm;
         }
         // The derivative is a function of the state: recompute it without counting it, so
         // the evaluation count matches an uninterrupted run.

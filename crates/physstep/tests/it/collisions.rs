@@ -2,7 +2,7 @@
 //! head-on, 2D oblique, 3D, unequal masses and radii), conservation over a scene, the broad
 //! phase's pair tests growing linearly with N, rollback, bad input, every method.
 
-use crate::common::{close, max_pair_overlap, world};
+use crate::common::{close, max_pair_overlap, resign, world};
 use physstep::forces::ForceGenerator;
 use physstep::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -453,6 +453,58 @@ fn a_packed_pile_rests_below_restitution_one() {
     eprintln!("kinetic {:e}, overlap {:e}", w.kinetic(), max_pair_overlap(&w));
     assert!(max_pair_overlap(&w) < 1e-3 * 0.05, "{}", max_pair_overlap(&w));
     assert!(w.kinetic() < 1e-6, "{}", w.kinetic());
+}
+
+/// The resting contacts' warm starts (each contact's push at the end of the step before's
+/// first position pass) are state: in the hash, the snapshot and the rollback, so a restored
+/// or rolled-back pile goes on bitwise; a damaged block of them is refused.
+#[test]
+fn a_resting_pile_keeps_its_warm_starts_in_snapshots_and_rollbacks() {
+    let build = || {
+        let mut w = packed_pile(30, 20, 0.5, "symplectic-euler");
+        let bomb = Arc::new(Bomb(AtomicBool::new(false)));
+        w.add_force_generator(bomb.clone()).unwrap();
+        (w, bomb)
+    };
+    let (mut w, bomb) = build();
+    w.step(60).unwrap();
+    let (snap, hash) = (w.snapshot(), w.state_hash());
+    // Forgotten (radii set: slots may renumber), the pushes leave the hash and the next step.
+    let mut cold = w.clone();
+    cold.set_radii(&w.radii()).unwrap();
+    assert_ne!(cold.state_hash(), hash);
+    let mut warm = w.clone();
+    warm.step(1).unwrap();
+    cold.step(1).unwrap();
+    assert_ne!(warm.positions(), cold.positions());
+    // Restored onto the same pile, it goes on as the original.
+    let (mut twin, _) = build();
+    twin.restore(&snap).unwrap();
+    assert_eq!(twin.state_hash(), hash);
+    w.step(30).unwrap();
+    twin.step(30).unwrap();
+    assert_eq!(twin.state_hash(), w.state_hash());
+    // A failed step puts them back with the rest.
+    let before = (w.state_hash(), w.collisions(), w.time());
+    bomb.0.store(true, Ordering::Relaxed);
+    assert!(w.step(1).is_err());
+    bomb.0.store(false, Ordering::Relaxed);
+    assert_eq!((w.state_hash(), w.collisions(), w.time()), before);
+    w.step(10).unwrap();
+    twin.step(10).unwrap();
+    assert_eq!(twin.state_hash(), w.state_hash());
+    // Damaged: the last push (the last f64 before the checksum) negative; one entry short.
+    let n = snap.len();
+    let mut negative = snap.clone();
+    negative[n - 16..n - 8].copy_from_slice(&(-1.0_f64).to_le_bytes());
+    let mut short = snap.clone();
+    short.drain(n - 8 - 24..n - 8);
+    let before = twin.state_hash();
+    for (bytes, want) in [(negative, "is a push of -1"), (short, "entries for a count of")] {
+        let e = twin.restore(&resign(bytes)).unwrap_err();
+        assert!(matches!(e, Error::Corrupt { .. }) && e.to_string().contains(want), "{want}: {e}");
+        assert_eq!(twin.state_hash(), before, "{want}");
+    }
 }
 
 /// The `pile` scene at restitution `e` under symplectic Euler to t = 10 s: the peak and final

@@ -46,7 +46,9 @@ const HASHES: &[(&str, u64)] = &[
     ("cloth", 0x955a06a8492adc26),
     ("ragdoll", 0x1453c0f1cb06b77e),
     ("balls", 0x1679bc483ce3c327),
-    ("pile", 0x39b1d9f604d9b80d),
+    // The resting contacts' first position pass warm-started from the step before's pushes
+    // (in the hash) and every pass ended at a tolerance: 0x39b1d9f604d9b80d before.
+    ("pile", 0x8d6f28d96da81a33),
     // Jointed solids: the joints' accumulated impulses (their warm starts) are in the hash.
     ("bridge", 0x546ef4e2042a9537),
     ("ball-chain", 0xa4506a5822a60bf5),

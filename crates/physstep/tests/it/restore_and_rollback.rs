@@ -1,20 +1,8 @@
 //! The state as it was: `restore` refuses a corrupt or foreign snapshot and leaves the world
 //! unchanged, and a step that diverges rolls the state and the method's memory back bitwise.
 
+use crate::common::resign;
 use physstep::prelude::*;
-
-/// FNV-1a, as the snapshot's checksum: re-signs an edited snapshot so the checks behind the
-/// checksum are reached.
-fn resign(mut bytes: Vec<u8>) -> Vec<u8> {
-    bytes.truncate(bytes.len() - 8);
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in &bytes {
-        h ^= u64::from(*b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    bytes.extend_from_slice(&h.to_le_bytes());
-    bytes
-}
 
 fn two_particles(method: &str, second_static: bool) -> World {
     let mut w = World::new(WorldParams { dim: 2, method: method.into(), ..Default::default() }).unwrap();

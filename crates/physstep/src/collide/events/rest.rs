@@ -10,16 +10,24 @@
 //! the same bits); every other contact keeps its exact time of impact. After the events:
 //!
 //! 1. positions: the overlaps of the contacts removed by Gauss-Seidel sweeps (split by
-//!    inverse mass, alternating direction), then, where the forces of the step point one way
-//!    (gravity), one sweep in the order of height that moves only the upper ball (shock
-//!    propagation: a stack is lifted out of the floor in one sweep instead of sagging);
-//! 2. velocities: each moved ball's velocity gets the implied motion `dx / h` (for symplectic
-//!    Euler exactly the velocity of its corrected path, so a pile at rest has velocity 0);
-//! 3. a velocity pass (accumulated impulses clamped at 0, the same sweeps and shock sweep):
+//!    inverse mass; where the forces of the step point one way, gravity, the upper ball takes
+//!    more the more vertical the contact, all of it on a vertical one: shock propagation, so
+//!    a stack is lifted out of the floor in one sweep instead of sagging), each ball moved
+//!    given the implied motion `dx / h` as velocity (for symplectic Euler exactly the velocity
+//!    of its corrected path, so a pile at rest has velocity 0);
+//! 2. a fifth of an overlap left from before removed by positions alone;
+//! 3. a velocity pass (accumulated impulses clamped at 0, the same sweeps):
 //!    a touching contact's normal velocity at least `-e vn` where it approached at
 //!    `-vn > 2 (q_a + q_b)` before the stage (a bounce), else at least 0 (it rests, Box2D's
 //!    restitution threshold in units of the step's own velocity change); a contact still
 //!    apart by `gap` at most `gap / h` of approach (a speculative contact).
+//!
+//! The first position pass is warm-started: each contact that pushed at the end of the
+//! previous step's first pass ([`Push`], kept by the world: in its snapshot, state hash and
+//! rollback) starts from that push, applied before the sweeps. A pile at rest needs the same
+//! pushes step after step (each ball falls `g h^2` and is put back), so its passes start at
+//! their answer. Every pass ends once its largest change in a sweep is at most [`TOL`] of the
+//! displacement the forces give a ball over the step (`h max q`), or after [`SWEEPS`].
 //!
 //! Everything is serial and in a fixed order (contacts sorted by height, then slots): the
 //! same bits whatever the thread count.
@@ -28,10 +36,15 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::super::grid::{Grid, ANY};
-use super::{Input, Scratch, WALL};
+use super::{largest, Input, Scratch, WALL};
 
-/// Gauss-Seidel sweeps of the position and of the velocity pass (before each shock sweep).
+/// Gauss-Seidel sweeps of the position and of the velocity pass, at most.
 const SWEEPS: usize = 64;
+
+/// A pass ends after a sweep whose largest change (a displacement, or a velocity times `h`)
+/// is at most this fraction of the largest displacement the forces give a ball over the
+/// step, `h max q` (under gravity `g h^2`: 6.8e-7 m at 120 Hz).
+const TOL: f64 = 1e-3;
 
 /// The fraction of an overlap left from before that a step removes (with the velocity of
 /// that motion: Baumgarte's factor).
@@ -44,6 +57,68 @@ struct Contact {
     a: u32,
     b: u32,
     key: f64,
+}
+
+/// A resting contact's accumulated push at the end of a step's first position pass (slots
+/// `a < b`, or `a` and wall `b >= WALL`; `push > 0`, m): where the next step starts that
+/// contact's pass (warm starting). A world keeps them sorted by `(a, b)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Push {
+    pub a: u32,
+    pub b: u32,
+    pub push: f64,
+}
+
+impl Push {
+    fn key(&self) -> (u32, u32) {
+        (self.a, self.b)
+    }
+
+    /// `warm` as a snapshot and the state hash hold it: nothing when it is empty, else its
+    /// length, then `a`, `b` and `push` of each.
+    pub fn block(warm: &[Push]) -> Vec<f64> {
+        if warm.is_empty() {
+            return Vec::new();
+        }
+        let mut out = Vec::with_capacity(1 + 3 * warm.len());
+        out.push(warm.len() as f64);
+        for p in warm {
+            out.extend([f64::from(p.a), f64::from(p.b), p.push]);
+        }
+        out
+    }
+
+    /// The pushes of a [`Push::block`], for `nb` balls in `d` dimensions.
+    ///
+    /// # Errors
+    /// What is wrong with them, in words.
+    pub fn from_block(data: &[f64], nb: usize, d: usize) -> Result<Vec<Push>, String> {
+        let Some((&len, rest)) = data.split_first() else { return Ok(Vec::new()) };
+        if !(len >= 1.0 && len.fract() == 0.0 && rest.len() as f64 == 3.0 * len) {
+            return Err(format!("the balls' warm starts: {} entries for a count of {len}", rest.len()));
+        }
+        let slot =
+            |v: f64, below: u64| (v.fract() == 0.0 && v >= 0.0 && v < below as f64).then_some(v as u32);
+        let mut out: Vec<Push> = Vec::with_capacity(rest.len() / 3);
+        for (i, e) in rest.chunks_exact(3).enumerate() {
+            let a = slot(e[0], nb as u64);
+            let b = slot(e[1], nb as u64)
+                .filter(|&b| a.is_some_and(|a| a < b))
+                .or_else(|| slot(e[1] - f64::from(WALL), 2 * d as u64).map(|w| WALL + w));
+            let (Some(a), Some(b)) = (a, b) else {
+                return Err(format!("the balls' warm start {i} is between slots {} and {}", e[0], e[1]));
+            };
+            let push = Push { a, b, push: e[2] };
+            if !(push.push.is_finite() && push.push > 0.0) {
+                return Err(format!("the balls' warm start {i} is a push of {}", e[2]));
+            }
+            if out.last().is_some_and(|q| q.key() >= push.key()) {
+                return Err(format!("the balls' warm start {i} is out of order"));
+            }
+            out.push(push);
+        }
+        Ok(out)
+    }
 }
 
 /// The resting-contact solver's state within a step (kept for its buffers).
@@ -160,8 +235,8 @@ impl Rest {
         self.up = (total > 0.0 && len >= 0.5 * total && len.is_finite()).then(|| sum.map(|s| -s / len));
         let height = |x: &[f64]| self.up.map_or(0.0, |u| (0..D).map(|k| x[k] * u[k]).sum::<f64>());
         // Pairs: the grid's half shell with cells wide enough for the widest contact.
-        let rmax = super::largest(inp.radius);
-        let qmax = super::largest(&self.q);
+        let rmax = largest(inp.radius);
+        let qmax = largest(&self.q);
         let mut contacts = std::mem::take(&mut self.contacts);
         contacts.clear();
         let cell = ((2.0 * rmax) * (1.0 + 1e-9) + 4.0 * self.h * qmax) * (1.0 + 1e-9);
@@ -359,22 +434,22 @@ impl Rest {
 
     /// Moves contact `i`'s relative normal velocity along its normal toward its target: its
     /// accumulated push `lambda` (a relative velocity) changed by the shortfall and clamped at
-    /// 0 (a contact pushes, never pulls), shared as [`Rest::shares`] says. Returns whether it
-    /// changed a velocity.
-    fn push<const D: usize>(&mut self, i: usize, inp: &Input<'_>) -> bool {
+    /// 0 (a contact pushes, never pulls), shared as [`Rest::shares`] says. Returns the change
+    /// times `h` (0: none).
+    fn push<const D: usize>(&mut self, i: usize, inp: &Input<'_>) -> f64 {
         let (n, t) = (self.normals[i], self.targets[i]);
         let n: [f64; D] = n[..D].try_into().expect("D entries");
         let next = (self.lambda[i] + (t - self.vn::<D>(i, &n, &self.ve))).max(0.0);
         let dv = next - self.lambda[i];
         if dv == 0.0 {
-            return false;
+            return 0.0;
         }
         self.lambda[i] = next;
         let c = self.contacts[i];
         let a = c.a as usize;
         if c.b >= WALL {
             self.kick::<D>(a, dv, &n);
-            return true;
+            return dv * self.h;
         }
         let b = c.b as usize;
         let (fa, fb) = self.shares::<D>(a, b, &n, inp);
@@ -384,54 +459,77 @@ impl Rest {
         if fb != 0.0 {
             self.kick::<D>(b, dv * fb, &n);
         }
-        true
+        dv * self.h
     }
 
-    /// Moves contact `i`'s balls apart (positions only) until its gap is at least `floor`
-    /// (`floors[i]`), shared as [`Rest::shares`] says. Returns whether it moved anything.
-    fn project<const D: usize>(&mut self, i: usize, inp: &Input<'_>) -> bool {
+    /// Moves contact `i`'s balls apart (positions only) until its gap is at least its target
+    /// (`targets[i]`), shared as [`Rest::shares`] says. Returns the displacement (0: none).
+    fn project<const D: usize>(&mut self, i: usize, inp: &Input<'_>) -> f64 {
         let (n, gap) = self.geometry::<D>(i, inp);
         // The contact's accumulated displacement: clamped at 0, so a contact pushed apart
         // too far (its lower ball moved since) is pulled back, never past where it began.
         let next = (self.lambda[i] + (self.targets[i] - gap)).max(0.0);
         let short = next - self.lambda[i];
-        if short == 0.0 {
-            return false;
+        if short != 0.0 {
+            self.lambda[i] = next;
+            self.separate::<D>(i, short, &n, inp);
         }
-        self.lambda[i] = next;
+        short
+    }
+
+    /// Moves contact `i`'s balls apart by `by` along `n` (positions only), shared as
+    /// [`Rest::shares`] says.
+    fn separate<const D: usize>(&mut self, i: usize, by: f64, n: &[f64; D], inp: &Input<'_>) {
         let c = self.contacts[i];
         let a = c.a as usize;
         if c.b >= WALL {
-            self.shift::<D>(a, short, &n);
-            return true;
+            self.shift::<D>(a, by, n);
+            return;
         }
         let b = c.b as usize;
-        let (fa, fb) = self.shares::<D>(a, b, &n, inp);
+        let (fa, fb) = self.shares::<D>(a, b, n, inp);
         if fa != 0.0 {
-            self.shift::<D>(a, -short * fa, &n);
+            self.shift::<D>(a, -by * fa, n);
         }
         if fb != 0.0 {
-            self.shift::<D>(b, short * fb, &n);
+            self.shift::<D>(b, by * fb, n);
         }
-        true
     }
 
-    /// Runs `f` on every contact, at most `SWEEPS` times: in order of height with an "up"
-    /// (from the floor up), else alternating direction. Marks the contacts that changed
-    /// anything. A sweep in which no contact changed anything ends the passes: the state is
-    /// then a fixed point of every contact, so the sweeps left would change nothing either
-    /// (the same bits as all `SWEEPS`; the velocity pass of a pile at rest ends after one).
-    fn sweeps(&mut self, mut f: impl FnMut(&mut Self, usize) -> bool, active: &mut [bool]) {
+    /// The warm start of the first position pass: each contact that pushed at the end of the
+    /// previous step's (`warm`, sorted by slots) starts from that push, applied in the
+    /// contacts' order along its normal as it is then.
+    fn warm_start<const D: usize>(&mut self, warm: &[Push], inp: &Input<'_>, active: &mut [bool]) {
+        if warm.is_empty() {
+            return;
+        }
+        for i in 0..self.contacts.len() {
+            let c = self.contacts[i];
+            let Ok(j) = warm.binary_search_by(|p| p.key().cmp(&(c.a, c.b))) else { continue };
+            let push = warm[j].push;
+            let (n, _) = self.geometry::<D>(i, inp);
+            self.lambda[i] = push;
+            self.separate::<D>(i, push, &n, inp);
+            active[i] = true;
+        }
+    }
+
+    /// Runs `f` (which returns its change: a displacement, or a velocity times `h`) on every
+    /// contact, at most `SWEEPS` times: in order of height with an "up" (from the floor up),
+    /// else alternating direction. Marks the contacts that changed anything. A sweep whose
+    /// largest change is at most `tol` ends the pass (one that changed nothing: the state is
+    /// then a fixed point of every contact).
+    fn sweeps(&mut self, mut f: impl FnMut(&mut Self, usize) -> f64, tol: f64, active: &mut [bool]) {
         let m = self.contacts.len();
         for sweep in 0..SWEEPS {
-            let mut changed = false;
+            let mut most = 0.0_f64;
             for j in 0..m {
                 let i = if sweep % 2 == 0 || self.up.is_some() { j } else { m - 1 - j };
-                let acted = f(self, i);
-                changed |= acted;
-                active[i] |= acted;
+                let change = f(self, i).abs();
+                most = most.max(change);
+                active[i] |= change != 0.0;
             }
-            if !changed {
+            if most <= tol {
                 return;
             }
         }
@@ -439,9 +537,10 @@ impl Rest {
 }
 
 impl Scratch {
-    /// After the events: the resting contacts solved on the end state of every ball. Returns
-    /// how many contacts acted.
-    pub(super) fn rest_finish<const D: usize>(&mut self, inp: &Input<'_>) -> u64 {
+    /// After the events: the resting contacts solved on the end state of every ball, the
+    /// first position pass warm-started from `warm` (the previous step's pushes), which is
+    /// then replaced by this step's. Returns how many contacts acted.
+    pub(super) fn rest_finish<const D: usize>(&mut self, inp: &Input<'_>, warm: &mut Vec<Push>) -> u64 {
         let nb = inp.radius.len();
         let mut rest = std::mem::take(&mut self.rest);
         rest.xe.clear();
@@ -478,7 +577,16 @@ impl Scratch {
         let mut x_start = std::mem::take(&mut rest.x_before);
         x_start.clear();
         x_start.extend_from_slice(&rest.xe);
-        rest.sweeps(|r, i| r.project::<D>(i, inp), &mut active);
+        let tol = TOL * rest.h * largest(&rest.q);
+        rest.warm_start::<D>(warm, inp, &mut active);
+        rest.sweeps(|r, i| r.project::<D>(i, inp), tol, &mut active);
+        warm.clear();
+        for (c, &push) in rest.contacts.iter().zip(&rest.lambda) {
+            if push > 0.0 {
+                warm.push(Push { a: c.a, b: c.b, push });
+            }
+        }
+        warm.sort_unstable_by_key(Push::key);
         let inv_h = 1.0 / rest.h;
         for b in 0..nb {
             if rest.moved[b] {
@@ -495,7 +603,7 @@ impl Scratch {
             rest.targets[i] = (1.0 - BETA) * rest.geometry::<D>(i, inp).1.min(0.0);
             rest.lambda[i] = 0.0;
         }
-        rest.sweeps(|r, i| r.project::<D>(i, inp), &mut active);
+        rest.sweeps(|r, i| r.project::<D>(i, inp), tol, &mut active);
         // 3. Velocities: a contact that touches at the end does not approach, or bounces at
         // `-e vn_pre` where it approached before the stage faster than twice the velocity the
         // forces of the step give its balls (Box2D's restitution threshold, in units of the
@@ -509,7 +617,7 @@ impl Scratch {
             rest.targets[i] = t;
             rest.lambda[i] = 0.0;
         }
-        rest.sweeps(|r, i| r.push::<D>(i, inp), &mut active);
+        rest.sweeps(|r, i| r.push::<D>(i, inp), tol, &mut active);
         // The deepest overlap of a contact at the end.
         let mut deep = 0.0_f64;
         for i in 0..m {
