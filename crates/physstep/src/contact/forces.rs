@@ -170,6 +170,11 @@ fn end<S: Space>(b: &Body<S>, v: S::V, w: S::W, arm: S::V) -> End<S> {
 }
 
 impl<S: Space> Spring<S> {
+    /// Its two solids (`None`: a world anchor).
+    pub(crate) fn solids(&self) -> (Option<usize>, usize) {
+        (self.b, self.a)
+    }
+
     /// Checks `p` against the solids and makes the spring (its rest length resolved).
     fn new(p: &SolidSpring, bodies: &[Body<S>]) -> Result<(Self, f64)> {
         let n = bodies.len();

@@ -24,6 +24,7 @@ mod points;
 mod remove;
 mod settings;
 mod shape;
+mod sleep;
 pub mod solver;
 pub mod space;
 mod toi;
@@ -36,6 +37,7 @@ pub use params::{Kind, SolidParams};
 pub use remove::SolidMotion;
 pub use settings::{Info, Schedule, Settings, SOLVERS};
 pub use shape::Shape;
+pub use sleep::SLEEP_SPEED;
 pub use space::{Plane, Space, Space3, Swept, Touch, Vect};
 
 use crate::error::{num, Error, Result};
@@ -70,6 +72,13 @@ pub(crate) struct Body<S: Space> {
     pub max_extent: f64,
     /// Swept by continuous collision against dynamic solids too ([`SolidParams::bullet`]).
     pub bullet: bool,
+    /// Asleep (`sleep.rs`): out of the solver until something reaches its island.
+    pub asleep: bool,
+    /// How long it has been slow, s (awake; its island falls asleep when all of its solids
+    /// have been slow for the sleep time).
+    pub idle: f64,
+    /// Its island's number while asleep (the island's lowest solid index).
+    pub island: u32,
 }
 
 impl<S: Space> Body<S> {
@@ -116,6 +125,8 @@ pub struct Solids<S: Space> {
     /// What the step in progress changes, as it was before it ([`Solids::step`] goes back to
     /// it when the step runs away); scratch, its buffers reused from step to step.
     before: Before<S>,
+    /// Sleeping's scratch (`sleep.rs`).
+    sleep: sleep::Scratch<S>,
 }
 
 /// The solids' motion, the solver's memory ([`points::State::save`]) and the joints before a
@@ -160,6 +171,7 @@ impl<S: Space> Default for Solids<S> {
             forces: forces::Forces::default(),
             ids: Default::default(),
             before: Before::default(),
+            sleep: sleep::Scratch::default(),
         }
     }
 }
@@ -289,6 +301,9 @@ impl<S: Space> Solids<S> {
             min_extent,
             max_extent,
             bullet: p.bullet,
+            asleep: false,
+            idle: 0.0,
+            island: 0,
         };
         self.bodies.push(body);
         self.shapes.push(shape);
@@ -311,6 +326,7 @@ impl<S: Space> Solids<S> {
                 self.no_collide.insert(k, pair);
             }
         }
+        self.wake_ends(j.solids());
         self.joints.push(j);
         self.joint_params.push(p);
         self.ids[JOINT].push(1);
@@ -346,6 +362,7 @@ impl<S: Space> Solids<S> {
     /// `rest_length` negative or not finite) and the value; the solids are unchanged.
     pub fn add_spring(&mut self, p: SolidSpring) -> Result<usize> {
         let k = self.forces.add_spring(p, &self.bodies)?;
+        self.wake_ends(self.forces.springs[k].solids());
         self.ids[SPRING].push(1);
         Ok(k)
     }
@@ -406,6 +423,7 @@ impl<S: Space> Solids<S> {
         };
         let n = self.len();
         self.forces.apply(n, i, S::V::read(force), arm, S::W::read(torque));
+        self.wake(i);
         Ok(())
     }
 
@@ -554,7 +572,7 @@ impl<S: Space> Solids<S> {
         before.bodies.clone_from(&self.bodies);
         self.solver.save(&mut before.solver);
         before.joints.clone_from(&self.joints);
-        solver::step(self, dt, gravity);
+        self.advance(dt, gravity);
         self.forces.load.clear();
         if let Some(b) = self.runaway() {
             std::mem::swap(&mut self.bodies, &mut before.bodies);
@@ -576,6 +594,16 @@ impl<S: Space> Solids<S> {
         Ok(())
     }
 
+    /// The contact solver's step of `dt` under `gravity` with this step's loads gathered:
+    /// the sleeping islands something reaches woken and the others hidden from it, then the
+    /// islands that came to rest put to sleep (`sleep.rs`; nothing of it while
+    /// [`Settings::sleep_time`] is 0).
+    pub(crate) fn advance(&mut self, dt: f64, gravity: S::V) {
+        self.sleep_begin(dt, gravity);
+        solver::step(self, dt, gravity);
+        self.sleep_end(dt);
+    }
+
     /// Copies into `into` what a step changes (motion, contacts, warm starts), reusing its
     /// buffers; the solids must be the same ones (a rollback of this world).
     pub(crate) fn save(&self, into: &mut Solids<S>) {
@@ -587,10 +615,13 @@ impl<S: Space> Solids<S> {
         into.joints.clone_from(&self.joints);
         self.solver.save(&mut into.solver);
         into.settings.clone_from(&self.settings);
+        into.sleep.gravity = self.sleep.gravity;
     }
 
     /// What a snapshot keeps of the solids: each one's centre of mass, orientation,
-    /// velocity and angular velocity, then the warm starts (what the next step depends on).
+    /// velocity and angular velocity, then the warm starts (what the next step depends on),
+    /// the joints' impulses, the ids once something was removed, and while sleeping is on
+    /// each solid's sleep (asleep 0 or 1, idle time, island).
     pub(crate) fn block(&self) -> Vec<f64> {
         let mut out = vec![self.len() as f64];
         for b in &self.bodies {
@@ -607,6 +638,11 @@ impl<S: Space> Solids<S> {
         if !self.ids_implicit() {
             self.write_ids(&mut out);
         }
+        if self.settings.sleep_time > 0.0 {
+            for b in &self.bodies {
+                out.extend([f64::from(u8::from(b.asleep)), b.idle, f64::from(b.island)]);
+            }
+        }
         out
     }
 
@@ -617,6 +653,7 @@ impl<S: Space> Solids<S> {
     pub(crate) fn set_block(&mut self, data: &[f64]) -> std::result::Result<(), String> {
         let (d, r, a) = (S::DIM, S::ROT, if S::DIM == 3 { 3 } else { 1 });
         let per = 2 * d + r + a;
+        let (data, sleep) = self.sleep_split(data)?;
         let n = data.first().copied().unwrap_or(-1.0);
         if n != self.len() as f64 {
             return Err(format!("the snapshot has {n} solids, this world {}", self.len()));
@@ -667,6 +704,9 @@ impl<S: Space> Solids<S> {
         self.solver.set_warm(warm);
         for (j, i) in self.joints.iter_mut().zip(impulses) {
             j.impulses = i;
+        }
+        for (b, s) in self.bodies.iter_mut().zip(sleep.chunks_exact(3)) {
+            (b.asleep, b.idle, b.island) = (s[0] == 1.0, s[1], s[2] as u32);
         }
         Ok(())
     }

@@ -145,6 +145,8 @@ impl<S: Space> Solids<S> {
     /// [`Error::InvalidValue`] naming `solid` when `id` is no solid of these; unchanged.
     pub fn remove_solid(&mut self, id: SolidId) -> Result<()> {
         let k = self.solid_at(id)?;
+        // The islands are numbered by solid index, which this renumbers.
+        self.wake_all();
         self.bodies.remove(k);
         self.shapes.remove(k);
         self.params.remove(k);
@@ -182,6 +184,7 @@ impl<S: Space> Solids<S> {
     /// [`Error::InvalidValue`] naming `joint` when `id` is no joint of these; unchanged.
     pub fn remove_joint(&mut self, id: JointId) -> Result<()> {
         let k = self.joint_row(id).ok_or_else(|| no_such("joint", "joint", id.0))?;
+        self.wake_ends(self.joints[k].solids());
         self.joints.remove(k);
         self.joint_params.remove(k);
         self.ids[JOINT].remove(k);
@@ -195,6 +198,7 @@ impl<S: Space> Solids<S> {
     /// [`Error::InvalidValue`] naming `spring` when `id` is no spring of these; unchanged.
     pub fn remove_spring(&mut self, id: SolidSpringId) -> Result<()> {
         let k = self.spring_row(id).ok_or_else(|| no_such("spring", "solid spring", id.0))?;
+        self.wake_ends(self.forces.springs[k].solids());
         self.forces.springs.remove(k);
         self.forces.spring_params.remove(k);
         self.ids[SPRING].remove(k);
@@ -208,6 +212,7 @@ impl<S: Space> Solids<S> {
     /// unchanged.
     pub fn remove_force(&mut self, id: SolidForceId) -> Result<usize> {
         let k = self.force_row(id).ok_or_else(|| no_such("force", "force on a solid", id.0))?;
+        self.wake(self.forces.users[k].solid);
         self.forces.users.remove(k);
         self.ids[FORCE].remove(k);
         Ok(k)
@@ -220,6 +225,7 @@ impl<S: Space> Solids<S> {
     pub fn set_joint_motor(&mut self, id: JointId, speed: f64, max: f64) -> Result<()> {
         let k = self.joint_row(id).ok_or_else(|| no_such("joint", "joint", id.0))?;
         self.joints[k].set_motor(speed, max)?;
+        self.wake_ends(self.joints[k].solids());
         let p = &mut self.joint_params[k];
         (p.motor_speed, p.max_motor) = (speed, max);
         Ok(())
@@ -232,6 +238,7 @@ impl<S: Space> Solids<S> {
     pub fn set_joint_limits(&mut self, id: JointId, lower: Option<f64>, upper: Option<f64>) -> Result<()> {
         let k = self.joint_row(id).ok_or_else(|| no_such("joint", "joint", id.0))?;
         self.joints[k].set_limits(lower, upper)?;
+        self.wake_ends(self.joints[k].solids());
         let p = &mut self.joint_params[k];
         (p.lower, p.upper) = (lower, upper);
         Ok(())
@@ -251,7 +258,9 @@ impl<S: Space> Solids<S> {
         damping: f64,
     ) -> Result<()> {
         let k = self.spring_row(id).ok_or_else(|| no_such("spring", "solid spring", id.0))?;
-        self.forces.set_spring(k, stiffness, rest_length, damping)
+        self.forces.set_spring(k, stiffness, rest_length, damping)?;
+        self.wake_ends(self.forces.springs[k].solids());
+        Ok(())
     }
 
     /// Sets solid `id`'s position, orientation, velocity or angular velocity (the parts
@@ -304,6 +313,7 @@ impl<S: Space> Solids<S> {
         if let Some(w) = &m.angular_velocity {
             b.w = S::W::read(w);
         }
+        self.wake(k);
         Ok(())
     }
 }

@@ -158,6 +158,9 @@ pub struct Settings {
     /// Continuous collision of fast solids against static and kinematic ones (on by
     /// default; docs/contact.md, Fast solids).
     pub continuous: bool,
+    /// How long an island of solids must be slow before it falls asleep, s (0, the
+    /// default: never; Box2D's is 0.5; docs/contact.md, Sleeping).
+    pub sleep_time: f64,
 }
 
 impl Default for Settings {
@@ -175,6 +178,7 @@ impl Default for Settings {
             joint_damping_ratio: 2.0,
             joint_projection: 0,
             continuous: true,
+            sleep_time: 0.0,
         }
     }
 }
@@ -249,6 +253,7 @@ impl Settings {
             ("speculative_distance", self.speculative_distance, true),
             ("joint_hertz", self.joint_hertz, false),
             ("joint_damping_ratio", self.joint_damping_ratio, false),
+            ("sleep_time", self.sleep_time, true),
         ] {
             if !(v.is_finite() && (v > 0.0 || (zero && v == 0.0))) {
                 return Err(Error::invalid(

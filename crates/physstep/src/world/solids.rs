@@ -645,11 +645,31 @@ impl World {
         self.solids_settings_mut()?.set_iterations(n)
     }
 
+    /// Sets how long an island of solids must be slow before it falls asleep, s (0: never,
+    /// the default; docs/contact.md, Sleeping). 0 wakes every sleeping solid at the next step.
+    ///
+    /// # Errors
+    /// [`Error::InvalidValue`] naming `sleep_time` unless it is finite and >= 0.
+    pub fn set_sleep_time(&mut self, seconds: f64) -> Result<()> {
+        let mut s = self.contact_settings();
+        s.sleep_time = seconds;
+        s.check()?;
+        self.solids_settings_mut()?.sleep_time = seconds;
+        Ok(())
+    }
+
+    /// Whether each solid is asleep (out of the contact solver until something reaches its
+    /// island).
+    #[must_use]
+    pub fn solids_asleep(&self) -> Vec<bool> {
+        each!(&self.solids, s => s.asleep(), Vec::new())
+    }
+
     /// Contact: the solids advanced by the contact solver over the step, then checked.
     pub(super) fn contact(&mut self, ctx: &StepContext) -> Result<()> {
         fn run<S: Space>(g: S::V, s: &mut Solids<S>, ctx: &StepContext, method: &str) -> Result<()> {
             s.gather_loads(ctx.t)?;
-            crate::contact::solver::step(s, ctx.h, g);
+            s.advance(ctx.h, g);
             s.forces.load.clear();
             match s.runaway() {
                 Some(b) => Err(Error::Diverged {

@@ -32,6 +32,7 @@ mod restore_and_rollback;
 mod scene_files;
 mod scene_fuzz;
 mod scenes;
+mod sleeping;
 mod solid_forces;
 mod solid_handles;
 mod spring_at_zero_length;

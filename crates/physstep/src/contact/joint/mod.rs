@@ -420,6 +420,11 @@ impl<S: Space> Joint<S> {
         }
     }
 
+    /// Its two solids (`None`: the world).
+    pub(crate) fn solids(&self) -> (Option<usize>, usize) {
+        (self.a, self.b)
+    }
+
     /// Whether solid `k` is one of its ends.
     pub(crate) fn joins(&self, k: usize) -> bool {
         self.a == Some(k) || self.b == k

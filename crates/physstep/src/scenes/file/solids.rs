@@ -133,7 +133,7 @@ fn read_springs(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<()> 
 
 /// The contact solver's tuning numbers by their `[contact]` keys (written where they are
 /// not the default).
-fn tuning(s: &Settings) -> [(&'static str, f64); 8] {
+fn tuning(s: &Settings) -> [(&'static str, f64); 9] {
     [
         ("contact_hertz", s.contact_hertz),
         ("damping_ratio", s.damping_ratio),
@@ -143,6 +143,7 @@ fn tuning(s: &Settings) -> [(&'static str, f64); 8] {
         ("joint_hertz", s.joint_hertz),
         ("joint_damping_ratio", s.joint_damping_ratio),
         ("joint_projection", f64::from(s.joint_projection)),
+        ("sleep_time", s.sleep_time),
     ]
 }
 
@@ -319,6 +320,7 @@ pub(super) fn read(doc: &Doc<'_>, top: Table<'_, '_>, w: &mut World) -> Result<(
                 "speculative_distance" => set.speculative_distance = v,
                 "joint_hertz" => set.joint_hertz = v,
                 "joint_damping_ratio" => set.joint_damping_ratio = v,
+                "sleep_time" => set.sleep_time = v,
                 _ => {
                     if !(v.fract() == 0.0 && (0.0..=1000.0).contains(&v)) {
                         return Err(doc.err(at, &field, format!("= {v}: must be a whole number 0 to 1000")));
