@@ -12,10 +12,12 @@ pymunk: `space.iterations` at its default 10; `collision_slop` 0.005 m (Box2D's 
 pymunk's default 0.1 is meant for pixels and would let a 1 m box sink 10 cm); each shape's
 friction sqrt(0.6), as pymunk multiplies the two frictions of a pair where physstep and Box2D
 take their geometric mean. Box2D 2.3.10 (`pip install box2d`, `import Box2D`): 8 velocity
-and 3 position iterations (its testbed's), sleeping off (physstep has none); each box's core
-shrunk by Box2D's polygon radius (1 cm), the ground's too, so that a collision surface, core
-plus skin, is where the others' is (the boxes' corners rounded by 1 cm). A last line runs
-Box2D with sleeping on, its default, where the resting pyramid falls asleep.
+and 3 position iterations (its testbed's), sleeping off; each box's core shrunk by Box2D's
+polygon radius (1 cm), the ground's too, so that a collision surface, core plus skin, is where
+the others' is (the boxes' corners rounded by 1 cm). Each engine runs once more with sleeping
+on: physstep's soft step with `sleep_time = 0.5` (Box2D's), pymunk with
+`sleep_time_threshold = 0.5`, Box2D with its default sleeping; a resting pyramid that falls
+asleep leaves the solver.
 
 Printed per engine: ms per step (the median over `repeat` timed runs of the whole 10 s, fall
 and rest, one step a call, no read-out), the top box's drift from where it started after
@@ -96,9 +98,10 @@ class Engine:
 class Physstep(Engine):
     name = "physstep"
 
-    def __init__(self, rows: int, solver: str = "soft-step") -> None:
+    def __init__(self, rows: int, solver: str = "soft-step", sleep_time: float = 0.0) -> None:
         self.w = physstep.World.from_scene("pyramid", params={"rows": rows, "g": G}, dt=DT)
         self.w.contact_solver = solver
+        self.w.sleep_time = sleep_time
 
     def step(self) -> None:
         self.w.step(1)
@@ -113,12 +116,14 @@ class Physstep(Engine):
 class Pymunk(Engine):
     name = "pymunk"
 
-    def __init__(self, rows: int) -> None:
+    def __init__(self, rows: int, sleep: bool = False) -> None:
         import pymunk
 
         self.space = space = pymunk.Space()
         space.gravity = (0.0, -G)
         space.iterations = 10
+        if sleep:
+            space.sleep_time_threshold = 0.5
         space.collision_slop = 0.005
         ground = pymunk.Poly(space.static_body, [(-100.0, -2.0), (100.0, -2.0), (100.0, 0.0), (-100.0, 0.0)])
         ground.friction = math.sqrt(MU)
@@ -241,7 +246,9 @@ def main() -> None:
     solvers = [s.name for s in physstep.solvers()]
     engines: list[tuple[str, Callable[[], Engine]]] = [
         *((f"physstep ({s})", lambda s=s: Physstep(args.rows, s)) for s in solvers),
+        ("physstep (soft, sleeps)", lambda: Physstep(args.rows, solvers[0], sleep_time=0.5)),
         ("pymunk (10 iterations)", lambda: Pymunk(args.rows)),
+        ("pymunk (10, sleeps)", lambda: Pymunk(args.rows, sleep=True)),
         ("Box2D 2.3 (8+3, awake)", lambda: Box2d(args.rows)),
         ("Box2D 2.3 (8+3, sleeps)", lambda: Box2d(args.rows, sleep=True)),
     ]
@@ -256,9 +263,8 @@ def main() -> None:
         drift, reported, peak, end = measured(make, steps)
         print(f"{label:<24} {ms[label]:8.3f} {drift:9.2e} m {reported:10.2e} m {peak:10.2e} m {end:9.2e} m")
     peers = {label: t for label, t in ms.items() if not label.startswith("physstep")}
-    for s in solvers:
-        ours = ms[f"physstep ({s})"]
-        print(f"physstep ({s}): " + ", ".join(f"{ours / t:.2f}x {label}" for label, t in peers.items()))
+    for label in (label for label in ms if label.startswith("physstep")):
+        print(f"{label}: " + ", ".join(f"{ms[label] / t:.2f}x {peer}" for peer, t in peers.items()))
 
 
 if __name__ == "__main__":

@@ -32,8 +32,10 @@ distances, each negative where shapes overlap) and (2) the same geometric check 
 lowest box corner below the plane (box on box overlap not counted: on this grid boxes seldom
 meet), over the run (the landing: a box falling 7 cm a step meets the plane inside a step)
 and at the end (at rest); and the drift at rest: the largest distance any box's centre moved
-over the last 2 s (a box still sliding or rocking shows as drift). Then physstep's
-time per step over each peer's (below 1: physstep faster). Nothing is asserted: a
+over the last 2 s (a box still sliding or rocking shows as drift). physstep and MuJoCo each
+run twice: every body awake, and with sleeping on (physstep's `sleep_time = 0.5`, Box2D's;
+MuJoCo 4's `mjENBL_SLEEP` at its default tolerance): a box at rest then leaves the solver.
+Then physstep's time per step over each peer's (below 1: physstep faster). Nothing is asserted: a
 measurement, not a test. A peer that does not import is named and skipped.
 """
 
@@ -102,10 +104,13 @@ def run(engine: Any, steps: int, repeat: int, state: dict[str, Any]) -> dict[str
 
 
 class Physstep:
+    sleep_time = 0.0
+
     def __init__(self, state: dict[str, Any]) -> None:
         import physstep
 
         self.w = physstep.World.from_scene("dice", params={"n": int(state["n"]), "seed": 1.0, "g": G}, dt=DT)
+        self.w.sleep_time = self.sleep_time
 
     def step(self) -> None:
         self.w.step(1)
@@ -117,7 +122,15 @@ class Physstep:
         return self.w.max_penetration
 
 
+class PhysstepSleeping(Physstep):
+    """physstep with sleeping on (Box2D's 0.5 s): a die at rest leaves the solver."""
+
+    sleep_time = 0.5
+
+
 class Mujoco:
+    sleep = False
+
     def __init__(self, state: dict[str, Any]) -> None:
         import mujoco
         import numpy as np
@@ -132,6 +145,8 @@ class Mujoco:
             <worldbody><geom type="plane" size="0 0 1" zaxis="0 1 0"/>{bodies}</worldbody></mujoco>"""
         self.mj = mujoco
         self.model = mujoco.MjModel.from_xml_string(xml)
+        if self.sleep:
+            self.model.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SLEEP
         self.data = d = mujoco.MjData(self.model)
         qpos = d.qpos.reshape(n, 7)
         qvel = d.qvel.reshape(n, 6)
@@ -154,6 +169,12 @@ class Mujoco:
     def reported(self) -> float:
         c = self.data.contact[: self.data.ncon]
         return max(0.0, float(-c.dist.min())) if self.data.ncon else 0.0
+
+
+class MujocoSleeping(Mujoco):
+    """MuJoCo with its sleeping on (`mjENBL_SLEEP`, its default tolerance)."""
+
+    sleep = True
 
 
 class Pybullet:
@@ -259,9 +280,16 @@ def main() -> None:
     print(f"{head[0]:<26} {head[1]:>8} {head[2]:>25} {head[3]:>12} {head[4]:>12}")
     head = ("engine", "ms/step", "reported", "corners", "corners", f"{REST:.0f} s")
     print(f"{head[0]:<26} {head[1]:>8} {head[2]:>12} {head[3]:>12} {head[4]:>12} {head[5]:>12}")
-    labels = ["physstep (soft-step, 8)", "MuJoCo (Newton)", "pybullet (50 iterations)"]
+    labels = [
+        "physstep (soft-step, 8)",
+        "physstep (sleeps)",
+        "MuJoCo (Newton)",
+        "MuJoCo (Newton, sleeps)",
+        "pybullet (50 iterations)",
+    ]
+    engines = (Physstep, PhysstepSleeping, Mujoco, MujocoSleeping)
     got: dict[str, dict[str, float]] = {}
-    for label, engine in zip(labels[:2], (Physstep, Mujoco), strict=True):
+    for label, engine in zip(labels[:4], engines, strict=True):
         try:
             engine(state)
         except ImportError as err:
@@ -270,18 +298,18 @@ def main() -> None:
         got[label] = run(engine, steps, args.repeat, state)
     pb = pybullet_in_its_process(state, steps, args.repeat)
     if isinstance(pb, str):
-        print(f"{labels[2]:<26} skipped: {pb}")
+        print(f"{labels[4]:<26} skipped: {pb}")
     else:
-        got[labels[2]] = pb
+        got[labels[4]] = pb
     for label, r in got.items():
         print(
             f"{label:<26} {r['ms']:8.3f} {r['reported']:10.2e} m {r['geometric']:10.2e} m"
             f" {r['end']:10.2e} m {r['drift']:10.2e} m"
         )
-    ours = got[labels[0]]["ms"]
-    for label, r in got.items():
-        if label != labels[0]:
-            print(f"physstep / {label}: {ours / r['ms']:.2f}x the time per step")
+    for mine in labels[:2]:
+        for label, r in got.items():
+            if mine in got and not label.startswith("physstep"):
+                print(f"{mine} / {label}: {got[mine]['ms'] / r['ms']:.2f}x the time per step")
 
 
 if __name__ == "__main__":

@@ -361,3 +361,45 @@ def test_a_bullet_stops_at_a_dynamic_plank_that_a_plain_fast_ball_passes_through
     assert w.solid_count == 0
     w.add_solid(physstep.Circle(0.1), bullet=True)
     assert "bullet = true" in physstep.scene_text(w)
+
+
+def test_a_resting_box_falls_asleep_and_a_dropped_one_wakes_it():
+    w, awake = box_world(), box_world()
+    assert w.sleep_time == 0.0
+    w.sleep_time = 0.5
+    w.step(120)
+    awake.step(120)
+    assert w.solids_asleep().tolist() == [False, True]
+    rest = w.solid_positions().copy()
+    assert np.all(w.solid_velocities() == 0.0)
+    w.step(60)
+    awake.step(60)
+    assert np.array_equal(w.solid_positions(), rest)
+    # A box dropped onto it wakes it before it lands; both rest and sleep again, where they
+    # rest in a world that never sleeps.
+    for world in (w, awake):
+        world.add_solid(physstep.Box(0.5, 0.5), position=[0.0, 3.0])
+    woke = False
+    for _ in range(240):
+        w.step(1)
+        awake.step(1)
+        woke = woke or not w.solids_asleep()[1]
+    assert woke and w.solids_asleep().tolist() == [False, True, True]
+    assert not awake.solids_asleep().any()
+    assert w.solid_positions() == pytest.approx(awake.solid_positions(), abs=1e-3)
+    assert w.solid_positions()[2, 1] == pytest.approx(1.5, abs=0.01)
+    # Kept by pickles, bitwise.
+    twin = pickle.loads(pickle.dumps(w))
+    assert twin.sleep_time == 0.5 and twin.state_hash() == w.state_hash()
+    w.step(30)
+    twin.step(30)
+    assert twin.state_hash() == w.state_hash()
+
+
+@pytest.mark.parametrize("bad", [-1.0, float("nan"), float("inf"), "soon"])
+def test_a_bad_sleep_time_is_refused_in_one_line(bad):
+    w = box_world()
+    with pytest.raises((ValueError, TypeError)) as info:
+        w.sleep_time = bad
+    assert "sleep_time" in str(info.value) and "\n" not in str(info.value)
+    assert w.sleep_time == 0.0

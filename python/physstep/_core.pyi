@@ -1726,6 +1726,20 @@ class World:
 
     @continuous_collision.setter
     def continuous_collision(self, on: bool) -> None: ...
+    @property
+    def sleep_time(self) -> float:
+        """How long an island of touching (or jointed) solids must be slow before it falls
+        asleep, s (default 0: never; Box2D's is 0.5). Slow: speed, and angular speed times
+        the largest radius, below 0.05 m/s. A sleeping solid leaves the contact solver, keeps
+        its place exactly and has zero velocity, until a moving solid comes within reach, a
+        joint or spring ties it to one, a load acts on it, gravity changes or its motion is
+        set; then its whole island wakes. Setting 0 wakes every solid at the next step.
+        ValueError naming ``sleep_time`` unless finite and >= 0."""
+
+    @sleep_time.setter
+    def sleep_time(self, v: float) -> None: ...
+    def solids_asleep(self) -> npt.NDArray[np.bool_]:
+        """Whether each solid is asleep (n,) bool (see :attr:`sleep_time`)."""
     def interpolated_body_orientations(self) -> npt.NDArray[np.float64]:
         """Body orientations to draw (nb, 4), (w, x, y, z): slerped by :attr:`alpha` between
         the state before the last step of the latest :meth:`advance` and the current one."""

@@ -468,6 +468,29 @@ impl World {
         g.grow()?.set_contact_settings(s).map_err(py_err)
     }
 
+    /// How long an island of touching (or jointed) solids must be slow before it falls
+    /// asleep, s (default 0: never; Box2D's is 0.5). Slow: speed, and angular speed times the
+    /// largest radius, below 0.05 m/s. A sleeping solid leaves the contact solver, keeps its
+    /// place exactly and has zero velocity, until a moving solid comes within reach, a joint
+    /// or spring ties it to one, a load acts on it, gravity changes or its motion is set; then
+    /// its whole island wakes. Setting 0 wakes every solid at the next step. ValueError naming
+    /// ``sleep_time`` unless finite and >= 0.
+    #[getter]
+    fn sleep_time(&self) -> PyResult<f64> {
+        Ok(self.lock()?.engine.contact_settings().sleep_time)
+    }
+
+    #[setter]
+    fn set_sleep_time(&self, v: &Bound<'_, PyAny>) -> PyResult<()> {
+        let v = float(v, "sleep_time")?;
+        self.lock()?.grow()?.set_sleep_time(v).map_err(py_err)
+    }
+
+    /// Whether each solid is asleep (n,) bool (see :attr:`sleep_time`).
+    fn solids_asleep<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray1<bool>>> {
+        Ok(self.lock()?.engine.solids_asleep().into_pyarray(py))
+    }
+
     /// Continuous collision of fast solids (default True): a dynamic solid that moves farther
     /// than the speculative distance (2 cm) in a step is swept against the static and
     /// kinematic solids and put back to where it first touches one, so it neither sinks into

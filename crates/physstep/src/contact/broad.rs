@@ -15,6 +15,11 @@ pub fn pairs(
 ) {
     let n = lo.len();
     out.clear();
+    if !moves.contains(&true) {
+        // Nothing moves (every solid static or asleep): no pair (`order` is sorted again
+        // by the next call that needs it).
+        return;
+    }
     if order.len() != n {
         order.clear();
         order.extend(0..n as u32);

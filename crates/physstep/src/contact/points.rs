@@ -412,6 +412,14 @@ pub(super) fn collide<S: Space>(solids: &mut Solids<S>) {
     st.hi.clear();
     st.moves.clear();
     st.basis.clear();
+    st.points.clear();
+    st.contacts.clear();
+    st.touching.clear();
+    if !solids.bodies.iter().any(|b| b.kind == Kind::Dynamic) {
+        // Nothing moves (every solid static, kinematic or asleep): no contact.
+        st.pairs.clear();
+        return;
+    }
     for (b, shape) in solids.bodies.iter().zip(&solids.shapes) {
         // `Body::origin`, with the rotation made ready once for the solid's every point.
         let basis = S::basis(b.q);
@@ -427,9 +435,6 @@ pub(super) fn collide<S: Space>(solids: &mut Solids<S>) {
         // Solids joined by a joint do not collide (unless the joint says they do).
         st.pairs.retain(|p| solids.no_collide.binary_search(p).is_err());
     }
-    st.points.clear();
-    st.contacts.clear();
-    st.touching.clear();
     for &(a, b) in &st.pairs {
         let (ba, bb) = (&solids.bodies[a as usize], &solids.bodies[b as usize]);
         let ((qa, oa), (qb, ob)) = (st.basis[a as usize], st.basis[b as usize]);

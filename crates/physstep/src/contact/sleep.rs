@@ -203,18 +203,23 @@ impl<S: Space> Solids<S> {
         // their speed for the turning, and gravity's gain).
         let margin = self.settings.speculative_distance / 2.0;
         let sc = &mut self.sleep;
-        sc.lo.clear();
-        sc.hi.clear();
-        sc.movers.clear();
-        for (b, shape) in self.bodies.iter().zip(&self.shapes) {
-            let moves = mover(b);
-            let reach = if moves { (2.0 * speed(b) + gravity.dot(gravity).sqrt() * dt) * dt } else { 0.0 };
-            let (lo, hi) = S::aabb(shape, b.origin(), b.q, margin + reach);
-            sc.lo.push(lo);
-            sc.hi.push(hi);
-            sc.movers.push(moves);
+        if !self.bodies.iter().any(mover) {
+            sc.pairs.clear();
+        } else {
+            sc.lo.clear();
+            sc.hi.clear();
+            sc.movers.clear();
+            for (b, shape) in self.bodies.iter().zip(&self.shapes) {
+                let moves = mover(b);
+                let reach =
+                    if moves { (2.0 * speed(b) + gravity.dot(gravity).sqrt() * dt) * dt } else { 0.0 };
+                let (lo, hi) = S::aabb(shape, b.origin(), b.q, margin + reach);
+                sc.lo.push(lo);
+                sc.hi.push(hi);
+                sc.movers.push(moves);
+            }
+            broad::pairs(&sc.lo, &sc.hi, &sc.movers, &mut sc.order, &mut sc.pairs);
         }
-        broad::pairs(&sc.lo, &sc.hi, &sc.movers, &mut sc.order, &mut sc.pairs);
         for &(a, b) in &sc.pairs {
             let (a, b) = (a as usize, b as usize);
             if self.bodies[a].asleep && sc.movers[b] {
