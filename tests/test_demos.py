@@ -685,3 +685,25 @@ def test_the_solvers_demo_shows_four_solvers_side_by_side_on_the_same_boxes() ->
     assert [p.world.contact_solver for p in r.panels] == after == r.demo.solvers
     r.reset()  # a reset keeps each panel's solver
     assert [p.world.contact_solver for p in r.panels] == after
+
+
+def test_boxes_sleep_key_puts_the_resting_pyramid_to_sleep_and_a_dropped_box_wakes_it() -> None:
+    r = _runner("boxes")
+    rows = {label: value for label, value, _ in r.demo.hud(r.panels[0])}
+    assert rows["asleep"] == "off (z)"
+    r.act("sleep")
+    w = r.panels[0].world
+    assert w.sleep_time == 0.5
+    for _ in range(150):
+        r.update(1 / 60)
+    assert w.solids_asleep()[1:].all()
+    rows = {label: value for label, value, _ in r.demo.hud(r.panels[0])}
+    assert rows["asleep"] == f"{w.solid_count - 1} (z)"
+    r.act("drop")
+    for _ in range(40):
+        r.update(1 / 60)
+    assert not w.solids_asleep()[1:].all()
+    r.reset()  # sleeping survives a reset
+    assert r.panels[0].world.sleep_time == 0.5
+    r.act("sleep")
+    assert r.panels[0].world.sleep_time == 0.0

@@ -84,7 +84,7 @@ DEMOS: tuple[DemoEntry, ...] = (
         "boxes",
         "boxes",
         "BoxesDemo",
-        "a pyramid of solid boxes on the ground; b: drop a box, x: shoot one, n: substeps, c: solver",
+        "a pyramid of solid boxes; b: drop a box, x: shoot one, n: substeps, c: solver, z: sleep",
     ),
     DemoEntry(
         "solvers",

@@ -16,6 +16,10 @@ ROWS, HALF = 8, 0.25
 #: The substeps the ``n`` key cycles.
 SUBSTEPS = (8, 16, 2, 4)
 BOX, EDGE, GROUND = (205, 150, 80), (240, 200, 140), (34, 38, 50)
+#: A sleeping box's fill and edge (Box2D's testbed greys them too).
+ASLEEP, ASLEEP_EDGE = (110, 110, 130), (160, 160, 180)
+#: The sleep time the ``z`` key turns on, s (Box2D's).
+SLEEP_TIME = 0.5
 
 
 class BoxesDemo(Demo):
@@ -23,7 +27,8 @@ class BoxesDemo(Demo):
     solver (the soft step: its own substeps of symplectic Euler; the world's method moves
     nothing here). ``b`` drops a box from above, ``x`` shoots one at the pyramid from the
     left, ``n`` changes the substeps: at 2 the contacts are soft and the pyramid sags and
-    may topple, at 8 (the default) it stands."""
+    may topple, at 8 (the default) it stands. ``z`` turns sleeping on and off: a pyramid at
+    rest falls asleep (drawn grey) and leaves the solver until a box reaches it."""
 
     name = "boxes"
     #: Whether the panel draws the keys' hint at its top.
@@ -36,9 +41,11 @@ class BoxesDemo(Demo):
         Key("shoot", (pygame.K_x,), "x", "shoot a box at the pyramid from the left"),
         Key("substeps", (pygame.K_n,), "n", "next substeps of the contact solver (8, 16, 2, 4)"),
         Key("solver", (pygame.K_c,), "c", "next contact solver (physstep.contact_solvers())"),
+        Key("sleep", (pygame.K_z,), "z", "sleeping on / off (islands at rest leave the solver)"),
     )
 
     def __init__(self) -> None:
+        self.sleep_time = 0.0
         self.substeps = SUBSTEPS[0]
         self.solver = base.contact_solver_names()[0]
         self.thrown = 0
@@ -54,6 +61,7 @@ class BoxesDemo(Demo):
                 w.add_solid(physstep.Box(HALF, HALF), position=[x, HALF + 2 * HALF * row])
         w.substeps = self.substeps
         w.contact_solver = self.solver
+        w.sleep_time = self.sleep_time
         self.thrown = 0
         return w
 
@@ -64,12 +72,16 @@ class BoxesDemo(Demo):
         if action == "solver":
             self.solver = base.next_contact_solver(self.solver, panels)
             return
+        if action == "sleep":
+            self.sleep_time = 0.0 if self.sleep_time else SLEEP_TIME
         for p in panels:
             if p.error:
                 continue
             w = p.world
             if action == "substeps":
                 w.substeps = self.substeps
+            elif action == "sleep":
+                w.sleep_time = self.sleep_time
             elif action == "drop":
                 # Above the pyramid's top, a little to one side each time, turned a little.
                 x = 0.15 * ((self.thrown % 5) - 2)
@@ -98,6 +110,7 @@ class BoxesDemo(Demo):
             ("substeps", f"{w.substeps} (n)", base.TEXT),
             ("contacts", f"{touching}", base.TEXT),
             ("penetration", f"{w.max_penetration * 1000:.2f} mm", base.TEXT),
+            ("asleep", f"{int(w.solids_asleep().sum())} (z)" if w.sleep_time else "off (z)", base.TEXT),
         ]
 
     def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
@@ -105,15 +118,16 @@ class BoxesDemo(Demo):
         pygame.draw.rect(surf, GROUND, (rect.x, ground, rect.width, rect.bottom - ground))
         pygame.draw.line(surf, base.DIM, (rect.x, ground), (rect.right, ground), 2)
         pos, ang = base.solid_poses(panel)
-        for p, a in zip(pos[1:], ang[1:], strict=True):
+        asleep = panel.world.solids_asleep()
+        for p, a, z in zip(pos[1:], ang[1:], asleep[1:], strict=True):
             pts = [self.to_screen(rect, c) for c in base.box_corners(p, float(a), HALF, HALF)]
-            pygame.draw.polygon(surf, BOX, pts)
-            pygame.draw.polygon(surf, EDGE, pts, 2)
+            pygame.draw.polygon(surf, ASLEEP if z else BOX, pts)
+            pygame.draw.polygon(surf, ASLEEP_EDGE if z else EDGE, pts, 2)
         if self.hint:
             base.text(
                 surf,
                 base.font(18),
-                "b: drop a box, x: shoot one, n: substeps (2 sag and topple, 8 stand), c: solver",
+                "b: drop a box, x: shoot one, n: substeps (2 sag and topple, 8 stand), c: solver, z: sleep",
                 (rect.x + 10, rect.y + 8),
                 base.DIM,
             )
