@@ -183,7 +183,7 @@ impl<S: Space> Solids<S> {
         let mut wake = Vec::new();
         // Loads on a sleeper.
         for (i, (f, t)) in self.forces.load.iter().enumerate() {
-            if self.bodies[i].asleep && (f.dot(*f) > 0.0 || t.dot(*t) > 0.0) {
+            if self.bodies.get(i).is_some_and(|b| b.asleep) && (f.dot(*f) > 0.0 || t.dot(*t) > 0.0) {
                 wake.push(i);
             }
         }
