@@ -1,6 +1,7 @@
 """Joints between solids from Python: a hinged rod that keeps its pin, limits and motors,
 the jointed scenes, pickles that continue bitwise, and bad joints named in one line."""
 
+import json
 import pickle
 import re
 import subprocess
@@ -113,3 +114,24 @@ def test_the_cli_runs_a_jointed_scene_and_reports_its_contacts(scene: str) -> No
         check=True,
     ).stdout
     assert "contacts" in out
+
+
+def test_the_cli_reports_the_solids_asleep_in_a_scene_file_that_sleeps(tmp_path) -> None:
+    w = physstep.World.from_scene("bridge")
+    w.sleep_time = 0.5
+    path = tmp_path / "bridge.toml"
+    path.write_text(physstep.scene_text(w, "a sleeping bridge"))
+    run = [sys.executable, "-m", "physstep", "run", str(path), "--until", "15", "--format", "json"]
+    out = json.loads(subprocess.run(run, capture_output=True, text=True, check=True).stdout)
+    c = out["summary"]["contacts"] if "summary" in out else out["contacts"]
+    assert c["asleep"] == c["solids"] == 40 and c["max_speed"] == 0.0
+    text = subprocess.run(run[:-2], capture_output=True, text=True, check=True).stdout
+    assert "40 asleep" in text
+    # Without sleeping the report is as it was: no such key.
+    out = subprocess.run(
+        [sys.executable, "-m", "physstep", "run", "bridge", "--until", "1", "--format", "json"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert "asleep" not in out

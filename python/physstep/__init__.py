@@ -337,7 +337,8 @@ class Trajectory:
     (rows, bodies, 3) each body's angular velocity in its principal frame (ascending
     moments), where the tennis-racket flips show. Where the world has solids, ``contacts``
     says at the end how many solids there are, how many contact points touch, the deepest
-    penetration (m) and the fastest solid (m/s). Where the world has balls, ``collisions``
+    penetration (m) and the fastest solid (m/s), and where sleeping is on how many sleep
+    (``asleep``: their contacts are not counted). Where the world has balls, ``collisions``
     holds the contact statistics at the end (``count``, ``max_overlap`` in m, ``pair_tests``).
     ``world`` is the World a system's run stepped (a scene file, your callable or Flow), at
     its final state; None for a built-in scene. What :func:`summarize` says of the run's
@@ -589,6 +590,8 @@ def summarize(traj: Trajectory) -> dict[str, Any]:
             "max_penetration": float(c["max_penetration"]),
             "max_speed": float(c["max_speed"]),
         }
+        if "asleep" in c:
+            out["contacts"]["asleep"] = int(c["asleep"])
     if traj.diverged:
         out["diverged"] = traj.diverged
     return out

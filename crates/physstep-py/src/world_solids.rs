@@ -619,8 +619,9 @@ impl World {
 }
 
 /// What a run reports of its solids at the end: `solids` (how many), `count` (contact
-/// points touching), `max_penetration` (m) and `max_speed` (the fastest centre of mass, m/s);
-/// None without solids.
+/// points touching), `max_penetration` (m) and `max_speed` (the fastest centre of mass, m/s),
+/// and while sleeping is on `asleep` (how many sleep: their contacts are not counted); None
+/// without solids.
 pub(crate) fn stats<'py>(
     py: Python<'py>,
     w: &physstep::world::World,
@@ -635,6 +636,9 @@ pub(crate) fn stats<'py>(
     d.set_item("count", w.contacts().depths.iter().filter(|x| **x >= 0.0).count())?;
     d.set_item("max_penetration", w.max_penetration())?;
     d.set_item("max_speed", speed)?;
+    if w.contact_settings().sleep_time > 0.0 {
+        d.set_item("asleep", w.solids_asleep().iter().filter(|a| **a).count())?;
+    }
     Ok(Some(d))
 }
 

@@ -253,7 +253,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         table.add_row(
             "contacts",
             f"{con['count']} points touching among {con['solids']} solids at the end, max penetration "
-            f"{con['max_penetration']:.3g} m, fastest solid {con['max_speed']:.3g} m/s",
+            f"{con['max_penetration']:.3g} m, fastest solid {con['max_speed']:.3g} m/s"
+            + (f", {con['asleep']} asleep (their contacts not counted)" if "asleep" in con else ""),
         )
     if "error" in summary:
         table.add_row("position error", f"{summary['error']['final_position']:.3g} m at the end (vs exact)")
