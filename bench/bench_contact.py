@@ -5,9 +5,10 @@
 All step the same pyramid, one thread each: `rows` rows of unit boxes (1 m x 1 m, density 1,
 so 1 kg; 210 boxes for 20 rows) 1.01 m apart in a row, the rows 1 m apart, on a static ground
 box 200 m x 2 m whose top is y = 0, friction 0.6 for every pair, gravity 9.81 m/s^2,
-dt = 1/60 s, 600 steps for 10 s, no sleeping. physstep: the scene as built
-(`World.from_scene("pyramid")`) under each of its contact solvers at their default settings
-(the default `soft-step` first; 8 substeps x 1 iteration: 16 passes a step for each).
+dt = 1/60 s, 600 steps for 10 s, no sleeping (each engine once more with it: below).
+physstep: the scene as built (`World.from_scene("pyramid")`) under each of its contact
+solvers at their default settings (the default `soft-step` first; 8 substeps x 1
+iteration: 16 passes a step for each).
 pymunk: `space.iterations` at its default 10; `collision_slop` 0.005 m (Box2D's linear slop:
 pymunk's default 0.1 is meant for pixels and would let a 1 m box sink 10 cm); each shape's
 friction sqrt(0.6), as pymunk multiplies the two frictions of a pair where physstep and Box2D
