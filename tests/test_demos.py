@@ -707,3 +707,19 @@ def test_boxes_sleep_key_puts_the_resting_pyramid_to_sleep_and_a_dropped_box_wak
     assert r.panels[0].world.sleep_time == 0.5
     r.act("sleep")
     assert r.panels[0].world.sleep_time == 0.0
+
+
+def test_dice_sleep_key_puts_the_dice_at_rest_to_sleep_and_a_throw_keeps_it() -> None:
+    r = _runner("dice")
+    r.act("sleep")
+    w = r.panels[0].world
+    assert w.sleep_time == 0.5
+    for _ in range(240):  # 4 s: the dice are at rest on the plane, asleep
+        r.update(1 / 60)
+    assert w.solids_asleep()[1:].all() and w.kinetic_energy() == 0.0
+    rows = {label: value for label, value, _ in r.demo.hud(r.panels[0])}
+    assert rows["asleep"] == f"{w.solid_count - 1} (z)"
+    r.act("throw")  # thrown again, still sleeping once at rest
+    assert r.panels[0].world.sleep_time == 0.5 and not r.panels[0].world.solids_asleep().any()
+    r.act("sleep")
+    assert r.panels[0].world.sleep_time == 0.0

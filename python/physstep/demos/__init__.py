@@ -99,7 +99,10 @@ DEMOS: tuple[DemoEntry, ...] = (
         "a box on a tilted plank, sticking or sliding; a, f: angle, friction; the closed form in the HUD",
     ),
     DemoEntry(
-        "dice", "dice", "DiceDemo", "dice thrown spinning onto a plane in 3D; t: throw again, c: solver"
+        "dice",
+        "dice",
+        "DiceDemo",
+        "dice thrown spinning onto a plane in 3D; t: throw again, c: solver, z: sleep",
     ),
     DemoEntry(
         "pile",

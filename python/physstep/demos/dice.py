@@ -32,6 +32,8 @@ PIPS = {
     6: ((-0.5, -0.55), (-0.5, 0.0), (-0.5, 0.55), (0.5, -0.55), (0.5, 0.0), (0.5, 0.55)),
 }
 DIE, PIP, FLOOR, FLOOR_LINE = (236, 232, 222), (30, 32, 40), (38, 44, 58), (58, 66, 86)
+#: A sleeping die's colour, and the sleep time the ``z`` key turns on, s (Box2D's).
+ASLEEP, SLEEP_TIME = (150, 158, 190), 0.5
 LIGHT = np.array([0.4, 0.9, 0.5]) / np.linalg.norm([0.4, 0.9, 0.5])
 
 
@@ -52,8 +54,10 @@ class DiceDemo(Demo):
     """The ``dice`` scene: 16 dice (20 cm cubes, restitution 0.2, friction 0.6) thrown
     spinning from a grid 1 m above a plane, drawn in 3D (an orthographic view from the front
     right, above) with their pips. They bounce, tumble and come to rest on a face. ``t``
-    throws them again (the next seed of the scene), ``c`` cycles the contact solver. The HUD
-    shows the kinetic energy, the contact points touching and the deepest penetration."""
+    throws them again (the next seed of the scene), ``c`` cycles the contact solver, ``z``
+    turns sleeping on and off (a die at rest falls asleep, drawn blue-grey, and leaves the
+    solver). The HUD shows the kinetic energy, the contact points touching, the deepest
+    penetration and the dice asleep."""
 
     name = "dice"
     dt = 1.0 / 60.0
@@ -61,20 +65,28 @@ class DiceDemo(Demo):
     keys = (
         Key("throw", (pygame.K_t,), "t", "throw the dice again (the next seed)"),
         Key("solver", (pygame.K_c,), "c", "next contact solver (physstep.contact_solvers())"),
+        Key("sleep", (pygame.K_z,), "z", "sleeping on / off (dice at rest leave the solver)"),
     )
 
     def __init__(self) -> None:
+        self.sleep_time = 0.0
         self.seed = 1
         self.solver = base.contact_solver_names()[0]
 
     def world(self, method: str, dt: float) -> physstep.World:
         w = physstep.World.from_scene("dice", method, dt, {"n": COUNT, "seed": self.seed})
         w.contact_solver = self.solver
+        w.sleep_time = self.sleep_time
         return w
 
     def act(self, panels: list[Panel], action: str) -> None:
         if action == "solver":
             self.solver = base.next_contact_solver(self.solver, panels)
+        elif action == "sleep":
+            self.sleep_time = 0.0 if self.sleep_time else SLEEP_TIME
+            for p in panels:
+                if not p.error:
+                    p.world.sleep_time = self.sleep_time
         elif action == "throw":
             self.seed += 1
             base.start_afresh(panels, self.world)
@@ -90,6 +102,7 @@ class DiceDemo(Demo):
             ("kinetic", f"{w.kinetic_energy():.3e} J", base.TEXT),
             ("contacts", f"{touching}", base.TEXT),
             ("penetration", f"{w.max_penetration * 1000:.2f} mm", base.TEXT),
+            ("asleep", f"{int(w.solids_asleep().sum())} (z)" if w.sleep_time else "off (z)", base.TEXT),
         ]
 
     def draw(self, surf: pygame.Surface, rect: pygame.Rect, panel: Panel, x: np.ndarray) -> None:
@@ -108,6 +121,7 @@ class DiceDemo(Demo):
             for p0, p1 in (([t, 0, -span], [t, 0, span]), ([-span, 0, t], [span, 0, t])):
                 pygame.draw.line(surf, FLOOR_LINE, project(np.array(p0)), project(np.array(p1)))
         pos, quats = (a[1:] for a in base.solid_poses(panel))
+        asleep = panel.world.solids_asleep()[1:]
         # Shadows under the dice, then the dice far to near.
         for p in pos:
             shadow = [project(np.array([p[0] + sx * HALF, 0.0, p[2] + sz * HALF])) for sx, sz in quad_signs()]
@@ -123,7 +137,8 @@ class DiceDemo(Demo):
                     continue
                 shade = 0.5 + 0.5 * max(0.0, float(n @ LIGHT))
                 pts = [project(corners[k]) for k in idx]
-                pygame.draw.polygon(surf, tuple(int(c * shade) for c in DIE), pts)
+                colour = ASLEEP if asleep[i] else DIE
+                pygame.draw.polygon(surf, tuple(int(c * shade) for c in colour), pts)
                 pygame.draw.polygon(surf, base.BACKGROUND, pts, 1)
                 # Pips: on the face's two in-plane axes (along its first and last edges).
                 centre = sum(corners[k] for k in idx) / 4.0
@@ -135,7 +150,7 @@ class DiceDemo(Demo):
         base.text(
             surf,
             base.font(18),
-            "t: throw again, c: contact solver",
+            "t: throw again, c: contact solver, z: sleep",
             (rect.x + 10, rect.y + 8),
             base.DIM,
         )
