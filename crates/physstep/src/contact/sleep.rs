@@ -10,13 +10,15 @@
 //! no motion, immovable to what touches it; the broad phase passes over its pairs with other
 //! sleeping or static solids, whose warm starts are kept for when it wakes.
 //!
-//! Before each step an island wakes, whole, when an awake dynamic solid or a moving kinematic
-//! one comes within reach of one of its solids (their bounding boxes overlap, the mover's
-//! grown by how far it can go in the step), a joint or a spring joins it to an awake solid, a
-//! load (applied by hand or a user force) acts on it, or gravity changed; setting a solid's
-//! motion by hand, applying a load, adding or changing a joint or spring at it, wakes its
-//! island at once, and a removal wakes every island. Everything is serial and in index order:
-//! the same bits on any number of threads.
+//! Before each step an island wakes, whole, when a moving solid (a dynamic one awake and not
+//! slow, or a kinematic one with a velocity) comes within reach of one of its solids (their
+//! bounding boxes overlap, the mover's grown by how far it can go in the step), a joint or a
+//! spring joins it to a moving solid, a load (applied by hand or a user force) acts on it, or
+//! gravity changed. A contact that missed (a slow solid creeping into a sleeper) wakes it
+//! after the step, for the next. Setting a solid's motion by hand, applying a load, adding,
+//! changing or removing a joint, spring or user force at it, wakes its island at once, and a
+//! removal wakes every island. Everything is serial and in index order: the same bits on any
+//! number of threads.
 
 use super::points::Warm;
 use super::{broad, Body, Kind, Solids, Space, Vect};
@@ -39,8 +41,9 @@ pub(super) struct Scratch<S: Space> {
     movers: Vec<bool>,
     order: Vec<u32>,
     pairs: Vec<(u32, u32)>,
-    /// Union-find parents of the islands.
+    /// Union-find parents of the islands, and each island's shortest idle time (at its root).
     parent: Vec<u32>,
+    least: Vec<f64>,
     /// The gravity of the latest step (`None` before the first one): rolled back with it.
     pub(super) gravity: Option<S::V>,
 }
@@ -56,6 +59,7 @@ impl<S: Space> Default for Scratch<S> {
             order: Vec::new(),
             pairs: Vec::new(),
             parent: Vec::new(),
+            least: Vec::new(),
             gravity: None,
         }
     }
@@ -290,7 +294,9 @@ impl<S: Space> Solids<S> {
             }
         }
         // Each island's shortest idle time, at its root.
-        let mut least = vec![f64::INFINITY; n];
+        let least = &mut sc.least;
+        least.clear();
+        least.resize(n, f64::INFINITY);
         for i in 0..n {
             if dynamic_awake(&self.bodies[i]) {
                 let r = root(parent, i as u32) as usize;
