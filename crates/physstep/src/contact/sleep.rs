@@ -107,7 +107,33 @@ fn mover<S: Space>(b: &Body<S>) -> bool {
     }
 }
 
+/// The two solids of every joint and spring (`None`: the world).
+fn links<'a, S: Space>(
+    joints: &'a [super::joint::Joint<S>],
+    springs: &'a [super::forces::Spring<S>],
+) -> impl Iterator<Item = (Option<usize>, usize)> + 'a {
+    joints.iter().map(|j| j.solids()).chain(springs.iter().map(|s| s.solids()))
+}
+
 impl<S: Space> Solids<S> {
+    /// Wakes the islands of the sleeping solids among `solids`, in one pass over the solids
+    /// (a wake test can name many solids of one island).
+    fn wake_islands(&mut self, solids: &[usize]) {
+        let mut islands: Vec<u32> = solids
+            .iter()
+            .filter_map(|&i| self.bodies.get(i).filter(|b| b.asleep).map(|b| b.island))
+            .collect();
+        if islands.is_empty() {
+            return;
+        }
+        islands.sort_unstable();
+        islands.dedup();
+        for b in self.bodies.iter_mut().filter(|b| b.asleep && islands.binary_search(&b.island).is_ok()) {
+            b.asleep = false;
+            b.idle = 0.0;
+        }
+    }
+
     /// Wakes solid `i`'s island (nothing when it is awake).
     pub(crate) fn wake(&mut self, i: usize) {
         let Some(b) = self.bodies.get(i) else { return };
@@ -192,9 +218,7 @@ impl<S: Space> Solids<S> {
             }
         }
         // Joints and springs from a sleeper to a moving solid.
-        let links =
-            self.joints.iter().map(|j| j.solids()).chain(self.forces.springs.iter().map(|s| s.solids()));
-        for (a, b) in links {
+        for (a, b) in links(&self.joints, &self.forces.springs) {
             let Some(a) = a else { continue };
             let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
             if ba.asleep && mover(bb) {
@@ -232,9 +256,7 @@ impl<S: Space> Solids<S> {
                 wake.push(b);
             }
         }
-        for i in wake {
-            self.wake(i);
-        }
+        self.wake_islands(&wake);
         // Hidden: static to the step; their warm starts with static solids and each other kept.
         let sc = &mut self.sleep;
         sc.hidden.clear();
@@ -279,9 +301,7 @@ impl<S: Space> Solids<S> {
         parent.extend(0..n as u32);
         let mut woken = Vec::new();
         let pairs = self.solver.touching.iter().map(|p| (Some(p.a as usize), p.b as usize));
-        let links =
-            self.joints.iter().map(|j| j.solids()).chain(self.forces.springs.iter().map(|s| s.solids()));
-        for (a, b) in pairs.chain(links) {
+        for (a, b) in pairs.chain(links(&self.joints, &self.forces.springs)) {
             let Some(a) = a else { continue };
             let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
             if dynamic_awake(ba) && dynamic_awake(bb) {
@@ -312,8 +332,6 @@ impl<S: Space> Solids<S> {
                 }
             }
         }
-        for i in woken {
-            self.wake(i);
-        }
+        self.wake_islands(&woken);
     }
 }
