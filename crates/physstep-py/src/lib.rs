@@ -40,6 +40,11 @@ use pyo3::prelude::*;
 
 pub(crate) use errors::py_err;
 
+/// Large blocks (a recording's columns, a large world's state) as huge pages, kept for
+/// reuse when freed: `physstep::alloc`.
+#[global_allocator]
+static ALLOC: physstep::alloc::HugePages = physstep::alloc::HugePages;
+
 /// The native module `physstep._core`.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -34,11 +34,13 @@
 //! | [`linalg`] | the sparse Newton solve's blocks and conjugate gradients (what [`dynamics::System::blocks`] fills) |
 //! | [`error`], [`limits`] | the one error type, and the bounds every input is held to |
 //! | [`simd`] | the AVX2 switch (also [`world::set_vector_paths`]) |
+//! | [`alloc`] | an allocator that maps large blocks as huge pages (the Python extension's) |
 //!
 //! The rest is `pub(crate)`: how a step is taken inside (the rollback, the fused kernels, the
 //! contact stage's grid and events) may change without notice.
 #![warn(missing_docs)]
 
+pub mod alloc;
 pub mod clock;
 pub mod collide;
 pub mod constraints;
