@@ -33,7 +33,17 @@ fn add(a: &mut Block, b: &Block) {
 /// a compressed spring's sideways term (`-k (1 - rest/r) (I - u u^T)`, which pushes the
 /// wrong way) and the damping's coupling to the direction (`-c/r (u (P w)^T + (w.u) P)`).
 #[inline(always)]
-fn spring(dim: usize, x: &[f64], i: usize, j: Endpoint, k: f64, rest: f64, c: f64) -> (Block, Block) {
+#[allow(clippy::too_many_arguments)]
+fn spring(
+    dim: usize,
+    x: &[f64],
+    i: usize,
+    j: Endpoint,
+    k: f64,
+    rest: f64,
+    c: f64,
+    exact: bool,
+) -> (Block, Block) {
     if rest == 0.0 {
         return (iso_plus_outer(dim, -k, 0.0, &[0.0; 3]), iso_plus_outer(dim, -c, 0.0, &[0.0; 3]));
     }
@@ -44,7 +54,7 @@ fn spring(dim: usize, x: &[f64], i: usize, j: Endpoint, k: f64, rest: f64, c: f6
     }
     let r = r2.sqrt();
     let u = [d[0] / r, d[1] / r, d[2] / r];
-    let ratio = (rest / r).min(1.0);
+    let ratio = if exact { rest / r } else { (rest / r).min(1.0) };
     (iso_plus_outer(dim, -k * (1.0 - ratio), -k * ratio, &u), iso_plus_outer(dim, 0.0, -c, &u))
 }
 
@@ -60,7 +70,7 @@ impl ForceSet {
                 // Between two particles: from their own list, below.
                 Force::Spring { j: Endpoint::Particle(_), .. } => {}
                 Force::Spring { i, j, stiffness, rest_length, damping } => {
-                    let (k, d) = spring(dim, x, i, j, stiffness, rest_length, damping);
+                    let (k, d) = spring(dim, x, i, j, stiffness, rest_length, damping, out.exact);
                     add(&mut out.kd[i], &k);
                     add(&mut out.dd[i], &d);
                 }
@@ -112,7 +122,7 @@ impl ForceSet {
 #[inline(never)]
 fn pair_blocks<const D: usize>(springs: &[(usize, usize, [f64; 3])], x: &[f64], out: &mut Blocks) {
     for &(i, j, [k, rest, c]) in springs {
-        let (kb, db) = spring(D, x, i, Endpoint::Particle(j), k, rest, c);
+        let (kb, db) = spring(D, x, i, Endpoint::Particle(j), k, rest, c, out.exact);
         out.pairs.push((i, j, kb, db));
     }
 }

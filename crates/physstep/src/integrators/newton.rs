@@ -32,6 +32,17 @@ pub struct ImplicitParams {
     /// search: with [`crate::linalg::Preconditioner::BlockJacobi`] that is the earlier solve,
     /// bit for bit). The dense solve and the linearly implicit step take whole updates.
     pub line_search: bool,
+    /// Whether backward Euler's sparse solve tries the exact Jacobian first (default `true`):
+    /// each Newton update factors the matrix with the springs' exact blocks (a compressed
+    /// spring's sideways term kept, [`crate::linalg::Blocks::exact`]) and, where that matrix
+    /// is positive definite, takes the exact Newton update whole (quadratic convergence);
+    /// where it is not (the factorisation meets a pivot that is not positive), that update
+    /// takes the semidefinite matrix and the line search, as with `false`. The iteration
+    /// then starts from `x + h v, v` (no acceleration), where the exact updates converge,
+    /// not from the explicit guess. Only with [`crate::linalg::Preconditioner::Cholesky`];
+    /// `false` gives the earlier iteration bit for bit. The linearly implicit step keeps the
+    /// semidefinite matrix (with the exact one its energy rose on more steps).
+    pub exact_jacobian: bool,
 }
 
 impl Default for ImplicitParams {
@@ -42,6 +53,7 @@ impl Default for ImplicitParams {
             cg: CgParams::default(),
             dense_up_to: DENSE_UP_TO,
             line_search: true,
+            exact_jacobian: true,
         }
     }
 }
@@ -254,11 +266,42 @@ impl Newton {
         let g = scratch(&mut self.g, n);
         let rhs = scratch(&mut self.rhs, nx);
         let dv = scratch(&mut self.dv, nx);
-        guess(z, y0, c, f0, self.linear);
+        // The exact Jacobian first (ImplicitParams::exact_jacobian), from `x + c v, v`: the
+        // blocks made again there, exact.
+        let mut exact = !self.linear
+            && self.params.exact_jacobian
+            && self.params.cg.preconditioner == crate::linalg::Preconditioner::Cholesky;
+        if exact {
+            let (zx, zv) = z.split_at_mut(nx);
+            let (x0, v0) = y0.split_at(nx);
+            for k in 0..nx {
+                zx[k] = x0[k] + c * v0[k];
+            }
+            zv.copy_from_slice(v0);
+            self.blocks.exact = true;
+            exact = flow.blocks(tau, z, &mut self.blocks);
+            if !exact {
+                // (No blocks at the guess: the semidefinite iteration, as before.)
+                self.blocks.exact = false;
+                if !flow.blocks(tau, y0, &mut self.blocks) {
+                    return Err(Error::NotConverged {
+                        method: method.into(),
+                        iterations: 0,
+                        residual: f64::NAN,
+                    });
+                }
+                guess(z, y0, c, f0, self.linear);
+            }
+        } else {
+            self.blocks.exact = false;
+            guess(z, y0, c, f0, self.linear);
+        }
         let mut residual = f64::INFINITY;
         let (mut cg_total, mut last_cg) = (0, 0);
         // |df/dz| of the latest blocks (made before the loop and at each update but the first).
         let mut rate_norm = self.blocks.rate_norm();
+        // Whether the latest update was the exact one (it takes no line search).
+        let mut exact_update = false;
         let mut previous = f64::INFINITY;
         let z_old = scratch(&mut self.z_old, n);
         let step = scratch(&mut self.step, n);
@@ -280,7 +323,12 @@ impl Newton {
             // near buckling) it stretches them; where an update overshoots it shortens it.
             if let Some(slope0) = pending.take() {
                 let slope1 = slope(&self.blocks.mass, &g[nx..], &step[nx..], dim);
-                if slope1.is_finite() && slope0 < 0.0 && !self.linear && self.params.line_search {
+                if slope1.is_finite()
+                    && slope0 < 0.0
+                    && !self.linear
+                    && self.params.line_search
+                    && !exact_update
+                {
                     // A slope as steep or steeper at the end: no minimum in reach, the longest.
                     let alpha = if slope1 <= slope0 {
                         LINE_MAX
@@ -318,18 +366,37 @@ impl Newton {
             }
             // (M - c D - c^2 K) dv = -M g_v - c K g_x, then dx = c dv - g_x.
             if iter > 0 {
+                self.blocks.exact = exact;
                 if !flow.blocks(tau, z, &mut self.blocks) {
                     break;
                 }
                 rate_norm = self.blocks.rate_norm();
             }
-            // A complete factor is made at a step's first update and kept for the next
-            // updates where it costs more than the conjugate-gradient iterations it then
-            // takes (a grid's factor, not a chain's), while they stay within REFACTOR_AFTER.
-            let keep = self.matrix.factor_cost_in_solves() > KEEP_FACTOR_ABOVE;
-            let refactor = iter == 0 || last_cg > REFACTOR_AFTER || !keep;
-            if !self.matrix.rebuild(&self.blocks, c, self.params.cg.preconditioner, refactor) {
-                break;
+            // The exact matrix where it is positive definite (its factor then solves it:
+            // the exact Newton update); else the semidefinite one's blocks for this update.
+            exact_update = exact && self.matrix.build_definite(&self.blocks, c);
+            if exact && !exact_update {
+                self.blocks.exact = false;
+                if !flow.blocks(tau, z, &mut self.blocks) {
+                    break;
+                }
+                rate_norm = self.blocks.rate_norm();
+            }
+            if !exact_update {
+                // A complete factor is made at a step's first update and kept for the next
+                // updates where it costs more than the conjugate-gradient iterations it then
+                // takes (a grid's factor, not a chain's), while they stay within
+                // REFACTOR_AFTER.
+                let keep = self.matrix.factor_cost_in_solves() > KEEP_FACTOR_ABOVE;
+                let refactor = iter == 0 || last_cg > REFACTOR_AFTER || !keep || exact;
+                if !self.matrix.rebuild(&self.blocks, c, self.params.cg.preconditioner, refactor) {
+                    break;
+                }
+                if exact && self.matrix.preconditioner() != crate::linalg::Preconditioner::Cholesky {
+                    // No complete factor even of the semidefinite matrix (past the fill
+                    // limit): the exact one is not tried again this step.
+                    exact = false;
+                }
             }
             let (gx, gv) = g.split_at(nx);
             let b = &self.blocks;

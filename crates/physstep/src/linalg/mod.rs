@@ -59,6 +59,10 @@ pub struct Blocks {
     pub dd: Vec<Block>,
     /// Pair forces: `(i, j, dF_i/dx_i, dF_i/dv_i)`; the force on `j` is the opposite.
     pub pairs: Vec<(usize, usize, Block, Block)>,
+    /// Whether the springs' blocks are their exact Jacobians, a compressed spring's sideways
+    /// term kept (the matrix may then be indefinite); `false` (the default) leaves that term
+    /// out, so every block is semidefinite.
+    pub exact: bool,
 }
 
 impl Blocks {
@@ -136,6 +140,45 @@ impl NewtonMatrix {
     /// nearby matrix (the previous Newton update's) preconditions this one, and conjugate
     /// gradients take a few iterations instead of a factorisation.
     pub fn rebuild(&mut self, b: &Blocks, c: f64, pre: Preconditioner, refactor: bool) -> bool {
+        if !self.assemble(b, c) {
+            return false;
+        }
+        let keep = !refactor
+            && pre == Preconditioner::Cholesky
+            && self.used == Preconditioner::Cholesky
+            && self.chol.same_pattern(&self.pairs, &self.free);
+        if keep {
+            return true;
+        }
+        self.used = Preconditioner::BlockJacobi;
+        if pre == Preconditioner::Cholesky && self.chol.factor(&self.diag, &self.pairs, &self.free, self.dim)
+        {
+            self.used = Preconditioner::Cholesky;
+        } else if pre != Preconditioner::BlockJacobi
+            && self.ic.factor(&self.diag, &self.pairs, &self.free, self.dim)
+        {
+            self.used = Preconditioner::IncompleteCholesky;
+        }
+        true
+    }
+
+    /// `A` of `b` at `c` with its complete Cholesky factor, and `true`, where `A` is positive
+    /// definite (every pivot of the factorisation positive) and the factor's pattern fits;
+    /// else `false`, and the matrix is to be built again before it is used. The test of
+    /// definiteness for blocks that may be indefinite ([`Blocks::exact`]): it costs one
+    /// factorisation, cut short at the first pivot that is not positive.
+    pub fn build_definite(&mut self, b: &Blocks, c: f64) -> bool {
+        self.used = Preconditioner::BlockJacobi;
+        if !self.assemble(b, c) || !self.chol.factor(&self.diag, &self.pairs, &self.free, self.dim) {
+            return false;
+        }
+        self.used = Preconditioner::Cholesky;
+        true
+    }
+
+    /// The blocks of `A` (each particle's diagonal with its pairs' parts, the pairs) and the
+    /// block-Jacobi inverses; `false` when a diagonal block cannot be inverted.
+    fn assemble(&mut self, b: &Blocks, c: f64) -> bool {
         let (n, c2) = (b.mass.len(), c * c);
         self.dim = b.dim;
         self.free.clear();
@@ -170,22 +213,6 @@ impl NewtonMatrix {
                 Some(inv) => self.inv.push(inv),
                 None => return false,
             }
-        }
-        let keep = !refactor
-            && pre == Preconditioner::Cholesky
-            && self.used == Preconditioner::Cholesky
-            && self.chol.same_pattern(&self.pairs, &self.free);
-        if keep {
-            return true;
-        }
-        self.used = Preconditioner::BlockJacobi;
-        if pre == Preconditioner::Cholesky && self.chol.factor(&self.diag, &self.pairs, &self.free, self.dim)
-        {
-            self.used = Preconditioner::Cholesky;
-        } else if pre != Preconditioner::BlockJacobi
-            && self.ic.factor(&self.diag, &self.pairs, &self.free, self.dim)
-        {
-            self.used = Preconditioner::IncompleteCholesky;
         }
         true
     }
