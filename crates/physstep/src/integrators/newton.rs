@@ -133,6 +133,9 @@ impl Newton {
         let n = y0.len();
         let nx = flow.split().filter(|&nx| 2 * nx == n && n > self.params.dense_up_to);
         if let Some(nx) = nx {
+            // The semidefinite blocks at the start (the exact ones, where they are tried,
+            // are made at the iteration's start in `solve_sparse`).
+            self.blocks.exact = false;
             if flow.blocks(tau, y0, &mut self.blocks) {
                 return self.solve_sparse(flow, method, tau, c, y0, f0, nx);
             }
@@ -293,7 +296,6 @@ impl Newton {
                 guess(z, y0, c, f0, self.linear);
             }
         } else {
-            self.blocks.exact = false;
             guess(z, y0, c, f0, self.linear);
         }
         let mut residual = f64::INFINITY;
