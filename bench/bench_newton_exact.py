@@ -77,24 +77,8 @@ class Cloth:
         springs = 0.5 * float(np.sum(self.k * (r - self.rest) ** 2))
         return springs - float(np.sum((self.m[:, None] * self.g[None, :] * x)[self.free]))
 
-    def rate(self, x: np.ndarray) -> float:
-        """|df/dz| as physstep measures it (`Blocks::rate_norm`): per moving particle, twice
-        the largest row sum of |block| over its springs, over its mass; the largest."""
-        d = x[self.j] - x[self.i]
-        r = np.linalg.norm(d, axis=1)
-        u = d / r[:, None]
-        ratio = np.minimum(self.rest / r, 1.0)
-        a = self.k * (1.0 - ratio)
-        b = self.k * ratio
-        blocks = a[:, None, None] * np.eye(3)[None] + b[:, None, None] * u[:, :, None] * u[:, None, :]
-        rows = 2.0 * np.abs(blocks).sum(axis=2).max(axis=1)
-        total = np.zeros(self.n)
-        np.add.at(total, self.i, rows)
-        np.add.at(total, self.j, rows)
-        return float((total / self.m)[self.free].max())
-
-    def stiffness(self, x: np.ndarray, semidefinite: bool = False) -> sp.csr_matrix:
-        """dF/dx exactly (3n x 3n): each spring's block -k ((1 - L/r) I + (L/r) u u^T); with
+    def blocks(self, x: np.ndarray, semidefinite: bool) -> np.ndarray:
+        """Each spring's dF_i/dx_j (m, 3, 3): k ((1 - L/r) I + (L/r) u u^T); with
         `semidefinite`, a compressed spring's sideways term left out, as physstep's."""
         d = x[self.j] - x[self.i]
         r = np.linalg.norm(d, axis=1)
@@ -102,7 +86,20 @@ class Cloth:
         ratio = np.minimum(self.rest / r, 1.0) if semidefinite else self.rest / r
         a = self.k * (1.0 - ratio)
         b = self.k * ratio
-        blocks = -(a[:, None, None] * np.eye(3)[None] + b[:, None, None] * u[:, :, None] * u[:, None, :])
+        return a[:, None, None] * np.eye(3)[None] + b[:, None, None] * u[:, :, None] * u[:, None, :]
+
+    def rate(self, x: np.ndarray) -> float:
+        """|df/dz| as physstep measures it (`Blocks::rate_norm`): per moving particle, twice
+        the largest row sum of |block| over its springs, over its mass; the largest."""
+        rows = 2.0 * np.abs(self.blocks(x, True)).sum(axis=2).max(axis=1)
+        total = np.zeros(self.n)
+        np.add.at(total, self.i, rows)
+        np.add.at(total, self.j, rows)
+        return float((total / self.m)[self.free].max())
+
+    def stiffness(self, x: np.ndarray, semidefinite: bool = False) -> sp.csr_matrix:
+        """dF/dx (3n x 3n) from `blocks`: -B on both ends' diagonals, +B between them."""
+        blocks = -self.blocks(x, semidefinite)
         rows, cols, vals = [], [], []
         for p, q, s in (
             (self.i, self.i, 1.0),
