@@ -1261,6 +1261,7 @@ class World:
         cg_max_iter: int | None = None,
         dense_up_to: int | None = None,
         preconditioner: str | None = None,
+        exact_jacobian: bool | None = None,
     ) -> None:
         """Sets the implicit methods' solver: Newton's relative tolerance ``tol`` and cap
         ``max_iter``, the conjugate-gradient tolerance ``cg_tol`` and cap ``cg_max_iter`` of
@@ -1269,12 +1270,17 @@ class World:
         Newton update and kept for its next where that is cheaper; ``"incomplete-cholesky"``:
         block IC(0) on the springs, exact on a chain; ``"block-jacobi"``: the particles'
         diagonal blocks), and ``dense_up_to`` (systems of at most this many unknowns are
-        solved densely; 0 always sparse). Arguments left out keep their values; the defaults
-        are ``tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000,
-        preconditioner="cholesky", dense_up_to=64``.
-        ``tol`` is relative to the terms Newton balances, stiffness included: on a stiff scene
-        the default leaves a step's velocities about 1e-7 (relative) from the converged step's
-        (docs/stiff.md); ``tol=1e-13`` gives the converged step."""
+        solved densely; 0 always sparse), and ``exact_jacobian`` (with ``"cholesky"``, each
+        sparse Newton update of backward Euler and implicit midpoint takes the springs' exact
+        Jacobian where the whole matrix is positive definite, the semidefinite one elsewhere;
+        ``False``: the semidefinite one always, the iteration before 2026-11-27). Arguments
+        left out keep their values; the defaults are ``tol=1e-11, max_iter=500, cg_tol=1e-10,
+        cg_max_iter=1000, preconditioner="cholesky", dense_up_to=64, exact_jacobian=True``.
+        ``tol`` is relative to the terms Newton balances, stiffness included: with the exact
+        Jacobian the last update lands on the rounding floor and a backward-Euler step of a
+        stiff chain at the default is the converged one; with the semidefinite matrix alone
+        its velocities were about 1e-6 (relative) from the converged step's (docs/stiff.md);
+        ``tol=1e-13`` gives the converged step either way."""
 
     @property
     def solve_stats(self) -> dict[str, Any] | None:

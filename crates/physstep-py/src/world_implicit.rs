@@ -1,6 +1,6 @@
 //! `World`'s implicit-solver settings and what the latest implicit step's solve did.
 
-use crate::convert::{count, float, invalid, text, whole};
+use crate::convert::{count, flag, float, invalid, text, whole};
 use crate::handle::World;
 use crate::py_err;
 use pyo3::prelude::*;
@@ -15,13 +15,18 @@ impl World {
     /// and kept for its next where that is cheaper; `"incomplete-cholesky"`: block IC(0) on
     /// the springs, exact on a chain; `"block-jacobi"`: the particles' diagonal blocks), and
     /// `dense_up_to` (systems of at most this many unknowns are solved densely; 0 always
-    /// sparse). Arguments left out keep their values; the defaults are `tol=1e-11,
-    /// max_iter=500, cg_tol=1e-10, cg_max_iter=1000, preconditioner="cholesky",
-    /// dense_up_to=64`.
-    /// `tol` is relative to the terms Newton balances, stiffness included: on a stiff scene
-    /// the default leaves a step's velocities about 1e-7 (relative) from the converged step's
-    /// (docs/stiff.md); `tol=1e-13` gives the converged step.
-    #[pyo3(signature = (*, tol=None, max_iter=None, cg_tol=None, cg_max_iter=None, dense_up_to=None, preconditioner=None))]
+    /// sparse), and `exact_jacobian` (with `"cholesky"`, each sparse Newton update of
+    /// backward Euler and implicit midpoint takes the springs' exact Jacobian where the whole
+    /// matrix is positive definite, the semidefinite one elsewhere; `False`: the semidefinite
+    /// one always, the iteration before 2026-11-27). Arguments left out keep their values;
+    /// the defaults are `tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000,
+    /// preconditioner="cholesky", dense_up_to=64, exact_jacobian=True`.
+    /// `tol` is relative to the terms Newton balances, stiffness included: with the exact
+    /// Jacobian the last update lands on the rounding floor and a backward-Euler step of a
+    /// stiff chain at the default is the converged one; with the semidefinite matrix alone its
+    /// velocities were about 1e-6 (relative) from the converged step's (docs/stiff.md);
+    /// `tol=1e-13` gives the converged step either way.
+    #[pyo3(signature = (*, tol=None, max_iter=None, cg_tol=None, cg_max_iter=None, dense_up_to=None, preconditioner=None, exact_jacobian=None))]
     #[allow(clippy::too_many_arguments)]
     fn set_implicit(
         &self,
@@ -31,6 +36,7 @@ impl World {
         cg_max_iter: Option<&Bound<'_, PyAny>>,
         dense_up_to: Option<&Bound<'_, PyAny>>,
         preconditioner: Option<&Bound<'_, PyAny>>,
+        exact_jacobian: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let mut g = self.lock()?;
         let mut p = g.engine.implicit();
@@ -57,6 +63,9 @@ impl World {
             let expected = format!("one of '{}'", names.join("', '"));
             p.cg.preconditioner = physstep::linalg::Preconditioner::named(&text(o, "preconditioner")?)
                 .ok_or_else(|| invalid("preconditioner", o, &expected))?;
+        }
+        if let Some(o) = exact_jacobian {
+            p.exact_jacobian = flag(o, "exact_jacobian")?;
         }
         g.engine.set_implicit(p).map_err(py_err)
     }
