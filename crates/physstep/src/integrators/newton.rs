@@ -32,7 +32,8 @@ pub struct ImplicitParams {
     /// search: with [`crate::linalg::Preconditioner::BlockJacobi`] that is the earlier solve,
     /// bit for bit). The dense solve and the linearly implicit step take whole updates.
     pub line_search: bool,
-    /// Whether backward Euler's sparse solve tries the exact Jacobian first (default `true`):
+    /// Whether the sparse solve of backward Euler and implicit midpoint tries the exact
+    /// Jacobian first (default `true`):
     /// each Newton update factors the matrix with the springs' exact blocks (a compressed
     /// spring's sideways term kept, [`crate::linalg::Blocks::exact`]) and, where that matrix
     /// is positive definite, takes the exact Newton update whole (quadratic convergence);
