@@ -157,7 +157,7 @@ impl Newton {
         let z = scratch(&mut self.z, n);
         let fz = scratch(&mut self.fz, n);
         let g = scratch(&mut self.g, n);
-        guess(z, y0, c, f0, self.linear);
+        guess(z, y0, c, f0, Start::of(self.linear));
         let mut residual = f64::INFINITY;
         // c |df/dz| (max row sum), from the latest Jacobian.
         let mut stiffness = 0.0f64;
@@ -276,12 +276,7 @@ impl Newton {
             && self.params.exact_jacobian
             && self.params.cg.preconditioner == crate::linalg::Preconditioner::Cholesky;
         if exact {
-            let (zx, zv) = z.split_at_mut(nx);
-            let (x0, v0) = y0.split_at(nx);
-            for k in 0..nx {
-                zx[k] = x0[k] + c * v0[k];
-            }
-            zv.copy_from_slice(v0);
+            guess(z, y0, c, f0, Start::Coasting(nx));
             self.blocks.exact = true;
             exact = flow.blocks(tau, z, &mut self.blocks);
             if !exact {
@@ -294,10 +289,10 @@ impl Newton {
                         residual: f64::NAN,
                     });
                 }
-                guess(z, y0, c, f0, self.linear);
             }
-        } else {
-            guess(z, y0, c, f0, self.linear);
+        }
+        if !exact {
+            guess(z, y0, c, f0, Start::of(self.linear));
         }
         let mut residual = f64::INFINITY;
         let (mut cg_total, mut last_cg) = (0, 0);
@@ -391,7 +386,8 @@ impl Newton {
                 // takes (a grid's factor, not a chain's), while they stay within
                 // REFACTOR_AFTER.
                 let keep = self.matrix.factor_cost_in_solves() > KEEP_FACTOR_ABOVE;
-                let refactor = iter == 0 || last_cg > REFACTOR_AFTER || !keep || exact;
+                // (After an exact attempt that broke down there is no factor to keep.)
+                let refactor = iter == 0 || last_cg > REFACTOR_AFTER || !keep;
                 if !self.matrix.rebuild(&self.blocks, c, self.params.cg.preconditioner, refactor) {
                     break;
                 }
@@ -461,13 +457,44 @@ impl Newton {
     }
 }
 
-/// The start of the iteration: the explicit guess `y0 + c f0`, or `y0` itself for the
-/// linearly implicit step (its one update is then `(I - c J(y0))^-1 c f(y0)`).
-fn guess(z: &mut [f64], y0: &[f64], c: f64, f0: &[f64], linear: bool) {
-    if linear {
-        z.copy_from_slice(y0);
-    } else {
-        axpy_to(z, y0, c, f0);
+/// Where the iteration starts.
+#[derive(Debug, Clone, Copy)]
+enum Start {
+    /// The explicit guess `y0 + c f0`.
+    Explicit,
+    /// `y0` itself: the linearly implicit step (its one update is then
+    /// `(I - c J(y0))^-1 c f(y0)`).
+    State,
+    /// `x0 + c v0, v0` on a second-order system of `nx` positions: the step without
+    /// acceleration, where exact Newton updates converge (from the explicit guess they
+    /// diverge on a stiff spring, whose `c a` is far from the step).
+    Coasting(usize),
+}
+
+impl Start {
+    /// The start of a converged solve, or of the linearly implicit step.
+    fn of(linear: bool) -> Self {
+        if linear {
+            Self::State
+        } else {
+            Self::Explicit
+        }
+    }
+}
+
+/// `z` at the iteration's start.
+fn guess(z: &mut [f64], y0: &[f64], c: f64, f0: &[f64], start: Start) {
+    match start {
+        Start::State => z.copy_from_slice(y0),
+        Start::Explicit => axpy_to(z, y0, c, f0),
+        Start::Coasting(nx) => {
+            let (zx, zv) = z.split_at_mut(nx);
+            let (x0, v0) = y0.split_at(nx);
+            for k in 0..nx {
+                zx[k] = x0[k] + c * v0[k];
+            }
+            zv.copy_from_slice(v0);
+        }
     }
 }
 
