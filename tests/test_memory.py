@@ -47,9 +47,9 @@ def test_a_large_worlds_state_lies_in_memory_advised_for_huge_pages() -> None:
     w = physstep.World(3, method="symplectic-euler", dt=DT)
     w.add_particles(np.zeros((100_000, 3)))  # 2.4 MB of positions
     assert "hg" in _vm_flags(w.positions.ctypes.data)
-    small = physstep.World(3, method="symplectic-euler", dt=DT)
-    small.add_particles(np.zeros((10, 3)))
-    assert "hg" not in _vm_flags(small.positions.ctypes.data)
+    # (No claim about small blocks: they are the system allocator's, on its heap, where numpy
+    # itself advises huge pages for its arrays of 4 MiB and more, so a small block may lie in
+    # a stretch of the heap numpy advised.)
 
 
 def test_recordings_made_while_others_live_never_share_their_memory() -> None:
