@@ -29,7 +29,15 @@ ROUNDOFF = 100.0
 
 
 def _slope(dts: Sequence[float], errs: Sequence[float]) -> float:
-    return float(np.polyfit(np.log(dts), np.log(errs), 1)[0])
+    """The least-squares slope of log(error) against log(dt), in the closed form with
+    correctly rounded sums: the same bits on every CPU (``np.polyfit`` goes through LAPACK,
+    whose kernels and their roundings depend on the CPU: its last digits differed between an
+    Intel and an AMD machine)."""
+    x = [math.log(d) for d in dts]
+    y = [math.log(e) for e in errs]
+    xm, ym = math.fsum(x) / len(x), math.fsum(y) / len(y)
+    sxy = math.fsum((a - xm) * (b - ym) for a, b in zip(x, y, strict=True))
+    return sxy / math.fsum((a - xm) ** 2 for a in x)
 
 
 def _plan(subject: Subject, dt: Any, until: Any, levels: Any, scale: Any) -> tuple[float, int]:
