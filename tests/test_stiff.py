@@ -156,3 +156,41 @@ def test_exact_jacobian_takes_a_bool_and_names_itself(bad: object) -> None:
     with pytest.raises(ValueError, match=r"exact_jacobian") as e:
         w.set_implicit(exact_jacobian=bad)
     assert "\n" not in str(e.value)
+
+
+def test_the_linearly_implicit_step_is_halved_where_it_would_raise_the_energy() -> None:
+    # The 100-link stiff chain's first 120 steps under linearly implicit Euler: as it is
+    # (energy_halvings=0) one solve a step and the energy rises on a few steps while the links
+    # turn fast; with the default halvings those steps are taken as halves (three solves) and
+    # the energy never rises.
+    def run(halvings: int | None) -> tuple[int, int, list[int]]:
+        w = physstep.World.from_scene("stiff-chain", "linearly-implicit-euler")
+        if halvings is not None:
+            w.set_implicit(energy_halvings=halvings)
+        e, rises, solves = w.energy(), 0, []
+        for _ in range(120):
+            w.step()
+            solves.append(w.solve_stats["newton"])
+            rises += w.energy() > e + 1e-9 * abs(e)
+            e = w.energy()
+        return rises, sum(s > 1 for s in solves), solves
+
+    rises, halved, solves = run(0)
+    assert rises >= 1 and halved == 0 and set(solves) == {1}, (rises, halved)
+    rises, halved, solves = run(None)
+    assert rises == 0 and 1 <= halved <= 12 and max(solves) <= 5, (rises, halved, max(solves))
+    assert run(4)[2] == solves
+
+
+@pytest.mark.parametrize("bad", [-1, 17, 2.5, True, "4"])
+def test_energy_halvings_takes_a_count_to_16_and_names_itself(bad: object) -> None:
+    w = physstep.World.from_scene("stiff-chain", "linearly-implicit-euler")
+    said = r"^invalid energy_halvings = .*: must be a whole number from 0 to 16$"
+    with pytest.raises(ValueError, match=said) as e:
+        w.set_implicit(energy_halvings=bad)
+    assert "\n" not in str(e.value)
+    # the settings were kept: the same steps as a world never touched
+    fresh = physstep.World.from_scene("stiff-chain", "linearly-implicit-euler")
+    w.step(5)
+    fresh.step(5)
+    assert np.array_equal(w.positions, fresh.positions)

@@ -1262,6 +1262,7 @@ class World:
         dense_up_to: int | None = None,
         preconditioner: str | None = None,
         exact_jacobian: bool | None = None,
+        energy_halvings: int | None = None,
     ) -> None:
         """Sets the implicit methods' solver: Newton's relative tolerance ``tol`` and cap
         ``max_iter``, the conjugate-gradient tolerance ``cg_tol`` and cap ``cg_max_iter`` of
@@ -1273,9 +1274,13 @@ class World:
         solved densely; 0 always sparse), and ``exact_jacobian`` (with ``"cholesky"``, each
         sparse Newton update of backward Euler and implicit midpoint takes the springs' exact
         Jacobian where the whole matrix is positive definite, the semidefinite one elsewhere;
-        ``False``: the semidefinite one always, the iteration before 2026-11-27). Arguments
-        left out keep their values; the defaults are ``tol=1e-11, max_iter=500, cg_tol=1e-10,
-        cg_max_iter=1000, preconditioner="cholesky", dense_up_to=64, exact_jacobian=True``.
+        ``False``: the semidefinite one always, the iteration before 2026-11-27), and
+        ``energy_halvings`` (the linearly implicit step: a step that would raise the energy by
+        more than rounding is taken again as two of half the size, each checked the same way,
+        at most this many times over, 0 to 16; 0 takes one linear solve a step always).
+        Arguments left out keep their values; the defaults are ``tol=1e-11, max_iter=500,
+        cg_tol=1e-10, cg_max_iter=1000, preconditioner="cholesky", dense_up_to=64,
+        exact_jacobian=True, energy_halvings=4``.
         ``tol`` is relative to the terms Newton balances, stiffness included: with the exact
         Jacobian the last update lands on the rounding floor and a backward-Euler step of a
         stiff chain at the default is the converged one; with the semidefinite matrix alone

@@ -18,15 +18,18 @@ impl World {
     /// sparse), and `exact_jacobian` (with `"cholesky"`, each sparse Newton update of
     /// backward Euler and implicit midpoint takes the springs' exact Jacobian where the whole
     /// matrix is positive definite, the semidefinite one elsewhere; `False`: the semidefinite
-    /// one always, the iteration before 2026-11-27). Arguments left out keep their values;
+    /// one always, the iteration before 2026-11-27), and `energy_halvings` (the linearly
+    /// implicit step: a step that would raise the energy by more than rounding is taken again
+    /// as two of half the size, each checked the same way, at most this many times over,
+    /// 0 to 16; 0 takes one linear solve a step always). Arguments left out keep their values;
     /// the defaults are `tol=1e-11, max_iter=500, cg_tol=1e-10, cg_max_iter=1000,
-    /// preconditioner="cholesky", dense_up_to=64, exact_jacobian=True`.
+    /// preconditioner="cholesky", dense_up_to=64, exact_jacobian=True, energy_halvings=4`.
     /// `tol` is relative to the terms Newton balances, stiffness included: with the exact
     /// Jacobian the last update lands on the rounding floor and a backward-Euler step of a
     /// stiff chain at the default is the converged one; with the semidefinite matrix alone its
     /// velocities were about 1e-6 (relative) from the converged step's (docs/stiff.md);
     /// `tol=1e-13` gives the converged step either way.
-    #[pyo3(signature = (*, tol=None, max_iter=None, cg_tol=None, cg_max_iter=None, dense_up_to=None, preconditioner=None, exact_jacobian=None))]
+    #[pyo3(signature = (*, tol=None, max_iter=None, cg_tol=None, cg_max_iter=None, dense_up_to=None, preconditioner=None, exact_jacobian=None, energy_halvings=None))]
     #[allow(clippy::too_many_arguments)]
     fn set_implicit(
         &self,
@@ -37,6 +40,7 @@ impl World {
         dense_up_to: Option<&Bound<'_, PyAny>>,
         preconditioner: Option<&Bound<'_, PyAny>>,
         exact_jacobian: Option<&Bound<'_, PyAny>>,
+        energy_halvings: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let mut g = self.lock()?;
         let mut p = g.engine.implicit();
@@ -66,6 +70,10 @@ impl World {
         }
         if let Some(o) = exact_jacobian {
             p.exact_jacobian = flag(o, "exact_jacobian")?;
+        }
+        if let Some(o) = energy_halvings {
+            let most = i64::from(physstep::integrators::MAX_ENERGY_HALVINGS);
+            p.energy_halvings = whole(o, "energy_halvings", 0, most)? as u32;
         }
         g.engine.set_implicit(p).map_err(py_err)
     }

@@ -3,11 +3,12 @@
 //! `cargo run --release -p physstep --example stiff_probe -- [scene] [method] [steps] [key=value ...]`
 //!
 //! Defaults: the 32 x 32 `stiff-cloth` under `linearly-implicit-euler`, 300 steps after the
-//! first. Prints the first step's time (it orders the sparse factor) and the time per step after it, the Newton updates and CG iterations per step, and the state hash (so a
+//! first (`halvings=N` sets `ImplicitParams::energy_halvings`). Prints the first step's time (it orders the sparse factor) and the time per step after it, the Newton updates and CG iterations per step, and the state hash (so a
 //! change that should keep the bits can be checked).
 
 mod probe_scene;
 
+use physstep::integrators::ImplicitParams;
 use std::time::Instant;
 
 fn main() {
@@ -15,7 +16,17 @@ fn main() {
     let scene = args.first().map_or("stiff-cloth", String::as_str);
     let method = args.get(1).map_or("linearly-implicit-euler", String::as_str);
     let steps: u64 = args.get(2).map_or(300, |s| s.parse().expect("steps: a count"));
-    let mut s = probe_scene::build(scene, Some(method), args.get(3..).unwrap_or_default());
+    // `halvings=N` sets ImplicitParams::energy_halvings; the other keys are the scene's.
+    let (halvings, overrides): (Vec<String>, Vec<String>) =
+        args.get(3..).unwrap_or_default().iter().cloned().partition(|kv| kv.starts_with("halvings="));
+    let mut s = probe_scene::build(scene, Some(method), &overrides);
+    if let Some(kv) = halvings.last() {
+        let n = kv["halvings=".len()..].parse().expect("halvings: a count");
+        s.world
+            .set_implicit(ImplicitParams { energy_halvings: n, ..ImplicitParams::default() })
+            .expect("settings");
+    }
+    let (mut redone, mut most) = (0, 0);
     let (mut newton, mut cg) = (0u64, 0u64);
     let mut e_rises = 0;
     let mut e_prev = s.world.energy().unwrap_or(f64::NAN);
@@ -29,6 +40,8 @@ fn main() {
         s.world.step(1).expect("a step");
         let st = s.world.integrator().solve_stats().expect("an implicit method");
         newton += st.newton as u64;
+        redone += u32::from(method == "linearly-implicit-euler" && st.newton > 1);
+        most = most.max(st.newton);
         cg += st.cg as u64;
         let e = s.world.energy().unwrap_or(f64::NAN);
         if e > e_prev {
@@ -38,7 +51,7 @@ fn main() {
     }
     let took = start.elapsed().as_secs_f64();
     println!(
-        "{scene} / {method}: first step {:.1} ms, then {steps} steps, {:.4} ms a step, {:.2} Newton and {:.2} CG a step, energy rose on {e_rises} steps, hash {:#018x}",
+        "{scene} / {method}: first step {:.1} ms, then {steps} steps, {:.4} ms a step, {:.2} Newton and {:.2} CG a step (at most {most} Newton; {redone} steps halved), energy rose on {e_rises} steps, hash {:#018x}",
         1e3 * first,
         1e3 * took / steps as f64,
         newton as f64 / steps as f64,

@@ -50,6 +50,14 @@ pub trait SecondOrder {
     fn blocks(&mut self, _t: f64, _x: &[f64], _v: &[f64], _out: &mut crate::linalg::Blocks) -> bool {
         false
     }
+
+    /// The kinetic and the potential energy at `(x, v)`, or `None` (the default) where the
+    /// system has none it can state (a force without a potential). Where it has them, the
+    /// linearly implicit step halves any step that would raise their sum
+    /// ([`crate::integrators::ImplicitParams::energy_halvings`]).
+    fn energy(&self, _x: &[f64], _v: &[f64]) -> Option<(f64, f64)> {
+        None
+    }
 }
 
 /// A first-order flow `y' = f(t, y)` on `n` coordinates (a strange attractor, a chemical
@@ -104,6 +112,12 @@ pub trait System {
     /// none.
     fn blocks(&mut self, _t: f64, _y: &[f64], _out: &mut crate::linalg::Blocks) -> bool {
         false
+    }
+
+    /// The kinetic and potential energy at `y`, as [`SecondOrder::energy`]; `None` (the
+    /// default) where there is none.
+    fn energy(&self, _y: &[f64]) -> Option<(f64, f64)> {
+        None
     }
 
     /// Fills `A` at time `t`, positions `x` and velocities `w`.
@@ -176,6 +190,10 @@ impl<S: SecondOrder + ?Sized> System for Second<'_, S> {
     fn blocks(&mut self, t: f64, y: &[f64], out: &mut crate::linalg::Blocks) -> bool {
         let (x, v) = y.split_at(self.0.len());
         self.0.blocks(t, x, v, out)
+    }
+    fn energy(&self, y: &[f64]) -> Option<(f64, f64)> {
+        let (x, v) = y.split_at(self.0.len());
+        self.0.energy(x, v)
     }
     #[inline]
     fn accel(&mut self, t: f64, x: &[f64], w: &[f64], a: &mut [f64]) {

@@ -478,4 +478,10 @@ impl<S: System + ?Sized> Counted<'_, S> {
     pub fn split(&self) -> Option<usize> {
         self.sys.split()
     }
+    /// The kinetic and potential energy at `y`, as [`System::energy`] (not counted as an
+    /// evaluation).
+    #[must_use]
+    pub fn energy(&self, y: &[f64]) -> Option<(f64, f64)> {
+        self.sys.energy(y)
+    }
 }

@@ -37,7 +37,7 @@ pub use implicit_midpoint::ImplicitMidpoint;
 pub use leapfrog::Leapfrog;
 pub use linearly_implicit_euler::LinearlyImplicitEuler;
 pub use midpoint::Midpoint;
-pub use newton::{ImplicitParams, SolveStats, DENSE_UP_TO};
+pub use newton::{ImplicitParams, SolveStats, DENSE_UP_TO, ENERGY_ROUNDING, MAX_ENERGY_HALVINGS};
 pub use predictor_corrector::PredictorCorrector;
 pub use registry::{Integrator, INFOS};
 pub use rk4::Rk4;

@@ -44,7 +44,28 @@ pub struct ImplicitParams {
     /// `false` gives the earlier iteration bit for bit. The linearly implicit step keeps the
     /// semidefinite matrix (with the exact one its energy rose on more steps).
     pub exact_jacobian: bool,
+    /// The linearly implicit step only: how many times a step may be halved where it would
+    /// raise the energy. Where the system states its energy (kinetic plus potential:
+    /// [`crate::dynamics::SecondOrder::energy`]; a world without user forces that lack a
+    /// potential, and without rigid bodies), a step whose energy comes out higher than it went
+    /// in, by more than [`ENERGY_ROUNDING`] of the energies' sizes, is taken again as two
+    /// steps of half the size, each checked the same way, down to steps of
+    /// `dt / 2^energy_halvings`, the last kept whatever its energy. Default 4 (at most 16
+    /// linear solves for a step); 0 takes one linear solve a step always, Baraff and
+    /// Witkin's step as it is. At most [`MAX_ENERGY_HALVINGS`].
+    pub energy_halvings: u32,
 }
+
+/// Most halvings of a linearly implicit step ([`ImplicitParams::energy_halvings`]): steps of
+/// `dt / 65,536`.
+pub const MAX_ENERGY_HALVINGS: u32 = 16;
+
+/// The energy rise a linearly implicit step is allowed before it is halved
+/// ([`ImplicitParams::energy_halvings`]), relative to the sum of the sizes of the kinetic and
+/// potential energies before and after it: far above the rounding of those sums (a few
+/// 1e-16 of their terms), far below a rise of the step itself (a folding stiff cloth's rose
+/// by 1e-3 to 0.1 of its energy).
+pub const ENERGY_ROUNDING: f64 = 1e-10;
 
 impl Default for ImplicitParams {
     fn default() -> Self {
@@ -55,6 +76,7 @@ impl Default for ImplicitParams {
             dense_up_to: DENSE_UP_TO,
             line_search: true,
             exact_jacobian: true,
+            energy_halvings: 4,
         }
     }
 }

@@ -145,7 +145,7 @@ impl Integrator {
     ///
     /// # Errors
     /// [`Error::UnknownName`] listing the valid names; [`Error::InvalidValue`] for a bad
-    /// `tol` or `max_iter`.
+    /// `tol`, `max_iter`, `cg_tol`, `cg_max_iter` or `energy_halvings`.
     pub fn with_params(name: &str, params: ImplicitParams) -> Result<Self> {
         crate::error::positive("tol", params.tol)?;
         if params.max_iter == 0 {
@@ -154,6 +154,10 @@ impl Integrator {
         crate::error::positive("cg_tol", params.cg.tol)?;
         if params.cg.max_iter == 0 {
             return Err(Error::invalid("cg_max_iter", 0, "at least 1"));
+        }
+        if params.energy_halvings > super::MAX_ENERGY_HALVINGS {
+            let most = format!("at most {}", super::MAX_ENERGY_HALVINGS);
+            return Err(Error::invalid("energy_halvings", params.energy_halvings, most));
         }
         let kind = Kind::named(name, params).ok_or_else(|| Error::unknown("method", name, names()))?;
         Ok(Self { kind, checkpoint: Checkpoint::default() })

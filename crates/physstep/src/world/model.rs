@@ -107,6 +107,10 @@ impl SecondOrder for Model {
         self.forces.velocity_dependent() || self.user.iter().any(|u| u.0.velocity_dependent())
     }
 
+    fn energy(&self, x: &[f64], v: &[f64]) -> Option<(f64, f64)> {
+        Some((self.kinetic(v), self.potential(x)?))
+    }
+
     fn jacobian(&mut self, t: f64, x: &[f64], v: &[f64], dadx: &mut [f64], dadv: &mut [f64]) -> bool {
         if !self.forces.jacobian(self.dim, t, x, v, &self.inv_mass, dadx, dadv) {
             return false;

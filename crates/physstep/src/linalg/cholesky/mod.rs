@@ -26,7 +26,7 @@
 //! than half) are factored at once on two threads, each with its own lists and scratch, then
 //! their common ancestors, each taking the first subtree's updates, the second's, then the
 //! rest's: every sum in an order fixed by the pattern, so the same bits on one thread or two,
-//! and on the AVX2 path or not (`crate::simd`).
+//! and on the AVX2 and FMA path or not (`crate::simd`).
 //!
 //! A grid's factor grows like `n log n` blocks and its work like `n^1.5`: where the pattern
 //! would hold more than [`FILL_LIMIT`] blocks a particle (a dense or three-dimensional network
@@ -315,7 +315,7 @@ impl SparseCholesky {
     /// `z = r`).
     pub(super) fn solve(&self, r: &[f64], z: &mut [f64], dim: usize) {
         #[cfg(target_arch = "x86_64")]
-        if crate::simd::avx2() {
+        if crate::simd::fma() {
             // SAFETY: as in `run_part`.
             return unsafe { self.solve_avx2(r, z, dim) };
         }
@@ -323,7 +323,7 @@ impl SparseCholesky {
     }
 
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,fma")]
     unsafe fn solve_avx2(&self, r: &[f64], z: &mut [f64], dim: usize) {
         self.solve_dim(r, z, dim);
     }
@@ -416,7 +416,7 @@ impl SparseCholesky {
     }
 }
 
-/// Factors the supernodes `range` of a part, in order (on the AVX2 path where the CPU has it:
+/// Factors the supernodes `range` of a part, in order (on the AVX2 and FMA path where the CPU has them:
 /// the same bits, crate::simd), each first taking the updates waiting in the lists `extra`;
 /// `false` at a pivot that is not positive.
 fn run_part<const D: usize>(
@@ -426,8 +426,8 @@ fn run_part<const D: usize>(
     extra: &[&[u32]],
 ) -> bool {
     #[cfg(target_arch = "x86_64")]
-    if crate::simd::avx2() {
-        // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+    if crate::simd::fma() {
+        // SAFETY: the CPU has AVX2 and FMA (checked by `fma`), the only requirement of a
         // `target_feature` function.
         return unsafe { run_part_avx2::<D>(sh, p, range, extra) };
     }
@@ -435,7 +435,7 @@ fn run_part<const D: usize>(
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn run_part_avx2<const D: usize>(
     sh: &Shared<'_>,
     p: &mut Part<'_>,
@@ -534,7 +534,7 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
                             for x in if t == ci { b } else { 0 }..D {
                                 let mut acc = 0.0;
                                 for tau in 0..D {
-                                    acc += bt[D * x + tau] * bc[tau];
+                                    acc = bt[D * x + tau].mul_add(bc[tau], acc);
                                 }
                                 dst[x] -= acc;
                             }
