@@ -1,30 +1,34 @@
 """Backward Euler's Newton updates on the folding stiff cloth beside an exact-Jacobian Newton
 solve of the same steps (issue 27, item 2: at most 2x its updates).
 
-    python bench/bench_newton_exact.py [--n 12] [--steps 60] [--verbose]
-
-The default, the 12 x 12 cloth's first 60 steps, is where the reference solves every step
-(about half a minute). On the 32 x 32 cloth (`--n 32 --steps 90`) the reference does not
-converge within its 200 updates on most of the fold's steps (each then costs it some 12 s):
-those steps are left out of the ratio and counted (docs/stiff.md, "Not yet").
+    python bench/bench_newton_exact.py [--n 12] [--steps 60] [--search potential] [--verbose]
 
 physstep steps the `stiff-cloth` scene (n x n, k = 1e5 N/m, 10 g particles, two corners
-pinned, dt = 1/60 s) with `backward-euler` and its defaults: each Newton update solves with
-the semidefinite matrix (a compressed spring's sideways term left out) and takes a secant line
-search. From the state each of its steps starts at, the reference solves the same step,
+pinned, dt = 1/60 s) with `backward-euler` and its defaults (each sparse Newton update with
+the springs' exact Jacobian where the whole matrix is positive definite, taken whole; the
+semidefinite matrix, a compressed spring's sideways term left out, and a secant line search
+elsewhere). From the state each of its steps starts at, the reference solves the same step,
 backward Euler's equation in the velocities,
 
     G(w) = M (w - v) - h F(x + h w) = 0,    J = M - h^2 dF/dx (x + h w),
 
 by Newton's method with the exact Jacobian of the springs (indefinite where a spring is
-compressed), scipy's sparse LU (SuperLU) for each update, and a backtracking line search on
-the incremental potential `1/2 |w - v|_M^2 + E(x + h w)` (whose gradient is G; Armijo,
-halving from the whole update); where the exact update does not go downhill on it (the
-Jacobian is indefinite near buckling), the semidefinite matrix's update is taken instead and
-counted the same, from the same start (w = v + h a) to the same stopping test (the residual of
-`z = y0 + h f(z)` at most 1e-11 of the size of its terms, max norms: z, y0, h f(z) and
-h |df/dz| |z|, |df/dz| measured as physstep does). Printed: the updates of
-both, per step and summed, and their ratio. Needs scipy (`pip install -e .[bench]`).
+compressed), scipy's sparse LU (SuperLU) for each update, from w = v (from the explicit guess
+v + h a it diverges), with a backtracking line search, halving from the whole update:
+
+- `--search potential` (the default): Armijo on the incremental potential
+  `1/2 |w - v|_M^2 + E(x + h w)`, whose gradient is M G; where the exact update does not
+  point downhill on it (the Jacobian is indefinite near buckling), the semidefinite matrix's
+  update is taken instead, searched the same way. Newton's method made robust as textbooks
+  make it; it solves every step of the 32 x 32 fold (about 5 minutes for its 90 steps).
+- `--search residual`: halved until |G| falls. It does not converge within 200 updates on
+  most of the 32 x 32 fold's steps (each then costs it some 12 s); those steps are left out of
+  the ratio and counted.
+
+Both stop at physstep's test (the residual of `z = y0 + h f(z)` at most 1e-11 of the size of
+its terms, max norms: z, y0, h f(z) and h |df/dz| |z|, |df/dz| measured as physstep does).
+Printed: the updates of both, per ten steps and summed, and their ratio. Needs scipy
+(`pip install -e .[bench]`).
 """
 
 from __future__ import annotations
@@ -119,9 +123,10 @@ class Cloth:
         return k
 
 
-def exact_updates(c: Cloth, x0: np.ndarray, v0: np.ndarray, h: float) -> int | None:
+def exact_updates(c: Cloth, x0: np.ndarray, v0: np.ndarray, h: float, search: str) -> int | None:
     """Exact-Jacobian Newton updates to solve one backward-Euler step from (x0, v0); None
-    where it does not converge within CAP updates."""
+    where it does not converge within CAP updates. `search`: "residual" halves each update
+    until |G| falls; "potential" backtracks on the incremental potential (Armijo)."""
     free3 = np.repeat(c.free, 3)
     idx = np.flatnonzero(free3)
     mass3 = np.repeat(c.m, 3)
@@ -138,28 +143,43 @@ def exact_updates(c: Cloth, x0: np.ndarray, v0: np.ndarray, h: float) -> int | N
         scale = max(zmax, np.abs(x0).max(), np.abs(v0).max(), np.abs(h * acc).max(), h * c.rate(x) * zmax)
         return g, float(np.abs(g).max()), scale
 
+    def potential(w: np.ndarray) -> float:
+        """1/2 |w - v0|_M^2 + E(x0 + h w): its gradient is M g (G above)."""
+        dw = (w - v0)[c.free]
+        return 0.5 * float(np.sum(c.m[c.free, None] * dw * dw)) + c.energy(x0 + h * w)
+
     g, res, scale = residual(w)
     for it in range(1, CAP + 1):
         x = x0 + h * w
-        rhs = -(mass3 * g.ravel())[idx]
+        grad = mass3 * g.ravel()
+        rhs = -grad[idx]
         norm = np.linalg.norm(g)
+        phi = potential(w) if search == "potential" else 0.0
         taken = None
-        # The exact Jacobian's update, halved until |G| falls (it always points downhill on
-        # |G|^2 where the Jacobian is not singular); where it finds no fall, the semidefinite
-        # matrix's update, halved the same way (taken whole where that finds none either).
+        # The exact Jacobian's update first; where it finds no fall (on |G|, or on the
+        # potential: there it must also point downhill, which an indefinite Jacobian's need
+        # not), the semidefinite matrix's update, searched the same way (taken whole where
+        # that finds none either).
         for semidefinite in (False, True):
             jac = (sp.diags(mass3) - h * h * c.stiffness(x, semidefinite)).tocsc()[idx][:, idx]
             step = np.zeros(3 * c.n)
             step[idx] = spla.spsolve(jac, rhs)
+            slope = float(grad @ step)
             step = step.reshape(-1, 3)
-            if not np.all(np.isfinite(step)):
+            if not np.all(np.isfinite(step)) or (search == "potential" and slope >= 0.0):
                 continue
             alpha = 1.0
             while alpha >= 1e-6:
                 trial = w + alpha * step
-                g1, r1, s1 = residual(trial)
-                if np.linalg.norm(g1) < norm:
-                    taken = (trial, g1, r1, s1)
+                if search == "potential":
+                    ok = potential(trial) <= phi + 1e-4 * alpha * slope
+                    if ok:
+                        taken = (trial, *residual(trial))
+                else:
+                    g1, r1, s1 = residual(trial)
+                    if np.linalg.norm(g1) < norm:
+                        taken = (trial, g1, r1, s1)
+                if taken is not None:
                     break
                 alpha *= 0.5
             if taken is not None:
@@ -177,6 +197,12 @@ def main() -> None:
     ap.add_argument("--n", type=int, default=12)
     ap.add_argument("--steps", type=int, default=60)
     ap.add_argument("--verbose", action="store_true", help="a line a step as it goes")
+    ap.add_argument(
+        "--search",
+        choices=("residual", "potential"),
+        default="potential",
+        help="the reference's line search: on the incremental potential (default) or on |G|",
+    )
     a = ap.parse_args()
     w = physstep.World.from_scene("stiff-cloth", "backward-euler", params={"n": a.n})
     c = Cloth(w)
@@ -184,7 +210,7 @@ def main() -> None:
     ours, exact = [], []
     for _ in range(a.steps):
         x0, v0 = np.array(w.positions), np.array(w.velocities)
-        exact.append(exact_updates(c, x0, v0, h))
+        exact.append(exact_updates(c, x0, v0, h, a.search))
         w.step(1)
         ours.append(w.solve_stats["newton"])
         if a.verbose:

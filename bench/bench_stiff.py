@@ -26,9 +26,14 @@ resident memory of the built world, per particle. Nothing is asserted.
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
-import numpy as np
+# numpy's OpenBLAS threads, woken by the bench's own numpy work, spin in this process and take
+# a core from the factorisation's second thread (docs/stiff.md): one BLAS thread, unless set.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
 import physstep
 from common import in_subprocess, row
 
@@ -136,7 +141,8 @@ def cloth_lie(n: int, count: int) -> None:
     first = steps(w, 1)[0]
     x0, v0 = w.positions.copy(), w.velocities.copy()
     ms, newton, cg = steps(w, count)
-    row(f"{n} x {n} linearly-implicit-euler ({newton:.0f} Newton, {cg:.0f} CG / step)", ms, "ms/step")
+    label = f"{n} x {n} linearly-implicit-euler ({newton:.2f} solves, {cg:.2f} CG / step)"
+    row(label, ms, "ms/step")
     print(f"{'':44} (after a first step of {first:.0f} ms, which orders the factor)")
     w = physstep.World.from_scene("stiff-cloth", "linearly-implicit-euler", params={"n": n})
     w.set_implicit(preconditioner="incomplete-cholesky")

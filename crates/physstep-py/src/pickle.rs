@@ -17,7 +17,9 @@
 //! their counters; absent from older pickles), and
 //! `particle_ids`, `body_ids`, `constraint_ids`, `next_entity_ids` (the entities' ids and
 //! counters, so handles of particles and constraints reach the same ones after a removal;
-//! absent from older pickles, whose entities get ids in order).
+//! absent from older pickles, whose entities get ids in order), and `implicit` (the implicit
+//! methods' settings, `set_implicit`'s and `line_search`; absent from older pickles, which
+//! step with the defaults).
 
 use crate::convert::{bytes, text};
 use crate::force::{PyForce, Slot};
@@ -108,6 +110,20 @@ pub(crate) fn reduce<'py>(py: Python<'py>, g: &Inner) -> PyResult<Reduce<'py>> {
     d.set_item("body_spring_ids", w.body_spring_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
     d.set_item("body_force_ids", w.body_force_ids().iter().map(|id| id.0).collect::<Vec<u64>>())?;
     d.set_item("next_body_link_ids", w.next_body_link_ids().to_vec())?;
+    // The implicit methods' settings (`set_implicit`; absent from older pickles: the
+    // defaults).
+    let p = w.implicit();
+    let implicit = PyDict::new(py);
+    implicit.set_item("tol", p.tol)?;
+    implicit.set_item("max_iter", p.max_iter)?;
+    implicit.set_item("cg_tol", p.cg.tol)?;
+    implicit.set_item("cg_max_iter", p.cg.max_iter)?;
+    implicit.set_item("preconditioner", p.cg.preconditioner.name())?;
+    implicit.set_item("dense_up_to", p.dense_up_to)?;
+    implicit.set_item("line_search", p.line_search)?;
+    implicit.set_item("exact_jacobian", p.exact_jacobian)?;
+    implicit.set_item("energy_halvings", p.energy_halvings)?;
+    d.set_item("implicit", implicit)?;
     d.set_item("forces", forces)?;
     d.set_item("body_forces", body_forces)?;
     d.set_item("solid_forces", solid_forces)?;
@@ -202,6 +218,26 @@ pub(crate) fn _world_from_scene(
         let springs: Vec<BodySpringId> = springs.into_iter().map(BodySpringId).collect();
         let forces: Vec<BodyForceId> = forces.into_iter().map(BodyForceId).collect();
         engine.set_body_link_ids(&springs, &forces, next).map_err(py_err)?;
+    }
+    if let Some(implicit) = parts.get_item("implicit")? {
+        let item = |k: &str| -> PyResult<Bound<'_, PyAny>> {
+            implicit
+                .get_item(k)
+                .map_err(|_| PyValueError::new_err(format!("invalid parts: no implicit '{k}'")))
+        };
+        let mut p = engine.implicit();
+        p.tol = item("tol")?.extract()?;
+        p.max_iter = item("max_iter")?.extract()?;
+        p.cg.tol = item("cg_tol")?.extract()?;
+        p.cg.max_iter = item("cg_max_iter")?.extract()?;
+        let name = text(&item("preconditioner")?, "preconditioner")?;
+        p.cg.preconditioner = physstep::linalg::Preconditioner::named(&name)
+            .ok_or_else(|| PyValueError::new_err(format!("invalid parts: preconditioner '{name}'")))?;
+        p.dense_up_to = item("dense_up_to")?.extract()?;
+        p.line_search = item("line_search")?.extract()?;
+        p.exact_jacobian = item("exact_jacobian")?.extract()?;
+        p.energy_halvings = item("energy_halvings")?.extract()?;
+        engine.set_implicit(p).map_err(py_err)?;
     }
     engine.restore(&bytes(snapshot, "snapshot")?).map_err(|e| raise(&slot, e))?;
     let world = World::with_parts(engine, slot, user, flow_spec);
