@@ -107,7 +107,7 @@ impl Method for LinearlyImplicitEuler {
         local: false,
         constraints: ConstraintMode::Project,
         period: 1,
-        doc: "backward Euler linearised at the step's start: one linear solve (Baraff-Witkin); stable on linear springs",
+        doc: "backward Euler linearised at the step's start: one linear solve (Baraff-Witkin), halved where it would raise the energy; stable on linear springs",
     };
 
     fn step<S: System + ?Sized>(&mut self, s: &mut Step<'_, S>) -> Result<()> {
