@@ -392,3 +392,15 @@ fn the_earlier_preconditioners_keep_the_earlier_trajectories_bitwise() {
         }
     }
 }
+
+#[test]
+fn energy_halvings_past_sixteen_are_refused_naming_the_field() {
+    let mut w = chain(10, "linearly-implicit-euler", physstep::integrators::DENSE_UP_TO);
+    let err =
+        w.set_implicit(ImplicitParams { energy_halvings: 17, ..ImplicitParams::default() }).unwrap_err();
+    assert_eq!(err.to_string(), "invalid energy_halvings = 17: must be at most 16");
+    let most =
+        ImplicitParams { energy_halvings: physstep::integrators::MAX_ENERGY_HALVINGS, ..Default::default() };
+    w.set_implicit(most).unwrap();
+    w.step(3).unwrap();
+}
