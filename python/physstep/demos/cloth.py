@@ -35,20 +35,20 @@ class Model:
 
 #: The cloths the ``c`` key cycles, in order.
 MODELS = (
-    Model("position-based", "cloth", None, 1.0 / 120.0, "rigid links, Gauss-Seidel sweeps"),
+    Model("position-based", "cloth", None, 1.0 / 120.0, "rigid links, projected"),
     Model(
         "linearly implicit",
         "stiff-cloth",
         "linearly-implicit-euler",
         1.0 / 60.0,
-        "springs 1e5 N/m, one solve a step",
+        "k 1e5 N/m, 1 solve a step",
     ),
     Model(
         "converged implicit",
         "stiff-cloth",
         "backward-euler",
         1.0 / 60.0,
-        "springs 1e5 N/m, Newton converged",
+        "k 1e5 N/m, Newton to tol",
     ),
 )
 
