@@ -1,6 +1,8 @@
 //! The engine's integration tests, one binary: each module is one concern (the names say what
 //! they hold); `common` has the helpers they share. One crate links parry and the engine once,
-//! where a binary a file linked them about thirty times.
+//! where a binary a file linked them about thirty times. The one test that requests a stop
+//! (`tests/interrupt.rs`) is a binary of its own: the request is process-wide, and a test
+//! here stepping a world at that moment was interrupted with it (`determinism`, once).
 
 mod bodies;
 mod breaking_scenes;
@@ -20,7 +22,6 @@ mod golden_tables;
 mod handles;
 mod implicit_solves;
 mod integrators;
-mod interrupt;
 mod joints;
 mod kepler_solution;
 mod kernels;

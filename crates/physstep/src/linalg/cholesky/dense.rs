@@ -28,20 +28,76 @@ pub(super) fn syrk<const SUB: bool>(
     n: usize,
     w: usize,
 ) {
-    let mut j = 0;
+    syrk_columns::<SUB>(c, ldc, a, lda, m, 0..n, w);
+}
+
+/// Products of [`syrk`] past which [`syrk_two`] splits its columns between two threads (the
+/// hand-over costs some microseconds; a product some nanoseconds).
+const TWO_MIN: usize = 1 << 18;
+
+/// [`syrk`], its columns split between the calling thread and a worker of the pool where
+/// `two` and the product is large (at least [`TWO_MIN`] multiply-adds): split where the work
+/// (the rows below each column) halves, at a multiple of four. Every entry is the same sum
+/// as on one thread: the same bits.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn syrk_two<const SUB: bool>(
+    c: &mut [f64],
+    ldc: usize,
+    a: &[f64],
+    lda: usize,
+    m: usize,
+    n: usize,
+    w: usize,
+    two: bool,
+) {
+    let work = |j: usize| (m - j.min(m)) * 4;
+    let total: usize = (0..n).step_by(4).map(work).sum();
+    if !two || n < 8 || total * w < TWO_MIN {
+        return syrk::<SUB>(c, ldc, a, lda, m, n, w);
+    }
+    let (mut split, mut done) = (0, 0);
+    while split < n && 2 * done < total {
+        done += work(split);
+        split += 4;
+    }
+    // (The last block's start at most: the same blocks of four as on one thread.)
+    let split = split.min((n - 1) / 4 * 4);
+    let (lo, hi) = c.split_at_mut(split * ldc);
+    rayon::in_place_scope(|s| {
+        s.spawn(|_| syrk_columns::<SUB>(hi, ldc, a, lda, m, split..n, w));
+        syrk_columns::<SUB>(lo, ldc, a, lda, m, 0..split, w);
+    });
+}
+
+/// Columns `cols` (from a multiple of four) of [`syrk`], `c` starting at column `cols.start`.
+#[inline(always)]
+fn syrk_columns<const SUB: bool>(
+    c: &mut [f64],
+    ldc: usize,
+    a: &[f64],
+    lda: usize,
+    m: usize,
+    cols: std::ops::Range<usize>,
+    w: usize,
+) {
+    let (first, n) = (cols.start, cols.end);
+    let mut j = first;
     while j < n {
+        let cj = j - first;
         match n - j {
-            1 => columns::<1, SUB>(c, ldc, a, lda, m, w, j),
-            2 => columns::<2, SUB>(c, ldc, a, lda, m, w, j),
-            3 => columns::<3, SUB>(c, ldc, a, lda, m, w, j),
-            _ => columns::<4, SUB>(c, ldc, a, lda, m, w, j),
+            1 => columns::<1, SUB>(c, ldc, a, lda, m, w, j, cj),
+            2 => columns::<2, SUB>(c, ldc, a, lda, m, w, j, cj),
+            3 => columns::<3, SUB>(c, ldc, a, lda, m, w, j, cj),
+            _ => columns::<4, SUB>(c, ldc, a, lda, m, w, j, cj),
         }
         j += 4;
     }
 }
 
-/// Columns `j..j + NJ` of [`syrk`], from row `j` down: tiles of eight rows, then four.
+/// Columns `j..j + NJ` of [`syrk`] (columns `cj..cj + NJ` of `c`), from row `j` down: tiles
+/// of eight rows, then four.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn columns<const NJ: usize, const SUB: bool>(
     c: &mut [f64],
     ldc: usize,
@@ -50,6 +106,7 @@ fn columns<const NJ: usize, const SUB: bool>(
     m: usize,
     w: usize,
     j: usize,
+    cj: usize,
 ) {
     // The tiles read rows `i..i + 4 NV` of columns `0..w`: within `a` (checked once here).
     let reach = if w == 0 { 0 } else { (w - 1) * lda + m.div_ceil(4) * 4 };
@@ -62,9 +119,9 @@ fn columns<const NJ: usize, const SUB: bool>(
             // (asserted above: `i + 4 NV <= m` rounded up to 4).
             unsafe {
                 if m - i > 4 {
-                    tile_avx2::<2, NJ, SUB>(c, ldc, a, lda, w, i, j, (m - i).min(8));
+                    tile_avx2::<2, NJ, SUB>(c, ldc, a, lda, w, i, j, cj, (m - i).min(8));
                 } else {
-                    tile_avx2::<1, NJ, SUB>(c, ldc, a, lda, w, i, j, m - i);
+                    tile_avx2::<1, NJ, SUB>(c, ldc, a, lda, w, i, j, cj, m - i);
                 }
             }
             i += 8;
@@ -74,10 +131,10 @@ fn columns<const NJ: usize, const SUB: bool>(
     let mut i = j;
     while i < m {
         if m - i > 4 {
-            tile::<2, NJ, SUB>(c, ldc, a, lda, w, i, j, (m - i).min(8));
+            tile::<2, NJ, SUB>(c, ldc, a, lda, w, i, j, cj, (m - i).min(8));
             i += 8;
         } else {
-            tile::<1, NJ, SUB>(c, ldc, a, lda, w, i, j, m - i);
+            tile::<1, NJ, SUB>(c, ldc, a, lda, w, i, j, cj, m - i);
             i += 4;
         }
     }
@@ -99,6 +156,7 @@ unsafe fn tile_avx2<const NV: usize, const NJ: usize, const SUB: bool>(
     w: usize,
     i: usize,
     j: usize,
+    cj: usize,
     rows: usize,
 ) {
     use std::arch::x86_64::{
@@ -121,7 +179,7 @@ unsafe fn tile_avx2<const NV: usize, const NJ: usize, const SUB: bool>(
         }
     }
     for (jj, acc) in acc.iter().enumerate() {
-        let out = &mut c[(j + jj) * ldc + i..(j + jj) * ldc + i + rows];
+        let out = &mut c[(cj + jj) * ldc + i..(cj + jj) * ldc + i + rows];
         if rows == 4 * NV {
             for (v, acc) in acc.iter().enumerate() {
                 let o = out.as_mut_ptr().add(4 * v);
@@ -148,7 +206,8 @@ unsafe fn tile_avx2<const NV: usize, const NJ: usize, const SUB: bool>(
     }
 }
 
-/// Rows `i..i + rows` (`rows <= 4 NV`) of columns `j..j + NJ`, accumulated in registers.
+/// Rows `i..i + rows` (`rows <= 4 NV`) of columns `j..j + NJ`, accumulated in registers and
+/// written to `c`'s columns `cj..cj + NJ`.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn tile<const NV: usize, const NJ: usize, const SUB: bool>(
@@ -159,6 +218,7 @@ fn tile<const NV: usize, const NJ: usize, const SUB: bool>(
     w: usize,
     i: usize,
     j: usize,
+    cj: usize,
     rows: usize,
 ) {
     let mut acc = [[[0.0f64; 4]; NV]; NJ];
@@ -178,7 +238,7 @@ fn tile<const NV: usize, const NJ: usize, const SUB: bool>(
         }
     }
     for (jj, acc) in acc.iter().enumerate() {
-        let out = &mut c[(j + jj) * ldc + i..(j + jj) * ldc + i + rows];
+        let out = &mut c[(cj + jj) * ldc + i..(cj + jj) * ldc + i + rows];
         for (r, o) in out.iter_mut().enumerate() {
             let v = acc[r / 4][r % 4];
             if SUB {
@@ -196,13 +256,13 @@ fn tile<const NV: usize, const NJ: usize, const SUB: bool>(
 /// each updated by the columns before it ([`syrk`]) and then factored column by column.
 /// `false` at a pivot that is not positive (or not finite).
 #[inline(always)]
-pub(super) fn factor_panel(p: &mut [f64], ld: usize, rows: usize, cols: usize) -> bool {
+pub(super) fn factor_panel(p: &mut [f64], ld: usize, rows: usize, cols: usize, two: bool) -> bool {
     let mut c0 = 0;
     while c0 < cols {
         let c1 = (c0 + CHUNK).min(cols);
         if c0 > 0 {
             let (left, right) = p.split_at_mut(c0 * ld);
-            syrk::<true>(&mut right[c0..], ld, &left[c0..], ld, rows - c0, c1 - c0, c0);
+            syrk_two::<true>(&mut right[c0..], ld, &left[c0..], ld, rows - c0, c1 - c0, c0, two);
         }
         for c in c0..c1 {
             let (left, right) = p.split_at_mut(c * ld);
@@ -271,7 +331,7 @@ mod tests {
             let ld = n + PAD;
             let a = spd(n, ld);
             let mut l = a.clone();
-            assert!(factor_panel(&mut l, ld, n, n));
+            assert!(factor_panel(&mut l, ld, n, n, false));
             for i in 0..n {
                 for j in 0..=i {
                     let lij = |i: usize, j: usize| if i == j { 1.0 / l[j * ld + j] } else { l[j * ld + i] };
@@ -282,7 +342,7 @@ mod tests {
         }
         let mut indefinite = spd(4, 4 + PAD);
         indefinite[2 * (4 + PAD) + 2] = -100.0;
-        assert!(!factor_panel(&mut indefinite, 4 + PAD, 4, 4));
+        assert!(!factor_panel(&mut indefinite, 4 + PAD, 4, 4, false));
     }
 
     #[test]
@@ -298,5 +358,21 @@ mod tests {
             }
         }
         assert_eq!(dot(&[1.0, 2.0, 3.0, 4.0, 5.0], &[1.0, 1.0, 1.0, 1.0, 2.0]), 20.0);
+    }
+
+    #[test]
+    fn syrk_on_two_threads_gives_the_bits_of_one() {
+        // Past TWO_MIN, with column counts that do and do not split at a multiple of four.
+        for (m, n, w) in [(300, 200, 40), (257, 13, 900), (130, 130, 130), (400, 9, 900)] {
+            let lda = m + PAD;
+            let a: Vec<f64> = (0..lda * w).map(|k| (k as f64 * 0.731).sin()).collect();
+            let c0: Vec<f64> = (0..m * n).map(|k| (k as f64 * 0.17).cos()).collect();
+            let (mut one, mut two) = (c0.clone(), c0);
+            syrk::<true>(&mut one, m, &a, lda, m, n, w);
+            syrk_two::<true>(&mut two, m, &a, lda, m, n, w, true);
+            assert!(m * n * w >= TWO_MIN);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&one), bits(&two), "m {m} n {n} w {w}");
+        }
     }
 }

@@ -145,6 +145,9 @@ struct Part<'a> {
     map: &'a mut [u32],
     upd: &'a mut Vec<f64>,
     runs: &'a mut Vec<(usize, usize, usize)>,
+    /// Whether its large dense products may take the pool's second thread (the common
+    /// ancestors, factored after the two subtrees, alone).
+    two: bool,
 }
 
 impl SparseCholesky {
@@ -258,6 +261,7 @@ impl SparseCholesky {
                 map: m0,
                 upd: u0,
                 runs: r0,
+                two: false,
             };
             let mut p1 = Part {
                 lx: l1,
@@ -269,6 +273,7 @@ impl SparseCholesky {
                 map: m1,
                 upd: u1,
                 runs: r1,
+                two: false,
             };
             let (a, b) = if s1 > 0 {
                 // Called from outside the pool (a step), the calling thread factors the first
@@ -307,6 +312,7 @@ impl SparseCholesky {
             map: m0,
             upd: u0,
             runs: r0,
+            two: rayon::current_num_threads() > 1,
         };
         run_part::<D>(&sh, &mut top, s1..ns, &[h0, h1])
     }
@@ -547,7 +553,7 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
                 }
                 let u = &mut p.upd[..mt * nc];
                 let a = &done[sh.off[ku] - p.lx_base + D * (kw + at)..];
-                dense::syrk::<false>(u, mt, a, kld, mt, nc, D * kw);
+                dense::syrk_two::<false>(u, mt, a, kld, mt, nc, D * kw, p.two);
                 // The tail's rows in runs that are consecutive in the panel too.
                 p.runs.clear();
                 let mut t = 0;
@@ -593,7 +599,7 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
             k = next;
         }
     }
-    if !dense::factor_panel(panel, ld, rows, ns) {
+    if !dense::factor_panel(panel, ld, rows, ns, p.two) {
         return false;
     }
     if let Some(&r) = below.first() {
