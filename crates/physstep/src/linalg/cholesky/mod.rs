@@ -25,8 +25,9 @@
 //! (from the root down, the heaviest subtree replaced by its children while it holds more
 //! than half) are factored at once on two threads, each with its own lists and scratch, then
 //! their common ancestors, each taking the first subtree's updates, the second's, then the
-//! rest's: every sum in an order fixed by the pattern, so the same bits on one thread or two,
-//! and on the AVX2 and FMA path or not (`crate::simd`).
+//! rest's, their large dense products split by columns between the two threads
+//! ([`dense::syrk_two`]): every sum in an order fixed by the pattern, so the same bits on one
+//! thread or two, and on the AVX2 and FMA path or not (`crate::simd`).
 //!
 //! A grid's factor grows like `n log n` blocks and its work like `n^1.5`: where the pattern
 //! would hold more than [`FILL_LIMIT`] blocks a particle (a dense or three-dimensional network
