@@ -1289,9 +1289,11 @@ class World:
 
     @property
     def solve_stats(self) -> dict[str, Any] | None:
-        """What the latest step's implicit solve did: ``newton`` (updates), ``cg``
-        (conjugate-gradient iterations, 0 for the dense solve), ``residual`` (Newton's final,
-        relative), ``sparse``; None under an explicit method."""
+        """What the latest step's implicit solve did: ``newton`` (updates; under
+        ``linearly-implicit-euler`` its linear solves, 1, or 3 and more where the step was
+        halved to keep the energy from rising), ``cg`` (conjugate-gradient iterations, 0 for
+        the dense solve), ``residual`` (Newton's final, relative), ``sparse``; None under an
+        explicit method."""
 
     def step(self, n: int | None = None) -> None:
         """Takes ``n`` fixed steps (default 1). Raises DivergedError or ConvergenceError if a

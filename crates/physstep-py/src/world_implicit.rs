@@ -78,9 +78,11 @@ impl World {
         g.engine.set_implicit(p).map_err(py_err)
     }
 
-    /// What the latest step's implicit solve did: `newton` (updates), `cg` (conjugate-gradient
-    /// iterations over them, 0 for the dense solve), `residual` (Newton's final, relative),
-    /// `sparse`; None under an explicit method.
+    /// What the latest step's implicit solve did: `newton` (updates; under
+    /// `linearly-implicit-euler` its linear solves, 1, or 3 and more where the step was halved
+    /// to keep the energy from rising), `cg` (conjugate-gradient iterations over them, 0 for
+    /// the dense solve), `residual` (Newton's final, relative), `sparse`; None under an
+    /// explicit method.
     #[getter]
     fn solve_stats<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(s) = self.lock()?.engine.integrator().solve_stats() else { return Ok(None) };
