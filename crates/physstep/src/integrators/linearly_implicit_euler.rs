@@ -1,8 +1,8 @@
 //! Linearly implicit Euler: backward Euler's equation linearised at the start of the step and
 //! solved once (Baraff and Witkin, "Large steps in cloth simulation", 1998).
 
-use super::newton::{Newton, ENERGY_ROUNDING};
-use super::{ConstraintMode, ImplicitParams, Info, Method};
+use super::newton::Newton;
+use super::{ConstraintMode, ImplicitParams, Info, Method, ENERGY_ROUNDING};
 use crate::dynamics::{Counted, Step, System};
 use crate::error::Result;
 
