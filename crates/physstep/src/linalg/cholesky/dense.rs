@@ -14,33 +14,21 @@ const CHUNK: usize = 12;
 /// Rows a panel keeps past its last (zero): [`syrk`] reads whole vectors of four rows.
 pub(super) const PAD: usize = 3;
 
+/// Products of [`syrk`] past which it splits its columns between two threads (the hand-over
+/// costs some microseconds; a product some nanoseconds).
+const TWO_MIN: usize = 1 << 18;
+
 /// `C = A B^T` (`SUB`: `C -= A B^T`) on the lower part (rows `i >= j`) of an `m x n` block,
 /// `B` the first `n` rows of the `m x w` block `A` (`n <= m`): `C[i + j ldc]` and
 /// `A[i + t lda]`, each entry `0 + a_i0 b_j0 + a_i1 b_j1 + ...`. `A`'s column may be read
 /// [`PAD`] rows past `m` (finite values, not used).
-#[inline(always)]
-pub(super) fn syrk<const SUB: bool>(
-    c: &mut [f64],
-    ldc: usize,
-    a: &[f64],
-    lda: usize,
-    m: usize,
-    n: usize,
-    w: usize,
-) {
-    syrk_columns::<SUB>(c, ldc, a, lda, m, 0..n, w);
-}
-
-/// Products of [`syrk`] past which [`syrk_two`] splits its columns between two threads (the
-/// hand-over costs some microseconds; a product some nanoseconds).
-const TWO_MIN: usize = 1 << 18;
-
-/// [`syrk`], its columns split between the calling thread and a worker of the pool where
-/// `two` and the product is large (at least [`TWO_MIN`] multiply-adds): split where the work
-/// (the rows below each column) halves, at a multiple of four. Every entry is the same sum
-/// as on one thread: the same bits.
+///
+/// With `two`, where the product is large (at least [`TWO_MIN`] multiply-adds), its columns
+/// are split between the calling thread and a worker of the pool, where the work (the rows
+/// below each column) halves, at a multiple of four. Every entry is the same sum as on one
+/// thread: the same bits.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn syrk_two<const SUB: bool>(
+pub(super) fn syrk<const SUB: bool>(
     c: &mut [f64],
     ldc: usize,
     a: &[f64],
@@ -53,7 +41,7 @@ pub(super) fn syrk_two<const SUB: bool>(
     let work = |j: usize| (m - j.min(m)) * 4;
     let total: usize = (0..n).step_by(4).map(work).sum();
     if !two || n < 8 || total * w < TWO_MIN {
-        return syrk::<SUB>(c, ldc, a, lda, m, n, w);
+        return syrk_columns::<SUB>(c, ldc, a, lda, m, 0..n, w);
     }
     let (mut split, mut done) = (0, 0);
     while split < n && 2 * done < total {
@@ -262,7 +250,7 @@ pub(super) fn factor_panel(p: &mut [f64], ld: usize, rows: usize, cols: usize, t
         let c1 = (c0 + CHUNK).min(cols);
         if c0 > 0 {
             let (left, right) = p.split_at_mut(c0 * ld);
-            syrk_two::<true>(&mut right[c0..], ld, &left[c0..], ld, rows - c0, c1 - c0, c0, two);
+            syrk::<true>(&mut right[c0..], ld, &left[c0..], ld, rows - c0, c1 - c0, c0, two);
         }
         for c in c0..c1 {
             let (left, right) = p.split_at_mut(c * ld);
@@ -350,7 +338,7 @@ mod tests {
         let (m, n, w, lda) = (11, 6, 5, 11 + PAD);
         let a: Vec<f64> = (0..lda * w).map(|k| (k as f64 * 0.37).sin()).collect();
         let mut c = vec![7.0; m * n];
-        syrk::<true>(&mut c, m, &a, lda, m, n, w);
+        syrk::<true>(&mut c, m, &a, lda, m, n, w, false);
         for j in 0..n {
             for i in j..m {
                 let s: f64 = (0..w).map(|t| a[t * lda + i] * a[t * lda + j]).sum();
@@ -368,8 +356,8 @@ mod tests {
             let a: Vec<f64> = (0..lda * w).map(|k| (k as f64 * 0.731).sin()).collect();
             let c0: Vec<f64> = (0..m * n).map(|k| (k as f64 * 0.17).cos()).collect();
             let (mut one, mut two) = (c0.clone(), c0);
-            syrk::<true>(&mut one, m, &a, lda, m, n, w);
-            syrk_two::<true>(&mut two, m, &a, lda, m, n, w, true);
+            syrk::<true>(&mut one, m, &a, lda, m, n, w, false);
+            syrk::<true>(&mut two, m, &a, lda, m, n, w, true);
             assert!(m * n * w >= TWO_MIN);
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&one), bits(&two), "m {m} n {n} w {w}");

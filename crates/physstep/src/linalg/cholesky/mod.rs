@@ -26,7 +26,7 @@
 //! than half) are factored at once on two threads, each with its own lists and scratch, then
 //! their common ancestors, each taking the first subtree's updates, the second's, then the
 //! rest's, their large dense products split by columns between the two threads
-//! ([`dense::syrk_two`]): every sum in an order fixed by the pattern, so the same bits on one
+//! ([`dense::syrk`]): every sum in an order fixed by the pattern, so the same bits on one
 //! thread or two, and on the AVX2 and FMA path or not (`crate::simd`).
 //!
 //! A grid's factor grows like `n log n` blocks and its work like `n^1.5`: where the pattern
@@ -554,7 +554,7 @@ fn supernode<const D: usize>(sh: &Shared<'_>, p: &mut Part<'_>, q: usize, extra:
                 }
                 let u = &mut p.upd[..mt * nc];
                 let a = &done[sh.off[ku] - p.lx_base + D * (kw + at)..];
-                dense::syrk_two::<false>(u, mt, a, kld, mt, nc, D * kw, p.two);
+                dense::syrk::<false>(u, mt, a, kld, mt, nc, D * kw, p.two);
                 // The tail's rows in runs that are consecutive in the panel too.
                 p.runs.clear();
                 let mut t = 0;
