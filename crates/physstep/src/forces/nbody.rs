@@ -45,7 +45,7 @@ fn accel_d<const D: usize>(g: f64, eps: f64, x: &[f64], mass: &[f64], inv_mass: 
             // `target_feature` function.
             return unsafe { lane_avx2::<D>(l, eps2, &axes, mass, watch) };
         }
-        lane_sums::<D>(l, eps2, &axes, mass, watch)
+        lane_sums::<D, false>(l, eps2, &axes, mass, watch)
     };
     let lanes: Vec<[Vec<f64>; D]> = if n >= PARALLEL_MIN {
         (0..LANES).into_par_iter().map(lane).collect()
@@ -72,7 +72,7 @@ fn accel_d<const D: usize>(g: f64, eps: f64, x: &[f64], mass: &[f64], inv_mass: 
 /// The sums of lane `l`: its blocks' pairs, per axis. Only `+ - * / sqrt` of IEEE doubles,
 /// no fused multiply-add: the AVX2 build gives the same bits as the baseline one.
 #[inline(always)]
-fn lane_sums<const D: usize>(
+fn lane_sums<const D: usize, const AVX2: bool>(
     l: usize,
     eps2: f64,
     axes: &[Vec<f64>; D],
@@ -91,40 +91,22 @@ fn lane_sums<const D: usize>(
             let ax: [&[f64]; D] = std::array::from_fn(|k| &axes[k][rest..n]);
             let mj = &mass[rest..n];
             let mi = mass[i];
-            let out = acc.each_mut().map(|v| &mut v[rest..n]);
-            // Row sums in W interleaved partial sums (j mod W), added in a fixed order at the
-            // end: a sum order of our choosing, the same on every path, that vector code can
-            // take.
+            let mut out = acc.each_mut().map(|v| &mut v[rest..n]);
+            // The row's W interleaved partial sums (see `pairs`).
             let mut part = [[0.0; W]; D];
             let len = mj.len();
             let whole = len / W * W;
             for j0 in (0..whole).step_by(W) {
-                // W pairs at once, as arrays: one vector per quantity.
-                let mut d = [[0.0; W]; D];
-                let mut s = [eps2; W];
-                for k in 0..D {
-                    let xs = &ax[k][j0..j0 + W];
-                    for w in 0..W {
-                        d[k][w] = xs[w] - xi[k];
-                        s[w] += d[k][w] * d[k][w];
-                    }
+                let ax_w: [&[f64]; D] = std::array::from_fn(|k| &ax[k][j0..j0 + W]);
+                let out_w = out.each_mut().map(|o| &mut o[j0..j0 + W]);
+                #[cfg(target_arch = "x86_64")]
+                if AVX2 {
+                    // SAFETY: `AVX2` is set only by `lane_avx2`, which runs where the CPU has
+                    // AVX2; every slice has W elements.
+                    unsafe { pairs_avx2::<D>(&xi, eps2, ax_w, &mj[j0..j0 + W], mi, &mut part, out_w) };
+                    continue;
                 }
-                let ms = &mj[j0..j0 + W];
-                let mut cj = [0.0; W];
-                let mut ci = [0.0; W];
-                for w in 0..W {
-                    let inv = 1.0 / (s[w] * s[w].sqrt());
-                    let c = if s[w] > 0.0 { inv } else { 0.0 };
-                    cj[w] = ms[w] * c;
-                    ci[w] = mi * c;
-                }
-                for k in 0..D {
-                    let o = &mut out[k][j0..j0 + W];
-                    for w in 0..W {
-                        part[k][w] += cj[w] * d[k][w];
-                        o[w] -= ci[w] * d[k][w];
-                    }
-                }
+                pairs::<D>(&xi, eps2, ax_w, &mj[j0..j0 + W], mi, &mut part, out_w);
             }
             for j in whole..len {
                 let w = j - whole;
@@ -164,7 +146,93 @@ unsafe fn lane_avx2<const D: usize>(
     mass: &[f64],
     watch: bool,
 ) -> [Vec<f64>; D] {
-    lane_sums::<D>(l, eps2, axes, mass, watch)
+    lane_sums::<D, true>(l, eps2, axes, mass, watch)
+}
+
+/// W pairs `(i, j)` at once (`xj` and `mj` the W partners' coordinates and masses, `out`
+/// their accelerations' sums), as arrays: `d = x_j - x_i`, `s = eps^2 + |d|^2`,
+/// `c = 1 / (s sqrt(s))` (0 where `s` is not above 0), `part += m_j c d`, `out -= m_i c d`.
+/// The row's sums stay in W interleaved partial sums (j mod W), added in a fixed order at the
+/// end: a sum order of our choosing, the same on every path, that vector code can take.
+#[inline(always)]
+fn pairs<const D: usize>(
+    xi: &[f64; D],
+    eps2: f64,
+    xj: [&[f64]; D],
+    mj: &[f64],
+    mi: f64,
+    part: &mut [[f64; W]; D],
+    out: [&mut [f64]; D],
+) {
+    let mut d = [[0.0; W]; D];
+    let mut s = [eps2; W];
+    for k in 0..D {
+        for w in 0..W {
+            d[k][w] = xj[k][w] - xi[k];
+            s[w] += d[k][w] * d[k][w];
+        }
+    }
+    let mut cj = [0.0; W];
+    let mut ci = [0.0; W];
+    for w in 0..W {
+        let inv = 1.0 / (s[w] * s[w].sqrt());
+        let c = if s[w] > 0.0 { inv } else { 0.0 };
+        cj[w] = mj[w] * c;
+        ci[w] = mi * c;
+    }
+    for (k, o) in out.into_iter().enumerate() {
+        for w in 0..W {
+            part[k][w] += cj[w] * d[k][w];
+            o[w] -= ci[w] * d[k][w];
+        }
+    }
+}
+
+/// [`pairs`] in AVX2 instructions, two vectors of four doubles for the W pairs: the same
+/// operations in the same order (IEEE `+ - * / sqrt`, no fused multiply-add, the comparison
+/// false for NaN as `s > 0.0` is), so the same bits. Written out rather than left to the
+/// compiler, whose vectorisation of [`pairs`] depends on how the crate is cut into codegen
+/// units (it lost it at 16 units).
+///
+/// # Safety
+/// The CPU has AVX2; each slice of `xj`, `mj` and `out` has W elements.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn pairs_avx2<const D: usize>(
+    xi: &[f64; D],
+    eps2: f64,
+    xj: [&[f64]; D],
+    mj: &[f64],
+    mi: f64,
+    part: &mut [[f64; W]; D],
+    mut out: [&mut [f64]; D],
+) {
+    use std::arch::x86_64::{
+        _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_div_pd, _mm256_loadu_pd, _mm256_mul_pd,
+        _mm256_set1_pd, _mm256_setzero_pd, _mm256_sqrt_pd, _mm256_storeu_pd, _mm256_sub_pd, _CMP_GT_OQ,
+    };
+    const H: usize = W / 2;
+    let (zero, one, m_i) = (_mm256_setzero_pd(), _mm256_set1_pd(1.0), _mm256_set1_pd(mi));
+    for half in 0..2 {
+        let o = half * H;
+        let mut s = _mm256_set1_pd(eps2);
+        let mut d = [zero; D];
+        for k in 0..D {
+            d[k] = _mm256_sub_pd(_mm256_loadu_pd(xj[k][o..o + H].as_ptr()), _mm256_set1_pd(xi[k]));
+            s = _mm256_add_pd(s, _mm256_mul_pd(d[k], d[k]));
+        }
+        let inv = _mm256_div_pd(one, _mm256_mul_pd(s, _mm256_sqrt_pd(s)));
+        let c = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(s, zero), inv);
+        let cj = _mm256_mul_pd(_mm256_loadu_pd(mj[o..o + H].as_ptr()), c);
+        let ci = _mm256_mul_pd(m_i, c);
+        for (k, ok) in out.iter_mut().enumerate() {
+            let p = part[k][o..o + H].as_mut_ptr();
+            _mm256_storeu_pd(p, _mm256_add_pd(_mm256_loadu_pd(p), _mm256_mul_pd(cj, d[k])));
+            let q = ok[o..o + H].as_mut_ptr();
+            _mm256_storeu_pd(q, _mm256_sub_pd(_mm256_loadu_pd(q), _mm256_mul_pd(ci, d[k])));
+        }
+    }
 }
 
 /// `-sum_{i<j} G m_i m_j / sqrt(r^2 + eps^2)`, J (pairs with `r^2 + eps^2 = 0` skipped).
