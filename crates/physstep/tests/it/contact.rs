@@ -154,18 +154,19 @@ fn pyramid_under(solver: &str) -> (f64, f64) {
 fn a_pyramid_of_twenty_rows_stands_under_the_substepped_solvers_and_sags_under_the_one_step_ones() {
     // At equal passes: the substepped solvers (the soft step, sticky TGS) keep the top box
     // within a centimetre and the boxes out of each other to a millimetre; soft PGS (one step
-    // of soft passes) several centimetres and ten times deeper; Jacobi (each pair solved from
+    // of soft passes) several centimetres and five times deeper; Jacobi (each pair solved from
     // the pass's start, masses split) sags decimetres. Measured (release, the passes in the
-    // coloured order): soft-step 8.4 mm / 0.86 mm deep, tgs-sticky 2.6 / 0.67, soft-pgs 56 /
-    // 13, jacobi 374 / 40 (in pair order, before the colouring: tgs-sticky 37 / 0.78, soft-pgs
-    // 57 / 12).
+    // coloured order, each point of a manifold its own warm start): soft-step 8.4 mm / 0.86 mm
+    // deep, tgs-sticky 2.4 / 0.67, soft-pgs 30 / 4.4, jacobi 369 / 40 (before the points of a
+    // face had ids of their own: tgs-sticky 2.6 / 0.67, soft-pgs 56 / 13, jacobi 374 / 40; in
+    // pair order, before the colouring: tgs-sticky 37 / 0.78, soft-pgs 57 / 12).
     let (soft_drift, soft_deep) = pyramid_under("soft-step");
     let (tgs_drift, tgs_deep) = pyramid_under("tgs-sticky");
     let (spgs_drift, spgs_deep) = pyramid_under("soft-pgs");
     let (jac_drift, jac_deep) = pyramid_under("jacobi");
     assert!(tgs_drift < 0.01 && tgs_deep < 0.002, "tgs-sticky: {tgs_drift} m, {tgs_deep} m deep");
     assert!(soft_drift < 0.01 && soft_deep < 0.002, "soft step: {soft_drift} m, {soft_deep} m deep");
-    assert!(spgs_drift < 0.1 && spgs_deep > 5.0 * soft_deep, "soft-pgs: {spgs_drift} m, {spgs_deep} m deep");
+    assert!(spgs_drift < 0.1 && spgs_deep > 3.0 * soft_deep, "soft-pgs: {spgs_drift} m, {spgs_deep} m deep");
     assert!(jac_drift > 0.1 && jac_drift < 1.0 && jac_deep < 0.1, "jacobi: {jac_drift} m, {jac_deep} m deep");
 }
 
@@ -174,21 +175,23 @@ fn a_pyramid_of_twenty_rows_stands_for_ten_seconds_where_pgs_at_equal_passes_sag
     // Solver2D's finding, measured: plain PGS (one step of rigid passes with a Baumgarte bias,
     // or with NGS position passes) keeps the boxes from falling through each other but lets
     // the pyramid sag and sink; the soft step's substeps and relax keep it within a centimetre.
-    // Measured here, the pairs solved by colour: soft step 8.4 mm / 0.86 mm deep, pgs 40 / 15,
-    // pgs-ngs 73 / 8.9 (in pair order: pgs 310 / 12, pgs-ngs 830 / 8.5).
+    // Measured here, the pairs solved by colour, each point of a manifold its own warm start:
+    // soft step 8.4 mm / 0.86 mm deep, pgs 173 / 4.6, pgs-ngs 22 / 5.2 (before the points of a
+    // face had ids of their own: pgs 407 / 14, pgs-ngs 42 / 9.8; in pair order: pgs 310 / 12,
+    // pgs-ngs 830 / 8.5).
     let (soft_drift, soft_deep) = pyramid_under("soft-step");
     let (pgs_drift, pgs_deep) = pyramid_under("pgs");
     let (ngs_drift, ngs_deep) = pyramid_under("pgs-ngs");
     assert!(soft_drift < 0.01 && soft_deep < 0.01, "soft step: {soft_drift} m, {soft_deep} m deep");
     assert!(pgs_drift < 0.5 && pgs_deep < 0.05, "pgs: the pyramid fell: {pgs_drift} m, {pgs_deep} m deep");
     assert!(
-        pgs_drift > 3.0 * soft_drift && pgs_deep > 10.0 * soft_deep,
+        pgs_drift > 3.0 * soft_drift && pgs_deep > 3.0 * soft_deep,
         "pgs {pgs_drift} m, {pgs_deep} m deep against the soft step's {soft_drift} m, {soft_deep} m"
     );
-    // With NGS the overlaps are pushed out from the poses (less deep than PGS's bias leaves
-    // them), and the pyramid still sags several times the soft step's.
-    assert!(ngs_deep < pgs_deep && ngs_deep < 0.05, "pgs-ngs {ngs_deep} m deep against pgs's {pgs_deep}");
-    assert!(ngs_drift < 0.5 && ngs_drift > 3.0 * soft_drift, "pgs-ngs: the top box moved {ngs_drift} m");
+    // With NGS the overlaps are pushed out from the poses, and the pyramid still sags and
+    // sinks several times the soft step's.
+    assert!(ngs_deep > 3.0 * soft_deep && ngs_deep < 0.05, "pgs-ngs {ngs_deep} m deep");
+    assert!(ngs_drift < 0.5 && ngs_drift > 2.0 * soft_drift, "pgs-ngs: the top box moved {ngs_drift} m");
 }
 
 #[test]

@@ -82,28 +82,36 @@ const HASHES: &[(&str, u64)] = &[
     // 0x7f7e5b229e6d4a88, rush 0x379db5f02c16412e, double-domino 0x0a8d7680159b2b96,
     // stretched-chain 0x5b383962a9384e2f, ragdoll-stress 0x00198f03ccefe0b5 before; a scene
     // whose pairs all have the ground on one side (dice, single-box, ramp) kept its order.
-    ("single-box", 0x123a5637dcd44b2c),
-    ("stack", 0x798eed07e0dbcac3),
-    ("pyramid", 0x41c9b3082ae0d5ba),
-    ("ramp", 0xf36466dc6ac98179),
+    // Each point of a manifold a warm-start key of its own (contact/space/mod.rs `pack`: parry
+    // gives both points where two boxes' faces meet in the plane the same pair of features, so one
+    // point took the other's impulses and friction anchors) changed the plane's scenes with boxes:
+    // single-box 0x123a5637dcd44b2c, stack 0x798eed07e0dbcac3, pyramid 0x41c9b3082ae0d5ba, ramp
+    // 0xf36466dc6ac98179, card-house 0xa392014df5e3e8b6, mass-ratio 0x4e08a0c07fc13013, domino
+    // 0x50432bdcc3a69633, overlap-recovery 0x5760714882974d00, far-pyramid 0xfef00d9cea5596ef,
+    // high-mass-ratio 0x25413f71ea4bdd15, friction-ramp 0xbdb8916ef011cf02, double-domino
+    // 0xcd53947c53dda832 before; the 3D scenes kept theirs.
+    ("single-box", 0x054578c00ac3463a),
+    ("stack", 0x089341fb9e91a210),
+    ("pyramid", 0xf56bf326eeb5081c),
+    ("ramp", 0xa222024510cadc80),
     ("dice", 0xf47227f87f63b3b9),
     ("box-stack", 0x4c1b8096e82df1dc),
     // The rest of Solver2D's contact scenes, and the top on the floor.
-    ("card-house", 0xa392014df5e3e8b6),
-    ("mass-ratio", 0x4e08a0c07fc13013),
+    ("card-house", 0x4abac865f20192d1),
+    ("mass-ratio", 0x4e65ec2b80dd0374),
     ("arch", 0x8a86ed2e91139d04),
-    ("domino", 0x50432bdcc3a69633),
+    ("domino", 0xb199199d439b8db6),
     ("confined", 0x3c90b23d6e53b116),
-    ("overlap-recovery", 0x5760714882974d00),
+    ("overlap-recovery", 0x4efe17f6c6924f48),
     ("top-on-floor", 0x1bd57401a02cf40e),
     // Solver2D's scenes that break solvers (tests/it/breaking_scenes.rs).
-    ("far-pyramid", 0xfef00d9cea5596ef),
+    ("far-pyramid", 0x8dfbdab83a1f3435),
     ("far-ragdoll-pile", 0x79582665faa839c8),
-    ("high-mass-ratio", 0x25413f71ea4bdd15),
-    ("friction-ramp", 0xbdb8916ef011cf02),
+    ("high-mass-ratio", 0x345be2ab1554cc95),
+    ("friction-ramp", 0xdc2e185eb7f9f3ec),
     ("warm-start-energy", 0x8475c2d12f92772e),
     ("rush", 0xd840c58cfc2d7ce1),
-    ("double-domino", 0xcd53947c53dda832),
+    ("double-domino", 0x4b948f1159600117),
     ("joint-grid", 0x32ac77f293441d6e),
     ("stretched-chain", 0x298f12f6ce3a8e2e),
     ("far-chain", 0x7ba6c602c7779bd5),

@@ -388,13 +388,22 @@ pub struct Plane;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Space3;
 
-fn pack(a: u32, b: u32, sub_a: u32, sub_b: u32) -> u64 {
-    // Feature ids of parry are packed u32s; the subshape indices (triangles of a mesh) keep
-    // points of different triangles apart. Mixing the two into 64 bits is only a key for
-    // matching a point with last step's: a collision costs a warm start, never a result.
+/// A contact point's id: its two features, the subshapes it is on, and how many points before
+/// it in its manifold have the same two features (`same`).
+///
+/// Feature ids of parry are packed u32s; the subshape indices (triangles of a mesh) keep
+/// points of different triangles apart. Parry can give two points of one manifold the same
+/// pair of features (in the plane, both points where two boxes' faces meet, side by side or
+/// stacked), which would make them one key: the warm start would then hand both points the
+/// impulses and friction anchors of one of them. `same` tells them apart, in the order parry
+/// gives them, which is the same from step to step while the features are. Mixing it all into
+/// 64 bits is only a key for matching a point with last step's: a collision costs a warm
+/// start, never a result.
+fn pack(a: u32, b: u32, sub_a: u32, sub_b: u32, same: usize) -> u64 {
     let f = (u64::from(a) << 32) | u64::from(b);
     f ^ (u64::from(sub_a).wrapping_mul(0x9E37_79B9_7F4A_7C15))
         ^ (u64::from(sub_b).wrapping_mul(0xC2B2_AE3D_27D4_EB4F))
+        ^ (same as u64).wrapping_mul(0x1656_67B1_9E37_79F9)
 }
 
 /// The contact points of two shapes placed at poses `pa` and `pb`, from parry's contact
@@ -417,13 +426,14 @@ macro_rules! manifold_touches {
                     None => (pa, pb),
                 };
                 let normal = sa.rotation * m.local_n1;
-                for c in &m.points {
+                for (k, c) in m.points.iter().enumerate() {
+                    let same = m.points[..k].iter().filter(|e| (e.fid1, e.fid2) == (c.fid1, c.fid2)).count();
                     $out.push(Touch {
                         on_a: sa * c.local_p1,
                         on_b: sb * c.local_p2,
                         normal,
                         separation: c.dist,
-                        id: pack(c.fid1.0, c.fid2.0, m.subshape1, m.subshape2),
+                        id: pack(c.fid1.0, c.fid2.0, m.subshape1, m.subshape2, same),
                     });
                 }
             }
@@ -437,6 +447,37 @@ mod space3;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn points_on_the_same_two_features_get_ids_of_their_own_that_last_from_step_to_step() {
+        use crate::contact::Shape;
+        // Where two unit boxes' faces meet (one on the other, or side by side 1 cm apart),
+        // parry gives both points of the manifold the same pair of features.
+        let unit = Shape::Box { half: vec![0.5, 0.5] }.plane().unwrap();
+        let ids = |at: DVec2| {
+            let mut out = Vec::new();
+            Plane::touches((&unit, DVec2::ZERO, 0.0), (&unit, at, 0.0), 0.02, &mut out);
+            out.iter().map(|t| t.id).collect::<Vec<u64>>()
+        };
+        for (at, moved) in [
+            (DVec2::new(0.1, 0.999), DVec2::new(0.1001, 0.9985)),
+            (DVec2::new(1.01, 0.0), DVec2::new(1.0098, 0.0)),
+        ] {
+            let (before, after) = (ids(at), ids(moved));
+            assert_eq!(before.len(), 2, "{at}: {before:?}");
+            assert_ne!(before[0], before[1], "{at}: two points, one key");
+            assert_eq!(before, after, "{at} -> {moved}: the ids moved with the points");
+        }
+        // In space: a cube on a cube, four points, four keys.
+        let cube = Shape::Box { half: vec![0.5; 3] }.space().unwrap();
+        let mut out = Vec::new();
+        let (up, q) = (glam::DVec3::new(0.1, 0.999, 0.05), glam::DQuat::IDENTITY);
+        Space3::touches((&cube, glam::DVec3::ZERO, q), (&cube, up, q), 0.02, &mut out);
+        let mut ids: Vec<u64> = out.iter().map(|t| t.id).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        assert_eq!((out.len(), ids.len()), (4, 4), "a cube on a cube");
+    }
 
     #[test]
     fn the_planes_friction_size_is_the_square_roots_to_the_bit() {
