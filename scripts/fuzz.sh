@@ -48,7 +48,7 @@ end=$(($(date +%s) + MINUTES * 60))
 mkdir -p target/fuzz
 rounds=0
 # The Rust harness, built once (the test profile) before the clock matters.
-cargo test -q -p physstep --test it --no-run >/dev/null 2>&1 || {
+cargo test -q -p physstep --lib --no-run >/dev/null 2>&1 || {
     echo "fuzz: cargo could not build crates/physstep/tests/it/scene_fuzz.rs" >&2
     exit 2
 }
@@ -60,7 +60,7 @@ while :; do
     echo "fuzz: round $((rounds + 1)), seed $seed, ${left} s left (log: $log)"
     PROPTEST_RNG_SEED=$seed PHYSSTEP_FUZZ_CASES=${PHYSSTEP_FUZZ_CASES:-200000} \
         timeout --kill-after=10 "$left" \
-        cargo test -q -p physstep --test it scene_fuzz:: >"$log" 2>&1
+        cargo test -q -p physstep --lib it::scene_fuzz:: >"$log" 2>&1
     status=$?
     if [ "$status" -eq 0 ]; then
         left=$((end - $(date +%s)))

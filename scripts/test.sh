@@ -10,18 +10,16 @@ PHYSSTEP_EXTRAS=test,distributed,demo,docs bash scripts/setup.sh
 stage "rustfmt, clippy"
 cargo fmt --all --check
 # --all-targets: every target is checked here, also those `cargo test` below does not build
-# (the examples other than custom_force, the criterion benchmarks in crates/physstep-bench).
+# (the examples' programs, the criterion benchmarks in crates/physstep-bench).
 cargo clippy --workspace --all-targets -- -D warnings
-stage "cargo test (the test profile: the engine's unit tests, one integration-test binary, doc tests)"
-# Only what is run: the engine (-p, not the workspace: not the benchmarks' crate, nor criterion),
-# its unit and integration tests, then its doc tests; not the examples (clippy checked them).
-cargo test -p physstep --lib --tests
-cargo test -p physstep --doc
-stage "cargo doc, the Rust example"
+stage "cargo test (the test profile: the engine's one test harness)"
+# Only what is run: the engine (-p, not the workspace: not the benchmarks' crate, nor criterion)
+# in its library's test harness, which holds every test of the engine: the unit tests, those of
+# tests/it, the examples' runs (src/lib.rs: the engine compiled once). The doc examples are
+# example programs (clippy checked them, tests/it/examples.rs runs the quick start).
+cargo test -p physstep --lib
+stage "cargo doc"
 RUSTDOCFLAGS="-D warnings" cargo doc -q -p physstep --no-deps
-# The test profile: the library as `cargo test` just built it, only the example's own binary
-# is compiled and linked here (seconds).
-cargo run -q --profile test -p physstep --example custom_force
 # The wheel a user without Rust installs: built from the same release build, installed into a
 # new venv with no toolchain on PATH, the quick-start table and a smoke test run from it.
 stage "the wheel, installed in a new venv without Rust"

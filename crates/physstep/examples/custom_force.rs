@@ -1,6 +1,6 @@
-//! A force of your own in a Rust world: wind that pushes harder on faster-moving air.
-//!
-//! `cargo run -p physstep --example custom_force`
+// A force of your own in a Rust world: wind that pushes harder on faster-moving air.
+//
+// `cargo run -p physstep --example custom_force`
 
 use physstep::forces::ForceGenerator;
 use physstep::prelude::*;

@@ -3,8 +3,7 @@
 //! program opts in with
 //!
 //! ```
-//! #[global_allocator]
-//! static ALLOC: physstep::alloc::HugePages = physstep::alloc::HugePages;
+#![doc = include_str!("../examples/huge_pages.rs")]
 //! ```
 //!
 //! A block of at least [`LARGE`] bytes (a recording's column of 144,000 doubles, a million

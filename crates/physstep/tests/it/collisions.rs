@@ -2,7 +2,7 @@
 //! head-on, 2D oblique, 3D, unequal masses and radii), conservation over a scene, the broad
 //! phase's pair tests growing linearly with N, rollback, bad input, every method.
 
-use crate::common::{close, max_pair_overlap, resign, world};
+use super::common::{close, max_pair_overlap, resign, world};
 use physstep::forces::ForceGenerator;
 use physstep::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};

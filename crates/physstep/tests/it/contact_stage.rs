@@ -3,7 +3,7 @@
 //! evaluated alone are the whole evaluation's, and a ball sped up past what the grid's cells
 //! were sized for still meets every ball it can reach.
 
-use crate::common::{close, max_pair_overlap, world};
+use super::common::{close, max_pair_overlap, world};
 use physstep::prelude::*;
 
 /// `w`'s positions set to `x` through the phase vector, which is not checked for balls

@@ -2,7 +2,7 @@
 //! damped, through the world) and, for the flow methods, on first-order flows stepped by
 //! [`Integrator::step_flow`].
 
-use crate::common::{slope, spring};
+use super::common::{slope, spring};
 use physstep::prelude::*;
 
 /// End time of every convergence run, s.

@@ -10,7 +10,7 @@
 //! (compiler flags, fused multiply-add, the target CPU, libm) may do that, and how to record
 //! the new table (`PHYSSTEP_PRINT_HASHES=1 cargo test -p physstep --test it determinism::`).
 
-use crate::common;
+use super::common;
 use physstep::prelude::*;
 
 /// Steps taken before the hash is read.

@@ -1,7 +1,7 @@
 //! The notes' spring tables (tests/golden/*.csv, copied from the course material) reproduced
 //! row for row at their printed precision.
 
-use crate::common::round_half_away;
+use super::common::round_half_away;
 use physstep::prelude::*;
 
 fn check(file: &str, method: &str, dt: f64) {

@@ -2,8 +2,8 @@
 //! methods across changes of dt and resets, evaluation counts, stage logs, divergence
 //! handling and determinism.
 
-use crate::common;
-use crate::common::spring;
+use super::common;
+use super::common::spring;
 use physstep::integrators::registry::{self, State};
 use physstep::integrators::StageLog;
 use physstep::prelude::*;

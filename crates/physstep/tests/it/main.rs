@@ -1,8 +1,9 @@
-//! The engine's integration tests, one binary: each module is one concern (the names say what
-//! they hold); `common` has the helpers they share. One crate links parry and the engine once,
-//! where a binary a file linked them about thirty times. The one test that requests a stop
-//! (`tests/interrupt.rs`) is a binary of its own: the request is process-wide, and a test
-//! here stepping a world at that moment was interrupted with it (`determinism`, once).
+//! The engine's integration tests: each module is one concern (the names say what they hold);
+//! `common` has the helpers they share. They are compiled into the library's own test harness
+//! (`src/lib.rs` includes this file; `physstep::` names the crate there), with the unit tests
+//! and the runs of the examples (`examples`), so `cargo test` builds the engine once. The test
+//! that requests a stop (`interrupt`) runs in a process of its own: the request is
+//! process-wide, and a test stepping a world at that moment would be interrupted with it.
 
 mod bodies;
 mod breaking_scenes;
@@ -17,11 +18,13 @@ mod convergence;
 mod determinism;
 mod energy;
 mod entity_state;
+mod examples;
 mod flows;
 mod golden_tables;
 mod handles;
 mod implicit_solves;
 mod integrators;
+mod interrupt;
 mod joints;
 mod kepler_solution;
 mod kernels;

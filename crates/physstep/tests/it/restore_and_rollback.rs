@@ -1,7 +1,7 @@
 //! The state as it was: `restore` refuses a corrupt or foreign snapshot and leaves the world
 //! unchanged, and a step that diverges rolls the state and the method's memory back bitwise.
 
-use crate::common::resign;
+use super::common::resign;
 use physstep::prelude::*;
 
 fn two_particles(method: &str, second_static: bool) -> World {

@@ -1,7 +1,7 @@
 //! Scene files: every built-in scene exported and loaded back runs bitwise the built-in
 //! trajectory; bad files are refused with one line naming the file, the line and the field.
 
-use crate::common;
+use super::common;
 use physstep::prelude::*;
 use physstep::scenes::file;
 

@@ -1,7 +1,7 @@
 //! The built-in scenes: every scene under every method, exact solutions, convergence orders
 //! and parameter validation.
 
-use crate::common::slope;
+use super::common::slope;
 use physstep::prelude::*;
 use std::f64::consts::{PI, TAU};
 

@@ -1,7 +1,7 @@
 //! A damped spring of rest length zero: its damping acts at zero length too (the force is
 //! -k d - c w across d = 0), so a run from x0 = 0 keeps each method's order.
 
-use crate::common;
+use super::common;
 use physstep::prelude::*;
 
 #[test]

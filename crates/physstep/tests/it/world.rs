@@ -1,7 +1,7 @@
 //! The world: frame-rate independence of the fixed-timestep loop, the spiral-of-death guard,
 //! snapshots, hashing, input validation, force-order independence and conservation laws.
 
-use crate::common;
+use super::common;
 use physstep::prelude::*;
 
 const DT: f64 = 1.0 / 120.0;

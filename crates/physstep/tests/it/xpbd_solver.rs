@@ -245,7 +245,7 @@ fn under_xpbd_a_3d_hinge_turns_only_about_its_axis_a_weld_holds_and_a_rod_keeps_
     assert!(q[1].abs() < 1e-3 && q[3].abs() < 1e-3, "turned off the hinge's axis: {q:?}");
     assert!(swung > 0.5, "turned about it: {swung}");
     // A welded cantilever and a rigid rod (distance joint) in the plane.
-    let (mut s, beam) = crate::joints::cantilever_and_rod("xpbd");
+    let (mut s, beam) = super::joints::cantilever_and_rod("xpbd");
     let mut worst = [0.0_f64; 2];
     for _ in 0..600 {
         s.step(DT, DVec2::new(0.0, -G)).unwrap();
@@ -263,7 +263,7 @@ fn under_xpbd_a_3d_hinge_turns_only_about_its_axis_a_weld_holds_and_a_rod_keeps_
 fn the_ragdoll_whose_hinges_keep_their_rows_falls_and_rests_under_xpbd() {
     // Hinges with limits and joint friction (a motor) keep their velocity rows under xpbd.
     let mut w = scene("ragdoll-bodies", &[], "xpbd");
-    let (worst, peak, pen) = crate::joints::run_600(&mut w);
+    let (worst, peak, pen) = super::joints::run_600(&mut w);
     let e = w.solid_kinetic_energy();
     eprintln!("xpbd ragdoll: joints within {worst:e} m, kinetic energy {e:e} of {peak}, deepest {pen:e} m");
     assert!(e < 1e-8 * peak, "at rest after 10 s: kinetic energy {e} of {peak}");
