@@ -23,7 +23,8 @@ if command -v cargo >/dev/null || command -v rustc >/dev/null; then
     echo "check-wheel: a Rust toolchain is still on PATH" >&2
     exit 1
 fi
-"$TMP/venv/bin/python" -m pip install -q "$WHEEL"
+# --no-compile: as set-up (scripts/setup.sh), the modules are compiled when first imported.
+"$TMP/venv/bin/python" -m pip install -q --no-compile "$WHEEL"
 cd "$TMP"   # not the checkout: the installed package, not python/physstep, is imported
 physstep table spring --method symplectic-euler --dt 1 --until 17 >table.txt
 head -4 table.txt
