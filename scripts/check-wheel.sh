@@ -23,7 +23,8 @@ if command -v cargo >/dev/null || command -v rustc >/dev/null; then
     echo "check-wheel: a Rust toolchain is still on PATH" >&2
     exit 1
 fi
-# --no-compile: as set-up (scripts/setup.sh), the modules are compiled when first imported.
+# --no-compile: this venv runs two programs and is deleted (4-5 s less; scripts/setup.sh says
+# why a venv that is used byte-compiles at install).
 "$TMP/venv/bin/python" -m pip install -q --no-compile "$WHEEL"
 cd "$TMP"   # not the checkout: the installed package, not python/physstep, is imported
 physstep table spring --method symplectic-euler --dt 1 --until 17 >table.txt
