@@ -8,7 +8,7 @@
 //! Euler (its Newton and conjugate-gradient iterations are in the hash too). A change of
 //! any hash means a change of the trajectory's bits: docs/determinism.md says which changes
 //! (compiler flags, fused multiply-add, the target CPU, libm) may do that, and how to record
-//! the new table (`PHYSSTEP_PRINT_HASHES=1 cargo test -p physstep --test it determinism::`).
+//! the new table (`PHYSSTEP_PRINT_HASHES=1 cargo test -p physstep --lib it::determinism::`).
 
 use super::common;
 use physstep::prelude::*;
