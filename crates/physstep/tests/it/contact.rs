@@ -369,3 +369,22 @@ fn an_elastic_sphere_on_a_plane_keeps_its_bounce_height_for_100_bounces() {
     let worst = peaks.iter().map(|h| (h / first - 1.0).abs()).fold(0.0, f64::max);
     assert!(worst < 0.01, "100 bounces within {worst} of the first's height");
 }
+
+#[test]
+fn a_spinning_cube_keeps_its_angular_velocity_bitwise_and_a_brick_tumbles() {
+    // Torque-free spin: `w x I w` is zero for a cube (its inertia a multiple of the identity),
+    // so the angular velocity it was given stays, bit for bit; a brick's turns (Euler's
+    // equations: w = I^-1 L moves as the brick turns, L held).
+    let spin = |half: Vec<f64>| {
+        let params = physstep::world::WorldParams { dim: 3, dt: 1.0 / 60.0, ..Default::default() };
+        let mut w = physstep::world::World::new(params).unwrap();
+        let mut p = SolidParams::new(Shape::Box { half }, &[0.0, 0.0, 0.0]);
+        p.angular_velocity = vec![1.0, 2.0, 3.0];
+        w.add_solid(p).unwrap();
+        w.step(120).unwrap();
+        w.solid_angular_velocities()
+    };
+    assert_eq!(spin(vec![0.5, 0.5, 0.5]), [1.0, 2.0, 3.0]);
+    let brick = spin(vec![0.5, 0.3, 0.1]);
+    assert!(brick.iter().zip([1.0, 2.0, 3.0]).any(|(a, b)| (a - b).abs() > 0.1), "{brick:?}");
+}

@@ -77,7 +77,11 @@ impl Space for Space3 {
     }
 
     fn gyroscopic(q: DQuat, i_local: DMat3, w: DVec3, h: f64) -> DVec3 {
-        if w == DVec3::ZERO || i_local == DMat3::ZERO {
+        // Torque-free spin changes w only by `w x I w`, zero where the inertia is a multiple of
+        // the identity (a cube, a sphere): w is then constant, exactly (the Newton step would
+        // give it back with the roundings of two rotations and a solve).
+        let isotropic = || i_local == DMat3::from_diagonal(DVec3::splat(i_local.x_axis.x));
+        if w == DVec3::ZERO || i_local == DMat3::ZERO || isotropic() {
             return w;
         }
         let wb = q.conjugate() * w;
