@@ -59,7 +59,8 @@ pub use error::{Error, Result};
 // Every test of the engine is in one harness, the library's own: its unit tests, the tests of
 // `tests/it` (their `physstep::` paths name this crate) and the runs of the examples. So
 // `cargo test` compiles the engine once, not a second time as the library a test binary links
-// (37 s of the 82 s that the engine's two builds for tests took on this project's 2-core VM).
+// (cold, on this project's 2-core VM: 57 s where the library, its harness and an integration-test
+// binary took 82).
 #[cfg(test)]
 extern crate self as physstep;
 #[cfg(test)]
