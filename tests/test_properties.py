@@ -222,7 +222,7 @@ def _size(scene: str, params: list[str]) -> float:
     if scene == "pyramid":
         return given["rows"] * (given["rows"] + 1) / 2 * 200
     if scene in ("stack", "box-stack"):
-        return given["n"] * 200 + given["n"] ** 2
+        return given["n"] * 200 + given["n"] * given["n"]
     if scene == "dice":
         return given["n"] * 200
     if scene in ("single-box", "ramp", "mass-ratio", "top-on-floor"):
@@ -234,7 +234,7 @@ def _size(scene: str, params: list[str]) -> float:
     if scene == "domino":
         return given["n"] * 200
     if scene == "confined":  # n^2 circles, about 4 contacts each
-        return given["n"] ** 2 * 400
+        return given["n"] * given["n"] * 400
     if scene == "overlap-recovery":
         return given["base"] * (given["base"] + 1) / 2 * 200
     # the scenes that break solvers: solids at 200 a step, joints as much again
@@ -249,7 +249,7 @@ def _size(scene: str, params: list[str]) -> float:
     if scene == "double-domino":
         return given["n"] * 200
     if scene == "joint-grid":  # n^2 circles, two joints each
-        return given["n"] ** 2 * 600
+        return given["n"] * given["n"] * 600
     if scene == "far-ragdoll-pile":  # six ragdolls of 12 solids and 11 joints
         return 6 * 23 * 200.0
     if scene == "ragdoll-stress":  # n ragdolls, 20 walls, 3 paddles
