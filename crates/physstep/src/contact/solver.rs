@@ -405,17 +405,9 @@ pub(super) fn finish<S: Space>(
     // One warm start a point, in pair order (the pairs sorted by `(a, b)`): sorting each
     // pair's few points by their ids sorts them all (the ids of a pair's points are distinct,
     // so the order is the one a sort of the whole gives; that sort took 3-5% of the 20-row
-    // pyramid's step, its pairs' two points seldom in id order). Insertion sort: two to eight
-    // points.
+    // pyramid's step, its pairs' two points seldom in id order).
     for pair in &st.touching {
-        let block = &mut st.warm[pair.start as usize..pair.end as usize];
-        for k in 1..block.len() {
-            let mut j = k;
-            while j > 0 && block[j].key < block[j - 1].key {
-                block.swap(j, j - 1);
-                j -= 1;
-            }
-        }
+        st.warm[pair.start as usize..pair.end as usize].sort_by_key(|w| w.key);
     }
     if !st.warm.is_sorted_by_key(|w| w.key) {
         st.warm.sort_unstable_by_key(|w| w.key);
