@@ -11,6 +11,7 @@
 //! resolve a handle under the lock they hold (`particle`), never through `__index__` (which
 //! takes the lock itself).
 
+use crate::errors::{foreign_handle, removed_handle};
 use crate::handle::{Inner, World};
 use numpy::PyArray1;
 use physstep::constraints::Constraint;
@@ -27,18 +28,6 @@ pub(crate) fn particle_row(g: &Inner, id: u64) -> Option<usize> {
     }
     let next = g.engine.next_particle_id().0;
     (id >= next && id - next < g.pending.len() as u64).then(|| g.engine.len() + (id - next) as usize)
-}
-
-/// `field`: the argument's name; `kinds`: the handle's entities (`particles`, `bodies`, ...).
-fn foreign(field: &str, kinds: &str, text: &str) -> PyErr {
-    PyValueError::new_err(format!(
-        "invalid {field} = {text}: must be a handle of this World's {kinds} (it is another World's; \
-         a copy or a pickle of a World takes the handles of the World it came from)"
-    ))
-}
-
-fn removed(what: &str, text: &str) -> PyErr {
-    PyValueError::new_err(format!("invalid {what} = {text}: it was removed from its World"))
 }
 
 /// A handle to one particle (or ball) of a World: `id`, `alive`, and its current row through
@@ -58,9 +47,9 @@ impl ParticleHandle {
     /// The particle's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
-            return Err(foreign(field, "particles", &self.text()));
+            return Err(foreign_handle(field, "particles", &self.text()));
         }
-        particle_row(g, self.id).ok_or_else(|| removed(field, &self.text()))
+        particle_row(g, self.id).ok_or_else(|| removed_handle(field, &self.text()))
     }
 }
 
@@ -125,7 +114,7 @@ impl ParticleHandles {
     pub(crate) fn rows_in(&self, g: &Inner) -> PyResult<Vec<usize>> {
         let text = || format!("ParticleHandles(ids {}..{})", self.first, self.first + self.len);
         if self.family != g.family {
-            return Err(foreign("particle", "particles", &text()));
+            return Err(foreign_handle("particle", "particles", &text()));
         }
         (self.first..self.first + self.len)
             .map(|id| {
@@ -263,15 +252,17 @@ impl ConstraintHandle {
     /// The constraint's id, checked to be of the World whose state `g` is.
     pub(crate) fn id_in(&self, g: &Inner) -> PyResult<ConstraintId> {
         if self.family != g.family {
-            return Err(foreign("constraint", "constraints", &self.text()));
+            return Err(foreign_handle("constraint", "constraints", &self.text()));
         }
         Ok(ConstraintId(self.id))
     }
 
     fn get(&self) -> PyResult<(Constraint, usize)> {
         let g = self.world.get().lock()?;
-        let c =
-            g.engine.constraint(ConstraintId(self.id)).ok_or_else(|| removed("constraint", &self.text()))?;
+        let c = g
+            .engine
+            .constraint(ConstraintId(self.id))
+            .ok_or_else(|| removed_handle("constraint", &self.text()))?;
         Ok((c, g.engine.dim()))
     }
 
@@ -322,7 +313,9 @@ impl ConstraintHandle {
     /// The constraint's place among the World's constraints; ValueError once removed.
     fn __index__(&self) -> PyResult<usize> {
         let g = self.world.get().lock()?;
-        g.engine.constraint_row(ConstraintId(self.id)).ok_or_else(|| removed("constraint", &self.text()))
+        g.engine
+            .constraint_row(ConstraintId(self.id))
+            .ok_or_else(|| removed_handle("constraint", &self.text()))
     }
 
     /// The (first) particle's current row (distance, limit, pin).
@@ -452,9 +445,9 @@ impl BodyHandle {
     /// The body's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
-            return Err(foreign(field, "bodies", &self.text()));
+            return Err(foreign_handle(field, "bodies", &self.text()));
         }
-        g.engine.body_row(BodyId(self.id)).ok_or_else(|| removed(field, &self.text()))
+        g.engine.body_row(BodyId(self.id)).ok_or_else(|| removed_handle(field, &self.text()))
     }
 }
 
@@ -504,147 +497,7 @@ pub(crate) fn is_handle(o: &Bound<'_, PyAny>) -> bool {
     o.is_instance_of::<ParticleHandle>()
         || o.is_instance_of::<BodyHandle>()
         || o.is_instance_of::<ConstraintHandle>()
-        || o.is_instance_of::<BodySpringHandle>()
-        || o.is_instance_of::<BodyForceHandle>()
+        || o.is_instance_of::<crate::body_link_handle::BodySpringHandle>()
+        || o.is_instance_of::<crate::body_link_handle::BodyForceHandle>()
         || o.is_instance_of::<crate::solid_handles::SolidHandle>()
-}
-
-/// A handle of a body link (a body spring or a Python force at a body point): id, alive,
-/// its place among its kind by `__index__`.
-macro_rules! link_handle {
-    ($(#[$doc:meta])* $name:ident, $what:literal, $row:ident, $id:ident) => {
-        $(#[$doc])*
-        #[pyclass(module = "physstep._core", frozen)]
-        pub struct $name {
-            pub(crate) world: Py<World>,
-            pub(crate) family: u64,
-            pub(crate) id: u64,
-        }
-
-        impl $name {
-            fn text(&self) -> String {
-                format!("{}(id={})", stringify!($name), self.id)
-            }
-
-            /// The id, checked to be of the World whose state `g` is.
-            pub(crate) fn id_in(&self, g: &Inner) -> PyResult<physstep::world::$id> {
-                if self.family != g.family {
-                    return Err(foreign($what, concat!($what, "s"), &self.text()));
-                }
-                Ok(physstep::world::$id(self.id))
-            }
-        }
-
-        #[pymethods]
-        impl $name {
-            /// The id in its World: never given to another of its kind in that World.
-            #[getter]
-            fn id(&self) -> u64 {
-                self.id
-            }
-
-            /// The World the handle came from.
-            #[getter]
-            fn world(&self, py: Python<'_>) -> Py<World> {
-                self.world.clone_ref(py)
-            }
-
-            /// Whether it is still in its World (it goes with its body, or with the
-            /// particle a body spring ends on).
-            #[getter]
-            fn alive(&self) -> PyResult<bool> {
-                let g = self.world.get().lock()?;
-                Ok(g.engine.$row(physstep::world::$id(self.id)).is_some())
-            }
-
-            /// Its place among its kind in the World; ValueError once removed.
-            fn __index__(&self) -> PyResult<usize> {
-                let g = self.world.get().lock()?;
-                g.engine.$row(physstep::world::$id(self.id)).ok_or_else(|| removed($what, &self.text()))
-            }
-
-            fn __repr__(&self) -> String {
-                self.text()
-            }
-
-            /// Equal handles name the same one of the same World family.
-            fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-                other.cast::<$name>().is_ok_and(|o| o.get().id == self.id && o.get().family == self.family)
-            }
-
-            fn __hash__(&self) -> u64 {
-                self.id ^ self.family.rotate_left(31)
-            }
-        }
-    };
-}
-
-link_handle!(
-    /// A handle to one body spring (what `add_body_spring` returns); `World.remove(h)`
-    /// removes it.
-    BodySpringHandle,
-    "body_spring",
-    body_spring_row,
-    BodySpringId
-);
-link_handle!(
-    /// A handle to one Python force at a body point (what `add_body_force` returns);
-    /// `World.remove(h)` removes it.
-    BodyForceHandle,
-    "body_force",
-    body_force_row,
-    BodyForceId
-);
-
-/// A body spring's parameters through its handle, read and written as `add_body_spring`
-/// takes them (a write is checked the same way; the next step sees it).
-#[pymethods]
-impl BodySpringHandle {
-    /// Stiffness, N/m.
-    #[getter]
-    fn stiffness(&self) -> PyResult<f64> {
-        Ok(self.spring()?.stiffness)
-    }
-
-    #[setter]
-    fn set_stiffness(&self, value: f64) -> PyResult<()> {
-        self.set(Some(value), None, None)
-    }
-
-    /// Rest length, m.
-    #[getter]
-    fn rest_length(&self) -> PyResult<f64> {
-        Ok(self.spring()?.rest_length)
-    }
-
-    #[setter]
-    fn set_rest_length(&self, value: f64) -> PyResult<()> {
-        self.set(None, Some(value), None)
-    }
-
-    /// Damping along the spring, N s/m.
-    #[getter]
-    fn damping(&self) -> PyResult<f64> {
-        Ok(self.spring()?.damping)
-    }
-
-    #[setter]
-    fn set_damping(&self, value: f64) -> PyResult<()> {
-        self.set(None, None, Some(value))
-    }
-}
-
-impl BodySpringHandle {
-    /// The spring as the World holds it, or the one-line error of a removed or foreign one.
-    fn spring(&self) -> PyResult<physstep::rigid::body::BodySpring> {
-        let g = self.world.get().lock()?;
-        let id = self.id_in(&g)?;
-        g.engine.body_spring(id).ok_or_else(|| removed("body_spring", &self.text()))
-    }
-
-    fn set(&self, stiffness: Option<f64>, rest: Option<f64>, damping: Option<f64>) -> PyResult<()> {
-        let mut g = self.world.get().lock()?;
-        let id = self.id_in(&g)?;
-        g.flush()?.set_body_spring(id, stiffness, rest, damping).map_err(crate::py_err)
-    }
 }

@@ -69,3 +69,16 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ConstraintWarning", py.get_type::<ConstraintWarning>())?;
     Ok(())
 }
+
+/// A handle of another World (not a copy's or a pickle's of its own): `field`, the argument's name; `kinds`: the handle's entities (`particles`, `bodies`, ...).
+pub(crate) fn foreign_handle(field: &str, kinds: &str, text: &str) -> PyErr {
+    PyValueError::new_err(format!(
+        "invalid {field} = {text}: must be a handle of this World's {kinds} (it is another World's; \
+         a copy or a pickle of a World takes the handles of the World it came from)"
+    ))
+}
+
+/// A handle whose entity, link or force was removed from its World.
+pub(crate) fn removed_handle(what: &str, text: &str) -> PyErr {
+    PyValueError::new_err(format!("invalid {what} = {text}: it was removed from its World"))
+}

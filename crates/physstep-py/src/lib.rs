@@ -10,6 +10,7 @@
 //! panics across the boundary: every engine call returns a `Result`, and every bad argument
 //! is a `ValueError` that names it.
 
+mod body_link_handle;
 mod convert;
 mod entity_handle;
 mod entity_views;
@@ -58,8 +59,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<entity_handle::ParticleHandles>()?;
     m.add_class::<entity_handle::ConstraintHandle>()?;
     m.add_class::<entity_handle::BodyHandle>()?;
-    m.add_class::<entity_handle::BodySpringHandle>()?;
-    m.add_class::<entity_handle::BodyForceHandle>()?;
+    m.add_class::<body_link_handle::BodySpringHandle>()?;
+    m.add_class::<body_link_handle::BodyForceHandle>()?;
     m.add_class::<entity_views::Particles>()?;
     m.add_class::<entity_views::Particle>()?;
     m.add_class::<entity_views::Bodies>()?;
@@ -76,11 +77,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<shapes::Capsule>()?;
     m.add_class::<shapes::Mesh>()?;
     m.add_class::<shapes::MassProperties>()?;
-    m.add_class::<world_solids::SolidShape>()?;
-    m.add_class::<world_solids::Circle>()?;
-    m.add_class::<world_solids::Polygon>()?;
-    m.add_class::<world_solids::Segment>()?;
-    m.add_class::<world_solids::PlaneShape>()?;
+    m.add_class::<shapes::SolidShape>()?;
+    m.add_class::<shapes::Circle>()?;
+    m.add_class::<shapes::Polygon>()?;
+    m.add_class::<shapes::Segment>()?;
+    m.add_class::<shapes::PlaneShape>()?;
     m.add_function(wrap_pyfunction!(world_solids::contact_solvers, m)?)?;
     m.add_function(wrap_pyfunction!(world_solids::solver_infos, m)?)?;
     m.add_function(wrap_pyfunction!(world_bodies::orientation_rules, m)?)?;

@@ -1,5 +1,8 @@
 //! Rigid-body shapes (`Sphere`, `Box`, `Cylinder`, `Capsule`, `Mesh`, subclasses of
-//! `Shape`) and their mass properties (`MassProperties`).
+//! `Shape`) and their mass properties (`MassProperties`); the shapes only solids take
+//! (`Circle`, `Polygon`, `Segment`, `Plane`, subclasses of `SolidShape`), and the contact
+//! shape of any shape object a solid takes (a solid also takes `Sphere`, `Box` with three
+//! half extents or two in a 2D world, `Capsule` and a static `Mesh`).
 //!
 //! Native classes, not Python classes over a function: each holds the engine's
 //! `rigid::inertia::Shape` itself, checked by the engine when it is made (a bad shape never
@@ -13,6 +16,7 @@ use crate::convert::{array, float, indices, invalid, matrix};
 use crate::py_err;
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
+use physstep::contact::Shape as Contact;
 use physstep::rigid::inertia::{MassProperties as Props, Shape as Engine};
 use pyo3::basic::CompareOp;
 use pyo3::prelude::*;
@@ -362,4 +366,105 @@ impl MassProperties {
             p.mass, p.volume, p.center, p.principal_moments
         )
     }
+}
+
+/// A shape only solids take (sizes in m), checked when it is added to a world: `Circle`,
+/// `Polygon`, `Segment` or `Plane`.
+#[pyclass(module = "physstep._core", subclass, frozen, name = "SolidShape")]
+pub struct SolidShape(pub(crate) Contact);
+
+#[pymethods]
+impl SolidShape {
+    /// The shape's name: circle, polygon, segment or plane.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.0.name()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("{:?}", self.0)
+    }
+}
+
+/// A disc in a 2D world, a sphere in a 3D one, of `radius` m.
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Circle")]
+pub struct Circle;
+
+#[pymethods]
+impl Circle {
+    #[new]
+    fn new(radius: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let radius = float(radius, "radius")?;
+        Contact::Circle { radius }.check(2).map_err(py_err)?;
+        Ok(PyClassInitializer::from(SolidShape(Contact::Circle { radius })).add_subclass(Circle))
+    }
+}
+
+/// A convex polygon (2D: its corners in order, either way round) or the convex hull of
+/// `points` (3D): an array of shape (n, dim), m.
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Polygon")]
+pub struct Polygon;
+
+#[pymethods]
+impl Polygon {
+    #[new]
+    fn new(points: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let raw = array(points, "points", None, Some(2))
+            .or_else(|_| array(points, "points", None, Some(3)))
+            .map_err(|_| invalid("points", points, "an array of real numbers of shape (n, 2) or (n, 3)"))?;
+        Ok(PyClassInitializer::from(SolidShape(Contact::Polygon { points: raw })).add_subclass(Polygon))
+    }
+}
+
+/// A segment from `a` to `b` (m), thickened by `radius` (0: a bare segment, static or
+/// kinematic only).
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Segment")]
+pub struct Segment;
+
+#[pymethods]
+impl Segment {
+    #[new]
+    #[pyo3(signature = (a, b, radius=0.0))]
+    fn new(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>, radius: f64) -> PyResult<PyClassInitializer<Self>> {
+        let a = array(a, "a", None, None)?;
+        let b = array(b, "b", None, None)?;
+        let s = Contact::Segment { a, b, radius };
+        Ok(PyClassInitializer::from(SolidShape(s)).add_subclass(Segment))
+    }
+}
+
+/// The ground: the half-space behind a plane (a line in 2D) through the solid's position,
+/// with outward `normal`. Static or kinematic only.
+#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Plane")]
+pub struct PlaneShape;
+
+#[pymethods]
+impl PlaneShape {
+    #[new]
+    fn new(normal: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
+        let normal = array(normal, "normal", None, None)?;
+        Ok(PyClassInitializer::from(SolidShape(Contact::Plane { normal })).add_subclass(PlaneShape))
+    }
+}
+
+/// The contact shape of any shape object a solid takes.
+pub(crate) fn solid_shape(o: &Bound<'_, PyAny>) -> PyResult<Contact> {
+    if let Ok(s) = o.cast::<SolidShape>() {
+        return Ok(s.get().0.clone());
+    }
+    let expected = "a shape: physstep.Circle, Box, Capsule, Polygon, Segment, Plane, Sphere or Mesh";
+    let Ok(s) = o.cast::<Shape>() else { return Err(invalid("shape", o, expected)) };
+    Ok(match &s.get().0 {
+        Engine::Sphere { radius } => Contact::Circle { radius: *radius },
+        Engine::Box { half_extents: [x, y, z] } if *z == 0.0 => Contact::Box { half: vec![*x, *y] },
+        Engine::Box { half_extents } => Contact::Box { half: half_extents.to_vec() },
+        Engine::Capsule { radius, height } => Contact::Capsule { half_height: height / 2.0, radius: *radius },
+        Engine::Mesh { vertices, triangles } => Contact::Mesh {
+            vertices: vertices.iter().flatten().copied().collect(),
+            triangles: triangles.iter().map(|t| t.map(|k| k as u32)).collect(),
+        },
+        Engine::Cylinder { .. } => {
+            return Err(invalid("shape", o, "a shape solids take (a cylinder is not: use a Polygon hull)"))
+        }
+    })
 }

@@ -206,8 +206,8 @@ impl SolidHandle {
 
     /// The shape as added (read-only; its `kind` names it).
     #[getter]
-    fn shape(&self) -> PyResult<crate::world_solids::SolidShape> {
-        self.read(|w, i, _| crate::world_solids::SolidShape(w.solid_params()[i].shape.clone()))
+    fn shape(&self) -> PyResult<crate::shapes::SolidShape> {
+        self.read(|w, i, _| crate::shapes::SolidShape(w.solid_params()[i].shape.clone()))
     }
 
     /// Origin of the shape (dim,), m (a copy); assign to move the solid (validated as

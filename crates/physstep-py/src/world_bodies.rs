@@ -72,7 +72,7 @@ impl World {
         potential: Option<&Bound<'_, PyAny>>,
         velocity_dependent: Option<&Bound<'_, PyAny>>,
         name: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<crate::entity_handle::BodyForceHandle> {
+    ) -> PyResult<crate::body_link_handle::BodyForceHandle> {
         // Resolved before the callable's name is read (Python code), under a lock of its own.
         let body = crate::entity_handle::body(body, "body", &*slf.get().lock()?)?;
         if !func.is_callable() {
@@ -103,7 +103,7 @@ impl World {
         let id = g.engine.next_body_link_ids()[1];
         let crate::handle::Inner { engine, body_forces, slot, .. } = &mut *g;
         add_force(py, engine, body_forces, body, point, spec, slot)?;
-        Ok(crate::entity_handle::BodyForceHandle { world: slf.clone().unbind(), family: g.family, id })
+        Ok(crate::body_link_handle::BodyForceHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Adds a rigid body of `shape` (a physstep.Sphere, Box, Cylinder, Capsule or Mesh) in a
@@ -270,7 +270,7 @@ impl World {
         stiffness: &Bound<'_, PyAny>,
         rest_length: Option<&Bound<'_, PyAny>>,
         damping: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<crate::entity_handle::BodySpringHandle> {
+    ) -> PyResult<crate::body_link_handle::BodySpringHandle> {
         let mut g = slf.get().lock()?;
         let b = crate::entity_handle::body(body, "body", &g)?;
         let point = vector(point, "point", 3)?;
@@ -282,7 +282,7 @@ impl World {
         let other = crate::world_build::endpoint(other, "other", &g)?;
         let id = g.engine.next_body_link_ids()[0];
         g.engine.add_body_spring(b, point, other, stiffness, rest_length, damping).map_err(py_err)?;
-        Ok(crate::entity_handle::BodySpringHandle { world: slf.clone().unbind(), family: g.family, id })
+        Ok(crate::body_link_handle::BodySpringHandle { world: slf.clone().unbind(), family: g.family, id })
     }
 
     /// Body orientations to draw (nb, 4), (w, x, y, z): slerped by `alpha` between the

@@ -299,12 +299,12 @@ impl World {
             }
             return Ok(());
         }
-        if let Ok(h) = handle.cast::<crate::entity_handle::BodySpringHandle>() {
+        if let Ok(h) = handle.cast::<crate::body_link_handle::BodySpringHandle>() {
             let mut g = self.lock()?;
             let id = h.get().id_in(&g)?;
             return g.flush()?.remove_body_spring(id).map_err(py_err);
         }
-        if let Ok(h) = handle.cast::<crate::entity_handle::BodyForceHandle>() {
+        if let Ok(h) = handle.cast::<crate::body_link_handle::BodyForceHandle>() {
             let mut g = self.lock()?;
             let id = h.get().id_in(&g)?;
             let k = g.flush()?.remove_body_force(id).map_err(py_err)?;

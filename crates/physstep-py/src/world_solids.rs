@@ -1,7 +1,6 @@
-//! Solids of a World (rigid bodies with shapes that touch, stepped by the contact solver) and
-//! the shapes only solids take: `Circle`, `Polygon`, `Segment`, `Plane`. A solid also takes
-//! the rigid-body shapes `Sphere`, `Box` (three half extents, or two in a 2D world),
-//! `Capsule` and `Mesh` (static).
+//! Solids of a World (rigid bodies with shapes that touch, stepped by the contact solver):
+//! `add_solid` and the rest of the World's methods for them, their joints, springs and forces.
+//! Their shapes are in `shapes.rs`.
 
 use crate::convert::{array, float, invalid, matrix, text};
 use crate::handle::World;
@@ -9,113 +8,9 @@ use crate::joint_handle::JointHandle;
 use crate::py_err;
 use crate::solid_handles::{solid_arg, SolidForceHandle, SolidHandle, SolidSpringHandle};
 use numpy::{IntoPyArray, PyArray2};
-use physstep::contact::{JointKind, JointParams, Kind, Shape, SolidParams, SolidSpring, SOLVERS};
-use physstep::rigid::inertia::Shape as BodyShape;
+use physstep::contact::{JointKind, JointParams, Kind, SolidParams, SolidSpring, SOLVERS};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// A shape only solids take (sizes in m), checked when it is added to a world: `Circle`,
-/// `Polygon`, `Segment` or `Plane`.
-#[pyclass(module = "physstep._core", subclass, frozen, name = "SolidShape")]
-pub struct SolidShape(pub(crate) Shape);
-
-#[pymethods]
-impl SolidShape {
-    /// The shape's name: circle, polygon, segment or plane.
-    #[getter]
-    fn kind(&self) -> &'static str {
-        self.0.name()
-    }
-
-    fn __repr__(&self) -> String {
-        format!("{:?}", self.0)
-    }
-}
-
-/// A disc in a 2D world, a sphere in a 3D one, of `radius` m.
-#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Circle")]
-pub struct Circle;
-
-#[pymethods]
-impl Circle {
-    #[new]
-    fn new(radius: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
-        let radius = float(radius, "radius")?;
-        Shape::Circle { radius }.check(2).map_err(py_err)?;
-        Ok(PyClassInitializer::from(SolidShape(Shape::Circle { radius })).add_subclass(Circle))
-    }
-}
-
-/// A convex polygon (2D: its corners in order, either way round) or the convex hull of
-/// `points` (3D): an array of shape (n, dim), m.
-#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Polygon")]
-pub struct Polygon;
-
-#[pymethods]
-impl Polygon {
-    #[new]
-    fn new(points: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
-        let raw = array(points, "points", None, Some(2))
-            .or_else(|_| array(points, "points", None, Some(3)))
-            .map_err(|_| invalid("points", points, "an array of real numbers of shape (n, 2) or (n, 3)"))?;
-        Ok(PyClassInitializer::from(SolidShape(Shape::Polygon { points: raw })).add_subclass(Polygon))
-    }
-}
-
-/// A segment from `a` to `b` (m), thickened by `radius` (0: a bare segment, static or
-/// kinematic only).
-#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Segment")]
-pub struct Segment;
-
-#[pymethods]
-impl Segment {
-    #[new]
-    #[pyo3(signature = (a, b, radius=0.0))]
-    fn new(a: &Bound<'_, PyAny>, b: &Bound<'_, PyAny>, radius: f64) -> PyResult<PyClassInitializer<Self>> {
-        let a = array(a, "a", None, None)?;
-        let b = array(b, "b", None, None)?;
-        let s = Shape::Segment { a, b, radius };
-        Ok(PyClassInitializer::from(SolidShape(s)).add_subclass(Segment))
-    }
-}
-
-/// The ground: the half-space behind a plane (a line in 2D) through the solid's position,
-/// with outward `normal`. Static or kinematic only.
-#[pyclass(module = "physstep._core", extends = SolidShape, frozen, name = "Plane")]
-pub struct PlaneShape;
-
-#[pymethods]
-impl PlaneShape {
-    #[new]
-    fn new(normal: &Bound<'_, PyAny>) -> PyResult<PyClassInitializer<Self>> {
-        let normal = array(normal, "normal", None, None)?;
-        Ok(PyClassInitializer::from(SolidShape(Shape::Plane { normal })).add_subclass(PlaneShape))
-    }
-}
-
-/// The contact shape of any shape object a solid takes.
-fn solid_shape(o: &Bound<'_, PyAny>) -> PyResult<Shape> {
-    if let Ok(s) = o.cast::<SolidShape>() {
-        return Ok(s.get().0.clone());
-    }
-    let expected = "a shape: physstep.Circle, Box, Capsule, Polygon, Segment, Plane, Sphere or Mesh";
-    let Ok(s) = o.cast::<crate::shapes::Shape>() else { return Err(invalid("shape", o, expected)) };
-    Ok(match &s.get().0 {
-        BodyShape::Sphere { radius } => Shape::Circle { radius: *radius },
-        BodyShape::Box { half_extents: [x, y, z] } if *z == 0.0 => Shape::Box { half: vec![*x, *y] },
-        BodyShape::Box { half_extents } => Shape::Box { half: half_extents.to_vec() },
-        BodyShape::Capsule { radius, height } => {
-            Shape::Capsule { half_height: height / 2.0, radius: *radius }
-        }
-        BodyShape::Mesh { vertices, triangles } => Shape::Mesh {
-            vertices: vertices.iter().flatten().copied().collect(),
-            triangles: triangles.iter().map(|t| t.map(|k| k as u32)).collect(),
-        },
-        BodyShape::Cylinder { .. } => {
-            return Err(invalid("shape", o, "a shape solids take (a cylinder is not: use a Polygon hull)"))
-        }
-    })
-}
 
 /// Adds a Python force at `point` of `solid` to the engine and keeps its spec (for copies and
 /// pickles).
@@ -183,7 +78,7 @@ impl World {
         angular_damping: Option<&Bound<'_, PyAny>>,
         bullet: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<SolidHandle> {
-        let shape = solid_shape(shape)?;
+        let shape = crate::shapes::solid_shape(shape)?;
         let given = |o: Option<&Bound<'_, PyAny>>, field: &str, default: f64| -> PyResult<f64> {
             o.filter(|o| !o.is_none()).map_or(Ok(default), |o| float(o, field))
         };
