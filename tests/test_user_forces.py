@@ -3,6 +3,8 @@ rounding, exceptions propagated with the step rolled back, unknown energy said s
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import physstep
 import pytest
@@ -145,29 +147,98 @@ def test_an_inplace_force_may_still_return_an_array() -> None:
     assert w.state_hash() == ref.state_hash()
 
 
-def test_x_and_v_are_read_only_reused_and_a_kept_array_keeps_its_values() -> None:
-    seen: list[tuple[int, int]] = []
-    kept: list[tuple[np.ndarray, np.ndarray, float]] = []
+@pytest.mark.parametrize("method", ["symplectic-euler", "velocity-verlet", "rk4"])
+def test_x_and_v_are_read_only_reused_views_of_the_state_where_a_method_evaluates_there(method: str) -> None:
+    seen: list[tuple[int, int, type, type]] = []
 
     def force(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         assert not x.flags.writeable and not v.flags.writeable
         with pytest.raises(ValueError, match="read-only"):
             x[0, 0] = 1.0
-        seen.append((id(x), id(v)))
-        if len(seen) == 3:
-            kept.append((x, v[:, :1], float(x[0, 0])))  # the array itself, and a view of v
+        if type(x.base).__name__ == "StateView":  # a view of the World's state stays read-only
+            with pytest.raises(ValueError, match="WRITEABLE"):
+                x.flags.writeable = True
+        seen.append((id(x), id(v), type(x.base), type(v.base)))
         return -x
 
-    w = physstep.World(2, method="symplectic-euler", dt=0.1)
+    w = physstep.World(2, method=method, dt=0.1)
     w.add_particles([[1.0, 0.0], [0.0, 2.0]])
     w.add_force(force)
-    w.step(6)
-    # The same arrays call after call, until one was kept; then new ones, also reused.
-    assert seen[0] == seen[1] == seen[2]
-    assert seen[3] != seen[2] and seen[3] == seen[4] == seen[5]
-    x, v_col, x00 = kept[0]
-    assert float(x[0, 0]) == x00 and v_col.shape == (2, 1)
-    assert float(w.positions[0, 0]) != x00  # the world moved on; the kept copy did not
+    w.step(4)
+    ref = physstep.World(2, method=method, dt=0.1)
+    ref.add_particles([[1.0, 0.0], [0.0, 2.0]])
+    ref.add_spring(0, [0.0, 0.0], 1.0, rest_length=0.0)
+    ref.add_spring(1, [0.0, 0.0], 1.0, rest_length=0.0)
+    ref.step(4)
+    assert w.state_hash() == ref.state_hash()
+    # Views of the World's own state (no copy) where the method evaluates at the state: every
+    # evaluation of symplectic Euler and velocity Verlet, RK4's first of four; RK4's stages
+    # are copies, in arrays the force also reuses. Either way, the same arrays call after call.
+    views = {(id_x, tx) for id_x, _, tx, _ in seen if tx is not type(None)}
+    assert len(views) == 1 and next(iter(views))[1].__name__ == "StateView"
+    assert len({s[0] for s in seen}) == (2 if method == "rk4" else 1)
+    assert len({s[1] for s in seen}) == (2 if method == "rk4" else 1)
+
+
+@pytest.mark.parametrize("method", ["symplectic-euler", "rk4"])
+@pytest.mark.parametrize("what", ["x", "v[:, :1]", "memoryview(x)"])
+def test_a_force_that_keeps_x_or_v_past_its_call_is_warned_once(method: str, what: str) -> None:
+    kept: list[object] = []
+    keep = {"on": False}
+
+    def force(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        if keep["on"]:
+            kept.append(eval(what, {"x": x, "v": v}))
+        return -x
+
+    w = physstep.World(2, method=method, dt=0.1)
+    w.add_particles([[1.0, 0.0], [0.0, 2.0]])
+    w.add_force(force, name="keeper")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        w.step(1)
+    keep["on"] = True
+    name = "v" if what.startswith("v") else "x"
+    message = (
+        rf"physstep: force 'keeper' kept its argument {name} \(or a view of it\) after returning: x and v"
+        rf" are valid during the call only .*; keep a copy \({name}\.copy\(\)\)"
+    )
+    with pytest.warns(RuntimeWarning, match=message):
+        w.step(3)
+    assert w.steps == 4
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        w.step(3)  # once per force
+    # Turned into an error, the warning fails the step (rolled back).
+    w = physstep.World(2, method=method, dt=0.1)
+    w.add_particles([[1.0, 0.0], [0.0, 2.0]])
+    w.add_force(force, name="keeper")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(RuntimeWarning, match=message):
+            w.step(2)
+    assert w.steps == 0
+
+
+def test_a_kept_view_is_live_and_stays_readable_after_the_world_grows() -> None:
+    kept: list[np.ndarray] = []
+
+    def force(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
+        if not kept:
+            kept.append(x)
+        return -x
+
+    w = physstep.World(2, dt=0.1)
+    w.add_particles([[1.0, 0.0], [0.0, 2.0]])
+    w.add_force(force)
+    with pytest.warns(RuntimeWarning, match="kept its argument x"):
+        w.step(3)
+    # A view of the World's positions, as World.positions is: it moved on with the World.
+    np.testing.assert_array_equal(kept[0], w.positions)
+    before = kept[0].copy()
+    w.add_particles(np.ones((1000, 2)))  # reallocates the state: the view keeps the old memory
+    w.step()
+    np.testing.assert_array_equal(kept[0], before)
 
 
 def test_an_inplace_force_with_a_wrong_return_or_exception_fails_as_before() -> None:
@@ -382,7 +453,7 @@ def test_a_callback_that_uses_its_own_world_is_told_so(what: str) -> None:
         try:
             w.positions  # noqa: B018
         except physstep.WorldBusyError as e:
-            seen.append(e)
+            seen.append(str(e))  # (not e: its traceback would keep the force's x alive)
 
     def force(t: float, x: np.ndarray, v: np.ndarray) -> np.ndarray:
         if what == "force":

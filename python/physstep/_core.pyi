@@ -1395,8 +1395,10 @@ class World:
         """Adds a Python force: ``func(t, x, v)`` gets positions and velocities (n, dim) as
         read-only arrays and returns forces (n, dim), N; with ``inplace=True`` it is
         ``func(t, x, v, out)`` and writes them into ``out`` (n, dim, zeroed), returning None.
-        The arrays are reused from call to call, not allocated (one kept past its call is
-        left to the caller with its values, and replaced). ``potential(x)`` (J) makes the
+        ``x`` and ``v`` are valid during the call only: read-only views of the World's own
+        state where the method evaluates there (no copy), else copies in reused arrays; a
+        function that keeps one past its call is warned once (RuntimeWarning: keep
+        ``x.copy()``). ``potential(x)`` (J) makes the
         energy known; ``jacobian(t, x, v)`` returns (dF/dx, dF/dv) for the implicit methods.
         Returns its handle (kind ``python``; ``World.remove`` takes it); ValueError if an
         argument is not callable.

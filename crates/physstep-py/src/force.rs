@@ -7,17 +7,20 @@
 //!
 //! What the callable is handed, and why it is sound (docs/worlds.md, "Python forces"):
 //!
-//! * `x` and `v` are read-only `(n, dim)` float64 arrays the force owns and refills before
-//!   every call: the engine's positions and velocities are copied into them (one `memcpy` of
-//!   memory already in cache), no fresh allocation. They are not views of the engine's own
-//!   buffers: a method hands a force its stage buffers, which it overwrites and may
-//!   reallocate, so an array over them that the callable kept (a list of past states, a
-//!   closure) would read freed memory later. These arrays are ordinary numpy-owned arrays.
+//! * `x` and `v` are read-only `(n, dim)` float64 arrays, valid during the call only. When the
+//!   engine hands the force the World's own positions and velocities (the method evaluates at
+//!   the state: the Euler methods, Verlet's drifted positions, RK4's first stage), and the
+//!   World lends them (`crate::slot`: during `step`, `advance` and `record`), they are views of
+//!   the engine's `state.y`, made once a call of steps: no copy, and sound for as long as they
+//!   live, whatever the callable keeps (the memory stays alive and in place under the World's
+//!   lease, as `World.positions`' does). Anything else (a method's stage buffers, which it
+//!   overwrites and may reallocate) is copied into arrays the force owns and refills call
+//!   after call.
 //! * After the call, an array whose reference count is above the force's own (the callable
-//!   kept it, or a view of it: numpy views hold their base) is left to the callable with
-//!   the values of that call, and the next call makes a new one. So an array is refilled
-//!   only while nothing but this force can see it: a kept `x` never changes under its
-//!   holder ("copy on keep").
+//!   kept it, or a view of it: a view holds the array, or a lent view's base) is not reused:
+//!   a kept copy keeps the values of that call, a kept view shows the World's state as it
+//!   steps on. Keeping one is warned, once per force (`RuntimeWarning`), as it is most likely
+//!   a history that would read the same array over and over: `x.copy()` keeps values.
 //! * With `inplace=True` the callable is `f(t, x, v, out)`: `out` is a writeable `(n, dim)`
 //!   array, zeroed before each call, that it fills (`np.multiply(v, -c, out=out)`) and the
 //!   result is read from it; returning an array instead still works. Without it the
@@ -27,14 +30,13 @@
 //!   callable that steps a copy of its own world (which shares this force) gets fresh
 //!   arrays instead of the ones in use.
 
+use crate::slot::Slot;
 use numpy::{npyffi, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use physstep::forces::ForceGenerator;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyFloat};
-use std::sync::{Arc, Mutex, PoisonError};
-
-/// Where a Python exception raised inside a step waits to be re-raised.
-pub(crate) type Slot = Arc<Mutex<Option<PyErr>>>;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 
 /// The arrays a Python force hands its callable, kept between calls.
 #[derive(Default)]
@@ -75,6 +77,8 @@ pub(crate) struct PyForce {
     pub slot: Slot,
     /// The arrays handed to the callable, reused between calls (`None` while lent out).
     lent: Mutex<Lent>,
+    /// Whether the callable was warned that it kept `x` or `v`.
+    warned: AtomicBool,
 }
 
 /// A Python force as kept for pickling: func, potential, jacobian, velocity_dependent, name,
@@ -95,7 +99,8 @@ impl PyForce {
         slot: Slot,
     ) -> Self {
         let lent = Mutex::default();
-        Self { name, dim, func, potential, jacobian, velocity_dependent, inplace, slot, lent }
+        let warned = AtomicBool::new(false);
+        Self { name, dim, func, potential, jacobian, velocity_dependent, inplace, slot, lent, warned }
     }
 
     /// The spec the bindings keep to pickle and copy this force:
@@ -220,23 +225,61 @@ impl PyForce {
         Ok(())
     }
 
+    /// `data`, the positions (`X`) or velocities (`V`) of `rows` points, for the callable, and
+    /// whether it is lent (a view of the World's own state, `crate::slot`) rather than copied
+    /// into an array the force owns.
+    fn hand<'py>(
+        &self,
+        py: Python<'py>,
+        which: Which,
+        rows: usize,
+        data: &[f64],
+    ) -> PyResult<(Bound<'py, PyArray2<f64>>, bool)> {
+        let part = usize::from(matches!(which, Which::V));
+        match self.slot.view(py, part, data)? {
+            Some(view) => Ok((view, true)),
+            None => Ok((self.take(py, which, rows, Some(data))?, false)),
+        }
+    }
+
+    /// After a call: whether the callable kept `arr`, handed by [`PyForce::hand`], or a view
+    /// of it; if not, `arr` serves the next call.
+    fn hand_back(&self, which: Which, data: &[f64], (arr, lent): (Bound<'_, PyArray2<f64>>, bool)) -> bool {
+        // SAFETY: `arr` is a live array (we hold it) and the GIL is held. Ours is one reference
+        // to it; a view of it holds either it or (a lent view's) its base, the `StateView`,
+        // which `arr` holds once.
+        let kept = unsafe {
+            let base = (*npyffi::objects::_PyArray_GET_ITEM_DATA(arr.as_array_ptr())).base;
+            pyo3::ffi::Py_REFCNT(arr.as_ptr()) > 1 || (!base.is_null() && pyo3::ffi::Py_REFCNT(base) > 1)
+        };
+        // (Its holder may have reshaped it in place during the call: then a new one.)
+        if !kept && arr.shape() == [data.len() / self.dim, self.dim] && arr.is_c_contiguous() {
+            match lent {
+                true => self.slot.give_back(usize::from(matches!(which, Which::V)), data, arr),
+                false => self.give_back(which, arr),
+            }
+        }
+        kept
+    }
+
     /// Calls the callable at `t`, `x`, `v` (and `out`) and hands the forces it gave to `take`.
+    /// A callable that keeps `x` or `v` (or a view of either) past the call is warned, once
+    /// (`RuntimeWarning`): they are valid during the call only (a view of the World's state
+    /// changes as it steps).
     fn call(&self, t: f64, x: &[f64], v: &[f64], take: &mut dyn FnMut(&[f64])) -> Result<(), String> {
         Python::attach(|py| {
             let n = x.len() / self.dim;
             let lent = (|| -> PyResult<_> {
-                let xa = self.take(py, Which::X, n, Some(x))?;
-                let va = self.take(py, Which::V, n, Some(v))?;
+                let xa = self.hand(py, Which::X, n, x)?;
+                let va = self.hand(py, Which::V, n, v)?;
                 let out = if self.inplace { Some(self.take(py, Which::Out, n, None)?) } else { None };
                 Ok((xa, va, out))
             })();
             let (xa, va, out) = lent.map_err(|e| self.keep(py, e))?;
             let r = match &out {
-                Some(o) => self.func.bind(py).call1((t, &xa, &va, o)),
-                None => self.func.bind(py).call1((t, &xa, &va)),
+                Some(o) => self.func.bind(py).call1((t, &xa.0, &va.0, o)),
+                None => self.func.bind(py).call1((t, &xa.0, &va.0)),
             };
-            self.give_back(Which::X, xa);
-            self.give_back(Which::V, va);
             let r = r.map_err(|e| self.keep(py, e)).and_then(|ret| match &out {
                 Some(o) if ret.is_none() || ret.is(o) => {
                     drop(ret);
@@ -244,11 +287,27 @@ impl PyForce {
                 }
                 _ => Self::read_matrix(&ret, "the returned force", n, self.dim, take),
             });
+            let kept = [(self.hand_back(Which::X, x, xa), "x"), (self.hand_back(Which::V, v, va), "v")];
             if let Some(o) = out {
                 self.give_back(Which::Out, o);
             }
             // (The engine checks the forces for NaN and infinity, and names the entry.)
-            r
+            r?;
+            match kept.iter().find(|(k, _)| *k) {
+                Some((_, what)) if !self.warned.swap(true, Ordering::Relaxed) => {
+                    let msg = format!(
+                        "physstep: force '{}' kept its argument {what} (or a view of it) after \
+                         returning: x and v are valid during the call only (views of the World's \
+                         own state, which later steps change); keep a copy ({what}.copy())",
+                        self.name
+                    );
+                    let kind = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+                    // (Warnings turned into errors: the step fails with it.)
+                    PyErr::warn(py, &kind, &std::ffi::CString::new(msg).unwrap_or_default(), 1)
+                        .map_err(|e| self.keep(py, e))
+                }
+                _ => Ok(()),
+            }
         })
     }
 }
@@ -257,10 +316,7 @@ impl PyForce {
 /// for the engine.
 fn keep(slot: &Slot, py: Python<'_>, e: PyErr) -> String {
     let msg = format!("raised {}", e.value(py));
-    let mut slot = slot.lock().unwrap_or_else(PoisonError::into_inner);
-    if slot.is_none() {
-        *slot = Some(e);
-    }
+    slot.keep(e);
     msg
 }
 

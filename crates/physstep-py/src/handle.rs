@@ -8,9 +8,9 @@
 //! touched it) raises `WorldBusyError` at once rather than wait or corrupt anything.
 
 use crate::errors::WorldBusyError;
-use crate::force::Slot;
 use crate::lease::Views;
 use crate::py_err;
+use crate::slot::{Lend, Slot};
 use physstep::world::{ParticleBatch, World as Engine};
 use pyo3::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -118,6 +118,18 @@ impl Inner {
         Ok(&mut self.engine)
     }
 
+    /// The engine, flushed, for a call that steps: its positions and velocities lent to its
+    /// Python forces (`crate::slot`) while the returned [`Lend`] lives, when it has any.
+    pub(crate) fn stepping(&mut self, world: &Bound<'_, World>) -> PyResult<(&mut Engine, Option<Lend>)> {
+        self.flush()?;
+        let forces = self.engine.model().user_forces() > 0;
+        let lend = forces.then(|| {
+            let lease = std::sync::Arc::clone(&self.views.current);
+            Lend::new(&self.slot, world.clone().unbind(), lease, &self.engine)
+        });
+        Ok((&mut self.engine, lend))
+    }
+
     /// The engine for a call that adds particles or bodies (which reallocates its state):
     /// flushed, and the zero-copy views lent out detached first.
     pub(crate) fn grow(&mut self) -> PyResult<&mut Engine> {
@@ -135,7 +147,7 @@ impl Inner {
 /// The engine's error as a Python exception; an exception a user force raised during the
 /// call comes first, unchanged.
 pub(crate) fn raise(slot: &Slot, e: physstep::Error) -> PyErr {
-    let kept = slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take();
+    let kept = slot.take();
     kept.unwrap_or_else(|| py_err(e))
 }
 

@@ -16,14 +16,13 @@ use pyo3::prelude::*;
 pub(crate) fn stopped(
     py: Python<'_>,
     e: &physstep::Error,
-    slot: Option<&crate::force::Slot>,
+    slot: Option<&crate::slot::Slot>,
 ) -> PyResult<bool> {
     if !matches!(e, physstep::Error::Interrupted { .. }) {
         return Ok(false);
     }
     physstep::interrupt::clear();
-    if let Some(kept) = slot.and_then(|s| s.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take())
-    {
+    if let Some(kept) = slot.and_then(|s| s.take()) {
         return Err(kept);
     }
     py.check_signals()?;

@@ -26,6 +26,7 @@ mod record;
 mod registry;
 mod scene_file;
 mod shapes;
+mod slot;
 mod solid_handles;
 mod views;
 mod world;

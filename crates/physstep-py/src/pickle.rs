@@ -22,9 +22,10 @@
 //! step with the defaults).
 
 use crate::convert::{bytes, text};
-use crate::force::{PyForce, Slot};
+use crate::force::PyForce;
 use crate::handle::{raise, Inner, World};
 use crate::py_err;
+use crate::slot::Slot;
 use physstep::clock::LoopMode;
 use physstep::flows::Flow;
 use physstep::forces::ForceId;

@@ -105,7 +105,7 @@ pub(crate) fn run(
     py: Python<'_>,
     w: &mut physstep::world::World,
     rp: RecordParams,
-    slot: Option<&crate::force::Slot>,
+    slot: Option<&crate::slot::Slot>,
     defer_kinetic: bool,
 ) -> PyResult<(Recording, u64)> {
     let fail = |e: physstep::Error| match slot {
@@ -148,7 +148,7 @@ pub(crate) fn run(
     // A failure the run stopped at (stop_on_diverge) may have been a Python exception; a
     // potential that returned no number (its energy column unknown) left its error too.
     if let Some(s) = slot {
-        if let Some(e) = s.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take() {
+        if let Some(e) = s.take() {
             rec.diverged = None;
             return Err(e);
         }

@@ -60,19 +60,38 @@ pub(crate) fn view<'py>(world: &Bound<'py, World>, part: Part) -> PyResult<Bound
         Part::Positions => w.positions(),
         Part::Velocities => w.velocities(),
     };
-    let dim = w.dim();
+    let base = StateView::new(world.clone().unbind(), lease);
+    borrow(py, data, w.dim(), base)
+}
+
+impl StateView {
+    /// The base object of views of the state of `world`, lent under `lease`.
+    pub(crate) fn new(world: Py<World>, lease: Arc<Lease>) -> Self {
+        Self { _world: world, _lease: lease }
+    }
+}
+
+/// A read-only `(rows, dim)` float64 array over `data`, a part of the state of the World that
+/// `base` holds, lent under the lease `base` holds: the World's current one.
+pub(crate) fn borrow<'py>(
+    py: Python<'py>,
+    data: &[f64],
+    dim: usize,
+    base: StateView,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let rows = data.len() / dim;
     let a = ArrayView2::from_shape((rows, dim), &data[..rows * dim])
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let base = Bound::new(py, StateView { _world: world.clone().unbind(), _lease: lease })?;
+    let base = Bound::new(py, base)?;
     // SAFETY: `borrow_from_array` asks that the memory of `a` stay valid, and not be
     // reallocated, until `base` is dropped. `a` is a slice of the engine's `state.y` or
     // `state.f`. `base` owns the World (so the engine and its buffers are not dropped) and a
     // share of the current lease; the engine reallocates those buffers only in calls that
-    // change the state's layout, and each runs `Views::detach` first (under this same lock),
-    // which, the lease being shared, moves the buffers into the lease unchanged rather than
-    // let them be freed. So the memory lives until `base`, the array's base object, is gone.
-    // Writes by the engine later (steps) are in place, and numpy reads them as plain f64.
+    // change the state's layout, and each runs `Views::detach` first (under the World's lock,
+    // which the caller holds), which, the lease being shared, moves the buffers into the lease
+    // unchanged rather than let them be freed. So the memory lives until `base`, the array's
+    // base object, is gone. Writes by the engine later (steps) are in place, and numpy reads
+    // them as plain f64.
     let arr = unsafe { PyArray2::borrow_from_array(&a, base.into_any()) };
     // SAFETY: `arr` was just made here and no other reference to it exists; clearing the
     // WRITEABLE bit of its flags is what `PyArray_CLEARFLAGS` does. Its base is not an array

@@ -4,10 +4,10 @@
 //! leaves the world after the last whole step.
 
 use crate::convert::{array, count, float, text, whole};
-use crate::force::Slot;
 use crate::handle::{raise, World};
 use crate::py_err;
 use crate::record::SLICE;
+use crate::slot::Slot;
 
 /// Steps times coordinates from which a `step` call hears Ctrl-C inside a step (below it a
 /// call is over in microseconds: not worth two system calls).
@@ -123,8 +123,7 @@ impl World {
     /// a row every `every` steps. Returns the data of a `physstep.Trajectory` (as a dict).
     #[pyo3(signature = (until, every=None, stop_on_diverge=None, stages=None))]
     fn record<'py>(
-        &self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         until: &Bound<'py, PyAny>,
         every: Option<&Bound<'py, PyAny>>,
         stop_on_diverge: Option<&Bound<'py, PyAny>>,
@@ -136,9 +135,10 @@ impl World {
             |o: Option<&Bound<'py, PyAny>>, f: &str| o.map_or(Ok(false), |o| crate::convert::flag(o, f));
         let stop_on_diverge = flag(stop_on_diverge, "stop_on_diverge")?;
         let stages = flag(stages, "stages")?;
-        let mut g = self.lock()?;
+        let py = slf.py();
+        let mut g = slf.get().lock()?;
         let slot = g.slot.clone();
-        let w = g.flush()?;
+        let (w, _lend) = g.stepping(slf)?;
         let dt = w.dt();
         let rp = physstep::record::RecordParams { dt, until, every, stages, stop_on_diverge };
         let (rec, elapsed) = crate::record::run(py, w, rp, Some(&slot), false)?;
@@ -236,11 +236,12 @@ impl World {
     /// is rolled back, the steps before it stay taken); Ctrl-C stops after a whole step, heard
     /// inside a long step too (the step under way rolled back).
     #[pyo3(signature = (n=None))]
-    fn step(&self, py: Python<'_>, n: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    fn step(slf: &Bound<'_, Self>, n: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let py = slf.py();
         let mut left = n.map_or(Ok(1), |n| count(n, "n"))?;
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         let slot = g.slot.clone();
-        let w = g.flush()?;
+        let (w, _lend) = g.stepping(slf)?;
         // Ctrl-C inside a step of a call that may take long (crate::interrupt).
         let work = left.saturating_mul(w.positions().len() as u64);
         let _watch = (work >= WATCHED_WORK).then(crate::interrupt::Watch::new);
@@ -281,10 +282,11 @@ impl World {
     }
 
     /// Runs one frame of the game loop; returns the number of fixed steps taken.
-    fn advance(&self, frame_time: &Bound<'_, PyAny>) -> PyResult<u32> {
+    fn advance(slf: &Bound<'_, Self>, frame_time: &Bound<'_, PyAny>) -> PyResult<u32> {
         let frame_time = float(frame_time, "frame_time")?;
-        let mut g = self.lock()?;
+        let mut g = slf.get().lock()?;
         let slot = g.slot.clone();
-        Ok(g.flush()?.advance(frame_time).map_err(|e| raise(&slot, e))?.plan.steps)
+        let (w, _lend) = g.stepping(slf)?;
+        Ok(w.advance(frame_time).map_err(|e| raise(&slot, e))?.plan.steps)
     }
 }

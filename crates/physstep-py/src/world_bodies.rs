@@ -20,7 +20,7 @@ pub(crate) fn add_force(
     body: usize,
     point: [f64; 3],
     spec: Py<PyAny>,
-    slot: &crate::force::Slot,
+    slot: &crate::slot::Slot,
 ) -> PyResult<usize> {
     let force = crate::force::PyForce::from_spec(spec.bind(py), 3, slot)?;
     let k = w.add_body_force(body, point, std::sync::Arc::new(force)).map_err(py_err)?;

@@ -194,9 +194,10 @@ impl World {
     /// Adds a force written in Python: `func(t, x, v)` gets the time and the positions and
     /// velocities of all particles as read-only (n, dim) arrays and returns the forces
     /// (n, dim), N; with `inplace=True` it is `func(t, x, v, out)` and writes the forces into
-    /// `out` (n, dim, zeroed), returning None. It is called once per force evaluation; the
-    /// arrays are reused between calls, not allocated (one kept past its call is left to
-    /// the caller, unchanged, and replaced). `potential(x)` (J) makes the energy known;
+    /// `out` (n, dim, zeroed), returning None. It is called once per force evaluation; `x`
+    /// and `v` are valid during the call only: views of the World's own state where the
+    /// method evaluates there (no copy), else reused copies (keeping one past its call is
+    /// warned once: keep `x.copy()`). `potential(x)` (J) makes the energy known;
     /// `jacobian(t, x, v)` returns (dF/dx, dF/dv), each (n dim, n dim), for the implicit
     /// methods; `velocity_dependent=False` saves re-evaluations when the force ignores v.
     /// An exception raised inside propagates unchanged, with the step rolled back. Returns

@@ -21,7 +21,7 @@ pub(crate) fn add_force(
     solid: usize,
     point: Vec<f64>,
     spec: Py<PyAny>,
-    slot: &crate::force::Slot,
+    slot: &crate::slot::Slot,
 ) -> PyResult<usize> {
     let force = crate::force::PyForce::from_spec(spec.bind(py), w.dim(), slot)?;
     let k = w.add_solid_force(solid, &point, std::sync::Arc::new(force)).map_err(py_err)?;

@@ -119,7 +119,7 @@ impl World {
         let slot = g.slot.clone();
         let w = g.flush()?;
         let e = w.energy();
-        if let Some(err) = slot.lock().unwrap_or_else(std::sync::PoisonError::into_inner).take() {
+        if let Some(err) = slot.take() {
             return Err(err);
         }
         let Some(e) = e else { return Ok(None) };
