@@ -179,3 +179,15 @@ def test_a_scene_too_large_for_memory_is_refused_before_the_work() -> None:
         "physstep: error: invalid n x n = 100000 x 100000: must be at most 1000000 particles\n"
     )
     assert r.stdout == ""
+
+
+def test_a_dt_whose_reference_step_underflows_is_refused_in_one_line(capsys) -> None:
+    # The smallest dt, refined for the reference run (dt / 16 or so), is 0: the run would
+    # take infinitely many steps. It was a ZeroDivisionError, an internal error (found by
+    # scripts/fuzz.sh, round 1, seed 1795842284: compare arch --dt=5e-324 --until=5e-324).
+    assert cli.main(["compare", "arch", "--dt=5e-324", "--until=5e-324"]) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        "physstep: error: invalid until = 5e-324 with dt = 5e-324: the reference run would take inf"
+        " steps (at most 1e+09); use a larger dt or a shorter until\n"
+    )

@@ -65,7 +65,10 @@ def positive(name: str, value: Any) -> float:
 
 def steps(dt: float, until: float) -> int:
     """The step count physstep.simulate takes for (dt, until): until / dt rounded down, a
-    quotient within 1e-9 of a whole number counting as that number."""
+    quotient within 1e-9 of a whole number counting as that number; infinite when the quotient
+    is (a step that underflowed to 0: the smallest dt refined for a reference run)."""
+    if dt == 0.0:
+        return math.inf  # type: ignore[return-value]
     r = until / dt
     if not math.isfinite(r):
         return math.inf  # type: ignore[return-value]
