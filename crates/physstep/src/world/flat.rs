@@ -40,6 +40,50 @@ pub(super) fn evals<M: Method>(method: &M, velocity: bool) -> Option<u64> {
     method.element_step(&mut e).then_some(e.evals)
 }
 
+/// Whether a step of `method` reads no evaluation but the one at its start: its new state is
+/// the same bits whatever the evaluations inside the step return (probed on an element, under
+/// forces that do and do not read the velocity). Explicit and symplectic Euler; not velocity
+/// Verlet (its closing kick reads the end), RK4 or the position-first Euler. Such a method
+/// steps particles under any forces from the stored derivative ([`given`]).
+pub(super) fn start_only<M: Method>(method: &M) -> bool {
+    [false, true].into_iter().all(|velocity| {
+        let step = |inside: f64| {
+            let mut e = Element::new(0.0, 0.5, [0.3, -0.7], [-0.7, 1.9], velocity, move |_, _| inside);
+            method.element_step(&mut e).then_some(e.y.map(f64::to_bits))
+        };
+        matches!((step(0.0), step(1e3)), (Some(a), Some(b)) if a == b)
+    })
+}
+
+/// One step of particles (positions `x`, velocities `v`, flat) by `method`'s element-wise
+/// form from the accelerations `a` at the start (the stored derivative, of any forces; for a
+/// [`start_only`] method), the state at the start kept in `sx`, `sv` as it is read and the
+/// new velocities written to `v_new` too (the velocity half of the next derivative, written
+/// beside the current one). Whether every new value is within the runaway limit.
+#[inline(always)]
+pub(super) fn given<M: Method>(
+    method: &M,
+    h: f64,
+    (x, v): (&mut [f64], &mut [f64]),
+    a: &[f64],
+    v_new: &mut [f64],
+    (sx, sv): (&mut [f64], &mut [f64]),
+) -> bool {
+    let mut flag = false;
+    let saved = sx.iter_mut().zip(sv.iter_mut());
+    let new = x.iter_mut().zip(v.iter_mut()).zip(a).zip(v_new.iter_mut());
+    for ((((x, v), &a), v_new), (sx, sv)) in new.zip(saved) {
+        (*sx, *sv) = (*x, *v);
+        // (The evaluation at the end is the world's own, of all its forces: not this one.)
+        let mut e = Element::new(0.0, h, [*x, *v], [*v, a], false, |_, _| 0.0);
+        method.element_step(&mut e);
+        [*x, *v] = e.y;
+        *v_new = e.y[1];
+        flag |= bad(e.y[0]) | bad(e.y[1]);
+    }
+    !flag
+}
+
 /// Particles per chunk: a chunk's positions, velocities, inverse masses and gravity per
 /// element (`4 * CHUNK * dim` values) stay in L1 for all the steps of a run.
 const CHUNK: usize = 64;
@@ -250,6 +294,23 @@ mod tests {
             }
             Some(per_step)
         }
+    }
+
+    #[test]
+    fn the_methods_whose_step_reads_only_its_start_are_the_two_eulers() {
+        struct Probe;
+        impl Visit for Probe {
+            type Out = bool;
+            fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> bool {
+                super::start_only(m)
+            }
+        }
+        let only: Vec<&str> = INFOS
+            .iter()
+            .filter(|info| Integrator::new(info.name).unwrap().visit(Probe))
+            .map(|info| info.name)
+            .collect();
+        assert_eq!(only, ["explicit-euler", "symplectic-euler"]);
     }
 
     #[test]

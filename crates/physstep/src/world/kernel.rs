@@ -8,6 +8,12 @@
 //! interact under these forces, so neither the order of the work nor the thread count changes
 //! a bit: the kernel and the staged step give bitwise the same trajectory.
 //!
+//! Also here: [`World::given`], the other element-wise Integrate of particles, for a world
+//! whose forces the fused kernel cannot take (user forces, springs between particles, n-body
+//! gravity) under a method whose step reads only the derivative at its start: one step at a
+//! time from the stored accelerations ([`tiles::given`]), the forces then evaluated at the
+//! step's end as the staged step does (`World::integrate_given` in `step.rs`).
+//!
 //! Rollback: the kernel writes the state at its start into the call's [`Rollback`](super::rollback::Rollback) as it
 //! reads it, or, when an earlier call of the kernel kept it and nothing changed since
 //! (`World::reusable`), writes nothing and leaves that one in place. When step `k` of its
@@ -81,6 +87,37 @@ impl<const D: usize> Visit for Fused<'_, D> {
     }
 }
 
+/// Whether a method's step reads only the derivative at its start ([`flat::start_only`]), as
+/// work for [`Integrator::visit`].
+struct StartOnly;
+
+impl Visit for StartOnly {
+    type Out = bool;
+
+    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> bool {
+        flat::start_only(method)
+    }
+}
+
+/// One step of every particle from the stored accelerations ([`tiles::given`]), as work for
+/// [`Integrator::visit`]: whether no new value ran away.
+struct Given<'a> {
+    h: f64,
+    y: &'a mut [f64],
+    a: &'a [f64],
+    v_new: &'a mut [f64],
+    saved: &'a mut [f64],
+}
+
+impl Visit for Given<'_> {
+    type Out = bool;
+
+    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> bool {
+        let Self { h, y, a, v_new, saved } = self;
+        tiles::given::<M>(method, h, y, a, v_new, saved)
+    }
+}
+
 /// Up to `n` steps of a small world with a look at every one, as work for
 /// [`Integrator::visit`]: the good steps, the evaluations each took, and whether the look
 /// stopped the run.
@@ -132,6 +169,39 @@ impl World {
             return None;
         }
         self.integrator.fresh_local()
+    }
+
+    /// A fresh instance of the world's method when its steps can be taken from the stored
+    /// derivative by the element-wise kernel ([`tiles::given`]) and the forces evaluated once
+    /// at each step's end as the staged step does: particles only (no bodies, flow, constraint,
+    /// ball or solid), under any forces (user forces, springs between particles, n-body
+    /// gravity), by a local method whose step reads only the derivative at its start.
+    pub(super) fn given(&self) -> Option<Integrator> {
+        if self.flow.is_some()
+            || !self.constraints.is_empty()
+            || !self.bodies.is_empty()
+            || !self.balls.is_empty()
+            || !self.solids.is_empty()
+            || self.model.mass.is_empty()
+        {
+            return None;
+        }
+        let mut method = self.integrator.fresh_local()?;
+        method.visit(StartOnly).then_some(method)
+    }
+
+    /// One step of `h` from the stored accelerations: the new state in `y`, the state at the
+    /// start in `saved`, the new velocities also in `v_new`; whether no new value ran away.
+    pub(super) fn given_step(
+        &mut self,
+        method: &mut Integrator,
+        h: f64,
+        saved: &mut [f64],
+        v_new: &mut [f64],
+    ) -> bool {
+        let State { y, f, .. } = &mut self.state;
+        let n = y.len() / 2;
+        method.visit(Given { h, y, a: &f[n..], v_new, saved })
     }
 
     /// Up to `n` fused steps of `ctx.h` from the current state, timed from `ctx.epoch`, the

@@ -97,9 +97,14 @@ impl SecondOrder for Model {
         if self.scratch.len() != n {
             self.scratch.resize(n, 0.0);
         }
-        self.forces.accel(self.dim, t, x, v, &self.mass, &self.inv_mass, &mut self.scratch, a);
+        // With no built-in force, the user forces' sum is written over `a` rather than added
+        // to the zeros the built-in forces would leave there (the same bits: `0 + w (0 + f)`).
+        let fresh = self.forces.is_empty() && !self.user.is_empty();
+        if !fresh {
+            self.forces.accel(self.dim, t, x, v, &self.mass, &self.inv_mass, &mut self.scratch, a);
+        }
         if !self.user.is_empty() {
-            self.add_user(t, x, v, a);
+            self.add_user(t, x, v, a, fresh);
         }
     }
 
@@ -193,12 +198,13 @@ impl Model {
     /// ([`crate::forces::ForceGenerator::forces_to`]): checked and added in one pass, the
     /// same sum as the general path's (its forces added to zeros, then scaled). Several are
     /// summed in `user_f` first, the sum checked after each.
-    fn add_user(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
+    fn add_user(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64], fresh: bool) {
         let dim = self.dim;
         let failed = if let [g] = self.user.as_slice() {
             let (w, mut handed) = (&self.inv_mass, None);
             let r = g.0.forces_to(t, x, v, &mut self.user_f, &mut |f| {
-                handed = Some(if f.len() == a.len() { Ok(add_accel(dim, w, f, a)) } else { Err(f.len()) });
+                handed =
+                    Some(if f.len() == a.len() { Ok(add_accel(dim, w, f, a, fresh)) } else { Err(f.len()) });
             });
             match (r, handed) {
                 (Err(reason), _) => Some((g, reason, false)),
@@ -223,7 +229,7 @@ impl Model {
                     .map(|i| (g, format!("force[{}][{}] = {} is not finite", i / dim, i % dim, f[i]), true)),
             });
             if failed.is_none() {
-                let bad = add_accel(dim, &self.inv_mass, f, a);
+                let bad = add_accel(dim, &self.inv_mass, f, a, fresh);
                 debug_assert!(bad.is_none(), "the sum was checked finite");
             }
             failed
@@ -312,22 +318,27 @@ impl Model {
 
 /// `a += w f` particle by particle (`w` the inverse masses; each force added to zero first, as
 /// the sum of the forces of several generators starts: the same bits), in one pass that also
-/// checks `f`: the first non-finite entry, if any (`a` is then not all written).
-fn add_accel(dim: usize, w: &[f64], f: &[f64], a: &mut [f64]) -> Option<(usize, f64)> {
-    fn add<const D: usize>(w: &[f64], f: &[f64], a: &mut [f64]) -> bool {
+/// checks `f`: the first non-finite entry, if any (`a` is then not all written). With `fresh`,
+/// `a = 0 + w f` over whatever `a` held (no built-in force wrote it: the bits of zeros plus
+/// the sum, without the pass that zeroes it).
+fn add_accel(dim: usize, w: &[f64], f: &[f64], a: &mut [f64], fresh: bool) -> Option<(usize, f64)> {
+    fn add<const D: usize, const FRESH: bool>(w: &[f64], f: &[f64], a: &mut [f64]) -> bool {
         let mut finite = true;
         for ((ap, fp), w) in a.chunks_exact_mut(D).zip(f.chunks_exact(D)).zip(w) {
             for (ak, fk) in ap.iter_mut().zip(fp) {
                 finite &= fk.is_finite();
-                *ak += w * (0.0 + fk);
+                *ak = if FRESH { 0.0 } else { *ak } + w * (0.0 + fk);
             }
         }
         finite
     }
-    let finite = match dim {
-        1 => add::<1>(w, f, a),
-        2 => add::<2>(w, f, a),
-        _ => add::<3>(w, f, a),
+    let finite = match (dim, fresh) {
+        (1, false) => add::<1, false>(w, f, a),
+        (2, false) => add::<2, false>(w, f, a),
+        (_, false) => add::<3, false>(w, f, a),
+        (1, true) => add::<1, true>(w, f, a),
+        (2, true) => add::<2, true>(w, f, a),
+        (_, true) => add::<3, true>(w, f, a),
     };
     if finite {
         return None;

@@ -81,6 +81,9 @@ pub(super) struct Rollback {
     state: Checkpoint,
     /// `y` at the start of a fused run (the kernel fills it).
     pub y: Vec<f64>,
+    /// The derivative a step from the stored one writes beside `state.f` (`Integrate::Given`),
+    /// swapped in on success: a failure leaves `state.f` as it was.
+    pub beside: Vec<f64>,
     keep: Option<Keep>,
     t: f64,
     steps: u64,

@@ -5,9 +5,11 @@
 //! ```text
 //! ctx        = StepContext          h validated once per step; t0 + (k + 1) h must move time
 //! Integrate    the method's recipe over the parts (forces inside), by the implementation
-//!              chosen once for the call (`Integrate`): one staged step, or every step left
-//!              by the fused particle kernel or the split loop of bodies (which check
-//!              each step themselves: Relax and Collide have nothing to do in their worlds)
+//!              chosen once for the call (`Integrate`): one staged step, one step from the
+//!              stored derivative (particles under any forces, a method that reads only its
+//!              start), or every step left by the fused particle kernel or the split loop of
+//!              bodies (these check their steps themselves: Relax and Collide have nothing
+//!              to do in their worlds)
 //! Relax        position constraints projected; velocities and method memory resynced
 //! Collide      contacts of balls found by the grid and resolved at their time of impact
 //! Contact      solids advanced by the contact solver (its substeps; contacts, friction)
@@ -131,6 +133,13 @@ enum Integrate {
     /// The fused particle kernel (`kernel.rs`) with a fresh local method: every step left in
     /// the call, tile by tile, each checked in registers.
     Fused(Integrator),
+    /// Particles under any forces (a Python force, springs between them, n-body gravity) by
+    /// a method whose step reads only the derivative at its start: one step a pass, the
+    /// element-wise kernel from the stored accelerations (the state at the start kept as it
+    /// is read, the new state checked in registers), then the forces evaluated at the end as
+    /// the staged step evaluates them, into a derivative written beside the current one and
+    /// swapped in on success (`kernel.rs` `World::given`).
+    Given(Integrator),
     /// Particles and bodies under a split method, nothing else to do (no constraint, ball,
     /// load by hand or user code): the parts built once for every step left, each checked;
     /// the bodies' `dX` left out of `f` (no split method reads it; computed when asked for).
@@ -208,6 +217,9 @@ impl World {
         if let Some(method) = self.fused() {
             return Integrate::Fused(method);
         }
+        if let Some(method) = self.given() {
+            return Integrate::Given(method);
+        }
         let split = !self.bodies.is_empty() && self.integrator.info().split;
         let alone = self.constraints.is_empty() && self.balls.is_empty() && self.solids.is_empty();
         if split && n >= 2 && self.replayable() && alone {
@@ -256,7 +268,7 @@ impl World {
         }
         let how = self.plan(n);
         let keep = match how {
-            Integrate::Staged if n < 2 || !self.replayable() => Checkpoints::Step,
+            Integrate::Staged | Integrate::Given(_) if n < 2 || !self.replayable() => Checkpoints::Step,
             _ => Checkpoints::Call,
         };
         self.steps_as(how, n, h, keep, None, on_row)
@@ -298,7 +310,7 @@ impl World {
         let mut back = std::mem::take(&mut self.rollback);
         // The fused kernel keeps its rollback as it reads the state, at each pass; the others
         // keep the call's once, or each step's before it.
-        let each_pass = keep == Checkpoints::Step || matches!(how, Integrate::Fused(_));
+        let each_pass = keep == Checkpoints::Step || matches!(how, Integrate::Fused(_) | Integrate::Given(_));
         if keep == Checkpoints::Call && !each_pass {
             self.keep(&mut back, Keep::State);
         }
@@ -310,13 +322,15 @@ impl World {
             // The fused kernel keeps the state as it reads it, unless it goes back to the
             // rollback an earlier call of it kept (a failure replays the steps since).
             let fused = matches!(how, Integrate::Fused(_));
+            // (These two keep the positions as they read them.)
+            let as_read = fused || matches!(how, Integrate::Given(_));
             let save = each_pass && !(fused && self.reusable(&back, h));
             let ctx = match self.context(h) {
                 Ok(ctx) => StepContext { last: taken + 1 == n, save, ..ctx },
                 Err(e) => break Some(Err(e)),
             };
             if save {
-                self.keep(&mut back, if fused { Keep::Positions } else { Keep::State });
+                self.keep(&mut back, if as_read { Keep::Positions } else { Keep::State });
             }
             let passed =
                 self.pass(&ctx, &mut how, n - taken, &mut back, log.as_deref_mut(), on_row.as_deref_mut());
@@ -406,6 +420,7 @@ impl World {
         self.balls_begin();
         let (k, halted) = match how {
             Integrate::Fused(method) => self.integrate_fused(ctx, method, left, back, on_row)?,
+            Integrate::Given(method) => (self.integrate_given(ctx, method, back)?, false),
             Integrate::Split => (self.integrate_split(ctx, left)?, false),
             Integrate::Staged => {
                 self.integrate(ctx, log)?;
@@ -438,6 +453,49 @@ impl World {
             Ran::Bad => Err(Failure::Again(good)),
             // `Time`: the next pass's context says that time no longer moves.
             Ran::All | Ran::Time => Ok((good, ran == Ran::All && good < left)),
+        }
+    }
+
+    /// Integrate from the stored derivative (`Integrate::Given`): one step, the state at its
+    /// start kept in `back`, the forces evaluated at its end (counted, as the staged step
+    /// counts them) into the derivative written beside `state.f`, swapped in when they and the
+    /// new state pass the check. A failure leaves `state.f` as it was: the rollback puts back
+    /// only `y`.
+    fn integrate_given(
+        &mut self,
+        ctx: &StepContext,
+        method: &mut Integrator,
+        back: &mut Rollback,
+    ) -> std::result::Result<u64, Failure> {
+        debug_assert_eq!(self.derivative, Derivative::Current, "refreshed before the pass");
+        let mut beside = std::mem::take(&mut back.beside);
+        beside.resize(self.state.f.len(), 0.0);
+        let n = self.state.y.len() / 2;
+        let (v_new, a_new) = beside.split_at_mut(n);
+        let mut passed = self.given_step(method, ctx.h, &mut back.y, v_new);
+        if passed {
+            let (x, v) = self.state.y.split_at(n);
+            SecondOrder::accel(&mut self.model, ctx.t + ctx.h, x, v, a_new);
+            self.state.evals += 1;
+            if let Some(e) = self.model.failure.take() {
+                back.beside = beside;
+                return Err(Failure::Error(e));
+            }
+            passed = !crate::limits::any_runaway(a_new);
+        }
+        if passed {
+            std::mem::swap(&mut self.state.f, &mut beside);
+        }
+        back.beside = beside;
+        match passed {
+            true => Ok(1),
+            // Ctrl-C cut the evaluation short (n-body gravity poisons what it left): the
+            // step loop rolls back and reports the stop.
+            false if crate::interrupt::stop() => {
+                Err(Failure::Error(Error::Interrupted { step: self.state.steps }))
+            }
+            // A runaway: the step is taken again staged, which fails the same way and names it.
+            false => Err(Failure::Again(0)),
         }
     }
 

@@ -507,3 +507,128 @@ fn a_recording_of_a_small_world_is_the_staged_one() {
         }
     }
 }
+
+/// A time-dependent, velocity-dependent user force (as a Python force is to the engine): it
+/// fails at its `fail_at`-th call (counted from 1; 0: never).
+struct Wind {
+    calls: std::sync::atomic::AtomicU64,
+    fail_at: u64,
+}
+
+impl physstep::forces::ForceGenerator for Wind {
+    fn name(&self) -> &str {
+        "wind"
+    }
+
+    fn add_forces(&self, t: f64, x: &[f64], v: &[f64], f: &mut [f64]) -> Result<(), String> {
+        let k = self.calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if k == self.fail_at {
+            return Err(format!("gust {k}"));
+        }
+        for (i, ((fi, xi), vi)) in f.iter_mut().zip(x).zip(v).enumerate() {
+            *fi += (3.0 * t + i as f64).sin() - 0.1 * vi + 0.01 * xi;
+        }
+        Ok(())
+    }
+}
+
+fn wind(fail_at: u64) -> std::sync::Arc<Wind> {
+    std::sync::Arc::new(Wind { calls: 0.into(), fail_at })
+}
+
+/// Forces that are not per-particle (the fused kernel does not take them): springs between
+/// particles, n-body gravity, a user force; each with gravity.
+fn coupled(w: &mut World, which: &str) {
+    let n = w.len();
+    w.add_force(Force::Gravity { g: [0.3, -9.81, 1.5] }).unwrap();
+    match which {
+        "springs" => {
+            for i in 0..n.saturating_sub(1) {
+                let j = Endpoint::Particle(i + 1);
+                w.add_force(Force::Spring { i, j, stiffness: 40.0, rest_length: 0.5, damping: 0.3 }).unwrap();
+            }
+        }
+        "n-body" => {
+            w.add_force(Force::NBody { g: 0.5, softening: 0.05 }).unwrap();
+        }
+        _ => {
+            w.add_force_generator(wind(0)).unwrap();
+        }
+    }
+}
+
+/// Particles under forces that couple them or are the user's, stepped by a method whose step
+/// reads only the derivative at its start (explicit and symplectic Euler: the element-wise
+/// kernel from the stored accelerations, the forces evaluated at each step's end into a
+/// derivative written beside the current one), agree bitwise with the staged step, as every
+/// other method does; serial and parallel.
+#[test]
+fn steps_from_the_stored_derivative_match_the_staged_step_bitwise() {
+    for info in registry::INFOS.iter() {
+        for which in ["springs", "n-body", "user"] {
+            for dim in 1..=3 {
+                for (n, with_static) in [(1, false), (7, true), (37, false)] {
+                    let mut a = world(info.name, dim, n, &[], with_static, false);
+                    coupled(&mut a, which);
+                    // (A clone shares the user force: its calls are counted together, and it
+                    // reads only t, x and v.)
+                    let mut b = a.clone();
+                    let what = format!("{} under {which}, dim {dim}, n {n}", info.name);
+                    agree(&mut a, &mut b, 25, &what);
+                    agree(&mut a, &mut b, 1, &what);
+                    agree(&mut a, &mut b, 3, &what);
+                    // A staged step after them reads the whole derivative they left (explicit
+                    // Euler's drift reads its velocity half).
+                    let mut log = StageLog::default();
+                    a.step_logged(a.dt(), &mut log).unwrap();
+                    b.step_logged(b.dt(), &mut log).unwrap();
+                    assert_eq!(bits(a.positions()), bits(b.positions()), "{what}: then staged");
+                }
+            }
+        }
+    }
+    // Enough particles for the parallel tasks.
+    for method in ["symplectic-euler", "explicit-euler"] {
+        let mut a = world(method, 3, 70_000, &[], false, false);
+        coupled(&mut a, "user");
+        let mut b = a.clone();
+        agree(&mut a, &mut b, 3, &format!("{method}, 70,000 particles"));
+    }
+}
+
+/// A user force that fails, and a spring network that runs away, inside a call of `step(n)`
+/// from the stored derivative: the failing step rolled back to the same bits, the same error,
+/// as the staged step gives it.
+#[test]
+fn a_failure_stepping_from_the_stored_derivative_is_the_staged_one() {
+    for method in ["symplectic-euler", "explicit-euler"] {
+        for fail_at in [1, 2, 6] {
+            let make = || {
+                let mut w = world(method, 2, 9, &[], false, false);
+                w.add_force_generator(wind(fail_at)).unwrap();
+                w
+            };
+            let (mut a, mut b) = (make(), make());
+            let ea = a.step(10).unwrap_err().to_string();
+            let (good, eb) = staged_failure(&mut b, method);
+            assert_eq!(ea, eb.to_string(), "{method}, failing at call {fail_at}");
+            assert!(ea.contains("force 'wind' failed: gust"), "{ea}");
+            assert_eq!((a.steps(), a.state_hash()), (good, b.state_hash()), "{method}, call {fail_at}");
+            assert_eq!(bits(a.accelerations().unwrap()), bits(b.accelerations().unwrap()));
+        }
+        let make = || {
+            let mut w = world(method, 3, 12, &[], false, false);
+            for i in 0..11 {
+                let j = Endpoint::Particle(i + 1);
+                w.add_force(Force::Spring { i, j, stiffness: 1e9, rest_length: 0.1, damping: 0.0 }).unwrap();
+            }
+            w
+        };
+        let (mut a, mut b) = (make(), make());
+        let ea = a.step(100_000).unwrap_err().to_string();
+        let (good, eb) = staged_failure(&mut b, method);
+        assert_eq!(ea, eb.to_string(), "{method}: the runaway");
+        assert!(ea.contains("diverged"), "{ea}");
+        assert_eq!((a.steps(), a.state_hash()), (good, b.state_hash()), "{method}: the runaway");
+    }
+}

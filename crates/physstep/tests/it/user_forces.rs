@@ -196,3 +196,54 @@ fn a_user_force_that_hands_the_wrong_forces_fails_the_step_and_is_named() {
     w.step(1).unwrap();
     assert_eq!(w.velocities(), &[0.2, 0.2]);
 }
+
+/// A force whose components are often negative zeros (`-0.0 * x`), the case where writing the
+/// user forces over the accelerations (no built-in force) and adding them to zeros could part.
+struct SignedZeros;
+
+impl ForceGenerator for SignedZeros {
+    fn add_forces(&self, t: f64, x: &[f64], v: &[f64], f: &mut [f64]) -> Result<(), String> {
+        for (i, ((fi, xi), vi)) in f.iter_mut().zip(x).zip(v).enumerate() {
+            *fi += if i % 2 == 0 { -0.0 * xi } else { -xi - 0.3 * vi + t.sin() };
+        }
+        Ok(())
+    }
+}
+
+/// With no built-in force, a user force's accelerations are written over the buffer instead of
+/// added to the zeros the built-in forces would leave there: the same bits as a world with a
+/// zero gravity (built-in forces that write zeros), for every method, one or two user forces.
+#[test]
+fn user_forces_alone_step_bitwise_as_with_a_zero_built_in_force() {
+    for info in &INFOS {
+        for forces in 1..=2 {
+            let make = |zero_gravity: bool| {
+                let mut w = World::new(WorldParams {
+                    dim: 3,
+                    method: info.name.into(),
+                    dt: 0.05,
+                    ..Default::default()
+                })
+                .unwrap();
+                let x = [1.0, -2.0, 0.5, 0.0, 3.0, -1.0];
+                w.add_particles(&x, Some(&[0.2, 0.0, -0.1, 0.4, 0.0, 0.0]), Some(&[2.0, 0.5]), false)
+                    .unwrap();
+                for _ in 0..forces {
+                    w.add_force_generator(Arc::new(SignedZeros)).unwrap();
+                }
+                if zero_gravity {
+                    w.add_force(Force::Gravity { g: [0.0; 3] }).unwrap();
+                }
+                w
+            };
+            let (mut a, mut b) = (make(false), make(true));
+            a.step(40).unwrap();
+            b.step(40).unwrap();
+            let bits = |v: &[f64]| v.iter().map(|c| c.to_bits()).collect::<Vec<u64>>();
+            let what = format!("{}, {forces} user force(s)", info.name);
+            assert_eq!(bits(a.positions()), bits(b.positions()), "{what}");
+            assert_eq!(bits(a.velocities()), bits(b.velocities()), "{what}");
+            assert_eq!(bits(a.accelerations().unwrap()), bits(b.accelerations().unwrap()), "{what}");
+        }
+    }
+}
