@@ -191,3 +191,12 @@ def test_a_dt_whose_reference_step_underflows_is_refused_in_one_line(capsys) -> 
         "physstep: error: invalid until = 5e-324 with dt = 5e-324: the reference run would take inf"
         " steps (at most 1e+09); use a larger dt or a shorter until\n"
     )
+
+
+def test_an_order_run_whose_finest_step_underflows_is_refused_naming_until_and_dt(capsys) -> None:
+    # The halvings of dt = 5e-324 are 0: it said "invalid dt = 0", a dt the user never gave.
+    assert cli.main(["order", "arch", "--method", "rk4", "--dt=5e-324", "--until=5e-324"]) == 2
+    assert capsys.readouterr().err == (
+        "physstep: error: invalid until = 5e-324 with dt = 5e-324: the finest run's step, until / 32,"
+        " underflows to 0; use a larger until\n"
+    )

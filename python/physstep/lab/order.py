@@ -68,6 +68,12 @@ def _plan(subject: Subject, dt: Any, until: Any, levels: Any, scale: Any) -> tup
             f"run would take {n0} * 2^{int(levels) - 1} = {finest:.4g} steps (at most {MAX_ORDER_STEPS}); "
             "use fewer levels, a larger dt or a shorter until"
         )
+    if not until / finest > 0:
+        given = "" if dt is None else f" with dt = {dt!r}"
+        raise ValueError(
+            f"invalid until = {until!r}{given}: the finest run's step, until / {finest}, underflows "
+            "to 0; use a larger until"
+        )
     return until, n0
 
 
