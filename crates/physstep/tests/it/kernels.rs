@@ -601,6 +601,16 @@ fn steps_from_the_stored_derivative_match_the_staged_step_bitwise() {
 /// as the staged step gives it.
 #[test]
 fn a_failure_stepping_from_the_stored_derivative_is_the_staged_one() {
+    // Two of `make`'s world, one stepped by `step(n)`, one staged step by step, fail alike.
+    let fails_alike = |make: &dyn Fn() -> World, n: u64, said: &str, what: &str| {
+        let (mut a, mut b) = (make(), make());
+        let ea = a.step(n).unwrap_err().to_string();
+        let (good, eb) = staged_failure(&mut b, what);
+        assert_eq!(ea, eb.to_string(), "{what}");
+        assert!(ea.contains(said), "{what}: {ea}");
+        assert_eq!((a.steps(), a.state_hash()), (good, b.state_hash()), "{what}");
+        assert_eq!(bits(a.accelerations().unwrap()), bits(b.accelerations().unwrap()), "{what}");
+    };
     for method in ["symplectic-euler", "explicit-euler"] {
         for fail_at in [1, 2, 6] {
             let make = || {
@@ -608,13 +618,12 @@ fn a_failure_stepping_from_the_stored_derivative_is_the_staged_one() {
                 w.add_force_generator(wind(fail_at)).unwrap();
                 w
             };
-            let (mut a, mut b) = (make(), make());
-            let ea = a.step(10).unwrap_err().to_string();
-            let (good, eb) = staged_failure(&mut b, method);
-            assert_eq!(ea, eb.to_string(), "{method}, failing at call {fail_at}");
-            assert!(ea.contains("force 'wind' failed: gust"), "{ea}");
-            assert_eq!((a.steps(), a.state_hash()), (good, b.state_hash()), "{method}, call {fail_at}");
-            assert_eq!(bits(a.accelerations().unwrap()), bits(b.accelerations().unwrap()));
+            fails_alike(
+                &make,
+                10,
+                "force 'wind' failed: gust",
+                &format!("{method}, failing at call {fail_at}"),
+            );
         }
         let make = || {
             let mut w = world(method, 3, 12, &[], false, false);
@@ -624,11 +633,6 @@ fn a_failure_stepping_from_the_stored_derivative_is_the_staged_one() {
             }
             w
         };
-        let (mut a, mut b) = (make(), make());
-        let ea = a.step(100_000).unwrap_err().to_string();
-        let (good, eb) = staged_failure(&mut b, method);
-        assert_eq!(ea, eb.to_string(), "{method}: the runaway");
-        assert!(ea.contains("diverged"), "{ea}");
-        assert_eq!((a.steps(), a.state_hash()), (good, b.state_hash()), "{method}: the runaway");
+        fails_alike(&make, 100_000, "diverged", &format!("{method}: the runaway"));
     }
 }
