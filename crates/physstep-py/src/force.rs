@@ -54,6 +54,13 @@ enum Which {
     Out,
 }
 
+impl Which {
+    /// The part of a lent state it is (`crate::slot`): 0 the positions, 1 the velocities.
+    fn part(self) -> usize {
+        usize::from(matches!(self, Which::V))
+    }
+}
+
 impl Lent {
     fn slot(&mut self, which: Which) -> &mut Option<Py<PyArray2<f64>>> {
         match which {
@@ -235,8 +242,7 @@ impl PyForce {
         rows: usize,
         data: &[f64],
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, bool)> {
-        let part = usize::from(matches!(which, Which::V));
-        match self.slot.view(py, part, data)? {
+        match self.slot.view(py, which.part(), data)? {
             Some(view) => Ok((view, true)),
             None => Ok((self.take(py, which, rows, Some(data))?, false)),
         }
@@ -255,7 +261,7 @@ impl PyForce {
         // (Its holder may have reshaped it in place during the call: then a new one.)
         if !kept && arr.shape() == [data.len() / self.dim, self.dim] && arr.is_c_contiguous() {
             match lent {
-                true => self.slot.give_back(usize::from(matches!(which, Which::V)), data, arr),
+                true => self.slot.give_back(which.part(), data, arr),
                 false => self.give_back(which, arr),
             }
         }

@@ -32,10 +32,7 @@ macro_rules! handle_common {
             }
 
             fn gone(&self) -> PyErr {
-                PyValueError::new_err(format!(
-                    concat!("invalid ", $what, " = {}: it was removed from its World"),
-                    self.text()
-                ))
+                crate::errors::removed_handle($what, &self.text())
             }
 
             /// The id, checked to be of the World of family `family`.
