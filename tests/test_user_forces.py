@@ -61,6 +61,40 @@ def test_the_force_is_called_once_per_evaluation_with_all_particles() -> None:
     assert set(calls) == {(100, 2)}
 
 
+@pytest.mark.parametrize("method", ["symplectic-euler", "explicit-euler"])
+@pytest.mark.parametrize("inplace", [False, True])
+def test_accelerations_that_run_away_fail_the_step_without_calling_the_force_again(
+    method: str, inplace: bool
+) -> None:
+    """A force whose result is finite but past the runaway limit (1e100) fails the step it
+    was evaluated in, rolled back, named, and the force is not called again for that step."""
+    calls = {"n": 0}
+
+    def force(t: float, x: np.ndarray, v: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        calls["n"] += 1
+        f = -x
+        if calls["n"] == 3:
+            f[4, 1] = 1e150
+        if out is None:
+            return f
+        out[:] = f
+        return out
+
+    w = physstep.World(2, method=method, dt=0.01)
+    w.add_particles(np.linspace(0.5, 1.5, 18).reshape(9, 2))
+    w.add_force(force, inplace=inplace)
+    with pytest.raises(physstep.DivergedError, match=f"{method}.*diverged.*particle 4") as info:
+        w.step(10)
+    assert calls["n"] == 3, str(info.value)
+    assert calls["n"] == w.evals
+    h = w.state_hash()
+    ok = physstep.World(2, method=method, dt=0.01)
+    ok.add_particles(np.linspace(0.5, 1.5, 18).reshape(9, 2))
+    ok.add_force(lambda t, x, v: -x)
+    ok.step(w.steps)
+    assert ok.state_hash() == h, "rolled back to the last good step"
+
+
 def test_an_exception_propagates_unchanged_and_the_step_is_rolled_back() -> None:
     w = physstep.World(1, method="leapfrog", dt=0.1)
     w.add_particle([1.0])

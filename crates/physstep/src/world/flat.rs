@@ -57,28 +57,25 @@ pub(super) fn start_only<M: Method>(method: &M) -> bool {
 
 /// One step of particles (positions `x`, velocities `v`, flat) by `method`'s element-wise
 /// form from the accelerations `a` at the start (the stored derivative, of any forces; for a
-/// [`start_only`] method), the state at the start kept in `sx`, `sv` as it is read and the
-/// new velocities written to `v_new` too (the velocity half of the next derivative, written
-/// beside the current one). Whether every new value is within the runaway limit.
+/// [`start_only`] method), the state at the start kept in `sx`, `sv` as it is read. Whether
+/// every new value is within the runaway limit.
 #[inline(always)]
 pub(super) fn given<M: Method>(
     method: &M,
     h: f64,
     (x, v): (&mut [f64], &mut [f64]),
     a: &[f64],
-    v_new: &mut [f64],
     (sx, sv): (&mut [f64], &mut [f64]),
 ) -> bool {
     let mut flag = false;
     let saved = sx.iter_mut().zip(sv.iter_mut());
-    let new = x.iter_mut().zip(v.iter_mut()).zip(a).zip(v_new.iter_mut());
-    for ((((x, v), &a), v_new), (sx, sv)) in new.zip(saved) {
+    let new = x.iter_mut().zip(v.iter_mut()).zip(a);
+    for (((x, v), &a), (sx, sv)) in new.zip(saved) {
         (*sx, *sv) = (*x, *v);
         // (The evaluation at the end is the world's own, of all its forces: not this one.)
         let mut e = Element::new(0.0, h, [*x, *v], [*v, a], false, |_, _| 0.0);
         method.element_step(&mut e);
         [*x, *v] = e.y;
-        *v_new = e.y[1];
         flag |= bad(e.y[0]) | bad(e.y[1]);
     }
     !flag

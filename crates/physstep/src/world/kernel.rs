@@ -105,7 +105,6 @@ struct Given<'a> {
     h: f64,
     y: &'a mut [f64],
     a: &'a [f64],
-    v_new: &'a mut [f64],
     saved: &'a mut [f64],
 }
 
@@ -113,8 +112,8 @@ impl Visit for Given<'_> {
     type Out = bool;
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> bool {
-        let Self { h, y, a, v_new, saved } = self;
-        tiles::given::<M>(method, h, y, a, v_new, saved)
+        let Self { h, y, a, saved } = self;
+        tiles::given::<M>(method, h, y, a, saved)
     }
 }
 
@@ -191,17 +190,11 @@ impl World {
     }
 
     /// One step of `h` from the stored accelerations: the new state in `y`, the state at the
-    /// start in `saved`, the new velocities also in `v_new`; whether no new value ran away.
-    pub(super) fn given_step(
-        &mut self,
-        method: &mut Integrator,
-        h: f64,
-        saved: &mut [f64],
-        v_new: &mut [f64],
-    ) -> bool {
+    /// start in `saved`; whether no new value ran away.
+    pub(super) fn given_step(&mut self, method: &mut Integrator, h: f64, saved: &mut [f64]) -> bool {
         let State { y, f, .. } = &mut self.state;
         let n = y.len() / 2;
-        method.visit(Given { h, y, a: &f[n..], v_new, saved })
+        method.visit(Given { h, y, a: &f[n..], saved })
     }
 
     /// Up to `n` fused steps of `ctx.h` from the current state, timed from `ctx.epoch`, the

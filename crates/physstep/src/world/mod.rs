@@ -153,6 +153,10 @@ enum Derivative {
     /// The split loop left the bodies' rates `dX` out of `f` (no split method reads them):
     /// computed from the state on request.
     RatesOwed,
+    /// A step from the stored derivative (`Integrate::Given`: particles only) left the
+    /// velocity half of `f`, a copy of `v`, unwritten (no such step reads it): copied from
+    /// the state on request.
+    VelocityOwed,
 }
 
 impl World {

@@ -93,19 +93,7 @@ impl SecondOrder for Model {
 
     #[inline]
     fn accel(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) {
-        let n = x.len();
-        if self.scratch.len() != n {
-            self.scratch.resize(n, 0.0);
-        }
-        // With no built-in force, the user forces' sum is written over `a` rather than added
-        // to the zeros the built-in forces would leave there (the same bits: `0 + w (0 + f)`).
-        let fresh = self.forces.is_empty() && !self.user.is_empty();
-        if !fresh {
-            self.forces.accel(self.dim, t, x, v, &self.mass, &self.inv_mass, &mut self.scratch, a);
-        }
-        if !self.user.is_empty() {
-            self.add_user(t, x, v, a, fresh);
-        }
+        self.accel_with(t, x, v, a);
     }
 
     fn velocity_dependent(&self) -> bool {
@@ -156,6 +144,29 @@ impl SecondOrder for Model {
 }
 
 impl Model {
+    /// [`SecondOrder::accel`], and whether an entry of `a` ran away when the user forces' pass
+    /// (the last to write every entry) saw every new value (`None`: no user force).
+    fn accel_with(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) -> Option<bool> {
+        let n = x.len();
+        if self.scratch.len() != n {
+            self.scratch.resize(n, 0.0);
+        }
+        // With no built-in force, the user forces' sum is written over `a` rather than added
+        // to the zeros the built-in forces would leave there (the same bits: `0 + w (0 + f)`).
+        let fresh = self.forces.is_empty() && !self.user.is_empty();
+        if !fresh {
+            self.forces.accel(self.dim, t, x, v, &self.mass, &self.inv_mass, &mut self.scratch, a);
+        }
+        (!self.user.is_empty()).then(|| self.add_user(t, x, v, a, fresh))
+    }
+
+    /// [`SecondOrder::accel`] and whether any entry of `a` ran away
+    /// ([`crate::limits::runaway`]; a failing user force leaves NaN: yes), checked in the
+    /// pass that sums the user forces where there are any.
+    pub(super) fn accel_ran_away(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64]) -> bool {
+        self.accel_with(t, x, v, a).unwrap_or_else(|| crate::limits::any_runaway(a))
+    }
+
     /// Masses, kg (infinite for static particles).
     #[must_use]
     pub fn mass(&self) -> &[f64] {
@@ -190,18 +201,22 @@ impl Model {
         Some(u)
     }
 
-    /// Adds the user forces' accelerations to `a`. A failing generator (or one that returns
-    /// a non-finite force) poisons `a` with NaN, so the step fails and is rolled back, and
-    /// leaves its error in `failure` for the world to report.
+    /// Adds the user forces' accelerations to `a`; whether an entry of the new `a` ran away.
+    /// A failing generator (or one that returns a non-finite force) poisons `a` with NaN, so
+    /// the step fails and is rolled back, and leaves its error in `failure` for the world to
+    /// report.
     ///
     /// One generator (the common case) hands its forces over once
     /// ([`crate::forces::ForceGenerator::forces_to`]): checked and added in one pass, the
     /// same sum as the general path's (its forces added to zeros, then scaled). Several are
     /// summed in `user_f` first, the sum checked after each.
-    fn add_user(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64], fresh: bool) {
+    fn add_user(&mut self, t: f64, x: &[f64], v: &[f64], a: &mut [f64], fresh: bool) -> bool {
         let dim = self.dim;
+        let mut ran = false;
+        let one = self.inv_mass.all();
         let failed = if let [g] = self.user.as_slice() {
-            let (w, mut handed) = (&self.inv_mass, None);
+            let w = (&self.inv_mass[..], one);
+            let mut handed = None;
             let r = g.0.forces_to(t, x, v, &mut self.user_f, &mut |f| {
                 handed =
                     Some(if f.len() == a.len() { Ok(add_accel(dim, w, f, a, fresh)) } else { Err(f.len()) });
@@ -212,8 +227,11 @@ impl Model {
                 (Ok(()), Some(Err(len))) => {
                     Some((g, format!("handed {len} force components, not {}", a.len()), false))
                 }
-                (Ok(()), Some(Ok(None))) => None,
-                (Ok(()), Some(Ok(Some((i, c))))) => {
+                (Ok(()), Some(Ok(Ok(r)))) => {
+                    ran = r;
+                    None
+                }
+                (Ok(()), Some(Ok(Err((i, c))))) => {
                     Some((g, format!("force[{}][{}] = {c} is not finite", i / dim, i % dim), true))
                 }
             }
@@ -229,8 +247,9 @@ impl Model {
                     .map(|i| (g, format!("force[{}][{}] = {} is not finite", i / dim, i % dim, f[i]), true)),
             });
             if failed.is_none() {
-                let bad = add_accel(dim, &self.inv_mass, f, a, fresh);
-                debug_assert!(bad.is_none(), "the sum was checked finite");
+                let r = add_accel(dim, (&self.inv_mass[..], one), f, a, fresh);
+                debug_assert!(r.is_ok(), "the sum was checked finite");
+                ran = r.unwrap_or(true);
             }
             failed
         };
@@ -239,7 +258,9 @@ impl Model {
                 self.failure = Some(Error::Force { name: g.0.name().to_string(), reason, non_finite });
             }
             a.fill(f64::NAN);
+            return true;
         }
+        ran
     }
 
     /// Kinetic energy of velocities `v`, J (static particles excluded).
@@ -318,32 +339,98 @@ impl Model {
 
 /// `a += w f` particle by particle (`w` the inverse masses; each force added to zero first, as
 /// the sum of the forces of several generators starts: the same bits), in one pass that also
-/// checks `f`: the first non-finite entry, if any (`a` is then not all written). With `fresh`,
-/// `a = 0 + w f` over whatever `a` held (no built-in force wrote it: the bits of zeros plus
-/// the sum, without the pass that zeroes it).
-fn add_accel(dim: usize, w: &[f64], f: &[f64], a: &mut [f64], fresh: bool) -> Option<(usize, f64)> {
-    fn add<const D: usize, const FRESH: bool>(w: &[f64], f: &[f64], a: &mut [f64]) -> bool {
-        let mut finite = true;
-        for ((ap, fp), w) in a.chunks_exact_mut(D).zip(f.chunks_exact(D)).zip(w) {
-            for (ak, fk) in ap.iter_mut().zip(fp) {
-                finite &= fk.is_finite();
-                *ak = if FRESH { 0.0 } else { *ak } + w * (0.0 + fk);
+/// checks `f` and the new `a`: `Ok(whether an entry of a ran away)`, or the first non-finite
+/// entry of `f` (`a` is then not all written). With `fresh`, `a = 0 + w f` over whatever `a`
+/// held (no built-in force wrote it: the bits of zeros plus the sum, without the pass that
+/// zeroes it). Large worlds are summed in parallel tasks of [`super::tiles::TASK`] particles
+/// (each entry is its own sum: any split gives the same bits), with AVX2 where the CPU has it.
+fn add_accel(
+    dim: usize,
+    (w, one): (&[f64], Option<f64>),
+    f: &[f64],
+    a: &mut [f64],
+    fresh: bool,
+) -> Result<bool, (usize, f64)> {
+    use super::tiles::{PARALLEL_MIN, TASK};
+    use rayon::prelude::*;
+    /// Particles whose inverse masses are spread over their entries at a time.
+    const CHUNK: usize = 64;
+    /// `(all of f finite, some new a ran away)`; `one`, the inverse mass of every particle
+    /// where they all have the same (then `w` is not read).
+    #[inline(always)]
+    fn add<const D: usize, const FRESH: bool>(
+        w: &[f64],
+        one: Option<f64>,
+        f: &[f64],
+        a: &mut [f64],
+    ) -> (bool, bool) {
+        let (mut bad, mut ran) = (false, false);
+        // Each entry's inverse mass, so that the sum runs over entries (vectorised).
+        let mut we = [one.unwrap_or(0.0); CHUNK * 3];
+        for (p, (ac, fc)) in a.chunks_mut(CHUNK * D).zip(f.chunks(CHUNK * D)).enumerate() {
+            if one.is_none() {
+                for (wd, wp) in we.chunks_exact_mut(D).zip(&w[p * CHUNK..]) {
+                    wd.fill(*wp);
+                }
+            }
+            for ((ak, fk), wk) in ac.iter_mut().zip(fc).zip(&we) {
+                bad |= !fk.is_finite();
+                *ak = if FRESH { 0.0 } else { *ak } + wk * (0.0 + fk);
+                ran |= crate::limits::runaway(*ak);
             }
         }
-        finite
+        (!bad, ran)
     }
-    let finite = match (dim, fresh) {
-        (1, false) => add::<1, false>(w, f, a),
-        (2, false) => add::<2, false>(w, f, a),
-        (_, false) => add::<3, false>(w, f, a),
-        (1, true) => add::<1, true>(w, f, a),
-        (2, true) => add::<2, true>(w, f, a),
-        (_, true) => add::<3, true>(w, f, a),
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn add_avx2<const D: usize, const FRESH: bool>(
+        w: &[f64],
+        one: Option<f64>,
+        f: &[f64],
+        a: &mut [f64],
+    ) -> (bool, bool) {
+        add::<D, FRESH>(w, one, f, a)
+    }
+    fn task<const D: usize, const FRESH: bool>(
+        w: &[f64],
+        one: Option<f64>,
+        f: &[f64],
+        a: &mut [f64],
+    ) -> (bool, bool) {
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::avx2() {
+            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+            // `target_feature` function.
+            return unsafe { add_avx2::<D, FRESH>(w, one, f, a) };
+        }
+        add::<D, FRESH>(w, one, f, a)
+    }
+    fn all<const D: usize, const FRESH: bool>(
+        w: &[f64],
+        one: Option<f64>,
+        f: &[f64],
+        a: &mut [f64],
+    ) -> (bool, bool) {
+        if w.len() < PARALLEL_MIN {
+            return task::<D, FRESH>(w, one, f, a);
+        }
+        (w.par_chunks(TASK), f.par_chunks(TASK * D), a.par_chunks_mut(TASK * D))
+            .into_par_iter()
+            .map(|(w, f, a)| task::<D, FRESH>(w, one, f, a))
+            .reduce(|| (true, false), |p, q| (p.0 & q.0, p.1 | q.1))
+    }
+    let (finite, ran) = match (dim, fresh) {
+        (1, false) => all::<1, false>(w, one, f, a),
+        (2, false) => all::<2, false>(w, one, f, a),
+        (_, false) => all::<3, false>(w, one, f, a),
+        (1, true) => all::<1, true>(w, one, f, a),
+        (2, true) => all::<2, true>(w, one, f, a),
+        (_, true) => all::<3, true>(w, one, f, a),
     };
     if finite {
-        return None;
+        return Ok(ran);
     }
-    f.iter().position(|c| !c.is_finite()).map(|i| (i, f[i]))
+    Err(f.iter().position(|c| !c.is_finite()).map_or((0, f64::NAN), |i| (i, f[i])))
 }
 
 #[cfg(test)]

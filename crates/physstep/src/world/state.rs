@@ -293,6 +293,13 @@ impl World {
                 self.derivative = Derivative::Current;
                 Ok(())
             }
+            Derivative::VelocityOwed => {
+                // The accelerations are current; the velocity half is `v` (particles only).
+                let n = self.model.len();
+                self.state.f[..n].copy_from_slice(&self.state.y[n..]);
+                self.derivative = Derivative::Current;
+                Ok(())
+            }
             Derivative::Unstored => {
                 // The kernel took the steps and checked the accelerations at this state:
                 // computed again, without counting or checking.

@@ -288,12 +288,18 @@ impl World {
     ) -> Result<()> {
         let start = self.state.steps;
         self.context(h)?;
-        // The kernel does not read the derivative: it is computed (and checked) first only
-        // when the state was set by hand.
         // A replay takes the bits of the run it replays: a stop requested meanwhile waits for
         // the steps after it.
         let _masked = (keep == Checkpoints::Replay).then(crate::interrupt::Masked::new);
-        if !matches!(how, Integrate::Fused(_)) || self.derivative == Derivative::Stale {
+        // The derivative, computed (and checked) first where the step reads it: the fused
+        // kernel does not read it (only a state set by hand needs it computed), the step from
+        // the stored derivative does not read its velocity half.
+        let owed = match how {
+            Integrate::Fused(_) => self.derivative == Derivative::Stale,
+            Integrate::Given(_) => self.derivative != Derivative::VelocityOwed,
+            _ => true,
+        };
+        if owed {
             let refreshed = self.refresh();
             if crate::interrupt::stop() {
                 // The evaluation was cut short: computed again when next needed.
@@ -458,44 +464,60 @@ impl World {
 
     /// Integrate from the stored derivative (`Integrate::Given`): one step, the state at its
     /// start kept in `back`, the forces evaluated at its end (counted, as the staged step
-    /// counts them) into the derivative written beside `state.f`, swapped in when they and the
-    /// new state pass the check. A failure leaves `state.f` as it was: the rollback puts back
-    /// only `y`.
+    /// counts them) into the accelerations written beside `state.f`'s, swapped in when they and
+    /// the new state pass the check. The derivative's velocity half, a copy of `v`, is left
+    /// owed (`Derivative::VelocityOwed`: no step from the stored derivative reads it). A
+    /// failure leaves `state.f` as it was: the rollback puts back only `y`.
     fn integrate_given(
         &mut self,
         ctx: &StepContext,
         method: &mut Integrator,
         back: &mut Rollback,
     ) -> std::result::Result<u64, Failure> {
-        debug_assert_eq!(self.derivative, Derivative::Current, "refreshed before the pass");
+        debug_assert!(
+            matches!(self.derivative, Derivative::Current | Derivative::VelocityOwed),
+            "refreshed before the pass"
+        );
         let mut beside = std::mem::take(&mut back.beside);
         beside.resize(self.state.f.len(), 0.0);
         let n = self.state.y.len() / 2;
-        let (v_new, a_new) = beside.split_at_mut(n);
-        let mut passed = self.given_step(method, ctx.h, &mut back.y, v_new);
-        if passed {
-            let (x, v) = self.state.y.split_at(n);
-            SecondOrder::accel(&mut self.model, ctx.t + ctx.h, x, v, a_new);
-            self.state.evals += 1;
-            if let Some(e) = self.model.failure.take() {
-                back.beside = beside;
-                return Err(Failure::Error(e));
-            }
-            passed = !crate::limits::any_runaway(a_new);
+        let a_new = &mut beside[n..];
+        if !self.given_step(method, ctx.h, &mut back.y) {
+            back.beside = beside;
+            // A new value ran away: the step is taken again staged (no force was evaluated
+            // in this one), which fails the same way and names it.
+            return Err(Failure::Again(0));
         }
-        if passed {
-            std::mem::swap(&mut self.state.f, &mut beside);
+        let (x, v) = self.state.y.split_at(n);
+        let ran_away = self.model.accel_ran_away(ctx.t + ctx.h, x, v, a_new);
+        self.state.evals += 1;
+        if let Some(e) = self.model.failure.take() {
+            back.beside = beside;
+            return Err(Failure::Error(e));
         }
-        back.beside = beside;
-        match passed {
-            true => Ok(1),
+        std::mem::swap(&mut self.state.f, &mut beside);
+        let failed = match ran_away {
+            false => None,
             // Ctrl-C cut the evaluation short (n-body gravity poisons what it left): the
             // step loop rolls back and reports the stop.
-            false if crate::interrupt::stop() => {
-                Err(Failure::Error(Error::Interrupted { step: self.state.steps }))
+            true if crate::interrupt::stop() => {
+                Some(Failure::Error(Error::Interrupted { step: self.state.steps }))
             }
-            // A runaway: the step is taken again staged, which fails the same way and names it.
-            false => Err(Failure::Again(0)),
+            // Accelerations past the limit: the staged step's Check of the state and derivative
+            // it would hold names them (not taken again: a user force would be called twice).
+            true => Some(self.check(ctx).err().map_or(Failure::Again(0), Failure::Error)),
+        };
+        match failed {
+            None => {
+                back.beside = beside;
+                self.derivative = Derivative::VelocityOwed;
+                Ok(1)
+            }
+            Some(failure) => {
+                std::mem::swap(&mut self.state.f, &mut beside);
+                back.beside = beside;
+                Err(failure)
+            }
         }
     }
 

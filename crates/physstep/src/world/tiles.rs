@@ -341,35 +341,33 @@ unsafe fn elementwise_avx2<const D: usize, M: Method>(
 
 /// One step of every particle (state `y = [x; v]`) by `method`'s element-wise form from the
 /// accelerations `a` at its start ([`flat::given`]): the state at the start kept in `saved`,
-/// the new velocities also in `v_new`; whether no new value ran away.
+/// whether no new value ran away.
 pub(super) fn given<M: Method + Sync>(
     method: &M,
     h: f64,
     y: &mut [f64],
     a: &[f64],
-    v_new: &mut [f64],
     saved: &mut [f64],
 ) -> bool {
-    let task = |xv: (&mut [f64], &mut [f64]), a: &[f64], v_new: &mut [f64], s: (&mut [f64], &mut [f64])| {
+    let task = |xv: (&mut [f64], &mut [f64]), a: &[f64], s: (&mut [f64], &mut [f64])| {
         #[cfg(target_arch = "x86_64")]
         if avx2() {
             // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
             // `target_feature` function.
-            return unsafe { given_avx2::<M>(method, h, xv, a, v_new, s) };
+            return unsafe { given_avx2::<M>(method, h, xv, a, s) };
         }
-        flat::given::<M>(method, h, xv, a, v_new, s)
+        flat::given::<M>(method, h, xv, a, s)
     };
     let n = a.len();
     let ((x, v), (sx, sv)) = (y.split_at_mut(n), saved.split_at_mut(n));
     // (Elements are independent: any split of them gives the same bits.)
     let c = TASK * 3;
     if n < PARALLEL_MIN * 3 {
-        return task((x, v), a, v_new, (sx, sv));
+        return task((x, v), a, (sx, sv));
     }
-    (x.par_chunks_mut(c), v.par_chunks_mut(c), a.par_chunks(c), v_new.par_chunks_mut(c))
+    (x.par_chunks_mut(c), v.par_chunks_mut(c), a.par_chunks(c), sx.par_chunks_mut(c), sv.par_chunks_mut(c))
         .into_par_iter()
-        .zip((sx.par_chunks_mut(c), sv.par_chunks_mut(c)).into_par_iter())
-        .map(|((x, v, a, v_new), (sx, sv))| task((x, v), a, v_new, (sx, sv)))
+        .map(|(x, v, a, sx, sv)| task((x, v), a, (sx, sv)))
         .reduce(|| true, |p, q| p & q)
 }
 
@@ -380,8 +378,7 @@ unsafe fn given_avx2<M: Method>(
     h: f64,
     xv: (&mut [f64], &mut [f64]),
     a: &[f64],
-    v_new: &mut [f64],
     saved: (&mut [f64], &mut [f64]),
 ) -> bool {
-    flat::given::<M>(method, h, xv, a, v_new, saved)
+    flat::given::<M>(method, h, xv, a, saved)
 }

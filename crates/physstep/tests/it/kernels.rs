@@ -509,10 +509,12 @@ fn a_recording_of_a_small_world_is_the_staged_one() {
 }
 
 /// A time-dependent, velocity-dependent user force (as a Python force is to the engine): it
-/// fails at its `fail_at`-th call (counted from 1; 0: never).
+/// fails at its `fail_at`-th call and blows a finite 1e150 N on entry 4 at its `blow_at`-th
+/// (counted from 1; 0: never).
 struct Wind {
     calls: std::sync::atomic::AtomicU64,
     fail_at: u64,
+    blow_at: u64,
 }
 
 impl physstep::forces::ForceGenerator for Wind {
@@ -528,12 +530,15 @@ impl physstep::forces::ForceGenerator for Wind {
         for (i, ((fi, xi), vi)) in f.iter_mut().zip(x).zip(v).enumerate() {
             *fi += (3.0 * t + i as f64).sin() - 0.1 * vi + 0.01 * xi;
         }
+        if k == self.blow_at {
+            f[4] = 1e150;
+        }
         Ok(())
     }
 }
 
 fn wind(fail_at: u64) -> std::sync::Arc<Wind> {
-    std::sync::Arc::new(Wind { calls: 0.into(), fail_at })
+    std::sync::Arc::new(Wind { calls: 0.into(), fail_at, blow_at: 0 })
 }
 
 /// Forces that are not per-particle (the fused kernel does not take them): springs between
@@ -596,7 +601,7 @@ fn steps_from_the_stored_derivative_match_the_staged_step_bitwise() {
     }
 }
 
-/// A user force that fails, and a spring network that runs away, inside a call of `step(n)`
+/// A user force that fails or runs away, and a spring network that runs away, inside a call of `step(n)`
 /// from the stored derivative: the failing step rolled back to the same bits, the same error,
 /// as the staged step gives it.
 #[test]
@@ -624,6 +629,22 @@ fn a_failure_stepping_from_the_stored_derivative_is_the_staged_one() {
                 "force 'wind' failed: gust",
                 &format!("{method}, failing at call {fail_at}"),
             );
+            // Accelerations past the runaway limit, found in the pass that sums them, with
+            // equal and unequal masses.
+            for equal in [true, false] {
+                let make = || {
+                    let mut w = world(method, 2, 9, &[], false, equal);
+                    w.add_force_generator(std::sync::Arc::new(Wind {
+                        calls: 0.into(),
+                        fail_at: 0,
+                        blow_at: fail_at,
+                    }))
+                    .unwrap();
+                    w
+                };
+                let what = format!("{method}, running away at call {fail_at}, equal masses {equal}");
+                fails_alike(&make, 10, "diverged", &what);
+            }
         }
         let make = || {
             let mut w = world(method, 3, 12, &[], false, false);

@@ -247,3 +247,63 @@ fn user_forces_alone_step_bitwise_as_with_a_zero_built_in_force() {
         }
     }
 }
+
+/// A force that depends on the particle and its state alone: `f = 3 x - v + i / 7` on entry
+/// `i`.
+struct Affine;
+
+impl ForceGenerator for Affine {
+    fn add_forces(&self, _t: f64, x: &[f64], v: &[f64], f: &mut [f64]) -> Result<(), String> {
+        for (i, ((fi, xi), vi)) in f.iter_mut().zip(x).zip(v).enumerate() {
+            *fi += 3.0 * xi - vi + i as f64 / 7.0;
+        }
+        Ok(())
+    }
+}
+
+/// The accelerations of user forces are `w (0 + f)` entry by entry (`w` the particle's inverse
+/// mass, 0 for a static one), added to the built-in forces' (a gravity here), in every dimension,
+/// for equal and unequal masses, small worlds and worlds large enough to be summed in parallel
+/// tasks: read back after a step and compared with the sum written out here.
+#[test]
+fn user_force_accelerations_are_the_inverse_mass_times_the_force_in_every_path() {
+    for dim in 1..=3 {
+        for n in [5, 70_001] {
+            for (equal, gravity) in [(true, false), (false, false), (false, true)] {
+                let mut w = World::new(WorldParams {
+                    dim,
+                    method: "symplectic-euler".into(),
+                    dt: 0.01,
+                    ..Default::default()
+                })
+                .unwrap();
+                let x: Vec<f64> = (0..n * dim).map(|i| (i as f64 * 0.37).sin()).collect();
+                let m: Vec<f64> =
+                    (0..n).map(|p| if equal { 2.5 } else { 1.0 + (p % 13) as f64 / 3.0 }).collect();
+                // Unequal masses end with a static particle (inverse mass 0).
+                let dynamic = if equal { n } else { n - 1 };
+                w.add_particles(&x[..dynamic * dim], None, Some(&m[..dynamic]), false).unwrap();
+                if !equal {
+                    w.add_particle(&x[dynamic * dim..], &vec![0.0; dim], m[n - 1], true).unwrap();
+                }
+                w.add_force_generator(Arc::new(Affine)).unwrap();
+                let g = [0.5, -9.81, 1.25];
+                if gravity {
+                    w.add_force(Force::Gravity { g }).unwrap();
+                }
+                w.step(2).unwrap();
+                let (x, v) = (w.positions().to_vec(), w.velocities().to_vec());
+                let a = w.accelerations().unwrap();
+                let what = format!("dim {dim}, {n} particles, equal masses {equal}, gravity {gravity}");
+                for i in 0..n * dim {
+                    let p = i / dim;
+                    let inv = if p < dynamic { 1.0 / m[p] } else { 0.0 };
+                    let f = 3.0 * x[i] - v[i] + i as f64 / 7.0;
+                    let built_in = if gravity && inv > 0.0 { g[i % dim] } else { 0.0 };
+                    let want = built_in + inv * (0.0 + f);
+                    assert_eq!(a[i].to_bits(), want.to_bits(), "{what}: entry {i}: {} vs {want}", a[i]);
+                }
+            }
+        }
+    }
+}
