@@ -258,6 +258,6 @@ def test_a_force_on_a_solid_is_removed_by_its_handle_and_with_its_solid() -> Non
         w.remove(g)
     other, _ = pile()
     with pytest.raises(
-        ValueError, match=r"^invalid solid = SolidHandle\(id=4\): must be a handle of this World's"
+        ValueError, match=r"^invalid solid = SolidHandle\(id=4\): must be a handle of this World's solids \(it is another World's;"
     ):
         other.remove(h[4])

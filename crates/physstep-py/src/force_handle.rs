@@ -38,11 +38,7 @@ impl ForceHandle {
     /// `(family, id)`, checked to be a force of the World of family `family`.
     pub(crate) fn id_in(&self, family: u64) -> PyResult<ForceId> {
         if self.family != family {
-            return Err(PyValueError::new_err(format!(
-                "invalid force = {}: must be a handle of this World's forces (it is another World's; \
-                 a copy or a pickle of a World takes the handles of the World it came from)",
-                self.text()
-            )));
+            return Err(crate::errors::foreign_handle("force", "forces", &self.text()));
         }
         Ok(ForceId(self.id))
     }
@@ -79,7 +75,7 @@ impl ForceHandle {
     }
 
     fn gone(&self) -> PyErr {
-        PyValueError::new_err(format!("invalid force = {}: it was removed from its World", self.text()))
+        crate::errors::removed_handle("force", &self.text())
     }
 
     /// `AttributeError`: this kind of force has no parameter `what`.

@@ -10,7 +10,6 @@ use crate::py_err;
 use crate::solid_handles::{handle_common, vector, SolidHandle};
 use physstep::contact::JointId;
 use physstep::world::World as Engine;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 /// A handle to one joint of a World: `id`, `alive`, its parameters as made (`kind`, `a`,

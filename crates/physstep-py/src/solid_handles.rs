@@ -20,7 +20,7 @@ use crate::py_err;
 use numpy::PyArray1;
 use physstep::contact::{SolidForceId, SolidId, SolidMotion, SolidSpringId};
 use physstep::world::World as Engine;
-use pyo3::exceptions::{PyAttributeError, PyIndexError, PyValueError};
+use pyo3::exceptions::{PyAttributeError, PyIndexError};
 use pyo3::prelude::*;
 
 /// What the four handles share (this file's three and `crate::joint_handle`'s): the World, its family, the id, a name for messages.
@@ -38,15 +38,7 @@ macro_rules! handle_common {
             /// The id, checked to be of the World of family `family`.
             fn id_in(&self, family: u64) -> PyResult<u64> {
                 if self.family != family {
-                    return Err(PyValueError::new_err(format!(
-                        concat!(
-                            "invalid ",
-                            $what,
-                            " = {}: must be a handle of this World's (it is another World's; a copy or \
-                             a pickle of a World takes the handles of the World it came from)"
-                        ),
-                        self.text()
-                    )));
+                    return Err(crate::errors::foreign_handle($what, concat!($what, "s"), &self.text()));
                 }
                 Ok(self.id)
             }
