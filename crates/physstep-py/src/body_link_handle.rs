@@ -21,11 +21,9 @@ macro_rules! link_handle {
             pub(crate) id: u64,
         }
 
-        impl $name {
-            fn text(&self) -> String {
-                format!("{}(id={})", stringify!($name), self.id)
-            }
+        crate::identity::identity!($name, 31);
 
+        impl $name {
             /// The id, checked to be of the World whose state `g` is.
             pub(crate) fn id_in(&self, g: &Inner) -> PyResult<physstep::world::$id> {
                 if self.family != g.family {
@@ -37,18 +35,6 @@ macro_rules! link_handle {
 
         #[pymethods]
         impl $name {
-            /// The id in its World: never given to another of its kind in that World.
-            #[getter]
-            fn id(&self) -> u64 {
-                self.id
-            }
-
-            /// The World the handle came from.
-            #[getter]
-            fn world(&self, py: Python<'_>) -> Py<World> {
-                self.world.clone_ref(py)
-            }
-
             /// Whether it is still in its World (it goes with its body, or with the
             /// particle a body spring ends on).
             #[getter]
@@ -61,19 +47,6 @@ macro_rules! link_handle {
             fn __index__(&self) -> PyResult<usize> {
                 let g = self.world.get().lock()?;
                 g.engine.$row(physstep::world::$id(self.id)).ok_or_else(|| removed_handle($what, &self.text()))
-            }
-
-            fn __repr__(&self) -> String {
-                self.text()
-            }
-
-            /// Equal handles name the same one of the same World family.
-            fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-                other.cast::<$name>().is_ok_and(|o| o.get().id == self.id && o.get().family == self.family)
-            }
-
-            fn __hash__(&self) -> u64 {
-                self.id ^ self.family.rotate_left(31)
             }
         }
     };

@@ -39,11 +39,9 @@ pub struct ParticleHandle {
     pub(crate) id: u64,
 }
 
-impl ParticleHandle {
-    fn text(&self) -> String {
-        format!("ParticleHandle(id={})", self.id)
-    }
+crate::identity::identity!(ParticleHandle, 17);
 
+impl ParticleHandle {
     /// The particle's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
@@ -55,18 +53,6 @@ impl ParticleHandle {
 
 #[pymethods]
 impl ParticleHandle {
-    /// The particle's id in its World: never given to another particle of that World.
-    #[getter]
-    fn id(&self) -> u64 {
-        self.id
-    }
-
-    /// The World the handle came from.
-    #[getter]
-    fn world(&self, py: Python<'_>) -> Py<World> {
-        self.world.clone_ref(py)
-    }
-
     /// Whether the particle is still in its World.
     #[getter]
     fn alive(&self) -> PyResult<bool> {
@@ -78,19 +64,6 @@ impl ParticleHandle {
     fn __index__(&self) -> PyResult<usize> {
         let g = self.world.get().lock()?;
         self.row_in(&g, "particle")
-    }
-
-    fn __repr__(&self) -> String {
-        self.text()
-    }
-
-    /// Equal handles name the same particle of the same World family.
-    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-        other.cast::<ParticleHandle>().is_ok_and(|o| o.get().id == self.id && o.get().family == self.family)
-    }
-
-    fn __hash__(&self) -> u64 {
-        self.id ^ self.family.rotate_left(17)
     }
 }
 
@@ -244,11 +217,9 @@ pub struct ConstraintHandle {
     pub(crate) id: u64,
 }
 
-impl ConstraintHandle {
-    fn text(&self) -> String {
-        format!("ConstraintHandle(id={})", self.id)
-    }
+crate::identity::identity!(ConstraintHandle, 23);
 
+impl ConstraintHandle {
     /// The constraint's id, checked to be of the World whose state `g` is.
     pub(crate) fn id_in(&self, g: &Inner) -> PyResult<ConstraintId> {
         if self.family != g.family {
@@ -286,18 +257,6 @@ fn vec_out(py: Python<'_>, v: [f64; 3], dim: usize) -> Py<PyAny> {
 
 #[pymethods]
 impl ConstraintHandle {
-    /// The constraint's id in its World: never given to another constraint of that World.
-    #[getter]
-    fn id(&self) -> u64 {
-        self.id
-    }
-
-    /// The World the handle came from.
-    #[getter]
-    fn world(&self, py: Python<'_>) -> Py<World> {
-        self.world.clone_ref(py)
-    }
-
     /// Whether the constraint is still in its World.
     #[getter]
     fn alive(&self) -> PyResult<bool> {
@@ -413,19 +372,6 @@ impl ConstraintHandle {
             c => Err(self.none(kind_of(&c), "offset")),
         }
     }
-
-    fn __repr__(&self) -> String {
-        self.text()
-    }
-
-    /// Equal handles name the same constraint of the same World family.
-    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-        other.cast::<ConstraintHandle>().is_ok_and(|o| o.get().id == self.id && o.get().family == self.family)
-    }
-
-    fn __hash__(&self) -> u64 {
-        self.id ^ self.family.rotate_left(23)
-    }
 }
 
 /// A handle to one rigid body of a World (what `add_body` returns): `id`, `alive`, and its
@@ -437,11 +383,9 @@ pub struct BodyHandle {
     pub(crate) id: u64,
 }
 
-impl BodyHandle {
-    fn text(&self) -> String {
-        format!("BodyHandle(id={})", self.id)
-    }
+crate::identity::identity!(BodyHandle, 29);
 
+impl BodyHandle {
     /// The body's row in the World whose state `g` is (the handle must be of its family).
     pub(crate) fn row_in(&self, g: &Inner, field: &str) -> PyResult<usize> {
         if self.family != g.family {
@@ -453,18 +397,6 @@ impl BodyHandle {
 
 #[pymethods]
 impl BodyHandle {
-    /// The body's id in its World: never given to another body of that World.
-    #[getter]
-    fn id(&self) -> u64 {
-        self.id
-    }
-
-    /// The World the handle came from.
-    #[getter]
-    fn world(&self, py: Python<'_>) -> Py<World> {
-        self.world.clone_ref(py)
-    }
-
     /// Whether the body is still in its World.
     #[getter]
     fn alive(&self) -> PyResult<bool> {
@@ -475,19 +407,6 @@ impl BodyHandle {
     fn __index__(&self) -> PyResult<usize> {
         let g = self.world.get().lock()?;
         self.row_in(&g, "body")
-    }
-
-    fn __repr__(&self) -> String {
-        self.text()
-    }
-
-    /// Equal handles name the same body of the same World family.
-    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-        other.cast::<BodyHandle>().is_ok_and(|o| o.get().id == self.id && o.get().family == self.family)
-    }
-
-    fn __hash__(&self) -> u64 {
-        self.id ^ self.family.rotate_left(29)
     }
 }
 

@@ -18,6 +18,7 @@ mod errors;
 mod force;
 mod force_handle;
 mod handle;
+mod identity;
 mod interrupt;
 mod joint_handle;
 mod lease;

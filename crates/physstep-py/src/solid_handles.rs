@@ -26,11 +26,9 @@ use pyo3::prelude::*;
 /// What the four handles share (this file's three and `crate::joint_handle`'s): the World, its family, the id, a name for messages.
 macro_rules! handle_common {
     ($ty:ident, $what:literal) => {
-        impl $ty {
-            fn text(&self) -> String {
-                format!(concat!(stringify!($ty), "(id={})"), self.id)
-            }
+        crate::identity::identity!($ty, 17);
 
+        impl $ty {
             fn gone(&self) -> PyErr {
                 crate::errors::removed_handle($what, &self.text())
             }
@@ -46,18 +44,6 @@ macro_rules! handle_common {
 
         #[pymethods]
         impl $ty {
-            /// The id in its World: never given to another of its kind in that World.
-            #[getter]
-            fn id(&self) -> u64 {
-                self.id
-            }
-
-            /// The World the handle came from.
-            #[getter]
-            fn world(&self, py: Python<'_>) -> Py<World> {
-                self.world.clone_ref(py)
-            }
-
             /// Whether it is still in its World.
             #[getter]
             fn alive(&self) -> PyResult<bool> {
@@ -71,22 +57,6 @@ macro_rules! handle_common {
             fn row(&self) -> PyResult<usize> {
                 let g = self.world.get().lock()?;
                 self.row_in(&g.engine).ok_or_else(|| self.gone())
-            }
-
-            fn __repr__(&self) -> String {
-                self.text()
-            }
-
-            /// Equal handles name the same thing of the same World family.
-            fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-                other.cast::<$ty>().is_ok_and(|o| {
-                    let o = o.get();
-                    o.id == self.id && o.family == self.family
-                })
-            }
-
-            fn __hash__(&self) -> u64 {
-                self.id ^ self.family.rotate_left(17)
             }
         }
     };
