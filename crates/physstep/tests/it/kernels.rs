@@ -601,6 +601,25 @@ fn steps_from_the_stored_derivative_match_the_staged_step_bitwise() {
     }
 }
 
+/// After steps from the stored derivative (which leave the derivative's velocity half owed),
+/// a switch to any other method steps on bitwise as a twin that took every step staged (the
+/// staged methods read the whole derivative).
+#[test]
+fn any_method_after_steps_from_the_stored_derivative_steps_as_after_staged_ones() {
+    for info in registry::INFOS.iter() {
+        for which in ["user", "springs"] {
+            let mut a = world("symplectic-euler", 2, 7, &[], true, false);
+            coupled(&mut a, which);
+            let mut b = a.clone();
+            let what = format!("symplectic-euler then {} under {which}", info.name);
+            agree(&mut a, &mut b, 5, &what);
+            a.set_method(info.name).unwrap();
+            b.set_method(info.name).unwrap();
+            agree(&mut a, &mut b, 3, &format!("{what}: after the switch"));
+        }
+    }
+}
+
 /// A user force that fails or runs away, and a spring network that runs away, inside a call of `step(n)`
 /// from the stored derivative: the failing step rolled back to the same bits, the same error,
 /// as the staged step gives it.
