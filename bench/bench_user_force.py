@@ -6,7 +6,9 @@ once as the built-in forces, once as a Python callable computing the same physic
 numpy, returned (`f(t, x, v) -> G - C * v`) or written in place (`add_force(f,
 inplace=True)`, `f(t, x, v, out)`), and once as the bare numpy expression on an (n, 3)
 array. The Python force's own cost is a step with it minus a step of the same world with no
-force at all. All are measured in the same run (median of interleaved repeats); nothing is asserted.
+force at all. All are measured in the same run, in rounds: each round times every world and
+then the numpy expressions alone, and a ratio is taken within a round (the printed ratio is
+the median over the rounds, the times are medians too); nothing is asserted.
 
 Issue 22's targets, printed as ratios: at 1e5 particles the Python force costs at most 1.3x
 the numpy expression alone; at n = 1, at most 2 us per evaluation.
@@ -53,30 +55,34 @@ def world(n: int, kind: str) -> physstep.World:
     return w
 
 
-def per_eval(n: int, kinds: list[str], steps: int, repeat: int) -> dict[str, float]:
-    """Median seconds per step (one force evaluation each) of each kind of world, over
-    `repeat` interleaved rounds (on a loaded machine every kind then sees the same load)."""
-    times: dict[str, list[float]] = {k: [] for k in kinds}
+def rounds(n: int, steps: int, repeat: int) -> list[dict[str, float]]:
+    """`repeat` rounds, each timing every kind of world (seconds per step, one force evaluation
+    each) and then the numpy expressions alone (seconds per call) on arrays of the same shape:
+    a round's figures are taken within moments of each other, so on a loaded machine they see
+    the same load, and a ratio is taken within a round."""
+    v = np.random.default_rng(1).random((n, 3))
+    out = np.empty_like(v)
+    bare: dict[str, Callable[[], object]] = {
+        "np returned": lambda: G - C * v,
+        "np inplace": lambda: inplace(0.0, v, v, out),
+    }
+    got = []
     for _ in range(repeat):
-        for kind in kinds:
+        row = {}
+        for kind in ("built-in", "none", "returned", "inplace"):
             w = world(n, kind)
             w.step(1)
             t0 = time.perf_counter()
             w.step(steps)
-            times[kind].append((time.perf_counter() - t0) / steps)
-    return {k: statistics.median(v) for k, v in times.items()}
-
-
-def alone(fn: Callable[[], object], calls: int, repeat: int) -> float:
-    """Median seconds per call of `fn`."""
-    fn()
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        for _ in range(calls):
+            row[kind] = (time.perf_counter() - t0) / steps
+        for name, fn in bare.items():
             fn()
-        times.append((time.perf_counter() - t0) / calls)
-    return statistics.median(times)
+            t0 = time.perf_counter()
+            for _ in range(steps):
+                fn()
+            row[name] = (time.perf_counter() - t0) / steps
+        got.append(row)
+    return got
 
 
 def main() -> None:
@@ -95,20 +101,21 @@ def main() -> None:
     print(
         f"{'particles':>10} {'built-in':>11} {'no force':>11} {'returned':>11} {'inplace':>11}"
         f" {'numpy alone':>12} {'returned/np':>12} {'inplace/np':>11}"
-        f"   (us per evaluation, median of {repeat})"
+        f"   (us per evaluation, medians of {repeat} rounds; the ratios round by round)"
     )
     for n in (1, 1_000, 100_000):
         steps = max(20, (200 if args.quick else 2000) // max(1, n // 1000))
-        t = per_eval(n, ["built-in", "none", "returned", "inplace"], steps, repeat)
-        v = np.random.default_rng(1).random((n, 3))
-        out = np.empty_like(v)
-        np_ret = alone(lambda v=v: G - C * v, steps, repeat)
-        np_in = alone(lambda v=v, out=out: inplace(0.0, v, v, out), steps, repeat)
+        got = rounds(n, steps, repeat)
+        t = {k: statistics.median(r[k] for r in got) for k in got[0]}
+        # The force's own cost over the numpy expression, round by round.
+        forms = ("returned", "inplace")
+        ratio = {form: sorted((r[form] - r["none"]) / r[f"np {form}"] for r in got) for form in forms}
+        mid = {form: statistics.median(q) for form, q in ratio.items()}
         own_ret, own_in = t["returned"] - t["none"], t["inplace"] - t["none"]
         print(
             f"{n:>10} {t['built-in'] * 1e6:>11.2f} {t['none'] * 1e6:>11.2f} {t['returned'] * 1e6:>11.2f}"
-            f" {t['inplace'] * 1e6:>11.2f} {np_ret * 1e6:>12.2f} {own_ret / np_ret:>11.2f}x"
-            f" {own_in / np_in:>10.2f}x"
+            f" {t['inplace'] * 1e6:>11.2f} {t['np returned'] * 1e6:>12.2f} {mid['returned']:>11.2f}x"
+            f" {mid['inplace']:>10.2f}x"
         )
         if n == 1:
             print(
@@ -117,10 +124,13 @@ def main() -> None:
                 f" {t['returned'] * 1e6:.2f} / {t['inplace'] * 1e6:.2f} us)"
             )
         if n == 100_000:
+            spread = {form: f"{q[0]:.2f}-{q[-1]:.2f}x" for form, q in ratio.items()}
             print(
                 f"{'':>10} target at 1e5: at most 1.3x the numpy expression alone: returned"
-                f" {own_ret / np_ret:.2f}x (numpy {np_ret * 1e6:.0f} us), inplace {own_in / np_in:.2f}x"
-                f" (numpy in place {np_in * 1e6:.0f} us)"
+                f" {mid['returned']:.2f}x (rounds {spread['returned']};"
+                f" numpy {t['np returned'] * 1e6:.0f} us),"
+                f" inplace {mid['inplace']:.2f}x (rounds {spread['inplace']}; numpy in place"
+                f" {t['np inplace'] * 1e6:.0f} us)"
             )
 
 
