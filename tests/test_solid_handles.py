@@ -257,7 +257,7 @@ def test_a_force_on_a_solid_is_removed_by_its_handle_and_with_its_solid() -> Non
     with pytest.raises(ValueError, match=r"^invalid force = SolidForceHandle\(id=1\): it was removed"):
         w.remove(g)
     other, _ = pile()
-    with pytest.raises(
-        ValueError, match=r"^invalid solid = SolidHandle\(id=4\): must be a handle of this World's solids \(it is another World's;"
-    ):
+    foreign = r"^invalid solid = SolidHandle\(id=4\): must be a handle of this World's solids \(it is another"
+    foreign += r" World's;"
+    with pytest.raises(ValueError, match=foreign):
         other.remove(h[4])
