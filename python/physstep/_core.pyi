@@ -1399,7 +1399,9 @@ class World:
         state where the method evaluates there (no copy), else copies in reused arrays; a
         function that keeps one past its call is warned once (RuntimeWarning: keep
         ``x.copy()``). ``potential(x)`` (J) makes the
-        energy known; ``jacobian(t, x, v)`` returns (dF/dx, dF/dv) for the implicit methods.
+        energy known; ``jacobian(t, x, v)`` returns (dF/dx, dF/dv) for the implicit methods;
+        ``velocity_dependent=False`` (the force ignores ``v``) saves re-evaluations: velocity
+        Verlet then evaluates once a step, from the stored derivative.
         Returns its handle (kind ``python``; ``World.remove`` takes it); ValueError if an
         argument is not callable.
         An exception raised inside propagates unchanged from the step, which is rolled

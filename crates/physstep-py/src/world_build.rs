@@ -199,7 +199,8 @@ impl World {
     /// method evaluates there (no copy), else reused copies (keeping one past its call is
     /// warned once: keep `x.copy()`). `potential(x)` (J) makes the energy known;
     /// `jacobian(t, x, v)` returns (dF/dx, dF/dv), each (n dim, n dim), for the implicit
-    /// methods; `velocity_dependent=False` saves re-evaluations when the force ignores v.
+    /// methods; `velocity_dependent=False` saves re-evaluations when the force ignores v
+    /// (velocity Verlet then evaluates once a step, from the stored derivative).
     /// An exception raised inside propagates unchanged, with the step rolled back. Returns
     /// the force's handle (kind `python`), which `remove` takes.
     #[pyo3(signature = (func, *, potential=None, jacobian=None, velocity_dependent=None, name=None, inplace=None))]

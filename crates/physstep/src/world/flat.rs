@@ -81,6 +81,63 @@ pub(super) fn given<M: Method>(
     !flag
 }
 
+/// Whether a step of `method` evaluates the forces once without being [`start_only`]: under
+/// forces that do not read the velocity, its new state is a function of its start, the
+/// derivative there and that one evaluation, made at a point that is a function of the start
+/// alone (it is made before any evaluation is known). Velocity Verlet. Such a method steps
+/// particles under any velocity-independent forces in two passes from the stored derivative:
+/// [`given_point`], the forces evaluated at that point, [`given_end`].
+pub(super) fn one_eval<M: Method>(method: &M) -> bool {
+    evals(method, false) == Some(1) && !start_only(method)
+}
+
+/// Where a [`one_eval`] method evaluates the forces, element by element from its start (`x`,
+/// `v`, the stored accelerations `a`; forces that do not read the velocity), written over `x`
+/// and `v`; the start kept in `sx`, `sv` as it is read.
+#[inline(always)]
+pub(super) fn given_point<M: Method>(
+    method: &M,
+    h: f64,
+    (x, v): (&mut [f64], &mut [f64]),
+    a: &[f64],
+    (sx, sv): (&mut [f64], &mut [f64]),
+) {
+    let saved = sx.iter_mut().zip(sv.iter_mut());
+    for (((x, v), &a), (sx, sv)) in x.iter_mut().zip(v.iter_mut()).zip(a).zip(saved) {
+        (*sx, *sv) = (*x, *v);
+        let at = std::cell::Cell::new([*x, *v]);
+        let mut e = Element::new(0.0, h, [*x, *v], [*v, a], false, |xe, ve| {
+            at.set([xe, ve]);
+            0.0
+        });
+        method.element_step(&mut e);
+        [*x, *v] = at.get();
+    }
+}
+
+/// The end of a [`one_eval`] method's step, element by element from the start kept in `sx`,
+/// `sv` and its stored accelerations `a`, given the accelerations `a_end` evaluated where
+/// [`given_point`] put the state: the new state written to `x`, `v`. Whether every new value
+/// is within the runaway limit.
+#[inline(always)]
+pub(super) fn given_end<M: Method>(
+    method: &M,
+    h: f64,
+    (x, v): (&mut [f64], &mut [f64]),
+    (a, a_end): (&[f64], &[f64]),
+    (sx, sv): (&[f64], &[f64]),
+) -> bool {
+    let mut flag = false;
+    let start = sx.iter().zip(sv).zip(a.iter().zip(a_end));
+    for ((x, v), ((&sx, &sv), (&a, &a_end))) in x.iter_mut().zip(v.iter_mut()).zip(start) {
+        let mut e = Element::new(0.0, h, [sx, sv], [sv, a], false, |_, _| a_end);
+        method.element_step(&mut e);
+        [*x, *v] = e.y;
+        flag |= bad(e.y[0]) | bad(e.y[1]);
+    }
+    !flag
+}
+
 /// Particles per chunk: a chunk's positions, velocities, inverse masses and gravity per
 /// element (`4 * CHUNK * dim` values) stay in L1 for all the steps of a run.
 const CHUNK: usize = 64;
@@ -308,6 +365,23 @@ mod tests {
             .map(|info| info.name)
             .collect();
         assert_eq!(only, ["explicit-euler", "symplectic-euler"]);
+    }
+
+    #[test]
+    fn the_methods_that_evaluate_once_at_a_point_of_their_own_are_velocity_verlet() {
+        struct Probe;
+        impl Visit for Probe {
+            type Out = bool;
+            fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> bool {
+                super::one_eval(m)
+            }
+        }
+        let once: Vec<&str> = INFOS
+            .iter()
+            .filter(|info| Integrator::new(info.name).unwrap().visit(Probe))
+            .map(|info| info.name)
+            .collect();
+        assert_eq!(once, ["velocity-verlet"]);
     }
 
     #[test]

@@ -12,7 +12,10 @@
 //! whose forces the fused kernel cannot take (user forces, springs between particles, n-body
 //! gravity) under a method whose step reads only the derivative at its start: one step at a
 //! time from the stored accelerations ([`tiles::given`]), the forces then evaluated at the
-//! step's end as the staged step does (`World::integrate_given` in `step.rs`).
+//! step's end as the staged step does (`World::integrate_given` in `step.rs`); or, under
+//! forces that do not read the velocity, a method that evaluates them once at a point of its
+//! own (velocity Verlet): the state put there ([`tiles::given_point`]), the forces evaluated,
+//! then the step's end from the start kept in the rollback ([`tiles::given_end`]).
 //!
 //! Rollback: the kernel writes the state at its start into the call's [`Rollback`](super::rollback::Rollback) as it
 //! reads it, or, when an earlier call of the kernel kept it and nothing changed since
@@ -87,6 +90,19 @@ impl<const D: usize> Visit for Fused<'_, D> {
     }
 }
 
+/// How a step from the stored derivative takes its step ([`World::given`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum GivenKind {
+    /// The method reads only the derivative at the start (explicit and symplectic Euler): the
+    /// element-wise kernel steps from it ([`tiles::given`]), then the forces are evaluated at
+    /// the end.
+    Start,
+    /// The method evaluates the forces once, at a point of its own (velocity Verlet, forces
+    /// that do not read the velocity): the state put at that point ([`tiles::given_point`]),
+    /// the forces evaluated there, then the step's end ([`tiles::given_end`]).
+    Point,
+}
+
 /// Whether a method's step reads only the derivative at its start ([`flat::start_only`]), as
 /// work for [`Integrator::visit`].
 struct StartOnly;
@@ -96,6 +112,55 @@ impl Visit for StartOnly {
 
     fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> bool {
         flat::start_only(method)
+    }
+}
+
+/// Whether a method evaluates the forces once, at a point of its own ([`flat::one_eval`]), as
+/// work for [`Integrator::visit`].
+struct OneEval;
+
+impl Visit for OneEval {
+    type Out = bool;
+
+    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> bool {
+        flat::one_eval(method)
+    }
+}
+
+/// Where a [`flat::one_eval`] method evaluates the forces ([`tiles::given_point`]), as work
+/// for [`Integrator::visit`].
+struct GivenPoint<'a> {
+    h: f64,
+    y: &'a mut [f64],
+    a: &'a [f64],
+    saved: &'a mut [f64],
+}
+
+impl Visit for GivenPoint<'_> {
+    type Out = ();
+
+    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) {
+        let Self { h, y, a, saved } = self;
+        tiles::given_point::<M>(method, h, y, a, saved);
+    }
+}
+
+/// The end of a [`flat::one_eval`] method's step ([`tiles::given_end`]), as work for
+/// [`Integrator::visit`]: whether no new value ran away.
+struct GivenEnd<'a> {
+    h: f64,
+    y: &'a mut [f64],
+    a: &'a [f64],
+    a_end: &'a [f64],
+    saved: &'a [f64],
+}
+
+impl Visit for GivenEnd<'_> {
+    type Out = bool;
+
+    fn visit<M: Method + Clone + Send + Sync>(self, method: &mut M) -> bool {
+        let Self { h, y, a, a_end, saved } = self;
+        tiles::given_end::<M>(method, h, y, (a, a_end), saved)
     }
 }
 
@@ -171,11 +236,13 @@ impl World {
     }
 
     /// A fresh instance of the world's method when its steps can be taken from the stored
-    /// derivative by the element-wise kernel ([`tiles::given`]) and the forces evaluated once
-    /// at each step's end as the staged step does: particles only (no bodies, flow, constraint,
-    /// ball or solid), under any forces (user forces, springs between particles, n-body
-    /// gravity), by a local method whose step reads only the derivative at its start.
-    pub(super) fn given(&self) -> Option<Integrator> {
+    /// derivative by the element-wise kernels and the forces evaluated once a step as the
+    /// staged step evaluates them: particles only (no bodies, flow, constraint, ball or
+    /// solid), under any forces (user forces, springs between particles, n-body gravity), by a
+    /// local method whose step reads only the derivative at its start ([`GivenKind::Start`]), or,
+    /// under forces that do not read the velocity, one that evaluates them once at a point of
+    /// its own ([`GivenKind::Point`]).
+    pub(super) fn given(&self) -> Option<(Integrator, GivenKind)> {
         if self.flow.is_some()
             || !self.constraints.is_empty()
             || !self.bodies.is_empty()
@@ -186,7 +253,34 @@ impl World {
             return None;
         }
         let mut method = self.integrator.fresh_local()?;
-        method.visit(StartOnly).then_some(method)
+        if method.visit(StartOnly) {
+            return Some((method, GivenKind::Start));
+        }
+        let point = !self.model.velocity_dependent() && method.visit(OneEval);
+        point.then_some((method, GivenKind::Point))
+    }
+
+    /// Where a [`GivenKind::Point`] method evaluates the forces in a step of `h` from the stored
+    /// accelerations, written into `y`; the state at the start in `saved`.
+    pub(super) fn given_point(&mut self, method: &mut Integrator, h: f64, saved: &mut [f64]) {
+        let State { y, f, .. } = &mut self.state;
+        let n = y.len() / 2;
+        method.visit(GivenPoint { h, y, a: &f[n..], saved });
+    }
+
+    /// The end of a [`GivenKind::Point`] method's step of `h` from the state kept in `saved` and
+    /// the stored accelerations, given `a_end` evaluated at its point: the new state in `y`;
+    /// whether no new value ran away.
+    pub(super) fn given_end(
+        &mut self,
+        method: &mut Integrator,
+        h: f64,
+        saved: &[f64],
+        a_end: &[f64],
+    ) -> bool {
+        let State { y, f, .. } = &mut self.state;
+        let n = y.len() / 2;
+        method.visit(GivenEnd { h, y, a: &f[n..], a_end, saved })
     }
 
     /// One step of `h` from the stored accelerations: the new state in `y`, the state at the

@@ -138,8 +138,10 @@ enum Integrate {
     /// element-wise kernel from the stored accelerations (the state at the start kept as it
     /// is read, the new state checked in registers), then the forces evaluated at the end as
     /// the staged step evaluates them, into a derivative written beside the current one and
-    /// swapped in on success (`kernel.rs` `World::given`).
-    Given(Integrator),
+    /// swapped in on success; or by a method that evaluates forces that do not read the
+    /// velocity once, at a point of its own (`GivenKind::Point`: the state put there first, the
+    /// step's end after the evaluation) (`kernel.rs` `World::given`).
+    Given(Integrator, super::kernel::GivenKind),
     /// Particles and bodies under a split method, nothing else to do (no constraint, ball,
     /// load by hand or user code): the parts built once for every step left, each checked;
     /// the bodies' `dX` left out of `f` (no split method reads it; computed when asked for).
@@ -217,8 +219,8 @@ impl World {
         if let Some(method) = self.fused() {
             return Integrate::Fused(method);
         }
-        if let Some(method) = self.given() {
-            return Integrate::Given(method);
+        if let Some((method, from)) = self.given() {
+            return Integrate::Given(method, from);
         }
         let split = !self.bodies.is_empty() && self.integrator.info().split;
         let alone = self.constraints.is_empty() && self.balls.is_empty() && self.solids.is_empty();
@@ -268,7 +270,7 @@ impl World {
         }
         let how = self.plan(n);
         let keep = match how {
-            Integrate::Staged | Integrate::Given(_) if n < 2 || !self.replayable() => Checkpoints::Step,
+            Integrate::Staged | Integrate::Given(..) if n < 2 || !self.replayable() => Checkpoints::Step,
             _ => Checkpoints::Call,
         };
         self.steps_as(how, n, h, keep, None, on_row)
@@ -296,7 +298,7 @@ impl World {
         // the stored derivative does not read its velocity half.
         let owed = match how {
             Integrate::Fused(_) => self.derivative == Derivative::Stale,
-            Integrate::Given(_) => self.derivative != Derivative::VelocityOwed,
+            Integrate::Given(..) => self.derivative != Derivative::VelocityOwed,
             _ => true,
         };
         if owed {
@@ -316,7 +318,8 @@ impl World {
         let mut back = std::mem::take(&mut self.rollback);
         // The fused kernel keeps its rollback as it reads the state, at each pass; the others
         // keep the call's once, or each step's before it.
-        let each_pass = keep == Checkpoints::Step || matches!(how, Integrate::Fused(_) | Integrate::Given(_));
+        let each_pass =
+            keep == Checkpoints::Step || matches!(how, Integrate::Fused(_) | Integrate::Given(..));
         if keep == Checkpoints::Call && !each_pass {
             self.keep(&mut back, Keep::State);
         }
@@ -329,7 +332,7 @@ impl World {
             // rollback an earlier call of it kept (a failure replays the steps since).
             let fused = matches!(how, Integrate::Fused(_));
             // (These two keep the positions as they read them.)
-            let as_read = fused || matches!(how, Integrate::Given(_));
+            let as_read = fused || matches!(how, Integrate::Given(..));
             let save = each_pass && !(fused && self.reusable(&back, h));
             let ctx = match self.context(h) {
                 Ok(ctx) => StepContext { last: taken + 1 == n, save, ..ctx },
@@ -426,7 +429,7 @@ impl World {
         self.balls_begin();
         let (k, halted) = match how {
             Integrate::Fused(method) => self.integrate_fused(ctx, method, left, back, on_row)?,
-            Integrate::Given(method) => (self.integrate_given(ctx, method, back)?, false),
+            Integrate::Given(method, from) => (self.integrate_given(ctx, method, *from, back)?, false),
             Integrate::Split => (self.integrate_split(ctx, left)?, false),
             Integrate::Staged => {
                 self.integrate(ctx, log)?;
@@ -472,6 +475,7 @@ impl World {
         &mut self,
         ctx: &StepContext,
         method: &mut Integrator,
+        from: super::kernel::GivenKind,
         back: &mut Rollback,
     ) -> std::result::Result<u64, Failure> {
         debug_assert!(
@@ -482,18 +486,26 @@ impl World {
         beside.resize(self.state.f.len(), 0.0);
         let n = self.state.y.len() / 2;
         let a_new = &mut beside[n..];
-        if !self.given_step(method, ctx.h, &mut back.y) {
+        let point = from == super::kernel::GivenKind::Point;
+        if point {
+            // The state where the method evaluates the forces.
+            self.given_point(method, ctx.h, &mut back.y);
+        } else if !self.given_step(method, ctx.h, &mut back.y) {
             back.beside = beside;
             // A new value ran away: the step is taken again staged (no force was evaluated
             // in this one), which fails the same way and names it.
             return Err(Failure::Again(0));
         }
         let (x, v) = self.state.y.split_at(n);
-        let ran_away = self.model.accel_ran_away(ctx.t + ctx.h, x, v, a_new);
+        let mut ran_away = self.model.accel_ran_away(ctx.t + ctx.h, x, v, a_new);
         self.state.evals += 1;
         if let Some(e) = self.model.failure.take() {
             back.beside = beside;
             return Err(Failure::Error(e));
+        }
+        if point {
+            // The step's end from its start, given the forces at its point.
+            ran_away |= !self.given_end(method, ctx.h, &back.y, &beside[n..]);
         }
         std::mem::swap(&mut self.state.f, &mut beside);
         let failed = match ran_away {
@@ -503,8 +515,9 @@ impl World {
             true if crate::interrupt::stop() => {
                 Some(Failure::Error(Error::Interrupted { step: self.state.steps }))
             }
-            // Accelerations past the limit: the staged step's Check of the state and derivative
-            // it would hold names them (not taken again: a user force would be called twice).
+            // Accelerations (or, from a point, a new state) past the limit: the staged step's
+            // Check of the state and derivative it would hold names them (not taken again: a
+            // user force would be called twice).
             true => Some(self.check(ctx).err().map_or(Failure::Again(0), Failure::Error)),
         };
         match failed {

@@ -371,6 +371,92 @@ pub(super) fn given<M: Method + Sync>(
         .reduce(|| true, |p, q| p & q)
 }
 
+/// Where a [`flat::one_eval`] method evaluates the forces, for every particle (state `y`) from
+/// the stored accelerations `a` ([`flat::given_point`]), written over `y`; the start kept in
+/// `saved`.
+pub(super) fn given_point<M: Method + Sync>(method: &M, h: f64, y: &mut [f64], a: &[f64], saved: &mut [f64]) {
+    let task = |xv: (&mut [f64], &mut [f64]), a: &[f64], s: (&mut [f64], &mut [f64])| {
+        #[cfg(target_arch = "x86_64")]
+        if avx2() {
+            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+            // `target_feature` function.
+            return unsafe { given_point_avx2::<M>(method, h, xv, a, s) };
+        }
+        flat::given_point::<M>(method, h, xv, a, s);
+    };
+    let n = a.len();
+    let ((x, v), (sx, sv)) = (y.split_at_mut(n), saved.split_at_mut(n));
+    let c = TASK * 3;
+    if n < PARALLEL_MIN * 3 {
+        return task((x, v), a, (sx, sv));
+    }
+    (x.par_chunks_mut(c), v.par_chunks_mut(c), a.par_chunks(c), sx.par_chunks_mut(c), sv.par_chunks_mut(c))
+        .into_par_iter()
+        .for_each(|(x, v, a, sx, sv)| task((x, v), a, (sx, sv)));
+}
+
+/// The end of a [`flat::one_eval`] method's step for every particle ([`flat::given_end`]):
+/// from the start kept in `saved` and its accelerations `a`, given `a_end` evaluated at
+/// [`given_point`]'s point, written to `y`; whether no new value ran away.
+pub(super) fn given_end<M: Method + Sync>(
+    method: &M,
+    h: f64,
+    y: &mut [f64],
+    (a, a_end): (&[f64], &[f64]),
+    saved: &[f64],
+) -> bool {
+    let task = |xv: (&mut [f64], &mut [f64]), aa: (&[f64], &[f64]), s: (&[f64], &[f64])| {
+        #[cfg(target_arch = "x86_64")]
+        if avx2() {
+            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+            // `target_feature` function.
+            return unsafe { given_end_avx2::<M>(method, h, xv, aa, s) };
+        }
+        flat::given_end::<M>(method, h, xv, aa, s)
+    };
+    let n = a.len();
+    let ((x, v), (sx, sv)) = (y.split_at_mut(n), saved.split_at(n));
+    let c = TASK * 3;
+    if n < PARALLEL_MIN * 3 {
+        return task((x, v), (a, a_end), (sx, sv));
+    }
+    (
+        x.par_chunks_mut(c),
+        v.par_chunks_mut(c),
+        a.par_chunks(c),
+        a_end.par_chunks(c),
+        sx.par_chunks(c),
+        sv.par_chunks(c),
+    )
+        .into_par_iter()
+        .map(|(x, v, a, a_end, sx, sv)| task((x, v), (a, a_end), (sx, sv)))
+        .reduce(|| true, |p, q| p & q)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn given_point_avx2<M: Method>(
+    method: &M,
+    h: f64,
+    xv: (&mut [f64], &mut [f64]),
+    a: &[f64],
+    saved: (&mut [f64], &mut [f64]),
+) {
+    flat::given_point::<M>(method, h, xv, a, saved);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn given_end_avx2<M: Method>(
+    method: &M,
+    h: f64,
+    xv: (&mut [f64], &mut [f64]),
+    aa: (&[f64], &[f64]),
+    saved: (&[f64], &[f64]),
+) -> bool {
+    flat::given_end::<M>(method, h, xv, aa, saved)
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn given_avx2<M: Method>(

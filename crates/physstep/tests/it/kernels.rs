@@ -541,6 +541,39 @@ fn wind(fail_at: u64) -> std::sync::Arc<Wind> {
     std::sync::Arc::new(Wind { calls: 0.into(), fail_at, blow_at: 0 })
 }
 
+/// A time-dependent user force that does not read the velocity (so a method that evaluates
+/// once at a point of its own, velocity Verlet, steps from the stored derivative under it);
+/// failing and blowing as [`Wind`] does.
+struct Swell(Wind);
+
+impl physstep::forces::ForceGenerator for Swell {
+    fn name(&self) -> &str {
+        "swell"
+    }
+
+    fn add_forces(&self, t: f64, x: &[f64], _v: &[f64], f: &mut [f64]) -> Result<(), String> {
+        let k = self.0.calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if k == self.0.fail_at {
+            return Err(format!("surge {k}"));
+        }
+        for (i, (fi, xi)) in f.iter_mut().zip(x).enumerate() {
+            *fi += (2.0 * t + i as f64).cos() - 0.7 * xi;
+        }
+        if k == self.0.blow_at {
+            f[4] = 1e150;
+        }
+        Ok(())
+    }
+
+    fn velocity_dependent(&self) -> bool {
+        false
+    }
+}
+
+fn swell(fail_at: u64, blow_at: u64) -> std::sync::Arc<Swell> {
+    std::sync::Arc::new(Swell(Wind { calls: 0.into(), fail_at, blow_at }))
+}
+
 /// Forces that are not per-particle (the fused kernel does not take them): springs between
 /// particles, n-body gravity, a user force; each with gravity.
 fn coupled(w: &mut World, which: &str) {
@@ -556,6 +589,9 @@ fn coupled(w: &mut World, which: &str) {
         "n-body" => {
             w.add_force(Force::NBody { g: 0.5, softening: 0.05 }).unwrap();
         }
+        "user, position only" => {
+            w.add_force_generator(swell(0, 0)).unwrap();
+        }
         _ => {
             w.add_force_generator(wind(0)).unwrap();
         }
@@ -570,7 +606,7 @@ fn coupled(w: &mut World, which: &str) {
 #[test]
 fn steps_from_the_stored_derivative_match_the_staged_step_bitwise() {
     for info in registry::INFOS.iter() {
-        for which in ["springs", "n-body", "user"] {
+        for which in ["springs", "n-body", "user", "user, position only"] {
             for dim in 1..=3 {
                 for (n, with_static) in [(1, false), (7, true), (37, false)] {
                     let mut a = world(info.name, dim, n, &[], with_static, false);
@@ -593,9 +629,11 @@ fn steps_from_the_stored_derivative_match_the_staged_step_bitwise() {
         }
     }
     // Enough particles for the parallel tasks.
-    for method in ["symplectic-euler", "explicit-euler"] {
+    for (method, which) in
+        [("symplectic-euler", "user"), ("explicit-euler", "user"), ("velocity-verlet", "user, position only")]
+    {
         let mut a = world(method, 3, 70_000, &[], false, false);
-        coupled(&mut a, "user");
+        coupled(&mut a, which);
         let mut b = a.clone();
         agree(&mut a, &mut b, 3, &format!("{method}, 70,000 particles"));
     }
@@ -675,4 +713,31 @@ fn a_failure_stepping_from_the_stored_derivative_is_the_staged_one() {
         };
         fails_alike(&make, 100_000, "diverged", &format!("{method}: the runaway"));
     }
+    // Velocity Verlet under a force that does not read the velocity (from the point where it
+    // evaluates): a failing force, accelerations past the limit, and (undamped stiff springs)
+    // a state that runs away after the evaluation.
+    for at in [1, 2, 6] {
+        for (fail_at, blow_at, said) in [(at, 0, "force 'swell' failed: surge"), (0, at, "diverged")] {
+            let make = || {
+                let mut w = world("velocity-verlet", 2, 9, &[], false, false);
+                w.add_force_generator(swell(fail_at, blow_at)).unwrap();
+                w
+            };
+            fails_alike(
+                &make,
+                10,
+                said,
+                &format!("velocity-verlet, failing ({fail_at}) or blowing ({blow_at})"),
+            );
+        }
+    }
+    let make = || {
+        let mut w = world("velocity-verlet", 3, 12, &[], false, false);
+        for i in 0..11 {
+            let j = Endpoint::Particle(i + 1);
+            w.add_force(Force::Spring { i, j, stiffness: 1e9, rest_length: 0.1, damping: 0.0 }).unwrap();
+        }
+        w
+    };
+    fails_alike(&make, 100_000, "diverged", "velocity-verlet: the runaway");
 }
