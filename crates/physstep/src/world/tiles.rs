@@ -349,7 +349,7 @@ pub(super) fn given<M: Method + Sync>(
     a: &[f64],
     saved: &mut [f64],
 ) -> bool {
-    let task = |xv: (&mut [f64], &mut [f64]), a: &[f64], s: (&mut [f64], &mut [f64])| {
+    from_start(y, a, saved, |xv, a, s| {
         #[cfg(target_arch = "x86_64")]
         if avx2() {
             // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
@@ -357,10 +357,36 @@ pub(super) fn given<M: Method + Sync>(
             return unsafe { given_avx2::<M>(method, h, xv, a, s) };
         }
         flat::given::<M>(method, h, xv, a, s)
-    };
+    })
+}
+
+/// Where a [`flat::one_eval`] method evaluates the forces, for every particle (state `y`) from
+/// the stored accelerations `a` ([`flat::given_point`]), written over `y`; the start kept in
+/// `saved`.
+pub(super) fn given_point<M: Method + Sync>(method: &M, h: f64, y: &mut [f64], a: &[f64], saved: &mut [f64]) {
+    from_start(y, a, saved, |xv, a, s| {
+        #[cfg(target_arch = "x86_64")]
+        if avx2() {
+            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
+            // `target_feature` function.
+            unsafe { given_point_avx2::<M>(method, h, xv, a, s) };
+            return true;
+        }
+        flat::given_point::<M>(method, h, xv, a, s);
+        true
+    });
+}
+
+/// `task` on the particles' positions and velocities (`y`), stored accelerations `a` and the
+/// start they keep (`saved`), in parallel tasks of [`TASK`] particles in a large world
+/// (elements are independent: any split of them gives the same bits); whether every task
+/// said yes.
+fn from_start<F>(y: &mut [f64], a: &[f64], saved: &mut [f64], task: F) -> bool
+where
+    F: Fn((&mut [f64], &mut [f64]), &[f64], (&mut [f64], &mut [f64])) -> bool + Sync,
+{
     let n = a.len();
     let ((x, v), (sx, sv)) = (y.split_at_mut(n), saved.split_at_mut(n));
-    // (Elements are independent: any split of them gives the same bits.)
     let c = TASK * 3;
     if n < PARALLEL_MIN * 3 {
         return task((x, v), a, (sx, sv));
@@ -369,30 +395,6 @@ pub(super) fn given<M: Method + Sync>(
         .into_par_iter()
         .map(|(x, v, a, sx, sv)| task((x, v), a, (sx, sv)))
         .reduce(|| true, |p, q| p & q)
-}
-
-/// Where a [`flat::one_eval`] method evaluates the forces, for every particle (state `y`) from
-/// the stored accelerations `a` ([`flat::given_point`]), written over `y`; the start kept in
-/// `saved`.
-pub(super) fn given_point<M: Method + Sync>(method: &M, h: f64, y: &mut [f64], a: &[f64], saved: &mut [f64]) {
-    let task = |xv: (&mut [f64], &mut [f64]), a: &[f64], s: (&mut [f64], &mut [f64])| {
-        #[cfg(target_arch = "x86_64")]
-        if avx2() {
-            // SAFETY: the CPU has AVX2 (checked by `avx2`), the only requirement of a
-            // `target_feature` function.
-            return unsafe { given_point_avx2::<M>(method, h, xv, a, s) };
-        }
-        flat::given_point::<M>(method, h, xv, a, s);
-    };
-    let n = a.len();
-    let ((x, v), (sx, sv)) = (y.split_at_mut(n), saved.split_at_mut(n));
-    let c = TASK * 3;
-    if n < PARALLEL_MIN * 3 {
-        return task((x, v), a, (sx, sv));
-    }
-    (x.par_chunks_mut(c), v.par_chunks_mut(c), a.par_chunks(c), sx.par_chunks_mut(c), sv.par_chunks_mut(c))
-        .into_par_iter()
-        .for_each(|(x, v, a, sx, sv)| task((x, v), a, (sx, sv)));
 }
 
 /// The end of a [`flat::one_eval`] method's step for every particle ([`flat::given_end`]):
