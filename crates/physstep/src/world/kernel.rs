@@ -12,7 +12,7 @@
 //! whose forces the fused kernel cannot take (user forces, springs between particles, n-body
 //! gravity) under a method whose step reads only the derivative at its start: one step at a
 //! time from the stored accelerations ([`tiles::given`]), the forces then evaluated at the
-//! step's end as the staged step does (`World::integrate_given` in `step.rs`); or, under
+//! step's end as the staged step does (`World::integrate_given`, below); or, under
 //! forces that do not read the velocity, a method that evaluates them once at a point of its
 //! own (velocity Verlet): the state put there ([`tiles::given_point`]), the forces evaluated,
 //! then the step's end from the start kept in the rollback ([`tiles::given_end`]).
@@ -25,11 +25,13 @@
 //! rolls back, and names the particle (`World::run`).
 
 use super::flat::{self, Flat, Masses};
+use super::rollback::Rollback;
 use super::small::{self, Elements};
-use super::step::StepContext;
+use super::step::{Failure, StepContext};
 use super::tiles::{self, Forces, Run};
-use super::World;
+use super::{Derivative, World};
 use crate::dynamics::SecondOrder;
+use crate::error::Error;
 use crate::integrators::registry::{State, Visit};
 use crate::integrators::{Integrator, Method};
 
@@ -345,6 +347,100 @@ impl World {
                 let inv_mass = &model.inv_mass;
                 let masses = all.map_or(Masses::Each(inv_mass), |w| Masses::All(w, inv_mass.len()));
                 (method.visit(Fused::<D> { forces, flat, inv_mass, masses, y, saved, run }), false)
+            }
+        }
+    }
+}
+
+/// The Integrate stage of a pass taken by the element-wise kernels (chosen by `World::plan` in
+/// `step.rs`).
+impl World {
+    /// Integrate, the fused kernel: up to `left` steps, the state at their start kept in
+    /// `back` when `ctx.save` (else `back` is an earlier fused call's, reused).
+    pub(super) fn integrate_fused<F: FnMut(Row<'_>) -> bool>(
+        &mut self,
+        ctx: &StepContext,
+        method: &mut Integrator,
+        left: u64,
+        back: &mut Rollback,
+        on_row: Option<&mut F>,
+    ) -> std::result::Result<(u64, bool), Failure> {
+        let (good, ran) = self.fused_run(method, &mut back.y, ctx, left, on_row);
+        if good > 0 {
+            self.derivative = Derivative::Unstored;
+        }
+        match ran {
+            Ran::Bad => Err(Failure::Again(good)),
+            // `Time`: the next pass's context says that time no longer moves.
+            Ran::All | Ran::Time => Ok((good, ran == Ran::All && good < left)),
+        }
+    }
+
+    /// Integrate from the stored derivative (`Integrate::Given`): one step, the state at its
+    /// start kept in `back`, the forces evaluated at its end (counted, as the staged step
+    /// counts them) into the accelerations written beside `state.f`'s, swapped in when they and
+    /// the new state pass the check. The derivative's velocity half, a copy of `v`, is left
+    /// owed (`Derivative::VelocityOwed`: no step from the stored derivative reads it). A
+    /// failure leaves `state.f` as it was: the rollback puts back only `y`.
+    pub(super) fn integrate_given(
+        &mut self,
+        ctx: &StepContext,
+        method: &mut Integrator,
+        from: GivenKind,
+        back: &mut Rollback,
+    ) -> std::result::Result<u64, Failure> {
+        debug_assert!(
+            matches!(self.derivative, Derivative::Current | Derivative::VelocityOwed),
+            "refreshed before the pass"
+        );
+        let mut beside = std::mem::take(&mut back.beside);
+        beside.resize(self.state.f.len(), 0.0);
+        let n = self.state.y.len() / 2;
+        let a_new = &mut beside[n..];
+        let point = from == GivenKind::Point;
+        if point {
+            // The state where the method evaluates the forces.
+            self.given_point(method, ctx.h, &mut back.y);
+        } else if !self.given_step(method, ctx.h, &mut back.y) {
+            back.beside = beside;
+            // A new value ran away: the step is taken again staged (no force was evaluated
+            // in this one), which fails the same way and names it.
+            return Err(Failure::Again(0));
+        }
+        let (x, v) = self.state.y.split_at(n);
+        let mut ran_away = self.model.accel_ran_away(ctx.t + ctx.h, x, v, a_new);
+        self.state.evals += 1;
+        if let Some(e) = self.model.failure.take() {
+            back.beside = beside;
+            return Err(Failure::Error(e));
+        }
+        if point {
+            // The step's end from its start, given the forces at its point.
+            ran_away |= !self.given_end(method, ctx.h, &back.y, &beside[n..]);
+        }
+        std::mem::swap(&mut self.state.f, &mut beside);
+        let failed = match ran_away {
+            false => None,
+            // Ctrl-C cut the evaluation short (n-body gravity poisons what it left): the
+            // step loop rolls back and reports the stop.
+            true if crate::interrupt::stop() => {
+                Some(Failure::Error(Error::Interrupted { step: self.state.steps }))
+            }
+            // Accelerations (or, from a point, a new state) past the limit: the staged step's
+            // Check of the state and derivative it would hold names them (not taken again: a
+            // user force would be called twice).
+            true => Some(self.check(ctx).err().map_or(Failure::Again(0), Failure::Error)),
+        };
+        match failed {
+            None => {
+                back.beside = beside;
+                self.derivative = Derivative::VelocityOwed;
+                Ok(1)
+            }
+            Some(failure) => {
+                std::mem::swap(&mut self.state.f, &mut beside);
+                back.beside = beside;
+                Err(failure)
             }
         }
     }

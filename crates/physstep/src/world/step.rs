@@ -7,9 +7,10 @@
 //! Integrate    the method's recipe over the parts (forces inside), by the implementation
 //!              chosen once for the call (`Integrate`): one staged step, one step from the
 //!              stored derivative (particles under any forces, a method that reads only its
-//!              start), or every step left by the fused particle kernel or the split loop of
-//!              bodies (these check their steps themselves: Relax and Collide have nothing
-//!              to do in their worlds)
+//!              start, or that evaluates forces ignoring v once at a point of its own), or
+//!              every step left by the fused particle kernel or the split loop of bodies
+//!              (these check their steps themselves: Relax and Collide have nothing to do in
+//!              their worlds); the particle kernels' Integrate is in `kernel.rs`
 //! Relax        position constraints projected; velocities and method memory resynced
 //! Collide      contacts of balls found by the grid and resolved at their time of impact
 //! Contact      solids advanced by the contact solver (its substeps; contacts, friction)
@@ -22,7 +23,7 @@
 //! step again staged with a rollback of its own, which fails the same way and names the
 //! particle; else each step keeps its own rollback and a failure goes back to it.
 
-use super::kernel::{Ran, Row};
+use super::kernel::Row;
 use super::rollback::{Epoch, Keep, Rollback};
 use super::{Derivative, Frame, World};
 use crate::clock::Clock;
@@ -163,7 +164,7 @@ enum Checkpoints {
 }
 
 /// A failed pass of the stages.
-enum Failure {
+pub(super) enum Failure {
     /// The step after `good` good ones of the pass ran away (the fused kernel and the split
     /// loop do not name it): it is taken again staged.
     Again(u64),
@@ -444,96 +445,6 @@ impl World {
         Ok((k, halted))
     }
 
-    /// Integrate, the fused kernel: up to `left` steps, the state at their start kept in
-    /// `back` when `ctx.save` (else `back` is an earlier fused call's, reused).
-    fn integrate_fused<F: FnMut(Row<'_>) -> bool>(
-        &mut self,
-        ctx: &StepContext,
-        method: &mut Integrator,
-        left: u64,
-        back: &mut Rollback,
-        on_row: Option<&mut F>,
-    ) -> std::result::Result<(u64, bool), Failure> {
-        let (good, ran) = self.fused_run(method, &mut back.y, ctx, left, on_row);
-        if good > 0 {
-            self.derivative = Derivative::Unstored;
-        }
-        match ran {
-            Ran::Bad => Err(Failure::Again(good)),
-            // `Time`: the next pass's context says that time no longer moves.
-            Ran::All | Ran::Time => Ok((good, ran == Ran::All && good < left)),
-        }
-    }
-
-    /// Integrate from the stored derivative (`Integrate::Given`): one step, the state at its
-    /// start kept in `back`, the forces evaluated at its end (counted, as the staged step
-    /// counts them) into the accelerations written beside `state.f`'s, swapped in when they and
-    /// the new state pass the check. The derivative's velocity half, a copy of `v`, is left
-    /// owed (`Derivative::VelocityOwed`: no step from the stored derivative reads it). A
-    /// failure leaves `state.f` as it was: the rollback puts back only `y`.
-    fn integrate_given(
-        &mut self,
-        ctx: &StepContext,
-        method: &mut Integrator,
-        from: super::kernel::GivenKind,
-        back: &mut Rollback,
-    ) -> std::result::Result<u64, Failure> {
-        debug_assert!(
-            matches!(self.derivative, Derivative::Current | Derivative::VelocityOwed),
-            "refreshed before the pass"
-        );
-        let mut beside = std::mem::take(&mut back.beside);
-        beside.resize(self.state.f.len(), 0.0);
-        let n = self.state.y.len() / 2;
-        let a_new = &mut beside[n..];
-        let point = from == super::kernel::GivenKind::Point;
-        if point {
-            // The state where the method evaluates the forces.
-            self.given_point(method, ctx.h, &mut back.y);
-        } else if !self.given_step(method, ctx.h, &mut back.y) {
-            back.beside = beside;
-            // A new value ran away: the step is taken again staged (no force was evaluated
-            // in this one), which fails the same way and names it.
-            return Err(Failure::Again(0));
-        }
-        let (x, v) = self.state.y.split_at(n);
-        let mut ran_away = self.model.accel_ran_away(ctx.t + ctx.h, x, v, a_new);
-        self.state.evals += 1;
-        if let Some(e) = self.model.failure.take() {
-            back.beside = beside;
-            return Err(Failure::Error(e));
-        }
-        if point {
-            // The step's end from its start, given the forces at its point.
-            ran_away |= !self.given_end(method, ctx.h, &back.y, &beside[n..]);
-        }
-        std::mem::swap(&mut self.state.f, &mut beside);
-        let failed = match ran_away {
-            false => None,
-            // Ctrl-C cut the evaluation short (n-body gravity poisons what it left): the
-            // step loop rolls back and reports the stop.
-            true if crate::interrupt::stop() => {
-                Some(Failure::Error(Error::Interrupted { step: self.state.steps }))
-            }
-            // Accelerations (or, from a point, a new state) past the limit: the staged step's
-            // Check of the state and derivative it would hold names them (not taken again: a
-            // user force would be called twice).
-            true => Some(self.check(ctx).err().map_or(Failure::Again(0), Failure::Error)),
-        };
-        match failed {
-            None => {
-                back.beside = beside;
-                self.derivative = Derivative::VelocityOwed;
-                Ok(1)
-            }
-            Some(failure) => {
-                std::mem::swap(&mut self.state.f, &mut beside);
-                back.beside = beside;
-                Err(failure)
-            }
-        }
-    }
-
     /// Integrate, the split loop: up to `left` steps of the method over the parts built once,
     /// the bodies' `dX` left out, each step checked.
     fn integrate_split(&mut self, ctx: &StepContext, left: u64) -> std::result::Result<u64, Failure> {
@@ -593,7 +504,7 @@ impl World {
 
     /// Check: a NaN, an infinity or a runaway value anywhere is a divergence, named by the
     /// particle or body it belongs to.
-    fn check(&self, ctx: &StepContext) -> Result<()> {
+    pub(super) fn check(&self, ctx: &StepContext) -> Result<()> {
         self.integrator.check(&self.state, self.layout()).map_err(|e| match e {
             Error::Diverged { method, index, .. } => {
                 let (particle, body) = self.owner(index);
