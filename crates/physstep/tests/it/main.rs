@@ -41,6 +41,7 @@ mod solid_forces;
 mod solid_handles;
 mod spring_at_zero_length;
 mod stiff;
+mod stored_derivative;
 mod user_forces;
 mod vector_paths;
 mod world;
