@@ -14,6 +14,7 @@ use crate::integrators::registry::{Layout, State};
 use crate::integrators::{ImplicitParams, Integrator};
 use rollback::Epoch;
 
+mod awake;
 mod balls;
 mod bodies;
 mod constraints;

@@ -1,5 +1,6 @@
 //! The force model: masses and forces, what the integrators see as a second-order system.
 
+use super::awake::Awake;
 use crate::dynamics::SecondOrder;
 use crate::error::Error;
 use crate::forces::{ForceSet, UserForce};
@@ -83,6 +84,9 @@ pub struct Model {
     /// The first failure of a user force during the current step (the accelerations were
     /// set to NaN so the step fails and is rolled back; the world reports this instead).
     pub(super) failure: Option<Error>,
+    /// Whether the user forces' latest call outlasted [`super::awake::AWAKE_AT_MOST`] (the
+    /// next is not waited for awake).
+    pub(super) slow_call: bool,
 }
 
 impl SecondOrder for Model {
@@ -217,10 +221,14 @@ impl Model {
         let failed = if let [g] = self.user.as_slice() {
             let w = (&self.inv_mass[..], one);
             let mut handed = None;
+            let mut awake = Awake::during(x.len() / dim, self.slow_call);
             let r = g.0.forces_to(t, x, v, &mut self.user_f, &mut |f| {
+                // (The force is computed: the pass reading it runs on the workers kept awake.)
+                awake.end();
                 handed =
                     Some(if f.len() == a.len() { Ok(add_accel(dim, w, f, a, fresh)) } else { Err(f.len()) });
             });
+            self.slow_call = awake.end();
             match (r, handed) {
                 (Err(reason), _) => Some((g, reason, false)),
                 (Ok(()), None) => Some((g, "handed no forces".into(), false)),
@@ -239,6 +247,7 @@ impl Model {
             let f = &mut self.user_f;
             f.clear();
             f.resize(x.len(), 0.0);
+            let mut awake = Awake::during(x.len() / dim, self.slow_call);
             let failed = self.user.iter().find_map(|g| match g.0.add_forces(t, x, v, f) {
                 Err(reason) => Some((g, reason, false)),
                 Ok(()) => f
@@ -246,6 +255,7 @@ impl Model {
                     .position(|c| !c.is_finite())
                     .map(|i| (g, format!("force[{}][{}] = {} is not finite", i / dim, i % dim, f[i]), true)),
             });
+            self.slow_call = awake.end();
             if failed.is_none() {
                 let r = add_accel(dim, (&self.inv_mass[..], one), f, a, fresh);
                 debug_assert!(r.is_ok(), "the sum was checked finite");
