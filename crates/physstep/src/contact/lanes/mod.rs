@@ -88,6 +88,19 @@ macro_rules! maskwise {
 }
 maskwise!(BitAnd bitand &, BitOr bitor |);
 
+impl M4 {
+    /// Whether some lane says yes.
+    #[inline(always)]
+    pub(super) fn any(self) -> bool {
+        (self.0[0] | self.0[1] | self.0[2] | self.0[3]) != 0
+    }
+    /// Whether every lane says yes.
+    #[inline(always)]
+    pub(super) fn all(self) -> bool {
+        (self.0[0] & self.0[1] & self.0[2] & self.0[3]) != 0
+    }
+}
+
 impl F4 {
     #[inline(always)]
     pub(super) fn splat(x: f64) -> F4 {

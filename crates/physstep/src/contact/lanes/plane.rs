@@ -232,12 +232,19 @@ fn quad<const BIAS: bool>(q: &mut Quad, motion: &mut [Motion<Plane>], inv_h: f64
             plain
         };
         // `Plane::friction_size([new, 0.0])`, and the clamp to the friction limit.
+        // (The root and the quotient only where a lane needs them: the same bits, the
+        // latencies off the common path, a normal-sized impulse within its limit.)
         let size = new.map(f64::abs);
-        let size = pick(size.gt(tiny) & size.lt(huge), size, (new * new + zero * zero).map(f64::sqrt));
+        let normal = size.gt(tiny) & size.lt(huge);
+        let size =
+            if normal.all() { size } else { pick(normal, size, (new * new + zero * zero).map(f64::sqrt)) };
         let over = size.gt(limit);
-        let f = pick(size.gt(zero), limit / size, zero);
-        new = pick(over, new * f, new);
-        let other = pick(over, zero * f, zero);
+        let mut other = zero;
+        if over.any() {
+            let f = pick(size.gt(zero), limit / size, zero);
+            new = pick(over, new * f, new);
+            other = pick(over, zero * f, zero);
+        }
         let d = new - ti;
         s.tangent_impulse = pick(s.row.active, new, ti);
         s.tangent_other = pick(s.row.active, other, s.tangent_other);

@@ -366,10 +366,21 @@ fn quad<const BIAS: bool>(
                 plain
             };
         }
-        let size = (new[0] * new[0] + new[1] * new[1]).map(f64::sqrt);
-        let over = size.gt(limit);
-        let f = pick(size.gt(zero), limit / size, zero);
-        new = [pick(over, new[0] * f, new[0]), pick(over, new[1] * f, new[1])];
+        // The root, the quotient and the clamp only where a lane may be over its limit: a
+        // lane whose square is below `limit^2 (1 - 2^-40)`, computed (a product rounded twice
+        // is still below `limit^2`), has its root at most `limit` (the root rounded to
+        // nearest does not pass a double above its exact value), so it is not over; with
+        // `limit` below 1e150 its square is finite. The same bits, the latencies off the
+        // common path (friction within its cone).
+        let square = new[0] * new[0] + new[1] * new[1];
+        let under = square.lt(limit * limit * F4::splat(1.0 - 1.0 / (1u64 << 40) as f64))
+            & limit.lt(F4::splat(1e150));
+        if !under.all() {
+            let size = square.map(f64::sqrt);
+            let over = size.gt(limit);
+            let f = pick(size.gt(zero), limit / size, zero);
+            new = [pick(over, new[0] * f, new[0]), pick(over, new[1] * f, new[1])];
+        }
         let imp = V3::default()
             .add(s.t0.scale(new[0] - s.tangent_impulse[0]))
             .add(s.t1.scale(new[1] - s.tangent_impulse[1]));
