@@ -3,7 +3,8 @@
 //! `cargo run --release -p physstep --example solids_probe -- [scene] [steps] [key=value ...]`
 //!
 //! Defaults: the 20-row `pyramid`, 600 steps (10 s at 60 Hz). `sleep_time=s` among the
-//! parameters turns sleeping on (it is not a scene parameter). Prints the time per step, the
+//! parameters turns sleeping on, `substeps=n` sets the soft step's substeps (neither is a scene
+//! parameter). Prints the time per step, the
 //! deepest penetration of the last step, the solids asleep at the end and the state hash (so a
 //! change that should keep the bits can be checked on a large scene too).
 
@@ -15,13 +16,19 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let scene = args.first().map_or("pyramid", String::as_str);
     let steps: u64 = args.get(1).map_or(600, |s| s.parse().expect("steps: a count"));
-    let (sleep, params): (Vec<String>, Vec<String>) =
-        args.get(2..).unwrap_or_default().iter().cloned().partition(|a| a.starts_with("sleep_time="));
+    let (world_params, params): (Vec<String>, Vec<String>) = args
+        .get(2..)
+        .unwrap_or_default()
+        .iter()
+        .cloned()
+        .partition(|a| a.starts_with("sleep_time=") || a.starts_with("substeps="));
     let mut s = probe_scene::build(scene, None, &params);
-    if let Some(t) = sleep.last() {
-        s.world
-            .set_sleep_time(t["sleep_time=".len()..].parse().expect("sleep_time: seconds"))
-            .expect("sleep_time");
+    for p in &world_params {
+        if let Some(t) = p.strip_prefix("sleep_time=") {
+            s.world.set_sleep_time(t.parse().expect("sleep_time: seconds")).expect("sleep_time");
+        } else if let Some(n) = p.strip_prefix("substeps=") {
+            s.world.set_substeps(n.parse().expect("substeps: a count")).expect("substeps");
+        }
     }
     let start = Instant::now();
     for _ in 0..steps {

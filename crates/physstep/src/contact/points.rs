@@ -435,7 +435,17 @@ pub(super) fn collide<S: Space>(solids: &mut Solids<S>) {
         // Solids joined by a joint do not collide (unless the joint says they do).
         st.pairs.retain(|p| solids.no_collide.binary_search(p).is_err());
     }
+    // The last step's warm starts are sorted by `(a, b, id)` with no key twice, and the pairs
+    // come sorted by `(a, b)`: each pair's are the block a cursor reaches next, found by a
+    // walk of both lists rather than a binary search a point (the same entries: 6% of the
+    // 20-row pyramid's step at 3 substeps went to those searches).
+    let mut cursor = 0;
     for &(a, b) in &st.pairs {
+        while st.warm.get(cursor).is_some_and(|w| (w.key.0, w.key.1) < (a, b)) {
+            cursor += 1;
+        }
+        let block = st.warm[cursor..].iter().take_while(|w| (w.key.0, w.key.1) == (a, b)).count();
+        let warm = &st.warm[cursor..cursor + block];
         let (ba, bb) = (&solids.bodies[a as usize], &solids.bodies[b as usize]);
         let ((qa, oa), (qb, ob)) = (st.basis[a as usize], st.basis[b as usize]);
         st.touches.clear();
@@ -455,13 +465,9 @@ pub(super) fn collide<S: Space>(solids: &mut Solids<S>) {
         for t in &st.touches {
             let at = (t.on_a + t.on_b) * 0.5;
             let (ra, rb) = (at - ba.c, at - bb.c);
-            let key = (a, b, t.id);
-            let (ni, ti, anchor_a, anchor_b) = match st.warm.binary_search_by(|w| w.key.cmp(&key)) {
-                Ok(k) => {
-                    let w = &st.warm[k];
-                    (w.normal, w.tangent, w.anchor_a, w.anchor_b)
-                }
-                Err(_) => (0.0, [0.0; 2], S::unrotate(ba.q, ra), S::unrotate(bb.q, rb)),
+            let (ni, ti, anchor_a, anchor_b) = match warm.iter().find(|w| w.key.2 == t.id) {
+                Some(w) => (w.normal, w.tangent, w.anchor_a, w.anchor_b),
+                None => (0.0, [0.0; 2], S::unrotate(ba.q, ra), S::unrotate(bb.q, rb)),
             };
             let frame = S::frame(t.normal);
             let apart = S::rotate_by(qb, anchor_b) + bb.c - S::rotate_by(qa, anchor_a) - ba.c;
