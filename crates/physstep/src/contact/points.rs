@@ -424,7 +424,7 @@ pub(super) fn collide<S: Space>(solids: &mut Solids<S>) {
         // `Body::origin`, with the rotation made ready once for the solid's every point.
         let basis = S::basis(b.q);
         let origin = b.c - S::rotate_by(basis, b.com);
-        let (lo, hi) = S::aabb(shape, origin, b.q, margin / 2.0);
+        let (lo, hi) = S::aabb(shape, origin, basis, margin / 2.0);
         st.lo.push(lo);
         st.hi.push(hi);
         st.moves.push(b.kind == Kind::Dynamic);
@@ -450,8 +450,8 @@ pub(super) fn collide<S: Space>(solids: &mut Solids<S>) {
         let ((qa, oa), (qb, ob)) = (st.basis[a as usize], st.basis[b as usize]);
         st.touches.clear();
         S::touches(
-            (&solids.shapes[a as usize], oa, ba.q),
-            (&solids.shapes[b as usize], ob, bb.q),
+            (&solids.shapes[a as usize], oa, qa),
+            (&solids.shapes[b as usize], ob, qb),
             margin,
             &mut st.touches,
         );

@@ -241,7 +241,7 @@ impl<S: Space> Solids<S> {
                 let moves = mover(b);
                 let reach =
                     if moves { (2.0 * speed(b) + gravity.dot(gravity).sqrt() * dt) * dt } else { 0.0 };
-                let (lo, hi) = S::aabb(shape, b.origin(), b.q, margin + reach);
+                let (lo, hi) = S::aabb(shape, b.origin(), S::basis(b.q), margin + reach);
                 sc.lo.push(lo);
                 sc.hi.push(hi);
                 sc.movers.push(moves);

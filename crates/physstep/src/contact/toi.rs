@@ -55,7 +55,7 @@ impl<S: Space> Default for Sweeps<S> {
 
 /// The axis-aligned box of `shape` at `(origin, q)` widened by `margin`.
 fn aabb<S: Space>(shape: &S::Shape, origin: S::V, q: S::Rot, margin: f64) -> ([f64; 3], [f64; 3]) {
-    S::aabb(shape, origin, q, margin)
+    S::aabb(shape, origin, S::basis(q), margin)
 }
 
 fn union(a: ([f64; 3], [f64; 3]), b: ([f64; 3], [f64; 3])) -> ([f64; 3], [f64; 3]) {

@@ -198,8 +198,9 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     /// Mass, centre of mass in the shape's frame and inverse inertia about it in the shape's
     /// frame, at `density`.
     fn mass_properties(shape: &Self::Shape, density: f64) -> (f64, Self::V, Self::InvI);
-    /// The axis-aligned box around the shape placed at `(p, q)`, widened by `margin`.
-    fn aabb(shape: &Self::Shape, p: Self::V, q: Self::Rot, margin: f64) -> ([f64; 3], [f64; 3]);
+    /// The axis-aligned box around the shape placed at `p` turned by `basis` ([`Space::basis`]
+    /// of its orientation), widened by `margin`.
+    fn aabb(shape: &Self::Shape, p: Self::V, basis: Self::Basis, margin: f64) -> ([f64; 3], [f64; 3]);
     /// A shape's smallest and largest extents about `com` (a point in its frame): the
     /// thickness a fast motion must not cross (a box's smallest half extent, a ball's radius),
     /// and the radius of the ball about `com` that holds it.
@@ -221,11 +222,12 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
         slop: f64,
         max: f64,
     ) -> Option<f64>;
-    /// The contact points of two shapes placed at their poses that are closer than
-    /// `prediction`, appended to `out`.
+    /// The contact points of two shapes placed at their poses (origin, [`Space::basis`] of the
+    /// orientation: in the plane the sine and cosine, computed once a solid rather than once a
+    /// pair) that are closer than `prediction`, appended to `out`.
     fn touches(
-        a: (&Self::Shape, Self::V, Self::Rot),
-        b: (&Self::Shape, Self::V, Self::Rot),
+        a: (&Self::Shape, Self::V, Self::Basis),
+        b: (&Self::Shape, Self::V, Self::Basis),
         prediction: f64,
         out: &mut Vec<Touch<Self::V>>,
     );
@@ -456,7 +458,8 @@ mod tests {
         let unit = Shape::Box { half: vec![0.5, 0.5] }.plane().unwrap();
         let ids = |at: DVec2| {
             let mut out = Vec::new();
-            Plane::touches((&unit, DVec2::ZERO, 0.0), (&unit, at, 0.0), 0.02, &mut out);
+            let q = Plane::basis(0.0);
+            Plane::touches((&unit, DVec2::ZERO, q), (&unit, at, q), 0.02, &mut out);
             out.iter().map(|t| t.id).collect::<Vec<u64>>()
         };
         for (at, moved) in [

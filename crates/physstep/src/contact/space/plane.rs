@@ -156,8 +156,8 @@ impl Space for Plane {
         (mass, m.local_com, m.inv_principal_inertia)
     }
 
-    fn aabb(shape: &Self::Shape, p: DVec2, q: f64, margin: f64) -> ([f64; 3], [f64; 3]) {
-        let b = shape.compute_aabb(&parry2d_f64::math::Pose::new(p, q));
+    fn aabb(shape: &Self::Shape, p: DVec2, basis: (f64, f64), margin: f64) -> ([f64; 3], [f64; 3]) {
+        let b = shape.compute_aabb(&pose(p, basis));
         ([b.mins.x - margin, b.mins.y - margin, 0.0], [b.maxs.x + margin, b.maxs.y + margin, 0.0])
     }
 
@@ -194,12 +194,18 @@ impl Space for Plane {
     }
 
     fn touches(
-        a: (&Self::Shape, DVec2, f64),
-        b: (&Self::Shape, DVec2, f64),
+        a: (&Self::Shape, DVec2, (f64, f64)),
+        b: (&Self::Shape, DVec2, (f64, f64)),
         prediction: f64,
         out: &mut Vec<Touch<DVec2>>,
     ) {
-        use parry2d_f64::math::Pose;
-        manifold_touches!(parry2d_f64, a.0, b.0, Pose::new(a.1, a.2), Pose::new(b.1, b.2), prediction, out);
+        manifold_touches!(parry2d_f64, a.0, b.0, pose(a.1, a.2), pose(b.1, b.2), prediction, out);
     }
+}
+
+/// parry's pose at `p` turned by `(sin, cos)` ([`Plane::basis`] of the angle): the pose
+/// `Pose::new(p, angle)` makes, to the bit (parry's rotation from an angle is the standard
+/// library's `sin_cos` of it, as `basis` is), without computing them again.
+fn pose(p: DVec2, (s, c): (f64, f64)) -> parry2d_f64::math::Pose {
+    parry2d_f64::math::Pose::from_parts(p, parry2d_f64::math::Rot2::from_cos_sin_unchecked(c, s))
 }
