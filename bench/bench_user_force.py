@@ -6,9 +6,11 @@ once as the built-in forces, once as a Python callable computing the same physic
 numpy, returned (`f(t, x, v) -> G - C * v`) or written in place (`add_force(f,
 inplace=True)`, `f(t, x, v, out)`), and once as the bare numpy expression on an (n, 3)
 array. The Python force's own cost is a step with it minus a step of the same world with no
-force at all. All are measured in the same run, in rounds: each round times every world and
-then the numpy expressions alone, and a ratio is taken within a round (the printed ratio is
-the median over the rounds, the times are medians too); nothing is asserted.
+force at all; at 1e5 it is split into the numpy expression timed inside the step (by a force
+that times itself) and the rest (physstep's passes for the force, and the call). All are
+measured in the same run, in rounds: each round times every world and then the numpy
+expressions alone, and a ratio is taken within a round (the printed ratio is the median over
+the rounds, the times are medians too); nothing is asserted.
 
 Issue 22's targets, printed as ratios: at 1e5 particles the Python force costs at most 1.3x
 the numpy expression alone; at n = 1, at most 2 us per evaluation.
@@ -41,14 +43,30 @@ def inplace(t: float, x: np.ndarray, v: np.ndarray, out: np.ndarray) -> None:
     out += G
 
 
-def world(n: int, kind: str) -> physstep.World:
-    """n particles under gravity and drag: built-in, a Python force, or no force."""
+class Timed:
+    """`inplace`, timing its own numpy expression: how long the same expression takes inside
+    a step (the arrays as the step leaves them) against alone."""
+
+    def __init__(self) -> None:
+        self.seconds = 0.0
+        self.calls = 0
+
+    def __call__(self, t: float, x: np.ndarray, v: np.ndarray, out: np.ndarray) -> None:
+        t0 = time.perf_counter()
+        inplace(t, x, v, out)
+        self.seconds += time.perf_counter() - t0
+        self.calls += 1
+
+
+def world(n: int, kind: str, timed: Timed | None = None) -> physstep.World:
+    """n particles under gravity and drag: built-in, a Python force (`timed` for the in-place
+    one when given), or no force."""
     w = physstep.World(3, method="symplectic-euler", dt=1 / 120)
     w.add_particles(np.random.default_rng(0).random((n, 3)))
     if kind == "returned":
         w.add_force(returned)
     elif kind == "inplace":
-        w.add_force(inplace, inplace=True)
+        w.add_force(timed if timed is not None else inplace, inplace=True)
     elif kind == "built-in":
         w.add_gravity(G.tolist())
         w.add_drag(linear=C)
@@ -69,12 +87,17 @@ def rounds(n: int, steps: int, repeat: int) -> list[dict[str, float]]:
     got = []
     for _ in range(repeat):
         row = {}
-        for kind in ("built-in", "none", "returned", "inplace"):
-            w = world(n, kind)
+        for kind in ("built-in", "none", "returned", "inplace", "inplace timed"):
+            timed = Timed() if kind == "inplace timed" else None
+            w = world(n, kind.split()[0], timed)
             w.step(1)
+            if timed is not None:
+                timed.seconds, timed.calls = 0.0, 0
             t0 = time.perf_counter()
             w.step(steps)
             row[kind] = (time.perf_counter() - t0) / steps
+            if timed is not None:
+                row["np inside"] = timed.seconds / max(timed.calls, 1)
         for name, fn in bare.items():
             fn()
             t0 = time.perf_counter()
@@ -124,6 +147,15 @@ def main() -> None:
                 f" {t['returned'] * 1e6:.2f} / {t['inplace'] * 1e6:.2f} us)"
             )
         if n == 100_000:
+            # Where the in-place force's own cost goes: its numpy expression timed inside the
+            # step (a world of its own, the same force timing itself), and the rest, physstep's.
+            inside = statistics.median(r["np inside"] / r["np inplace"] for r in got)
+            rest = statistics.median(r["inplace timed"] - r["none"] - r["np inside"] for r in got)
+            print(
+                f"{'':>10} in place, its numpy expression inside a step: {inside:.2f}x its time alone;"
+                f" the rest of its own cost (physstep's passes for it, the call): {rest * 1e6:.0f} us"
+                f" = {rest / t['np inplace']:.2f}x the expression alone"
+            )
             spread = {form: f"{q[0]:.2f}-{q[-1]:.2f}x" for form, q in ratio.items()}
             print(
                 f"{'':>10} target at 1e5: at most 1.3x the numpy expression alone: returned"
