@@ -173,6 +173,9 @@ pub(crate) struct State<S: Space> {
     pub(super) moves: Vec<bool>,
     /// Each solid's orientation made ready to turn vectors, and its shape's origin.
     pub(super) basis: Vec<(S::Basis, S::V)>,
+    /// Each solid's turn back made ready (`Space::unbasis`), once asked for in a step's end
+    /// (scratch, `solver::finish`).
+    pub(super) unbasis: Vec<Option<S::Basis>>,
     pub(super) pairs: Vec<(u32, u32)>,
     pub(super) touches: Vec<Touch<S::V>>,
     pub(super) motion: Vec<Motion<S>>,
@@ -220,6 +223,7 @@ impl<S: Space> Default for State<S> {
             hi: Vec::new(),
             moves: Vec::new(),
             basis: Vec::new(),
+            unbasis: Vec::new(),
             pairs: Vec::new(),
             touches: Vec::new(),
             motion: Vec::new(),

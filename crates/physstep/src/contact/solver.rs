@@ -379,6 +379,10 @@ pub(super) fn finish<S: Space>(
         st.motion[i as usize].dp = st.sweeps.moved(i as usize, solids.bodies[i as usize].c);
     }
     st.warm.clear();
+    // Each solid's turn back is made ready once, for the points that take hold again (an
+    // unpressed speculative point does every step: two `sin_cos` a point in the plane).
+    st.unbasis.clear();
+    st.unbasis.resize(solids.bodies.len(), None);
     for pair in &st.touching {
         let range = pair.start as usize..pair.end as usize;
         for (p, c) in st.points[range.clone()].iter().zip(&mut st.contacts[range]) {
@@ -391,7 +395,9 @@ pub(super) fn finish<S: Space>(
                 // friction lets go, and takes hold again where the point is now.
                 let (ba, bb) = (&solids.bodies[c.a as usize], &solids.bodies[c.b as usize]);
                 let at = c.at + (st.motion[c.a as usize].dp + st.motion[c.b as usize].dp) * 0.5;
-                (c.anchor_a, c.anchor_b) = (S::unrotate(ba.q, at - ba.c), S::unrotate(bb.q, at - bb.c));
+                let ua = *st.unbasis[c.a as usize].get_or_insert_with(|| S::unbasis(ba.q));
+                let ub = *st.unbasis[c.b as usize].get_or_insert_with(|| S::unbasis(bb.q));
+                (c.anchor_a, c.anchor_b) = (S::rotate_by(ua, at - ba.c), S::rotate_by(ub, at - bb.c));
             }
             st.warm.push(Warm {
                 key: (c.a, c.b, c.id),

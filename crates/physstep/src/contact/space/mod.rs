@@ -145,6 +145,9 @@ pub trait Space: Copy + Debug + Send + Sync + 'static {
     fn basis(q: Self::Rot) -> Self::Basis;
     /// `v` turned by `q` given as [`Space::basis`]: `rotate(q, v)`, to the bit.
     fn rotate_by(b: Self::Basis, v: Self::V) -> Self::V;
+    /// The ready form of turning back by `q`: `rotate_by(unbasis(q), v)` is `unrotate(q, v)`,
+    /// to the bit.
+    fn unbasis(q: Self::Rot) -> Self::Basis;
     /// Number of tangents (1 in the plane, 2 in space).
     const TANGENTS: usize;
     /// The size of a friction impulse `t` (its components along the tangents),

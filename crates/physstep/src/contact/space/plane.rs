@@ -44,6 +44,9 @@ impl Space for Plane {
     fn unrotate(q: f64, v: DVec2) -> DVec2 {
         Self::rotate(-q, v)
     }
+    fn unbasis(q: f64) -> (f64, f64) {
+        Self::basis(-q)
+    }
     fn rotate_delta(q: DVec2, v: DVec2) -> DVec2 {
         q.rotate(v)
     }

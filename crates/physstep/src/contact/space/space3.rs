@@ -44,6 +44,9 @@ impl Space for Space3 {
     fn unrotate(q: DQuat, v: DVec3) -> DVec3 {
         q.conjugate() * v
     }
+    fn unbasis(q: DQuat) -> DQuat {
+        q.conjugate()
+    }
     fn rotate_delta(q: DQuat, v: DVec3) -> DVec3 {
         q * v
     }
