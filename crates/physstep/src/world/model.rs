@@ -218,17 +218,16 @@ impl Model {
         let dim = self.dim;
         let mut ran = false;
         let one = self.inv_mass.all();
+        let mut awake = Awake::during(x.len() / dim, self.slow_call);
         let failed = if let [g] = self.user.as_slice() {
             let w = (&self.inv_mass[..], one);
             let mut handed = None;
-            let mut awake = Awake::during(x.len() / dim, self.slow_call);
             let r = g.0.forces_to(t, x, v, &mut self.user_f, &mut |f| {
                 // (The force is computed: the pass reading it runs on the workers kept awake.)
                 awake.end();
                 handed =
                     Some(if f.len() == a.len() { Ok(add_accel(dim, w, f, a, fresh)) } else { Err(f.len()) });
             });
-            self.slow_call = awake.end();
             match (r, handed) {
                 (Err(reason), _) => Some((g, reason, false)),
                 (Ok(()), None) => Some((g, "handed no forces".into(), false)),
@@ -247,7 +246,6 @@ impl Model {
             let f = &mut self.user_f;
             f.clear();
             f.resize(x.len(), 0.0);
-            let mut awake = Awake::during(x.len() / dim, self.slow_call);
             let failed = self.user.iter().find_map(|g| match g.0.add_forces(t, x, v, f) {
                 Err(reason) => Some((g, reason, false)),
                 Ok(()) => f
@@ -255,7 +253,7 @@ impl Model {
                     .position(|c| !c.is_finite())
                     .map(|i| (g, format!("force[{}][{}] = {} is not finite", i / dim, i % dim, f[i]), true)),
             });
-            self.slow_call = awake.end();
+            awake.end();
             if failed.is_none() {
                 let r = add_accel(dim, (&self.inv_mass[..], one), f, a, fresh);
                 debug_assert!(r.is_ok(), "the sum was checked finite");
@@ -263,6 +261,8 @@ impl Model {
             }
             failed
         };
+        // (The first end counts: the call's, not this.)
+        self.slow_call = awake.end();
         if let Some((g, reason, non_finite)) = failed {
             if self.failure.is_none() {
                 self.failure = Some(Error::Force { name: g.0.name().to_string(), reason, non_finite });
