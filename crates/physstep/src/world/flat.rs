@@ -350,38 +350,34 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_methods_whose_step_reads_only_its_start_are_the_two_eulers() {
-        struct Probe;
+    /// The methods for which [`super::one_eval`] (`once`) or [`super::start_only`] says yes.
+    fn methods_where(once: bool) -> Vec<&'static str> {
+        struct Probe(bool);
         impl Visit for Probe {
             type Out = bool;
             fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> bool {
-                super::start_only(m)
+                if self.0 {
+                    super::one_eval(m)
+                } else {
+                    super::start_only(m)
+                }
             }
         }
-        let only: Vec<&str> = INFOS
+        INFOS
             .iter()
-            .filter(|info| Integrator::new(info.name).unwrap().visit(Probe))
+            .filter(|info| Integrator::new(info.name).unwrap().visit(Probe(once)))
             .map(|info| info.name)
-            .collect();
-        assert_eq!(only, ["explicit-euler", "symplectic-euler"]);
+            .collect()
+    }
+
+    #[test]
+    fn the_methods_whose_step_reads_only_its_start_are_the_two_eulers() {
+        assert_eq!(methods_where(false), ["explicit-euler", "symplectic-euler"]);
     }
 
     #[test]
     fn the_methods_that_evaluate_once_at_a_point_of_their_own_are_velocity_verlet() {
-        struct Probe;
-        impl Visit for Probe {
-            type Out = bool;
-            fn visit<M: Method + Clone + Send + Sync>(self, m: &mut M) -> bool {
-                super::one_eval(m)
-            }
-        }
-        let once: Vec<&str> = INFOS
-            .iter()
-            .filter(|info| Integrator::new(info.name).unwrap().visit(Probe))
-            .map(|info| info.name)
-            .collect();
-        assert_eq!(once, ["velocity-verlet"]);
+        assert_eq!(methods_where(true), ["velocity-verlet"]);
     }
 
     #[test]
